@@ -1,0 +1,76 @@
+"""wgpu-shading: classic local lighting (Phong and Blinn-Phong reflection; flat, Gouraud and
+Phong shading; OpenGL-style lights and materials; textures) in WGSL, rendered offscreen
+with wgpu — on Mesa's lavapipe by default.
+
+    from wgpu_shading import Renderer, load_scene
+    image = Renderer().render(load_scene("examples/gold_torus_phong.toml"))
+
+The pipeline, one module per stage: scene.py / scenefile.py (scene description) →
+features.py (feature set) → shadergen.py + wgsl/ (generated WGSL) → pipelines.py (cached
+pipelines) → renderer.py (render pass, readback) → numpy image.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from .errors import DeviceError, MeshError, SceneError, WgpuShadingError
+from .features import FeatureSet
+from .materials import MATERIALS, material
+from .meshes import Mesh, load_mesh
+from .scene import (
+    Camera,
+    DirectionalLight,
+    Light,
+    Material,
+    PositionalLight,
+    Scene,
+    SceneObject,
+    Shading,
+    SpotLight,
+    Texture,
+)
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .renderer import Frame, Renderer
+    from .scenefile import load_scene
+
+__version__ = "0.1.0"
+
+# Importing wgpu costs ~0.1 s; load the GPU side only when it is first used.
+_LAZY = {"Renderer": "renderer", "Frame": "renderer", "load_scene": "scenefile", "parse_scene": "scenefile"}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        from importlib import import_module
+
+        return getattr(import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+__all__ = [
+    "Camera",
+    "DeviceError",
+    "DirectionalLight",
+    "FeatureSet",
+    "Frame",
+    "Light",
+    "MATERIALS",
+    "Material",
+    "Mesh",
+    "MeshError",
+    "PositionalLight",
+    "Renderer",
+    "Scene",
+    "SceneError",
+    "SceneObject",
+    "Shading",
+    "SpotLight",
+    "Texture",
+    "WgpuShadingError",
+    "load_mesh",
+    "load_scene",
+    "material",
+    "parse_scene",
+]

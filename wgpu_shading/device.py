@@ -1,0 +1,102 @@
+"""Adapter and device selection.
+
+By default the renderer runs on Mesa's lavapipe (the "llvmpipe" Vulkan adapter), so
+results are the same on every machine that has it. Another adapter is chosen with the
+`adapter=` argument or the WGPU_SHADING_ADAPTER environment variable:
+
+    lavapipe / llvmpipe   the software Vulkan rasterizer (default)
+    gpu                   the first hardware adapter (discrete before integrated)
+    any other text        the first adapter whose description contains it (case-insensitive)
+
+The default device for each selector is created once per process (about 0.5 s on
+lavapipe) and reused; a caller can also hand its own wgpu device to the Renderer.
+"""
+
+from __future__ import annotations
+
+import os
+from functools import lru_cache
+
+from .errors import DeviceError
+
+ADAPTER_ENVIRONMENT_VARIABLE = "WGPU_SHADING_ADAPTER"
+DEFAULT_ADAPTER = "lavapipe"
+_SOFTWARE_NAMES = {"lavapipe", "llvmpipe", "software", "cpu"}
+
+INSTALL_HINT = (
+    "install Mesa's lavapipe (software Vulkan): `sudo apt-get install mesa-vulkan-drivers` on "
+    "Debian/Ubuntu, `sudo dnf install mesa-vulkan-drivers` on Fedora; or choose another adapter "
+    f"with --adapter / {ADAPTER_ENVIRONMENT_VARIABLE} (see `wgpu-shading info`)"
+)
+
+
+def requested_adapter(adapter: str | None = None) -> str:
+    """The selector in effect: the argument, else the environment variable, else lavapipe."""
+    return (adapter or os.environ.get(ADAPTER_ENVIRONMENT_VARIABLE) or DEFAULT_ADAPTER).strip()
+
+
+def _prepare_instance(selector: str) -> None:
+    import wgpu.backends.wgpu_native.extras as extras
+
+    # Mesa's device-select Vulkan layer only reorders GPUs (we pick adapters ourselves) and
+    # prints "XDG_RUNTIME_DIR is invalid" on headless machines; its documented off switch:
+    os.environ.setdefault("NODEVICE_SELECT", "1")
+    # lavapipe is a Vulkan driver: enumerating only Vulkan skips probing EGL/OpenGL, which is
+    # slow and noisy on a headless machine. Any other selector may need any backend.
+    backends = ["Vulkan"] if selector.lower() in _SOFTWARE_NAMES else ["All"]
+    try:
+        extras.set_instance_extras(backends=backends)
+    except RuntimeError:
+        pass  # the process already created the wgpu instance (e.g. the caller used wgpu first)
+
+
+def _matches(adapter: object, selector: str) -> bool:
+    info = adapter.info  # type: ignore[attr-defined]
+    key = selector.lower()
+    if key in _SOFTWARE_NAMES:
+        return "llvmpipe" in info.get("device", "").lower() and info.get("backend_type") == "Vulkan"
+    if key == "gpu":
+        return info.get("adapter_type") in ("DiscreteGPU", "IntegratedGPU")
+    return key in adapter.summary.lower()  # type: ignore[attr-defined]
+
+
+def list_adapters(adapter: str | None = None) -> list:
+    """Every adapter wgpu can see (for `wgpu-shading info`)."""
+    import wgpu
+
+    _prepare_instance(requested_adapter(adapter))
+    return list(wgpu.gpu.enumerate_adapters_sync())
+
+
+def select_adapter(adapter: str | None = None):
+    """The wgpu adapter for a selector, or a DeviceError that says how to get one."""
+    selector = requested_adapter(adapter)
+    adapters = list_adapters(selector)
+    candidates = [a for a in adapters if _matches(a, selector)]
+    if selector.lower() == "gpu":
+        candidates.sort(key=lambda a: a.info.get("adapter_type") != "DiscreteGPU")
+    if not candidates:
+        seen = "; ".join(a.summary for a in adapters) or "none"
+        if selector.lower() in _SOFTWARE_NAMES:
+            raise DeviceError(f"no lavapipe (llvmpipe Vulkan) adapter found (adapters seen: {seen}); {INSTALL_HINT}")
+        raise DeviceError(f"no adapter matches {selector!r} (adapters seen: {seen}); {INSTALL_HINT}")
+    return candidates[0]
+
+
+def default_device(adapter: str | None = None):
+    """The shared wgpu device for a selector: created on first use, then reused."""
+    return _device_for(requested_adapter(adapter).lower())
+
+
+@lru_cache(maxsize=None)
+def _device_for(selector: str):
+    chosen = select_adapter(selector)
+    try:
+        return chosen.request_device_sync(label=f"wgpu-shading on {chosen.summary}")
+    except Exception as error:  # wgpu raises plain RuntimeErrors here
+        raise DeviceError(f"could not create a device on {chosen.summary}: {error}") from None
+
+
+def describe_device(device) -> str:
+    info = device.adapter.info
+    return f"{info.get('device', '?')} ({info.get('backend_type', '?')}, {info.get('description', '')})".strip()

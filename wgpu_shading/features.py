@@ -1,0 +1,120 @@
+"""Scene → feature set: exactly the effects one draw needs.
+
+The feature set is the key of everything downstream: it selects the WGSL that
+`shadergen` emits (code and uniform fields for absent effects are left out), and
+`pipelines` caches one pipeline per feature set. It is a frozen, hashable dataclass.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .errors import SceneError
+from .scene import DirectionalLight, PositionalLight, Scene, SceneObject, SpotLight
+
+
+@dataclass(frozen=True)
+class FeatureSet:
+    frequency: str = "phong"  # flat | gouraud | phong
+    reflection: str = "phong"  # phong | blinn-phong
+    directional_lights: int = 0
+    positional_lights: int = 0
+    spot_lights: int = 0
+    attenuation: bool = False  # some positional or spot light has attenuation other than (1, 0, 0)
+    specular: bool = True  # some light and the material both have a specular color
+    emission: bool = False
+    texture_mode: str | None = None  # None | modulate | modulate_all | blend
+    two_sided: bool = False
+    local_viewer: bool = True
+
+    @property
+    def light_count(self) -> int:
+        return self.directional_lights + self.positional_lights + self.spot_lights
+
+    def defines(self) -> dict[str, int | bool]:
+        """The names `#if` lines in the WGSL sources may test. Every name is always defined."""
+        return {
+            "FREQUENCY_FLAT": self.frequency == "flat",
+            "FREQUENCY_GOURAUD": self.frequency == "gouraud",
+            "FREQUENCY_PHONG": self.frequency == "phong",
+            "REFLECTION_PHONG": self.reflection == "phong",
+            "REFLECTION_BLINN_PHONG": self.reflection == "blinn-phong",
+            "DIRECTIONAL_LIGHTS": self.directional_lights,
+            "POSITIONAL_LIGHTS": self.positional_lights,
+            "SPOT_LIGHTS": self.spot_lights,
+            "ATTENUATION": self.attenuation,
+            "SPECULAR": self.specular,
+            "EMISSION": self.emission,
+            "TEXTURE": self.texture_mode is not None,
+            "TEXTURE_MODULATE": self.texture_mode == "modulate",
+            "TEXTURE_MODULATE_ALL": self.texture_mode == "modulate_all",
+            "TEXTURE_BLEND": self.texture_mode == "blend",
+            "TWO_SIDED": self.two_sided,
+            "LOCAL_VIEWER": self.local_viewer,
+        }
+
+    def describe(self) -> str:
+        lights = ", ".join(
+            f"{count} {kind}"
+            for count, kind in (
+                (self.directional_lights, "directional"),
+                (self.positional_lights, "positional"),
+                (self.spot_lights, "spot"),
+            )
+            if count
+        )
+        parts = [
+            f"frequency={self.frequency}",
+            f"reflection={self.reflection}",
+            f"lights=[{lights or 'none'}]",
+            f"attenuation={self.attenuation}",
+            f"specular={self.specular}",
+            f"emission={self.emission}",
+            f"texture={self.texture_mode or 'none'}",
+            f"two_sided={self.two_sided}",
+            f"viewer={'local' if self.local_viewer else 'infinite'}",
+        ]
+        return " ".join(parts)
+
+    def scene_part(self) -> "FeatureSet":
+        """Only the fields that shape the frame uniforms (shared by every object of a scene)."""
+        return FeatureSet(
+            frequency="phong",
+            reflection=self.reflection,
+            directional_lights=self.directional_lights,
+            positional_lights=self.positional_lights,
+            spot_lights=self.spot_lights,
+            attenuation=self.attenuation,
+        )
+
+
+def _has_attenuation(light: PositionalLight | SpotLight) -> bool:
+    return tuple(light.attenuation) != (1.0, 0.0, 0.0)
+
+
+def object_features(scene: Scene, obj: SceneObject, index: int = 0) -> FeatureSet:
+    """The feature set for drawing `obj` in `scene`."""
+    lights = scene.lights
+    point_like = [light for light in lights if isinstance(light, (PositionalLight, SpotLight))]
+    material = obj.material
+    texture_mode = None
+    if material.texture is not None:
+        if obj.mesh.uvs is None:
+            raise SceneError(
+                f"objects[{index}]: material {material.name or '(inline)'} has a texture but mesh "
+                f"{obj.mesh.name!r} has no UV coordinates"
+            )
+        texture_mode = material.texture_mode
+    return FeatureSet(
+        frequency=scene.shading.frequency,
+        reflection=scene.shading.reflection,
+        directional_lights=sum(isinstance(light, DirectionalLight) for light in lights),
+        positional_lights=sum(isinstance(light, PositionalLight) for light in lights),
+        spot_lights=sum(isinstance(light, SpotLight) for light in lights),
+        attenuation=any(_has_attenuation(light) for light in point_like),
+        specular=material.has_specular and any(max(light.specular[:3]) > 0.0 for light in lights),
+        emission=material.has_emission,
+        texture_mode=texture_mode,
+        two_sided=scene.shading.two_sided,
+        local_viewer=scene.shading.local_viewer,
+    )

@@ -1,0 +1,154 @@
+"""The classic OpenGL material table (SPEC §8).
+
+Sources: SGI's teapots.c (Mark J. Kilgard, 1994) as published by F. Devernay, with its
+shininess given as a fraction of 128; the SIGGRAPH '99 course notes "Advanced Graphics
+Programming Techniques Using OpenGL" (Table 7) for the alphas and the polished metals;
+and the seed lecture (file 000) for pewter. Shininess is stored in OpenGL units
+(the fraction × 128).
+"""
+
+from __future__ import annotations
+
+import difflib
+
+import numpy as np
+from types import MappingProxyType
+from typing import Mapping
+
+from .errors import SceneError
+from .scene import Material
+
+# name: (ambient RGB, diffuse RGB, specular RGB, shininess as a fraction of 128, alpha)
+_TABLE: dict[str, tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...], float, float]] = {
+    "emerald": ((0.0215, 0.1745, 0.0215), (0.07568, 0.61424, 0.07568), (0.633, 0.727811, 0.633), 0.6, 0.55),
+    "jade": ((0.135, 0.2225, 0.1575), (0.54, 0.89, 0.63), (0.316228, 0.316228, 0.316228), 0.1, 0.95),
+    "obsidian": ((0.05375, 0.05, 0.06625), (0.18275, 0.17, 0.22525), (0.332741, 0.328634, 0.346435), 0.3, 0.82),
+    "pearl": ((0.25, 0.20725, 0.20725), (1.0, 0.829, 0.829), (0.296648, 0.296648, 0.296648), 0.088, 0.922),
+    "ruby": ((0.1745, 0.01175, 0.01175), (0.61424, 0.04136, 0.04136), (0.727811, 0.626959, 0.626959), 0.6, 0.55),
+    "turquoise": ((0.1, 0.18725, 0.1745), (0.396, 0.74151, 0.69102), (0.297254, 0.30829, 0.306678), 0.1, 0.8),
+    "brass": ((0.329412, 0.223529, 0.027451), (0.780392, 0.568627, 0.113725), (0.992157, 0.941176, 0.807843), 0.21794872, 1.0),
+    "bronze": ((0.2125, 0.1275, 0.054), (0.714, 0.4284, 0.18144), (0.393548, 0.271906, 0.166721), 0.2, 1.0),
+    "chrome": ((0.25, 0.25, 0.25), (0.4, 0.4, 0.4), (0.774597, 0.774597, 0.774597), 0.6, 1.0),
+    "copper": ((0.19125, 0.0735, 0.0225), (0.7038, 0.27048, 0.0828), (0.256777, 0.137622, 0.086014), 0.1, 1.0),
+    "gold": ((0.24725, 0.1995, 0.0745), (0.75164, 0.60648, 0.22648), (0.628281, 0.555802, 0.366065), 0.4, 1.0),
+    "silver": ((0.19225, 0.19225, 0.19225), (0.50754, 0.50754, 0.50754), (0.508273, 0.508273, 0.508273), 0.4, 1.0),
+    "black_plastic": ((0.0, 0.0, 0.0), (0.01, 0.01, 0.01), (0.5, 0.5, 0.5), 0.25, 1.0),
+    "cyan_plastic": ((0.0, 0.1, 0.06), (0.0, 0.50980392, 0.50980392), (0.50196078, 0.50196078, 0.50196078), 0.25, 1.0),
+    "green_plastic": ((0.0, 0.0, 0.0), (0.1, 0.35, 0.1), (0.45, 0.55, 0.45), 0.25, 1.0),
+    "red_plastic": ((0.0, 0.0, 0.0), (0.5, 0.0, 0.0), (0.7, 0.6, 0.6), 0.25, 1.0),
+    "white_plastic": ((0.0, 0.0, 0.0), (0.55, 0.55, 0.55), (0.7, 0.7, 0.7), 0.25, 1.0),
+    "yellow_plastic": ((0.0, 0.0, 0.0), (0.5, 0.5, 0.0), (0.6, 0.6, 0.5), 0.25, 1.0),
+    "black_rubber": ((0.02, 0.02, 0.02), (0.01, 0.01, 0.01), (0.4, 0.4, 0.4), 0.078125, 1.0),
+    "cyan_rubber": ((0.0, 0.05, 0.05), (0.4, 0.5, 0.5), (0.04, 0.7, 0.7), 0.078125, 1.0),
+    "green_rubber": ((0.0, 0.05, 0.0), (0.4, 0.5, 0.4), (0.04, 0.7, 0.04), 0.078125, 1.0),
+    "red_rubber": ((0.05, 0.0, 0.0), (0.5, 0.4, 0.4), (0.7, 0.04, 0.04), 0.078125, 1.0),
+    "white_rubber": ((0.05, 0.05, 0.05), (0.5, 0.5, 0.5), (0.7, 0.7, 0.7), 0.078125, 1.0),
+    "yellow_rubber": ((0.05, 0.05, 0.0), (0.5, 0.5, 0.4), (0.7, 0.7, 0.04), 0.078125, 1.0),
+    # SIGGRAPH '99 notes, Table 7 (shininess 76.8, 51.2, 83.2, 89.6 in OpenGL units)
+    "polished_bronze": ((0.25, 0.148, 0.06475), (0.4, 0.2368, 0.1036), (0.774597, 0.458561, 0.200621), 0.6, 1.0),
+    "polished_copper": ((0.2295, 0.08825, 0.0275), (0.5508, 0.2118, 0.066), (0.580594, 0.223257, 0.0695701), 0.4, 1.0),
+    "polished_gold": ((0.24725, 0.2245, 0.0645), (0.34615, 0.3143, 0.0903), (0.797357, 0.723991, 0.208006), 0.65, 1.0),
+    "polished_silver": ((0.23125, 0.23125, 0.23125), (0.2775, 0.2775, 0.2775), (0.773911, 0.773911, 0.773911), 0.7, 1.0),
+    # The seed's pewter (file 000), shininess already in OpenGL units: 9.85 / 128.
+    "pewter": ((0.11, 0.06, 0.11), (0.43, 0.47, 0.54), (0.33, 0.33, 0.52), 9.85 / 128.0, 1.0),
+}
+
+
+def _build(name: str) -> Material:
+    ambient, diffuse, specular, shininess_fraction, alpha = _TABLE[name]
+    return Material(
+        ambient=(*ambient, alpha),
+        diffuse=(*diffuse, alpha),
+        specular=(*specular, alpha),
+        shininess=shininess_fraction * 128.0,
+        name=name,
+    )
+
+
+MATERIALS: Mapping[str, Material] = MappingProxyType({name: _build(name) for name in _TABLE})
+"""Every named material, read-only. Keys use underscores: "black_plastic"."""
+
+
+def canonical_name(name: str) -> str:
+    return name.strip().lower().replace(" ", "_").replace("-", "_")
+
+
+def material(name: str) -> Material:
+    """Look a material up by name ("gold", "black plastic", "polished-silver", ...)."""
+    key = canonical_name(name)
+    try:
+        return MATERIALS[key]
+    except KeyError:
+        close = difflib.get_close_matches(key, MATERIALS.keys(), n=3)
+        hint = f"; did you mean {' or '.join(map(repr, close))}?" if close else ""
+        raise SceneError(
+            f"unknown material {name!r}{hint} (`wgpu-shading materials` lists all {len(MATERIALS)})"
+        ) from None
+
+
+def _mtl_numbers(kwargs: dict, key: str, count: int) -> tuple[float, ...] | None:
+    """Exact float values of an MTL key as trimesh kept them (it quantizes its own colors to 8 bits)."""
+    raw = kwargs.get(key)
+    if raw is None:
+        return None
+    values = [raw] if isinstance(raw, (int, float)) else list(raw)
+    try:
+        numbers = tuple(float(v) for v in values)
+    except (TypeError, ValueError):
+        return None
+    if len(numbers) == 1 and count > 1:
+        numbers = numbers * count
+    return numbers[:count] if len(numbers) >= count else None
+
+
+def material_from_trimesh(part: object, source: str) -> Material | None:
+    """The material a mesh file carries (OBJ/MTL Ka, Kd, Ks, Ns, Ke, d, map_Kd; glTF base color).
+
+    Returns None when the file has no material of its own.
+    """
+    from .scene import Texture
+
+    visual = getattr(part, "visual", None)
+    file_material = getattr(visual, "material", None)
+    if file_material is None:
+        return None
+    kwargs = {k.lower(): v for k, v in (getattr(file_material, "kwargs", None) or {}).items()}
+    image = getattr(file_material, "image", None)
+    if image is None:
+        image = getattr(file_material, "baseColorTexture", None)
+    is_pbr = hasattr(file_material, "baseColorFactor")
+    # trimesh invents a placeholder material (a 2×2 image, no MTL values) for any mesh with
+    # UVs; only an MTL's values, an MTL's map_Kd (which records its file_path) or a glTF
+    # material count as the file's own.
+    image_from_file = image is not None and (is_pbr or "file_path" in getattr(image, "info", {}))
+    if not kwargs and not image_from_file and not is_pbr:
+        return None
+    if not image_from_file:
+        image = None
+    texture = None
+    if image is not None:
+        texture = Texture(np.asarray(image.convert("RGBA")), name=f"{source}:{getattr(file_material, 'name', '')}")
+    name = str(getattr(file_material, "name", "") or "")
+    if is_pbr:  # glTF PBR: keep its colour, light it classically
+        factor = getattr(file_material, "baseColorFactor", None)
+        base = tuple(float(c) / (255.0 if np.asarray(factor).dtype.kind in "iu" else 1.0) for c in factor) if factor is not None else (1.0, 1.0, 1.0, 1.0)
+        return Material(ambient=base, diffuse=base, texture=texture, name=name)
+    diffuse = _mtl_numbers(kwargs, "kd", 3)
+    ambient = _mtl_numbers(kwargs, "ka", 3)
+    specular = _mtl_numbers(kwargs, "ks", 3)
+    emission = _mtl_numbers(kwargs, "ke", 3)
+    shininess = _mtl_numbers(kwargs, "ns", 1)
+    dissolve = _mtl_numbers(kwargs, "d", 1)
+    if diffuse is None and ambient is None and specular is None and texture is None:
+        return None
+    alpha = (min(max(dissolve[0], 0.0), 1.0),) if dissolve else (1.0,)
+    defaults = Material()
+    return Material(
+        ambient=(ambient + alpha) if ambient else defaults.ambient,
+        diffuse=(diffuse + alpha) if diffuse else (defaults.diffuse[:3] + alpha),
+        specular=(specular + alpha) if specular else defaults.specular,
+        emission=(emission + (1.0,)) if emission else defaults.emission,
+        shininess=min(max(shininess[0], 0.0), 1e6) if shininess else defaults.shininess,
+        texture=texture,
+        name=name,
+    )

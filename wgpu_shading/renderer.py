@@ -1,0 +1,366 @@
+"""The render pass: scene → GPU resources → one frame read back into numpy.
+
+A Renderer owns one wgpu device (the shared default one, or the caller's) and keeps
+everything that outlives a frame: pipelines (per feature set), mesh and texture
+uploads (per Mesh/Texture object, released when those are garbage-collected), uniform
+buffers, render targets and readback buffers (per size and format). Rendering the same
+scene again, or the same meshes from another camera, only rewrites uniforms.
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from dataclasses import dataclass, field
+import numpy as np
+import wgpu
+
+from .device import default_device
+from .errors import SceneError
+from .features import FeatureSet, object_features
+from .meshes import Mesh
+from .pipelines import COLOR_FORMATS, DEPTH_FORMAT, PipelineCache, PipelineEntry
+from .scene import Scene, Texture
+from .uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
+
+_BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
+_ROW_ALIGNMENT = 256  # WebGPU's required bytes_per_row multiple for texture copies
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One rendered image.
+
+    color: (height, width, 4) uint8, or float32 in [0, 1] when rendered with float32=True
+    depth: (height, width) float64 eye-space distance along the view axis (inf where
+           nothing was drawn), when requested
+    """
+
+    color: np.ndarray
+    depth: np.ndarray | None = None
+
+
+@dataclass
+class _GpuMesh:
+    positions: object
+    normals: object
+    indices: object
+    uvs: object | None
+    triangle_count: int
+    storage_groups: dict = field(default_factory=dict)  # flat shading's vertex-pulling bind groups
+
+
+@dataclass
+class _GpuTexture:
+    texture: object
+    view: object
+    object_groups: dict = field(default_factory=dict)  # object bind groups that bind this view
+
+
+@dataclass
+class _Target:
+    width: int
+    height: int
+    color_format: str
+    color: object
+    color_view: object
+    depth: object
+    depth_view: object
+    color_readback: object
+    depth_readback: object
+    color_row_bytes: int
+    depth_row_bytes: int
+
+
+@dataclass
+class _Draw:
+    entry: PipelineEntry
+    object_index: int
+    gpu_mesh: _GpuMesh
+    object_data: np.ndarray
+    texture: _GpuTexture | None
+
+
+def _padded_row_bytes(width: int, bytes_per_pixel: int) -> int:
+    return math.ceil(width * bytes_per_pixel / _ROW_ALIGNMENT) * _ROW_ALIGNMENT
+
+
+def _mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
+    """Box-filtered mip levels down to 1×1 (texture values are used as linear, like the seeds)."""
+    levels = [pixels]
+    current = pixels.astype(np.float32)
+    while current.shape[0] > 1 or current.shape[1] > 1:
+        height, width = current.shape[:2]
+        if height % 2:
+            current = np.concatenate([current, current[-1:]], axis=0)
+        if width % 2:
+            current = np.concatenate([current, current[:, -1:]], axis=1)
+        current = current.reshape(current.shape[0] // 2, 2, current.shape[1] // 2, 2, 4).mean(axis=(1, 3))
+        current = current[: max(1, height // 2), : max(1, width // 2)]
+        levels.append(np.round(current).astype(np.uint8))
+    return levels
+
+
+class Renderer:
+    """Renders Scenes offscreen. Reuse one Renderer for many frames: it caches pipelines,
+    uploads and buffers. Pass `device=` to render on a wgpu device you already have."""
+
+    def __init__(self, device=None, *, adapter: str | None = None):
+        self._device = device if device is not None else default_device(adapter)
+        self._pipelines = PipelineCache(self._device)
+        self._meshes: weakref.WeakKeyDictionary[Mesh, _GpuMesh] = weakref.WeakKeyDictionary()
+        self._textures: weakref.WeakKeyDictionary[Texture, _GpuTexture] = weakref.WeakKeyDictionary()
+        self._targets: dict[tuple[int, int, str], _Target] = {}
+        self._uniform_buffers: dict[tuple[str, int, int], object] = {}
+        self._bind_groups: dict[tuple, object] = {}
+        self._sampler = self._device.create_sampler(
+            address_mode_u=wgpu.AddressMode.repeat,
+            address_mode_v=wgpu.AddressMode.repeat,
+            mag_filter=wgpu.FilterMode.linear,
+            min_filter=wgpu.FilterMode.linear,
+            mipmap_filter=wgpu.MipmapFilterMode.linear,
+        )
+
+    @property
+    def device(self):
+        return self._device
+
+    @property
+    def pipeline_count(self) -> int:
+        """How many pipelines this renderer has compiled (one per feature set and format)."""
+        return len(self._pipelines)
+
+    # ------------------------------------------------------------------ public API
+
+    def render(self, scene: Scene, *, float32: bool = False) -> np.ndarray:
+        """The scene's color image: (height, width, 4) uint8, or float32 with float32=True."""
+        return self.render_frame(scene, float32=float32).color
+
+    def render_frame(self, scene: Scene, *, float32: bool = False, depth: bool = False) -> Frame:
+        """Color and, with depth=True, eye-space depth of one frame."""
+        color_format = "float32" if float32 else "rgba8"
+        target = self._target(scene.size, color_format)
+        self._submit(scene, target, read_depth=depth)
+        return self._read(target, scene, read_depth=depth)
+
+    def features(self, scene: Scene) -> list[FeatureSet]:
+        """The feature set of each object (what `wgpu-shading shader` prints)."""
+        return [object_features(scene, obj, index) for index, obj in enumerate(scene.objects)]
+
+    # ------------------------------------------------------------------ resources
+
+    def _target(self, size: tuple[int, int], color_format: str) -> _Target:
+        width, height = size
+        limit = self._device.limits["max-texture-dimension-2d"]
+        if width > limit or height > limit:
+            raise SceneError(f"output.size {width}×{height} exceeds this adapter's limit of {limit} pixels per side")
+        key = (width, height, color_format)
+        target = self._targets.get(key)
+        if target is not None:
+            return target
+        device = self._device
+        color = device.create_texture(
+            size=(width, height, 1),
+            format=COLOR_FORMATS[color_format],
+            usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.COPY_SRC,
+        )
+        depth = device.create_texture(
+            size=(width, height, 1),
+            format=DEPTH_FORMAT,
+            usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.COPY_SRC,
+        )
+        color_row_bytes = _padded_row_bytes(width, _BYTES_PER_PIXEL[color_format])
+        depth_row_bytes = _padded_row_bytes(width, 4)
+        readback_usage = wgpu.BufferUsage.MAP_READ | wgpu.BufferUsage.COPY_DST
+        target = _Target(
+            width=width,
+            height=height,
+            color_format=color_format,
+            color=color,
+            color_view=color.create_view(),
+            depth=depth,
+            depth_view=depth.create_view(),
+            color_readback=device.create_buffer(size=color_row_bytes * height, usage=readback_usage),
+            depth_readback=device.create_buffer(size=depth_row_bytes * height, usage=readback_usage),
+            color_row_bytes=color_row_bytes,
+            depth_row_bytes=depth_row_bytes,
+        )
+        self._targets[key] = target
+        return target
+
+    def _gpu_mesh(self, mesh: Mesh) -> _GpuMesh:
+        gpu_mesh = self._meshes.get(mesh)
+        if gpu_mesh is None:
+            device = self._device
+            # One upload serves every frequency: vertex buffers for Gouraud/Phong, storage
+            # buffers for flat shading's vertex pulling.
+            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE
+            gpu_mesh = _GpuMesh(
+                positions=device.create_buffer_with_data(data=mesh.positions, usage=usage),
+                normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX),
+                indices=device.create_buffer_with_data(
+                    data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE
+                ),
+                uvs=None if mesh.uvs is None else device.create_buffer_with_data(data=mesh.uvs, usage=usage),
+                triangle_count=mesh.triangle_count,
+            )
+            self._meshes[mesh] = gpu_mesh
+        return gpu_mesh
+
+    def _gpu_texture(self, texture: Texture) -> _GpuTexture:
+        gpu_texture = self._textures.get(texture)
+        if gpu_texture is None:
+            # Rows bottom-up: texture row 0 is the image's last row, so v = 0 is the bottom.
+            levels = _mip_chain(np.ascontiguousarray(texture.pixels[::-1]))
+            height, width = levels[0].shape[:2]
+            gpu = self._device.create_texture(
+                size=(width, height, 1),
+                format=wgpu.TextureFormat.rgba8unorm,
+                usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
+                mip_level_count=len(levels),
+            )
+            for level, pixels in enumerate(levels):
+                self._device.queue.write_texture(
+                    {"texture": gpu, "mip_level": level},
+                    np.ascontiguousarray(pixels),
+                    {"bytes_per_row": pixels.shape[1] * 4, "rows_per_image": pixels.shape[0]},
+                    (pixels.shape[1], pixels.shape[0], 1),
+                )
+            gpu_texture = _GpuTexture(texture=gpu, view=gpu.create_view())
+            self._textures[texture] = gpu_texture
+        return gpu_texture
+
+    def _uniform_buffer(self, role: str, index: int, data: np.ndarray):
+        key = (role, index, data.nbytes)
+        buffer = self._uniform_buffers.get(key)
+        if buffer is None:
+            buffer = self._device.create_buffer(
+                size=data.nbytes, usage=wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST
+            )
+            self._uniform_buffers[key] = buffer
+        self._device.queue.write_buffer(buffer, 0, data.tobytes())
+        return buffer
+
+    def _bind_group(self, cache: dict, layout, resources: tuple) -> object:
+        """A bind group, cached in `cache`: the dict of whoever owns the resources (the renderer
+        for uniform buffers, a _GpuMesh for its buffers, a _GpuTexture for its view), so a
+        cached group never outlives, or keeps alive, what it binds."""
+        key = (id(layout),) + tuple(id(r) for r in resources)
+        group = cache.get(key)
+        if group is None:
+            entries = []
+            for binding, resource in enumerate(resources):
+                if isinstance(resource, wgpu.GPUBuffer):
+                    resource = {"buffer": resource, "offset": 0, "size": resource.size}
+                entries.append({"binding": binding, "resource": resource})
+            group = self._device.create_bind_group(layout=layout, entries=entries)
+            cache[key] = group
+        return group
+
+    # ------------------------------------------------------------------ frame
+
+    def _prepare(self, scene: Scene, color_format: str) -> list[_Draw]:
+        draws = []
+        for index, obj in enumerate(scene.objects):
+            features = object_features(scene, obj, index)
+            entry = self._pipelines.get(features, color_format, is_mirrored(scene, obj))
+            texture = self._gpu_texture(obj.material.texture) if features.texture_mode else None
+            draws.append(
+                _Draw(
+                    entry=entry,
+                    object_index=index,
+                    gpu_mesh=self._gpu_mesh(obj.mesh),
+                    object_data=object_uniforms(scene, obj, entry.object_dtype),
+                    texture=texture,
+                )
+            )
+        return draws
+
+    def _submit(self, scene: Scene, target: _Target, *, read_depth: bool) -> None:
+        device = self._device
+        draws = self._prepare(scene, target.color_format)
+        encoder = device.create_command_encoder()
+        render_pass = encoder.begin_render_pass(
+            color_attachments=[
+                {
+                    "view": target.color_view,
+                    "clear_value": scene.background,
+                    "load_op": wgpu.LoadOp.clear,
+                    "store_op": wgpu.StoreOp.store,
+                }
+            ],
+            depth_stencil_attachment={
+                "view": target.depth_view,
+                "depth_clear_value": 0.0,  # reversed Z: 0 is the far plane
+                "depth_load_op": wgpu.LoadOp.clear,
+                "depth_store_op": wgpu.StoreOp.store,
+            },
+        )
+        if draws:
+            # Every object shares the frame uniforms; their layout depends only on scene-level features.
+            frame_data = frame_uniforms(scene, draws[0].entry.frame_dtype)
+            frame_buffer = self._uniform_buffer("frame", 0, frame_data)
+        for draw in draws:
+            entry = draw.entry
+            assert entry.frame_dtype == frame_data.dtype
+            gpu_mesh = draw.gpu_mesh
+            layouts = entry.bind_group_layouts
+            render_pass.set_pipeline(entry.pipeline)
+            render_pass.set_bind_group(0, self._bind_group(self._bind_groups, layouts[0], (frame_buffer,)))
+            object_buffer = self._uniform_buffer("object", draw.object_index, draw.object_data)
+            if draw.texture is None:
+                object_group = self._bind_group(self._bind_groups, layouts[1], (object_buffer,))
+            else:
+                object_group = self._bind_group(
+                    draw.texture.object_groups, layouts[1], (object_buffer, draw.texture.view, self._sampler)
+                )
+            render_pass.set_bind_group(1, object_group)
+            if entry.features.frequency == "flat":
+                storage: tuple = (gpu_mesh.positions, gpu_mesh.indices)
+                if draw.texture is not None:
+                    storage += (gpu_mesh.uvs,)
+                render_pass.set_bind_group(2, self._bind_group(gpu_mesh.storage_groups, layouts[2], storage))
+                render_pass.draw(3 * gpu_mesh.triangle_count)
+            else:
+                render_pass.set_vertex_buffer(0, gpu_mesh.positions)
+                render_pass.set_vertex_buffer(1, gpu_mesh.normals)
+                if draw.texture is not None:
+                    render_pass.set_vertex_buffer(2, gpu_mesh.uvs)
+                render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
+                render_pass.draw_indexed(3 * gpu_mesh.triangle_count)
+        render_pass.end()
+        size = (target.width, target.height, 1)
+        encoder.copy_texture_to_buffer(
+            {"texture": target.color},
+            {"buffer": target.color_readback, "bytes_per_row": target.color_row_bytes, "rows_per_image": target.height},
+            size,
+        )
+        if read_depth:
+            encoder.copy_texture_to_buffer(
+                {"texture": target.depth, "aspect": wgpu.TextureAspect.depth_only},
+                {"buffer": target.depth_readback, "bytes_per_row": target.depth_row_bytes, "rows_per_image": target.height},
+                size,
+            )
+        device.queue.submit([encoder.finish()])
+
+    def _read(self, target: _Target, scene: Scene, *, read_depth: bool) -> Frame:
+        color = self._read_buffer(
+            target.color_readback, target.color_row_bytes, target.height, target.width,
+            np.uint8 if target.color_format == "rgba8" else np.float32, 4,
+        )
+        depth = None
+        if read_depth:
+            raw = self._read_buffer(target.depth_readback, target.depth_row_bytes, target.height, target.width, np.float32, 1)
+            depth = linear_depth(raw[:, :, 0], scene.camera)
+        return Frame(color=color, depth=depth)
+
+    @staticmethod
+    def _read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels: int) -> np.ndarray:
+        buffer.map_sync(wgpu.MapMode.READ)
+        try:
+            raw = np.frombuffer(buffer.read_mapped(copy=False), dtype=np.uint8).reshape(height, row_bytes)
+            pixel_bytes = width * channels * np.dtype(dtype).itemsize
+            image = raw[:, :pixel_bytes].copy().view(dtype).reshape(height, width, channels)
+        finally:
+            buffer.unmap()
+        return image

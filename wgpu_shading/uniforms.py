@@ -1,0 +1,111 @@
+"""Scene → uniform data: world-space float64 values to eye-space float32 buffers.
+
+Everything is computed in float64 and rounded to float32 once, at the end. The
+model-view matrix is formed in float64 before rounding, so an object 1e5 units from
+the origin seen from close by keeps its precision (camera-relative rendering).
+The buffers are numpy structured arrays whose dtypes `layout.py` derived from the
+WGSL structs; fields are filled by name.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .scene import Camera, DirectionalLight, PositionalLight, Scene, SceneObject, SpotLight
+
+
+def clip_from_eye(camera: Camera, aspect: float) -> np.ndarray:
+    """Perspective projection with reversed Z: depth 1 at the near plane, 0 at the far plane.
+
+    Paired with a float32 depth buffer and the `greater` test, reversed Z spreads float
+    precision evenly over distance, so near/far ratios of 1e-7 do not z-fight.
+    """
+    focal = 1.0 / math.tan(math.radians(camera.fov_y) / 2.0)
+    near, far = camera.near, camera.far
+    projection = np.zeros((4, 4))
+    projection[0, 0] = focal / aspect
+    projection[1, 1] = focal
+    projection[2, 2] = near / (far - near)
+    projection[2, 3] = near * far / (far - near)
+    projection[3, 2] = -1.0
+    return projection
+
+
+def linear_depth(depth: np.ndarray, camera: Camera) -> np.ndarray:
+    """Eye-space distance along the view axis from reversed-Z depth; inf where nothing was drawn."""
+    near, far = camera.near, camera.far
+    depth = depth.astype(np.float64)
+    with np.errstate(divide="ignore"):
+        distance = near * far / (depth * (far - near) + near)
+    return np.where(depth > 0.0, distance, np.inf)
+
+
+def _unit(vector: np.ndarray) -> np.ndarray:
+    return vector / np.linalg.norm(vector)
+
+
+def _fill_light_colors(lights: np.ndarray, index: int, light: object) -> None:
+    lights["ambient"][index] = light.ambient  # type: ignore[attr-defined]
+    lights["diffuse"][index] = light.diffuse  # type: ignore[attr-defined]
+    lights["specular"][index] = light.specular  # type: ignore[attr-defined]
+
+
+def frame_uniforms(scene: Scene, dtype: np.dtype) -> np.ndarray:
+    """The FrameUniforms buffer contents for `scene`."""
+    data = np.zeros((), dtype)
+    eye_from_world = scene.camera.eye_from_world()
+    rotation = eye_from_world[:3, :3]
+    width, height = scene.size
+    data["clip_from_eye"] = clip_from_eye(scene.camera, width / height).T  # column-major
+    data["global_ambient"] = scene.ambient
+    if "blinn_exponent_scale" in dtype.names:
+        data["blinn_exponent_scale"] = scene.shading.blinn_exponent_scale
+    counters = {"directional": 0, "positional": 0, "spot": 0}
+    for light in scene.lights:
+        kind = light.kind
+        index = counters[kind]
+        counters[kind] += 1
+        lights = data[f"{kind}_lights"]
+        _fill_light_colors(lights, index, light)
+        if isinstance(light, DirectionalLight):
+            lights["direction_to_light"][index] = _unit(rotation @ -np.asarray(light.direction))
+            continue
+        lights["position"][index] = (eye_from_world @ np.append(light.position, 1.0))[:3]
+        if "attenuation" in lights.dtype.names:
+            lights["attenuation"][index] = light.attenuation
+        if isinstance(light, SpotLight):
+            lights["direction"][index] = _unit(rotation @ np.asarray(light.direction))
+            lights["cutoff_chord_squared"][index] = 4.0 * math.sin(math.radians(light.cutoff) / 2.0) ** 2
+            lights["exponent"][index] = light.exponent
+    return data
+
+
+def eye_from_model(scene: Scene, obj: SceneObject) -> np.ndarray:
+    """float64 model-view matrix (formed before any rounding to float32)."""
+    return scene.camera.eye_from_world() @ obj.world_from_model()
+
+
+def object_uniforms(scene: Scene, obj: SceneObject, dtype: np.dtype) -> np.ndarray:
+    """The ObjectUniforms buffer contents for one object."""
+    data = np.zeros((), dtype)
+    model_view = eye_from_model(scene, obj)
+    data["eye_from_model"] = model_view.T
+    normal_matrix = np.linalg.inv(model_view[:3, :3]).T  # the seed's norm_matrix
+    data["eye_normal_from_model"][:, :3] = normal_matrix.T  # columns padded to vec4
+    material = data["material"]
+    source = obj.material
+    material["ambient"] = source.ambient
+    material["diffuse"] = source.diffuse
+    material["specular"] = source.specular
+    material["shininess"] = source.shininess
+    if "emission" in material.dtype.names:
+        material["emission"] = source.emission
+    return data
+
+
+def is_mirrored(scene: Scene, obj: SceneObject) -> bool:
+    """True when the model-view matrix flips handedness (negative determinant): the
+    triangles' winding reverses on screen, so the pipeline's front face must too."""
+    return bool(np.linalg.det(eye_from_model(scene, obj)[:3, :3]) < 0.0)

@@ -1,0 +1,61 @@
+// Gouraud shading: lighting per vertex (the seed's Gouraud vertex shader), colors
+// interpolated by the rasterizer. Highlights that fall inside a triangle are lost on
+// coarse meshes: that is the method, not a bug. Colors are clamped after interpolation,
+// as the seed's shader does (its varyingColor is not clamped in the vertex stage).
+
+#include "structs.wgsl"
+#include "bindings.wgsl"
+#include "lighting.wgsl"
+#include "surface.wgsl"
+
+struct VertexInput {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+#if TEXTURE
+    @location(2) uv: vec2<f32>,
+#endif
+}
+
+struct Varyings {
+    @builtin(position) clip_position: vec4<f32>,
+    @location(0) front_ambient_diffuse: vec3<f32>,
+#if SPECULAR
+    @location(1) front_specular: vec3<f32>,
+#endif
+#if TWO_SIDED
+    // OpenGL's two-sided lighting computes a second color per vertex for back faces.
+    @location(2) back_ambient_diffuse: vec3<f32>,
+#if SPECULAR
+    @location(3) back_specular: vec3<f32>,
+#endif
+#endif
+#if TEXTURE
+    @location(4) uv: vec2<f32>,
+#endif
+}
+
+@vertex
+fn vs_main(vertex: VertexInput) -> Varyings {
+    let eye_position = object_uniforms.eye_from_model * vec4<f32>(vertex.position, 1.0);
+    let normal = safe_normalize(object_uniforms.eye_normal_from_model * vertex.normal, FALLBACK_NORMAL);
+    let front = shade(eye_position.xyz, normal, view_direction(eye_position.xyz, normal));
+    var out: Varyings;
+    out.clip_position = frame_uniforms.clip_from_eye * eye_position;
+    out.front_ambient_diffuse = front.ambient_diffuse;
+#if SPECULAR
+    out.front_specular = front.specular;
+#endif
+#if TWO_SIDED
+    let back = shade(eye_position.xyz, -normal, view_direction(eye_position.xyz, -normal));
+    out.back_ambient_diffuse = back.ambient_diffuse;
+#if SPECULAR
+    out.back_specular = back.specular;
+#endif
+#endif
+#if TEXTURE
+    out.uv = vertex.uv;
+#endif
+    return out;
+}
+
+#include "vertex_lit_fragment.wgsl"

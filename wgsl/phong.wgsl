@@ -1,0 +1,63 @@
+// Phong shading: lighting per fragment (the seed's Phong vertex and fragment shaders).
+// The vertex stage passes the eye-space position and normal; the rasterizer interpolates
+// them (perspective-correct) and each fragment renormalizes N and evaluates every light.
+// L and V are recomputed from the interpolated position, which equals interpolating them.
+
+#include "structs.wgsl"
+#include "bindings.wgsl"
+#include "lighting.wgsl"
+#include "surface.wgsl"
+
+struct VertexInput {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+#if TEXTURE
+    @location(2) uv: vec2<f32>,
+#endif
+}
+
+struct Varyings {
+    @builtin(position) clip_position: vec4<f32>,
+    @location(0) eye_position: vec3<f32>,
+    @location(1) eye_normal: vec3<f32>,
+#if TEXTURE
+    @location(2) uv: vec2<f32>,
+#endif
+}
+
+@vertex
+fn vs_main(vertex: VertexInput) -> Varyings {
+    let eye_position = object_uniforms.eye_from_model * vec4<f32>(vertex.position, 1.0);
+    var out: Varyings;
+    out.clip_position = frame_uniforms.clip_from_eye * eye_position;
+    out.eye_position = eye_position.xyz;
+    // Left unnormalized: the fragment stage normalizes after interpolation anyway.
+    out.eye_normal = object_uniforms.eye_normal_from_model * vertex.normal;
+#if TEXTURE
+    out.uv = vertex.uv;
+#endif
+    return out;
+}
+
+@fragment
+fn fs_main(
+    in: Varyings,
+#if TWO_SIDED
+    @builtin(front_facing) front_facing: bool,
+#endif
+) -> @location(0) vec4<f32> {
+    // The interpolated normal can pass through zero (opposite normals on one triangle).
+    var normal = safe_normalize(in.eye_normal, FALLBACK_NORMAL);
+#if TWO_SIDED
+    // GL_LIGHT_MODEL_TWO_SIDE: back faces are lit with the flipped normal.
+    if (!front_facing) {
+        normal = -normal;
+    }
+#endif
+    let lit = shade(in.eye_position, normal, view_direction(in.eye_position, normal));
+#if TEXTURE
+    return final_color(lit, in.uv);
+#else
+    return final_color(lit);
+#endif
+}

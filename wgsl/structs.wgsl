@@ -1,0 +1,83 @@
+// Uniform layouts: the one declaration of every uniform block.
+// wgpu_shading/layout.py parses these structs (after the #if lines are resolved) into
+// numpy dtypes, so the Python side can never disagree with the shader about offsets.
+//
+// PositionalLight and Material keep the seed's fields (file 000) at the seed's offsets:
+// ambient 0, diffuse 16, specular 32, position/shininess 48, size 64 (SPEC §7).
+// Fields for optional effects come after them and exist only when the scene uses them.
+// All directions and positions are in eye space: the CPU transforms them once per frame,
+// like the seed's installLights().
+
+struct DirectionalLight {
+    ambient: vec4<f32>,
+    diffuse: vec4<f32>,
+    specular: vec4<f32>,
+    // Unit vector from the surface towards the light (OpenGL's position with w = 0).
+    direction_to_light: vec3<f32>,
+}
+
+struct PositionalLight {
+    ambient: vec4<f32>,
+    diffuse: vec4<f32>,
+    specular: vec4<f32>,
+    position: vec3<f32>,
+#if ATTENUATION
+    // Constant, linear and quadratic coefficients: 1 / (kc + kl·d + kq·d²).
+    attenuation: vec3<f32>,
+#endif
+}
+
+struct SpotLight {
+    ambient: vec4<f32>,
+    diffuse: vec4<f32>,
+    specular: vec4<f32>,
+    position: vec3<f32>,
+#if ATTENUATION
+    attenuation: vec3<f32>,
+#endif
+    // Unit vector: the way the light travels along the cone's axis.
+    direction: vec3<f32>,
+    // The cone as a squared chord, |a − b|² = 2 − 2·cos(angle) for unit a and b:
+    // 4·sin²(cutoff / 2), computed in float64. Comparing chords instead of cosines keeps
+    // small cutoffs exact, where cos(angle) rounds to 1 in float32.
+    cutoff_chord_squared: f32,
+    exponent: f32,
+}
+
+struct Material {
+    ambient: vec4<f32>,
+    diffuse: vec4<f32>,
+    specular: vec4<f32>,
+    shininess: f32,
+#if EMISSION
+    emission: vec4<f32>,
+#endif
+}
+
+// Group 0: one per frame, shared by every object.
+struct FrameUniforms {
+    clip_from_eye: mat4x4<f32>,
+    global_ambient: vec4<f32>,
+#if REFLECTION_BLINN_PHONG
+    // k_blinn: the Blinn-Phong exponent is shininess × this (seed 000 uses 3, OpenGL 1).
+    blinn_exponent_scale: f32,
+#endif
+#if DIRECTIONAL_LIGHTS
+    directional_lights: array<DirectionalLight, DIRECTIONAL_LIGHT_COUNT>,
+#endif
+#if POSITIONAL_LIGHTS
+    positional_lights: array<PositionalLight, POSITIONAL_LIGHT_COUNT>,
+#endif
+#if SPOT_LIGHTS
+    spot_lights: array<SpotLight, SPOT_LIGHT_COUNT>,
+#endif
+}
+
+// Group 1: one per object.
+struct ObjectUniforms {
+    eye_from_model: mat4x4<f32>,
+    // The seed's norm_matrix: inverse transpose of eye_from_model's upper 3×3, so normals
+    // stay perpendicular under non-uniform scale and stay outward under mirroring.
+    eye_normal_from_model: mat3x3<f32>,
+    material: Material,
+}
