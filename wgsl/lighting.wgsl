@@ -25,6 +25,7 @@ fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     return fallback;
 }
 
+#if SPECULAR or SPOT_LIGHTS
 // cosine^exponent for a cosine in [-1, 1] and an exponent >= 0 (validated on the CPU).
 // pow(x, y) is undefined for x < 0 and for x = 0 with y <= 0, so the edge cases are decided
 // before pow runs: x^0 = 1 for every x (the limit of x^s as s → 0, and OpenGL's 0^0 = 1),
@@ -38,6 +39,7 @@ fn guarded_power(cosine: f32, exponent: f32) -> f32 {
     }
     return pow(min(cosine, 1.0), exponent);
 }
+#endif
 
 // Unit vector from the shaded point to the viewer.
 fn view_direction(eye_position: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {

@@ -8,6 +8,7 @@
 // All directions and positions are in eye space: the CPU transforms them once per frame,
 // like the seed's installLights().
 
+#if DIRECTIONAL_LIGHTS
 struct DirectionalLight {
     ambient: vec4<f32>,
     diffuse: vec4<f32>,
@@ -15,7 +16,9 @@ struct DirectionalLight {
     // Unit vector from the surface towards the light (OpenGL's position with w = 0).
     direction_to_light: vec3<f32>,
 }
+#endif
 
+#if POSITIONAL_LIGHTS
 struct PositionalLight {
     ambient: vec4<f32>,
     diffuse: vec4<f32>,
@@ -26,7 +29,9 @@ struct PositionalLight {
     attenuation: vec3<f32>,
 #endif
 }
+#endif
 
+#if SPOT_LIGHTS
 struct SpotLight {
     ambient: vec4<f32>,
     diffuse: vec4<f32>,
@@ -43,6 +48,7 @@ struct SpotLight {
     cutoff_chord_squared: f32,
     exponent: f32,
 }
+#endif
 
 struct Material {
     ambient: vec4<f32>,
