@@ -1,0 +1,115 @@
+"""The command line, as a user types it."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+
+from wgpu_shading.cli import main
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def run_cli(*args: str) -> subprocess.CompletedProcess:
+    """The installed console script, in a fresh process (what a user's shell runs)."""
+    executable = shutil.which("wgpu-shading", path=str(Path(sys.executable).parent)) or "wgpu-shading"
+    return subprocess.run([executable, *args], capture_output=True, text=True, timeout=120)
+
+
+def test_render_builtin_torus_from_a_new_process(tmp_path):
+    out = tmp_path / "t.png"
+    result = run_cli("render", "builtin:torus", "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    image = iio.imread(out)
+    assert image.shape == (512, 512, 4) and image.dtype == np.uint8
+    covered = (image[:, :, :3] != 0).any(axis=2)
+    assert 0.1 < covered.mean() < 0.6  # the torus fills a good part of the frame
+    # gold: red > green > blue wherever lit
+    lit = image[covered].astype(int)
+    assert (lit[:, 0] >= lit[:, 1]).mean() > 0.99 and (lit[:, 1] >= lit[:, 2]).mean() > 0.99
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["render", "missing.toml"], "scene file 'missing.toml' not found"),
+        (["render", "builtin:teapot"], "unknown built-in mesh 'builtin:teapot'"),
+        (["render", "builtin:torus", "--material", "goldd"], "did you mean 'gold'"),
+        (["render", "builtin:torus", "-o", "/nonexistent/dir/x.png"], "folder '/nonexistent/dir' does not exist"),
+        (["render", "builtin:torus", "-o", "x.gif"], "unsupported format"),
+    ],
+)
+def test_errors_are_one_line_without_traceback(args, message):
+    result = run_cli(*args)
+    assert result.returncode == 2
+    assert result.stderr.strip().count("\n") == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    assert result.stderr.startswith("wgpu-shading: error: ") and message in result.stderr
+
+
+def test_bad_scene_key_names_file_and_key(tmp_path, capsys):
+    scene = tmp_path / "bad.toml"
+    scene.write_text("[shading]\nfrequency = \"smooth\"\n")
+    assert main(["render", str(scene)]) == 2
+    err = capsys.readouterr().err
+    assert str(scene) in err and "shading.frequency" in err and "'smooth'" in err
+
+
+def test_render_scene_file_with_overrides(tmp_path, capsys, renderer):
+    out = tmp_path / "flat.png"
+    assert main(["render", str(EXAMPLES / "gold_torus_phong.toml"), "--frequency", "flat", "--size", "96x64", "-o", str(out)]) == 0
+    assert "flat shading" in capsys.readouterr().out
+    image = iio.imread(out)
+    assert image.shape == (64, 96, 4)
+
+
+def test_float_output_and_depth(tmp_path, renderer):
+    out, depth = tmp_path / "t.npy", tmp_path / "d.npy"
+    assert main(["render", "builtin:sphere", "--size", "64", "-o", str(out), "--depth", str(depth), "-q"]) == 0
+    color, distance = np.load(out), np.load(depth)
+    assert color.dtype == np.float32 and color.shape == (64, 64, 4)
+    assert np.isinf(distance[0, 0]) and np.isfinite(distance[32, 32])
+    covered = np.isfinite(distance)
+    assert (color[covered][:, 3] == 1.0).all()
+
+
+def test_materials_lists_the_table(capsys):
+    assert main(["materials"]) == 0
+    out = capsys.readouterr().out
+    assert "gold" in out and "0.7516" in out and "51.200" in out and "pewter" in out
+    from wgpu_shading import MATERIALS
+
+    listed = [line.split()[0] for line in out.splitlines() if line.split() and line.split()[0] in MATERIALS]
+    assert listed == list(MATERIALS) and len(listed) == 29
+
+
+def test_shader_prints_the_generated_wgsl(capsys):
+    assert main(["shader", str(EXAMPLES / "gold_torus_gouraud.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "frequency=gouraud" in out and "@vertex" in out and "@fragment" in out
+    assert "SpotLight" not in out
+
+
+def test_info_names_the_adapter(capsys, renderer):
+    assert main(["info"]) == 0
+    out = capsys.readouterr().out
+    assert "llvmpipe" in out and "using:" in out
+
+
+def test_unknown_adapter_explains_how_to_get_one():
+    result = run_cli("render", "builtin:cube", "--adapter", "no-such-gpu", "-o", "/tmp/never.png")
+    assert result.returncode == 2
+    assert "no adapter matches 'no-such-gpu'" in result.stderr and "mesa-vulkan-drivers" in result.stderr
+
+
+def test_help_for_every_command():
+    for command in ("render", "shader", "materials", "info"):
+        with pytest.raises(SystemExit) as exit_:
+            main([command, "--help"])
+        assert exit_.value.code == 0
