@@ -1,0 +1,53 @@
+"""Regenerate the pictures in docs/images/ (run through `./run docs`).
+
+Renders every scene in examples/ with one Renderer and composes labelled contact sheets.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import imageio.v3 as iio
+import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+
+from wgpu_shading import Renderer, load_scene
+
+ROOT = Path(__file__).resolve().parent.parent
+IMAGES = ROOT / "docs" / "images"
+
+
+def contact_sheet(panels: list[tuple[str, np.ndarray]], columns: int) -> np.ndarray:
+    """Panels in a grid, each with its label underneath."""
+    height, width = panels[0][1].shape[:2]
+    label_height = 34
+    rows = (len(panels) + columns - 1) // columns
+    sheet = Image.new("RGB", (columns * width, rows * (height + label_height)), (255, 255, 255))
+    draw = ImageDraw.Draw(sheet)
+    font = ImageFont.load_default(size=20)
+    for index, (label, image) in enumerate(panels):
+        x, y = (index % columns) * width, (index // columns) * (height + label_height)
+        sheet.paste(Image.fromarray(image[:, :, :3]), (x, y))
+        text_width = draw.textlength(label, font=font)
+        draw.text((x + (width - text_width) / 2, y + height + 6), label, fill=(0, 0, 0), font=font)
+    return np.asarray(sheet)
+
+
+def main() -> int:
+    IMAGES.mkdir(parents=True, exist_ok=True)
+    renderer = Renderer()
+    rendered = {}
+    for path in sorted((ROOT / "examples").glob("*.toml")):
+        rendered[path.stem] = renderer.render(load_scene(path))
+        iio.imwrite(IMAGES / f"{path.stem}.png", rendered[path.stem])
+        print(f"wrote docs/images/{path.stem}.png")
+    modes = [("Flat", "gold_torus_flat"), ("Gouraud", "gold_torus_gouraud"), ("Phong", "gold_torus_phong"), ("Blinn-Phong (k = 3)", "gold_torus_blinn_phong")]
+    sheet = contact_sheet([(label, rendered[name][96:416, 16:496]) for label, name in modes], columns=4)
+    iio.imwrite(IMAGES / "gold_torus_modes.png", sheet)
+    print("wrote docs/images/gold_torus_modes.png")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,129 @@
+"""Meshes: built-ins with exact normals, files through trimesh, computed vertex normals,
+and clear errors for invalid data."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from wgpu_shading import MeshError, load_mesh
+from wgpu_shading.meshes import Mesh, sphere_for_triangles, uv_sphere, vertex_normals
+
+
+@pytest.mark.parametrize(
+    "spec, triangles",
+    [
+        ("builtin:sphere?slices=5&stacks=3", 20),
+        ("builtin:sphere?slices=20&stacks=20", 2 * 20 * 19),
+        ("builtin:torus", 2 * 48 * 48),
+        ("builtin:cube", 12),
+        ("builtin:plane?subdivisions=3", 18),
+    ],
+)
+def test_builtins(spec, triangles):
+    mesh = load_mesh(spec)
+    assert mesh.triangle_count == triangles
+    np.testing.assert_allclose(np.linalg.norm(mesh.normals, axis=1), 1.0, atol=1e-6)
+    # Counter-clockwise front faces: the face normal agrees with the vertex normals.
+    p = mesh.world_positions()
+    f = mesh.indices
+    face = np.cross(p[f[:, 1]] - p[f[:, 0]], p[f[:, 2]] - p[f[:, 0]])
+    assert (np.einsum("ij,ij->i", face, mesh.normals[f].sum(axis=1)) > 0).all()
+
+
+def test_sphere_normals_are_exact():
+    mesh = uv_sphere(2.0, 16, 8)
+    p = mesh.world_positions()
+    np.testing.assert_allclose(np.linalg.norm(p, axis=1), 2.0, rtol=1e-6)
+    np.testing.assert_allclose(mesh.normals, p / 2.0, atol=1e-6)
+
+
+@pytest.mark.parametrize("wanted", [20, 1000, 100_000])
+def test_sphere_for_triangles(wanted):
+    assert abs(sphere_for_triangles(wanted).triangle_count - wanted) / wanted < 0.1
+
+
+def test_computed_normal_is_the_normalized_sum_of_unit_face_normals():
+    # A vertex shared by a big face in the XY plane and a small face in the XZ plane:
+    # unit normals (not area-weighted) sum to (0, 1, 1)/sqrt(2); area weights would give mostly +Z.
+    positions = np.array([[0, 0, 0], [10, 0, 0], [0, 10, 0], [0, 0, 1]], float)
+    faces = np.array([[0, 1, 2], [0, 3, 1]])
+    normals = vertex_normals(positions, faces)
+    np.testing.assert_allclose(normals[0], np.array([0, 1, 1]) / np.sqrt(2), atol=1e-12)
+
+
+def test_cancelling_normals_fall_back_to_the_largest_face():
+    # Both sides of a sheet share vertices: unit normals cancel exactly.
+    positions = np.array([[0, 0, 0], [2, 0, 0], [0, 2, 0]], float)
+    faces = np.array([[0, 1, 2], [0, 2, 1]])
+    normals = vertex_normals(positions, faces)
+    assert np.all(np.isfinite(normals))
+    np.testing.assert_allclose(np.abs(normals[:, 2]), 1.0)
+
+
+def test_zero_area_faces_contribute_nothing():
+    positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0]], float)
+    faces = np.array([[0, 1, 2], [0, 1, 3]])  # the second is degenerate (collinear)
+    normals = vertex_normals(positions, faces)
+    np.testing.assert_allclose(normals[0], [0, 0, 1])
+    np.testing.assert_allclose(normals[3], [0, 0, 0])  # touches no real face
+
+
+def test_far_from_origin_keeps_precision():
+    base = np.array([1e5, 1e5, 1e5])
+    positions = base + np.array([[0, 0, 0], [1e-3, 0, 0], [0, 1e-3, 0]])
+    mesh = Mesh.from_arrays(positions, [[0, 1, 2]])
+    # float32 absolute coordinates near 1e5 have a spacing of ~0.008; relative ones keep 1e-3 exactly enough.
+    np.testing.assert_allclose(mesh.world_positions(), positions, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "positions, faces, message",
+    [
+        ([[0, 0, 0], [1, 0, 0], [0, np.nan, 0]], [[0, 1, 2]], "1 vertices have NaN or infinite coordinates (first: vertex 2"),
+        ([[0, 0, 0], [1, 0, 0], [0, np.inf, 0]], [[0, 1, 2]], "NaN or infinite"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 3]], "index 3 is out of range; the mesh has 3 vertices"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, -1]], "index -1 is out of range"),
+        (np.zeros((0, 3)), np.zeros((0, 3), int), "the mesh is empty"),
+        ([[0, 0, 0], [1, 0, 0]], [[0, 1]], "indices must have shape (F, 3)"),
+    ],
+)
+def test_invalid_meshes_are_clear_errors(positions, faces, message):
+    with pytest.raises(MeshError) as error:
+        Mesh.from_arrays(np.asarray(positions, float), np.asarray(faces), name="bad")
+    assert message in str(error.value) and str(error.value).startswith("bad:")
+
+
+def test_obj_file_normals_are_used_when_present(tmp_path):
+    path = tmp_path / "tri.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0.6 0.8\nvn 0 0.6 0.8\nvn 0 0.6 0.8\nf 1//1 2//2 3//3\n")
+    mesh = load_mesh(path)
+    np.testing.assert_allclose(mesh.normals, [[0, 0.6, 0.8]] * 3, atol=1e-6)
+
+
+def test_obj_file_without_normals_gets_computed_ones(tmp_path):
+    path = tmp_path / "tri.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    np.testing.assert_allclose(load_mesh(path).normals, [[0, 0, 1]] * 3, atol=1e-6)
+
+
+def test_obj_material_from_mtl(tmp_path):
+    (tmp_path / "m.mtl").write_text("newmtl shiny\nKa 0.1 0.2 0.3\nKd 0.4 0.5 0.6\nKs 0.7 0.8 0.9\nNs 42\nKe 0.05 0 0\nd 0.5\n")
+    (tmp_path / "m.obj").write_text("mtllib m.mtl\nusemtl shiny\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    m = load_mesh(tmp_path / "m.obj").material
+    assert m is not None and m.name == "shiny"
+    assert m.ambient == (0.1, 0.2, 0.3, 0.5) and m.diffuse == (0.4, 0.5, 0.6, 0.5)
+    assert m.specular == (0.7, 0.8, 0.9, 0.5) and m.shininess == 42.0 and m.emission == (0.05, 0.0, 0.0, 1.0)
+
+
+def test_mesh_file_errors(tmp_path):
+    with pytest.raises(MeshError, match="not found"):
+        load_mesh(tmp_path / "missing.obj")
+    (tmp_path / "notes.txt").write_text("hello")
+    with pytest.raises(MeshError, match="unsupported format '.txt'"):
+        load_mesh(tmp_path / "notes.txt")
+    (tmp_path / "empty.obj").write_text("# nothing\n")
+    with pytest.raises(MeshError, match="no triangles"):
+        load_mesh(tmp_path / "empty.obj")
+    with pytest.raises(MeshError, match="unknown parameter 'slice'"):
+        load_mesh("builtin:sphere?slice=3")
