@@ -604,3 +604,18 @@ def test_fine_sphere_converges_to_the_analytic_sphere(reflection):
     assert inner.sum() > 500 and tessellated.covered[inner].all()
     assert exact.color[inner, :3].max() > 0.95  # the highlight is in view
     np.testing.assert_allclose(tessellated.color[inner], exact.color[inner], atol=0.5 / 255)
+
+
+def test_texel_footprint_of_a_facing_plane():
+    """plane(1) seen by PIXEL_CAMERA spans 8 pixels; a 4×4 texture over it is 0.5 texels per
+    pixel step (0 where untextured or uncovered)."""
+    texture = Texture(np.full((4, 4, 4), 200, np.uint8))
+    scene = unlit_scene(
+        objects=(SceneObject(plane(1.0), Material(texture=texture)), SceneObject(plane(2.0), Material(), translate=(0, 0, -0.5))),
+        camera=PIXEL_CAMERA, size=(SIZE, SIZE),
+    )
+    image = ref.render_reference(scene)
+    textured = image.object == 0
+    assert textured.sum() == 64
+    np.testing.assert_allclose(image.texel_footprint[textured], 0.5, atol=1e-12)  # 4 texels over 8 pixels
+    np.testing.assert_array_equal(image.texel_footprint[~textured], 0.0)

@@ -61,6 +61,10 @@ class ReferenceImage:
                  of the visible (snapped) triangle, or to the silhouette for analytic shapes;
                  inf where uncovered. Small margins are where float32 rounding on the GPU
                  may legitimately hand the pixel to a neighbour.
+    texel_footprint: (H, W) float64, texels per pixel step where a texture is sampled (the
+                 largest change of (u·W, v·H) towards any of the four neighbouring pixel
+                 centres, on the visible triangle's plane); 0 elsewhere. The reference samples
+                 level 0 only, which is what the GPU does where this is below 1 (magnified).
     """
 
     color: np.ndarray
@@ -69,6 +73,7 @@ class ReferenceImage:
     object: np.ndarray
     depth: np.ndarray
     edge_margin: np.ndarray
+    texel_footprint: np.ndarray
 
 
 # --------------------------------------------------------------------------- guarded math
@@ -630,6 +635,29 @@ def _ray_barycentrics(corners: np.ndarray, rays: np.ndarray) -> np.ndarray:
     return np.where(degenerate[:, None], 1.0 / 3.0, weights)
 
 
+def _texel_footprint(obj: SceneObject, prepared: _PreparedObject, faces: np.ndarray, pixels: np.ndarray, scene: Scene) -> np.ndarray:
+    """Texels per pixel step at each pixel: how far (u·W, v·H) moves when the ray moves to a
+    neighbouring pixel centre, staying on the same triangle's plane (as the GPU's quad
+    derivatives do, helper pixels included)."""
+    height, width = obj.material.texture.pixels.shape[:2]
+    texture_scale = np.array([width, height], dtype=np.float64)
+    corners = prepared.eye_positions[faces]
+    uvs = obj.mesh.uvs.astype(np.float64)[faces] * texture_scale
+    image_width, image_height = scene.size
+    rows, columns = np.divmod(pixels, image_width)
+    tan_half = math.tan(math.radians(scene.camera.fov_y) / 2.0)
+
+    def texel_position(column_offset, row_offset):
+        x = 2.0 * (columns + 0.5 + column_offset) / image_width - 1.0
+        y = 1.0 - 2.0 * (rows + 0.5 + row_offset) / image_height
+        rays = np.stack([x * tan_half * image_width / image_height, y * tan_half, -np.ones_like(x)], axis=1)
+        return np.einsum("nk,nkc->nc", _ray_barycentrics(corners, rays), uvs)
+
+    centre = texel_position(0, 0)
+    steps = [texel_position(dx, dy) - centre for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))]
+    return np.max([np.linalg.norm(step, axis=1) for step in steps], axis=0)
+
+
 def _shade_pixels(
     scene: Scene,
     obj: SceneObject,
@@ -714,12 +742,16 @@ def render_reference(scene: Scene) -> ReferenceImage:
     weights = _ray_barycentrics(eye_corners[source], rays)
 
     color = np.broadcast_to(np.asarray(scene.background, dtype=np.float64), (height * width, 4)).copy()
+    footprint = np.zeros(height * width)
     for index, (obj, geometry) in enumerate(zip(scene.objects, prepared)):
         mine = object_index == index
         if mine.any():
             color[pixels[mine]] = _shade_pixels(
                 scene, obj, geometry, local_triangle[mine], weights[mine], front_facing[mine]
             )
+            if obj.material.texture is not None:
+                faces = geometry.faces[local_triangle[mine]]
+                footprint[pixels[mine]] = _texel_footprint(obj, geometry, faces, pixels[mine], scene)
 
     def image(values, fill, dtype):
         result = np.full(height * width, fill, dtype=dtype)
@@ -733,6 +765,7 @@ def render_reference(scene: Scene) -> ReferenceImage:
         object=image(object_index, -1, np.int64),
         depth=visibility.depth.reshape(height, width),
         edge_margin=image(_edge_margins(tris.fixed[screen_triangle], columns, rows), np.inf, np.float64),
+        texel_footprint=footprint.reshape(height, width),
     )
 
 
@@ -776,6 +809,7 @@ def _analytic_image(
         object=image(0, -1, np.int64),
         depth=image(depth, np.inf, np.float64),
         edge_margin=image(margins, np.inf, np.float64),
+        texel_footprint=np.zeros((height, width)),
     )
 
 
