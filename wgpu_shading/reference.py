@@ -421,8 +421,9 @@ def _screen_triangles(eye_corners: np.ndarray, source: np.ndarray, camera: Camer
     the guard band, so every vertex that gets snapped is in front of the camera and near the image."""
     width, height = size
     planes = _clip_planes(camera, size)
-    distances = np.stack([eye_corners @ normal + offset for normal, offset in planes], axis=-1)  # (n, 3, planes)
-    needs_clip = (distances < 0.0).any(axis=(1, 2))
+    needs_clip = np.zeros(len(eye_corners), dtype=bool)
+    for normal, offset in planes:
+        needs_clip |= (eye_corners @ normal + offset < 0.0).any(axis=1)
     corners = [eye_corners[~needs_clip]]
     sources = [source[~needs_clip]]
     for index in np.flatnonzero(needs_clip):
