@@ -818,8 +818,8 @@ def render_analytic_sphere(scene: Scene, center, radius: float, material: Materi
     """Ray-cast an exact sphere (world-space centre and radius) through every pixel centre,
     with the exact normal; the nearest intersection in [near, far] is shaded.
 
-    edge_margin is the distance in pixels (at the hit's depth, measured on the image plane)
-    between the pixel's ray and the silhouette, so tests can leave the rim out."""
+    edge_margin is the angle between the pixel's ray and the silhouette cone, in pixels (as
+    at the image centre), so tests can leave the rim out."""
     camera = scene.camera
     view = view_matrix(camera)
     c = _transform_points(view, np.asarray(center, dtype=np.float64)[None])[0]
@@ -829,11 +829,11 @@ def render_analytic_sphere(scene: Scene, center, radius: float, material: Materi
     b = rays @ c
     discriminant = b * b - a * (c @ c - radius * radius)
     root = np.sqrt(np.maximum(discriminant, 0.0))
+    # The rays have z = −1, so the parameter t of a hit t·d is also its eye depth.
     near_t, far_t = (b - root) / a, (b + root) / a
-    depth_of = lambda t: t  # rays have z = -1, so the eye depth of t·d is t
-    use_near = (depth_of(near_t) >= camera.near) & (depth_of(near_t) <= camera.far)
+    use_near = (near_t >= camera.near) & (near_t <= camera.far)
     t = np.where(use_near, near_t, far_t)
-    hit = (discriminant > 0.0) & (depth_of(t) >= camera.near) & (depth_of(t) <= camera.far)
+    hit = (discriminant > 0.0) & (t >= camera.near) & (t <= camera.far)
     points = rays[hit] * t[hit, None]
     normals = (points - c) / radius
     # Angle between the ray and the silhouette cone, converted to pixels on the image plane.
