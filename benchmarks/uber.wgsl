@@ -77,11 +77,11 @@ fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
 }
 
 fn guarded_power(cosine: f32, exponent: f32) -> f32 {
-    if (exponent <= 0.0) {
-        return 1.0;
-    }
     if (cosine <= 0.0) {
         return 0.0;
+    }
+    if (exponent <= 0.0) {
+        return 1.0;
     }
     return pow(min(cosine, 1.0), exponent);
 }

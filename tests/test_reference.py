@@ -52,8 +52,8 @@ def shade_one(scene, material, point, normal, to_viewer):
 def test_guarded_power_limits():
     bases = np.array([0.0, -0.5, 0.5, 0.5, 2.0, 0.0, -1.0])
     exponents = np.array([0.0, 0.0, 0.0, 3.0, 3.0, 2.0, 2.0])
-    # x^0 = 1 everywhere (0^0 too); base <= 0 gives 0; the base is clamped to 1.
-    expected = np.array([1.0, 1.0, 1.0, 0.125, 1.0, 0.0, 0.0])
+    # base <= 0 gives 0 for every exponent (0^0 too); x^0 = 1 for x > 0; the base is clamped to 1.
+    expected = np.array([0.0, 0.0, 1.0, 0.125, 1.0, 0.0, 0.0])
     np.testing.assert_array_equal(ref.guarded_power(bases, exponents), expected)
 
 
@@ -166,7 +166,7 @@ def test_shininess_zero_gives_full_specular_on_the_lit_side_only():
     camera = Camera(eye=(0, 0, 0), target=(0, 0, -1))
     material = Material(ambient=BLACK, diffuse=BLACK, specular=(0.5, 0.5, 0.5, 1), shininess=0.0)
     for reflection in ("phong", "blinn-phong"):
-        # Light grazing from the side: R·V < 0 and N·H small, but x^0 = 1.
+        # Light grazing from the side: R·V and N·H small but positive, and x^0 = 1.
         light = DirectionalLight(direction=(-1.0, 0.0, -0.05), specular=(1, 1, 1, 1))
         scene = unlit_scene(lights=(light,), camera=camera, shading=Shading(reflection=reflection))
         _, lit = shade_one(scene, material, (0, 0, -1), (0, 0, 1), (0, 0, 1))

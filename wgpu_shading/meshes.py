@@ -42,10 +42,10 @@ class Mesh:
     material:  the file's own material (OBJ/MTL, glTF), if any
     """
 
-    positions: np.ndarray
-    normals: np.ndarray
-    indices: np.ndarray
-    uvs: np.ndarray | None = None
+    positions: np.ndarray = field(repr=False)
+    normals: np.ndarray = field(repr=False)
+    indices: np.ndarray = field(repr=False)
+    uvs: np.ndarray | None = field(default=None, repr=False)
     origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
     name: str = ""
     material: "Material | None" = field(default=None, repr=False)
@@ -54,6 +54,9 @@ class Mesh:
         for array in (self.positions, self.normals, self.indices, self.uvs):
             if array is not None:
                 array.setflags(write=False)  # shared with GPU caches: must not change under them
+
+    def __repr__(self) -> str:
+        return f"Mesh({self.name!r}, {self.vertex_count} vertices, {self.triangle_count} triangles)"
 
     @property
     def vertex_count(self) -> int:

@@ -80,13 +80,14 @@ class ReferenceImage:
 
 
 def guarded_power(base: np.ndarray, exponent: float | np.ndarray) -> np.ndarray:
-    """base^exponent with the conventions' limits: exponent <= 0 gives 1 (also 0^0);
-    otherwise base <= 0 gives 0; otherwise min(base, 1)^exponent."""
+    """max(base, 0)^exponent with the conventions' limits: base <= 0 gives 0 for every
+    exponent (0^0 too); otherwise exponent <= 0 gives 1; otherwise min(base, 1)^exponent.
+    Continuous in the exponent at 0, so float32 rounding a tiny exponent to 0 changes nothing."""
     base = np.asarray(base, dtype=np.float64)
     exponent = np.broadcast_to(np.asarray(exponent, dtype=np.float64), base.shape)
     positive_base = np.where(base > 0.0, np.minimum(base, 1.0), 1.0)  # 1.0: any safe value
-    power = np.where(base > 0.0, positive_base**exponent, 0.0)
-    return np.where(exponent <= 0.0, 1.0, power)
+    power = np.where(exponent <= 0.0, 1.0, positive_base**exponent)
+    return np.where(base > 0.0, power, 0.0)
 
 
 def safe_normalize(vectors: np.ndarray, fallback: np.ndarray) -> np.ndarray:
