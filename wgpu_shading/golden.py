@@ -177,14 +177,14 @@ def as_rgba8(image, what: str = "image") -> np.ndarray:
 
 
 def read_image(path: str | os.PathLike[str]) -> np.ndarray:
-    """An 8-bit PNG (or any image imageio reads) as (H, W, 4) uint8."""
+    """An 8-bit PNG (or another image format Pillow reads) as (H, W, 4) uint8."""
     import imageio.v3 as iio
 
     path = Path(path)
     if not path.is_file():
         raise GoldenError(f"reference {str(path)!r} does not exist")
     try:
-        image = iio.imread(path)
+        image = iio.imread(path, plugin="pillow")
     except Exception as error:  # imageio raises many kinds
         raise GoldenError(f"reference {str(path)!r} cannot be read as an image: {error}") from None
     if image.dtype != np.uint8:
