@@ -375,9 +375,10 @@ def _region(over: np.ndarray) -> str:
     height, width = over.shape
     box = (r1 - r0 + 1) * (c1 - c0 + 1)
     where = f"rows {r0}–{r1}, cols {c0}–{c1}"
-    if box <= 0.1 * height * width:
-        return f"a local difference, within {where}"
-    return f"differing pixels spread over {where} ({box / (height * width):.0%} of the image)"
+    share = box / (height * width)
+    if share <= 0.1:
+        return f"a local difference: all differing pixels lie within {where} ({share:.1%} of the image)"
+    return f"differing pixels spread over {where} ({share:.0%} of the image)"
 
 
 def _shift(a: np.ndarray, e: np.ndarray, threshold: int) -> str | None:
