@@ -299,3 +299,11 @@ def test_flip_metric(renderer, scene, base):
     assert compare(dull, base, Tolerance(max_fraction=1.0, flip_mean=error * 2)).passed
     result = compare(dull, base, Tolerance(max_fraction=1.0, flip_mean=error / 2))
     assert not result.passed and "mean FLIP error" in result.message
+
+
+def test_flip_without_the_optional_package_says_how_to_install_it(monkeypatch, base):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "flip_evaluator", None)  # import fails as if not installed
+    with pytest.raises(GoldenError, match=r"pip install 'wgpu-shading\[flip\]'"):
+        compare(base, base, Tolerance(flip_mean=0.01))

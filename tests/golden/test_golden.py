@@ -13,7 +13,6 @@ import pytest
 from golden_cases import ENVIRONMENT, SCENES, cases, environment_text
 
 CASES = cases()
-_written: list[str] = []
 
 
 @pytest.mark.parametrize("case", CASES, ids=[case.name for case in CASES])
