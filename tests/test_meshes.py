@@ -80,7 +80,7 @@ def test_far_from_origin_keeps_precision():
 @pytest.mark.parametrize(
     "positions, faces, message",
     [
-        ([[0, 0, 0], [1, 0, 0], [0, np.nan, 0]], [[0, 1, 2]], "1 vertices have NaN or infinite coordinates (first: vertex 2"),
+        ([[0, 0, 0], [1, 0, 0], [0, np.nan, 0]], [[0, 1, 2]], "1 vertex has NaN or infinite coordinates (first: vertex 2"),
         ([[0, 0, 0], [1, 0, 0], [0, np.inf, 0]], [[0, 1, 2]], "NaN or infinite"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 3]], "index 3 is out of range; the mesh has 3 vertices"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, -1]], "index -1 is out of range"),

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -22,9 +23,10 @@ from typing import Sequence
 
 from . import __version__
 from .errors import WgpuShadingError
-from .scene import FREQUENCIES, REFLECTIONS, SceneError
+from .scene import FREQUENCIES, REFLECTIONS, SceneError, image_size
 
 EXIT_USAGE = 2
+EXIT_INTERNAL = 3
 EXIT_MISMATCH = 1
 
 
@@ -102,6 +104,8 @@ def _load(args: argparse.Namespace):
     from .scenefile import load_scene
 
     source: str = args.input
+    if args.size is not None:
+        args.size = image_size(args.size, "--size")  # before anything divides by it
     if source.lower().endswith(".toml"):
         scene = load_scene(source)
         if args.size:
@@ -383,6 +387,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("wgpu-shading: interrupted", file=sys.stderr)
         return 130
+    except Exception as error:  # a bug, not bad input: still one line, the traceback on request
+        if os.environ.get("WGPU_SHADING_DEBUG"):
+            raise
+        print(
+            f"wgpu-shading: internal error: {type(error).__name__}: {error} "
+            "(set WGPU_SHADING_DEBUG=1 for the traceback, and please report it)",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -107,8 +107,9 @@ class Mesh:
         bad = ~np.isfinite(positions).all(axis=1)
         if bad.any():
             first = int(np.flatnonzero(bad)[0])
+            count = int(bad.sum())
             raise MeshError(
-                f"{name}: {int(bad.sum())} vertices have NaN or infinite coordinates "
+                f"{name}: {count} {'vertex has' if count == 1 else 'vertices have'} NaN or infinite coordinates "
                 f"(first: vertex {first} = {positions[first].tolist()})"
             )
         if faces.dtype.kind not in "iu":
@@ -394,6 +395,8 @@ def load_mesh(source: str | os.PathLike[str]) -> Mesh:
 
     try:
         loaded = trimesh.load(str(path), process=False)
+    except IndexError as error:  # trimesh indexes vertices with the file's face indices
+        raise MeshError(f"mesh file {text!r}: a face refers to a vertex that does not exist ({error})") from None
     except Exception as error:  # trimesh raises many exception types for malformed files
         raise MeshError(f"mesh file {text!r}: cannot be read ({type(error).__name__}: {error})") from None
     parts = _triangle_parts(loaded)

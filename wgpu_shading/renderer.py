@@ -158,6 +158,14 @@ class Renderer:
         target = self._targets.get(key)
         if target is not None:
             return target
+        readback_bytes = _padded_row_bytes(width, _BYTES_PER_PIXEL[color_format]) * height
+        if readback_bytes > self._device.limits["max-buffer-size"]:
+            raise SceneError(
+                f"output.size {width}×{height} with the {color_format} target needs a "
+                f"{readback_bytes / 2**30:.1f} GiB readback buffer; this adapter allows "
+                f"{self._device.limits['max-buffer-size'] / 2**30:.1f} GiB (use a smaller size"
+                + (" or the 8-bit target)" if color_format != "rgba8" else ")")
+            )
         device = self._device
         color = device.create_texture(
             size=(width, height, 1),
