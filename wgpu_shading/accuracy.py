@@ -323,7 +323,8 @@ class StudyConfig:
     sizes: tuple[int, ...] = (256, 512)
     frequencies: tuple[str, ...] = FREQUENCIES
     reflections: tuple[tuple[str, float], ...] = (("phong", 1.0),) + tuple(("blinn-phong", k) for k in BLINN_KS)
-    frames: int = 5  # timed frames per variant (after one warm-up frame)
+    frames: int = 5  # timed frames per variant at least (after one warm-up frame)
+    min_seconds: float = 2.0  # more frames (up to 5 × frames) until a block has been timed this long
     same_mesh: bool = True
     figure_triangles: tuple[int, ...] = (80, 1_280, 20_480)
     figure_size: int = 256
@@ -362,6 +363,7 @@ QUICK = StudyConfig(
     sizes=(128,),
     reflections=(("phong", 1.0), ("blinn-phong", 4.0)),
     frames=2,
+    min_seconds=0.0,
     figure_triangles=(20, 320, 5_120),
     figure_size=128,
 )
@@ -394,7 +396,7 @@ ROW_FIELDS = (
 
 def _weight(triangles: int, size: int) -> float:
     """Rough relative cost of one (size, tessellation) block, for the progress estimate."""
-    return (size * size) / 512**2 + triangles / 150_000
+    return 1.0 + (size * size) / 512**2 + triangles / 70_000
 
 
 def run_study(
@@ -464,7 +466,14 @@ def run_study(
             times: list[list[float]] = [[] for _ in variants]
             for scene in scenes:
                 renderer.render(scene)
-            for _ in range(config.frames):
+            timing_started = time.perf_counter()
+            rounds = 0
+            # At least `frames` rounds; cheap frames get more (up to 5×) until the block has
+            # been timed for `min_seconds`, so that their medians are not at the mercy of noise.
+            while rounds < config.frames or (
+                rounds < 5 * config.frames and time.perf_counter() - timing_started < config.min_seconds
+            ):
+                rounds += 1
                 for k, scene in enumerate(scenes):
                     start = time.perf_counter()
                     image = renderer.render(scene)
@@ -491,6 +500,11 @@ def run_study(
                 del same
             report(0.3 * weight, f"{block}: same-mesh float64 reference")
     blinn = blinn_comparison(config, rows, truths)
+    if any(model == "blinn-phong" for model, _ in config.reflections):
+        size = max(config.sizes)
+        k, rmse = best_blinn_k(meshes[config.triangles[0]], size, truths[size, ("phong", 1.0)])
+        blinn.append(dict(k_blinn=k, size=size, rmse=rmse, best=True))
+        report(0.0, "best k_blinn")
     return Study(
         config=config, rows=rows, blinn=blinn, environment=environment(renderer),
         seconds=time.perf_counter() - started, command=command, frames=frames, error_maps=error_maps,
@@ -525,6 +539,31 @@ def blinn_comparison(config: StudyConfig, rows: list[dict], truths: dict) -> lis
             entry[f"time_ratio_{frequency}"] = float(np.median(ratios)) if ratios else float("nan")
         results.append(entry)
     return results
+
+
+def best_blinn_k(mesh, size: int, phong_truth: Truth, low: float = 1.0, high: float = 12.0, steps: int = 14) -> tuple[float, float]:
+    """The k_blinn for which Blinn-Phong on the exact sphere is closest (RMSE over the
+    interior, 1/255) to Phong reflection in the study's scene: golden-section search."""
+
+    def rmse(k: float) -> float:
+        truth = analytic_truth(study_scene(mesh, size, Variant("phong", "blinn-phong", k)))
+        mask = truth.interior & phong_truth.interior
+        return ErrorStats.of(pixel_error(truth.image.color, phong_truth.image.color)[mask]).rmse
+
+    ratio = (math.sqrt(5.0) - 1.0) / 2.0
+    a, b = low, high
+    c, d = b - ratio * (b - a), a + ratio * (b - a)
+    fc, fd = rmse(c), rmse(d)
+    for _ in range(steps):
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - ratio * (b - a)
+            fc = rmse(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + ratio * (b - a)
+            fd = rmse(d)
+    return (c, fc) if fc < fd else (d, fd)
 
 
 def environment(renderer) -> dict:
@@ -664,10 +703,17 @@ def markdown_blinn(blinn: Sequence[dict], frequencies: Sequence[str]) -> str:
         + " |\n|---:|---:|---:|---:|---:|" + "---:|" * len(frequencies) + "\n"
     )
     lines = []
-    for b in blinn:
+    best = [b for b in blinn if b.get("best")]
+    for b in (b for b in blinn if not b.get("best")):
         ratios = " | ".join(f"{b[f'time_ratio_{f}']:.2f}" if math.isfinite(b[f"time_ratio_{f}"]) else "–" for f in frequencies)
         lines.append(f"| {b['k_blinn']:g} | {_fmt(b['rmse'])} | {_fmt(b['p999'])} | {_fmt(b['max'])} | {_fmt(b['peak'])} | {ratios} |")
-    return header + "\n".join(lines) + "\n"
+    text = header + "\n".join(lines) + "\n"
+    for b in best:
+        text += (
+            f"\nThe k_blinn closest to Phong reflection in this scene (least RMSE on the exact sphere, "
+            f"{b['size']}×{b['size']}) is **{b['k_blinn']:.2f}**, with RMSE {_fmt(b['rmse'])}/255.\n"
+        )
+    return text
 
 
 def markdown_same_mesh(rows: Sequence[dict]) -> str:
@@ -715,8 +761,8 @@ def write_csv(rows: Sequence[dict], path: Path) -> None:
 
 
 def _json_ready(value):
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
+    if isinstance(value, float):
+        return float(f"{value:.6g}") if math.isfinite(value) else None
     if isinstance(value, dict):
         return {k: _json_ready(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -790,7 +836,7 @@ def write_study(study: Study, out_dir: str | os.PathLike, markdown: str | os.Pat
         command=study.command, seconds=study.seconds, environment=study.environment,
         config=asdict(study.config), error_unit="1/255", rows=study.rows, blinn=study.blinn,
     )
-    (out / "results.json").write_text(json.dumps(_json_ready(document), indent=1) + "\n")
+    (out / "results.json").write_text(json.dumps(_json_ready(document), indent=None, separators=(",", ":")).replace("},{", "},\n{") + "\n")
     written += [out / "results.csv", out / "results.json"]
     blocks = generated_blocks(study, "")
     table = "# Accuracy/time sweep\n\n" + blocks["run"] + "\n" + blocks["headline"] + "\n## Every point\n\n" + markdown_full_table(study.rows)
@@ -801,7 +847,7 @@ def write_study(study: Study, out_dir: str | os.PathLike, markdown: str | os.Pat
     if study.frames:
         written.append(_save(seed_figure(study), out / "seed_figure.png"))
     if study.error_maps:
-        written.append(_save(error_map_sheet(study), out / "error_maps.png"))
+        written.append(_save(error_map_sheet(study), out / "error_maps.png", colors=64))
     if plot:
         written.append(pareto_plot(study, out / "pareto.png"))
     if markdown is not None:
@@ -812,10 +858,14 @@ def write_study(study: Study, out_dir: str | os.PathLike, markdown: str | os.Pat
     return written
 
 
-def _save(image: np.ndarray, path: Path) -> Path:
+def _save(image: np.ndarray, path: Path, colors: int | None = None) -> Path:
+    """PNG; with `colors`, quantized to a palette of that many colours (keeps maps small)."""
     from PIL import Image
 
-    Image.fromarray(image).save(path, optimize=True)
+    picture = Image.fromarray(image)
+    if colors:
+        picture = picture.quantize(colors=colors, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+    picture.save(path, optimize=True)
     return path
 
 
