@@ -143,6 +143,11 @@ def test_cheapest_and_headline_pick_the_fastest_row_within_budget():
     assert acc.cheapest(rows, 512, 1.0)["frequency"] == "gouraud"
     assert acc.cheapest(rows, 512, 0.5)["frequency"] == "phong"
     assert acc.cheapest(rows, 512, 0.01) is None
+    study = acc.Study(config=acc.StudyConfig(sizes=(256, 512)), rows=rows, blinn=[], environment={}, seconds=1.0)
+    text = acc.headline(study, 0.5)
+    assert "at 512×512, the cheapest setting measured is **phong shading with phong reflection on 80 triangles**" in text
+    assert "gouraud shading does not get there" in text and "flat shading does not get there" in text
+    assert "**gouraud shading" in acc.headline(study, 1.0)
 
 
 def test_update_markdown_replaces_only_the_generated_blocks(tmp_path):

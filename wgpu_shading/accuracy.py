@@ -749,6 +749,17 @@ def headline(study: Study, budget: float = 1.0) -> str:
         text += f" (Phong shading of the same mesh: {_fmt(phong_same[0]['time_ms'])} ms)"
     if fastest_phong and fastest_phong is not best:
         text += f"; the cheapest Phong-shading setting within budget is {fastest_phong['triangles']:,} triangles at {_fmt(fastest_phong['time_ms'])} ms"
+    others = []
+    for frequency in study.config.frequencies:
+        if frequency == best["frequency"]:
+            continue
+        own = cheapest([r for r in study.rows if r["frequency"] == frequency and r["reflection"] == "phong"], size, budget)
+        if own is None:
+            others.append(f"{frequency} shading does not get there even with {max(r['triangles'] for r in study.rows):,} triangles")
+        else:
+            others.append(f"{frequency} shading needs {own['triangles']:,} triangles ({_fmt(own['time_ms'])} ms)")
+    if others:
+        text += ". With Phong reflection, " + "; ".join(others)
     return text + "."
 
 
