@@ -219,8 +219,11 @@ def quick_study(tmp_path_factory, renderer):
     """The quick sweep through the command line: every frequency, Phong and Blinn-Phong (k = 4),
     20/320/5,110 triangles at 96×96."""
     out = tmp_path_factory.mktemp("accuracy")
-    assert main(["bench", "accuracy", "--quick", "--sizes", "96", "--no-plot", "--out", str(out), "-q"]) == 0
-    return out, json.loads((out / "results.json").read_text())
+    doc = out / "page.md"
+    doc.write_text("# Page\n<!-- accuracy:headline -->\nold\n<!-- /accuracy:headline -->\nhand-written\n")
+    args = ["bench", "accuracy", "--quick", "--sizes", "96", "--no-plot", "--out", str(out / "results"), "--markdown", str(doc), "-q"]
+    assert main(args) == 0
+    return out / "results", json.loads((out / "results" / "results.json").read_text())
 
 
 def test_quick_sweep_writes_every_output(quick_study):
@@ -234,6 +237,9 @@ def test_quick_sweep_writes_every_output(quick_study):
     for name in ("seed_figure.png", "error_maps.png"):
         assert (out / name).stat().st_size > 1000
     assert document["error_unit"] == "1/255" and document["command"].startswith("wgpu-shading bench accuracy --quick")
+    page = (out.parent / "page.md").read_text()
+    assert "old" not in page and "hand-written" in page and "the cheapest setting measured is" in page
+    assert "](results/seed_figure.png)" in page and "(not plotted: the run had --no-plot)" in page
     for r in rows:
         assert r["time_ms"] > 0 and r["pixels"] > 1000 and r["rmse"] <= r["p999"] + 1e-9 <= r["max"] + 2e-9
     compared = [b for b in document["blinn"] if not b.get("best")]

@@ -201,7 +201,8 @@ def _auto_shading(args: argparse.Namespace, scene, renderer):
     from .accuracy import auto_shading
 
     choice = auto_shading(scene, 1.0 if args.max_error is None else args.max_error, renderer=renderer)
-    print(choice.summary() if args.quiet else choice.report())
+    if not args.quiet:
+        print(choice.report())
     return choice.scene
 
 
