@@ -659,8 +659,8 @@ def markdown_grid(rows: Sequence[dict], size: int, reflection: str = "phong", k_
     """One line per tessellation, frame time and errors (vs the analytic truth) per frequency."""
     chosen = [r for r in rows if r["size"] == size and r["reflection"] == reflection and (reflection == "phong" or r["k_blinn"] == k_blinn)]
     frequencies = list(dict.fromkeys(r["frequency"] for r in chosen))
-    header = "| triangles | " + " | ".join(f"{f} ms | {f} p99.9 | {f} max | {f} peak" for f in frequencies) + " |\n"
-    header += "|---:|" + "---:|" * (4 * len(frequencies)) + "\n"
+    header = "| triangles | " + " | ".join(f"{f} ms | RMSE | p99.9 | max | peak" for f in frequencies) + " |\n"
+    header += "|---:|" + "---:|" * (5 * len(frequencies)) + "\n"
     lines = []
     for requested in dict.fromkeys(r["requested"] for r in chosen):
         cells = []
@@ -668,11 +668,11 @@ def markdown_grid(rows: Sequence[dict], size: int, reflection: str = "phong", k_
         for f in frequencies:
             match = [r for r in chosen if r["requested"] == requested and r["frequency"] == f]
             if not match:
-                cells += ["", "", "", ""]
+                cells += [""] * 5
                 continue
             r = match[0]
             triangles = r["triangles"]
-            cells += [_fmt(r["time_ms"]), _fmt(r["p999"]), _fmt(r["max"]), _fmt(r["peak"])]
+            cells += [_fmt(r["time_ms"]), _fmt(r["rmse"]), _fmt(r["p999"]), _fmt(r["max"]), _fmt(r["peak"])]
         lines.append(f"| {triangles:,} | " + " | ".join(cells) + " |")
     return header + "\n".join(lines) + "\n"
 
