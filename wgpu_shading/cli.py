@@ -3,6 +3,8 @@
     wgpu-shading render SCENE.toml -o out.png
     wgpu-shading render MESH -o out.png [--frequency F] [--reflection R] [--material M] ...
     wgpu-shading check SCENE.toml --ref golden.png [--update]   golden-image test (exit 0/1)
+    wgpu-shading render SCENE --shading auto --max-error E   cheapest shading within E/255
+    wgpu-shading bench accuracy [--quick] [--out DIR]       the accuracy/time study
     wgpu-shading shader SCENE.toml          print the generated WGSL
     wgpu-shading materials                  the material table
     wgpu-shading info                       adapters and versions
@@ -181,6 +183,7 @@ def command_render(args: argparse.Namespace) -> int:
     float_target = args.float or output.suffix.lower() == ".npy"
     _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"))
     renderer = Renderer(adapter=args.adapter)
+    scene = _auto_shading(args, scene, renderer)
     frame = renderer.render_frame(scene, float32=float_target, depth=args.depth is not None)
     _write_image(output, frame.color, float_target)
     if args.depth is not None:
@@ -244,6 +247,81 @@ def _unit(text: str) -> int:
     if not 0 <= value <= 255:
         raise argparse.ArgumentTypeError(f"expected an integer 0..255 (units of 1/255), got {text!r}")
     return value
+
+
+def _auto_shading(args: argparse.Namespace, scene, renderer):
+    """`--shading auto`: measure the candidates, print what was chosen, return the scene with it."""
+    if args.shading != "auto":
+        if args.max_error is not None:
+            raise SceneError("--max-error goes with --shading auto")
+        return scene
+    if args.frequency is not None:
+        raise SceneError("--shading auto chooses the frequency itself: leave out --frequency")
+    from .accuracy import auto_shading
+
+    choice = auto_shading(scene, 1.0 if args.max_error is None else args.max_error, renderer=renderer)
+    if not args.quiet:
+        print(choice.report())
+    return choice.scene
+
+
+def _error_budget(text: str) -> float:
+    """A number >= 0 in units of 1/255 ('1', '0.5', '2/255')."""
+    number = text[:-4] if text.endswith("/255") else text
+    try:
+        value = float(number)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an error in units of 1/255 such as 1 or 0.5, got {text!r}") from None
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"expected an error >= 0 (units of 1/255), got {text!r}")
+    return value
+
+
+def command_bench_accuracy(args: argparse.Namespace) -> int:
+    """The accuracy/time study (docs/accuracy.md): sweep, then CSV, JSON, Markdown, pictures."""
+    from dataclasses import replace as with_changes
+
+    from .accuracy import QUICK, AccuracyError, StudyConfig, require_matplotlib, run_study, write_study
+    from .renderer import Renderer
+
+    config = QUICK if args.quick else StudyConfig()
+    changes = {}
+    if args.triangles:
+        changes["triangles"] = tuple(args.triangles)
+        changes["figure_triangles"] = tuple(n for n in config.figure_triangles if n in args.triangles) or tuple(args.triangles[:3])
+    if args.sizes:
+        changes["sizes"] = tuple(args.sizes)
+        changes["figure_size"] = args.sizes[0] if config.figure_size not in args.sizes else config.figure_size
+    if args.frames is not None:
+        changes["frames"] = args.frames
+    if args.no_same_mesh:
+        changes["same_mesh"] = False
+    config = with_changes(config, **changes)
+    if args.markdown is not None and not Path(args.markdown).parent.is_dir():
+        raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
+    if not args.no_plot:
+        require_matplotlib()  # before the sweep, not after minutes of work
+    command = "wgpu-shading bench accuracy" + "".join(
+        f" {flag}" for flag, on in (("--quick", args.quick), ("--no-same-mesh", args.no_same_mesh), ("--no-plot", args.no_plot)) if on
+    )
+    for flag, value in (("--triangles", args.triangles), ("--sizes", args.sizes)):
+        if value:
+            command += f" {flag} " + " ".join(str(v) for v in value)
+    if args.frames is not None:
+        command += f" --frames {args.frames}"
+    command += f" --out {args.out}" + (f" --markdown {args.markdown}" if args.markdown else "")
+    points = len(config.variants) * len(config.triangles) * len(config.sizes)
+    if not args.quiet:
+        shape = f"{len(config.sizes)} size(s) × {len(config.triangles)} tessellations × {len(config.variants)} shading variants"
+        print(f"accuracy/time study: {points} points ({shape})", file=sys.stderr)
+    study = run_study(config, Renderer(adapter=args.adapter), progress=not args.quiet, command=command)
+    written = write_study(study, args.out, markdown=args.markdown, plot=not args.no_plot)
+    if not args.quiet:
+        from .accuracy import headline
+
+        print(headline(study))
+        print(f"wrote {', '.join(str(p) for p in written)} in {study.seconds:.0f} s")
+    return 0
 
 
 def command_shader(args: argparse.Namespace) -> int:
@@ -322,6 +400,14 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--float", action="store_true", help="render to a float32 target (.npy, or 16-bit .png)")
     render.add_argument("--depth", metavar="DEPTH.npy", help="also save eye-space depth (inf = background) as .npy")
     render.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    render.add_argument(
+        "--shading", choices=["auto"],
+        help="auto: measure every frequency/reflection on this scene and use the cheapest within --max-error",
+    )
+    render.add_argument(
+        "--max-error", type=_error_budget, metavar="E",
+        help="error budget of --shading auto, in units of 1/255 (p99.9 of the pixels; default 1)",
+    )
     render.set_defaults(handler=command_render)
 
     from .golden import DEFAULT_AMPLIFICATION, Tolerance
@@ -360,6 +446,25 @@ def build_parser() -> argparse.ArgumentParser:
     )
     check.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     check.set_defaults(handler=command_check)
+
+    bench = commands.add_parser("bench", help="benchmarks (accuracy)", description="Benchmarks.")
+    benches = bench.add_subparsers(dest="bench", metavar="BENCHMARK")
+    benches.required = True
+    accuracy = benches.add_parser(
+        "accuracy", parents=[gpu], help="the accuracy/time study",
+        description="Sweep shading frequency × reflection model × tessellation × image size on a sphere; "
+        "measure frame time and error against the exact sphere and the same-mesh float64 reference.",
+    )
+    accuracy.add_argument("--quick", action="store_true", help="a small sweep (3 tessellations, 128², 2 reflection models)")
+    accuracy.add_argument("--out", default="accuracy", metavar="DIR", help="folder for results.csv/.json, table.md and the images (default: accuracy)")
+    accuracy.add_argument("--markdown", metavar="FILE", help="also fill the generated blocks of this Markdown file (docs/accuracy.md)")
+    accuracy.add_argument("--triangles", type=int, nargs="+", metavar="N", help="tessellations (triangle counts) to sweep")
+    accuracy.add_argument("--sizes", type=int, nargs="+", metavar="PIXELS", help="square image sizes to sweep")
+    accuracy.add_argument("--frames", type=int, help="timed frames per point (default 5; 2 with --quick)")
+    accuracy.add_argument("--no-same-mesh", action="store_true", help="skip the same-mesh float64 reference")
+    accuracy.add_argument("--no-plot", action="store_true", help="skip the Pareto plot (which needs matplotlib)")
+    accuracy.add_argument("-q", "--quiet", action="store_true", help="no progress, print nothing on success")
+    accuracy.set_defaults(handler=command_bench_accuracy)
 
     shader = commands.add_parser("shader", help="print the WGSL generated for a scene", description="Print the WGSL generated for each object's feature set.")
     _add_scene_arguments(shader)
