@@ -109,7 +109,7 @@ def test_specular_peak_is_where_the_normal_is_the_half_vector():
         assert abs(col - expected_col) <= 1.0 and abs(row - expected_row) <= 1.0, (reflection, row, col, expected_row, expected_col)
 
 
-def test_same_mesh_reference_equals_render_reference_for_every_shading():
+def test_one_rasterization_serves_every_shading():
     """One rasterization shaded many ways gives exactly what render_reference gives."""
     shiny = Material(ambient=(0.2, 0.1, 0.1, 1), diffuse=(0.6, 0.5, 0.4, 1), specular=(0.7, 0.7, 0.7, 1), shininess=40)
     scene = Scene(
@@ -120,14 +120,14 @@ def test_same_mesh_reference_equals_render_reference_for_every_shading():
         lights=(PositionalLight(position=(2, 2, 3)), DirectionalLight(direction=(1, -0.5, -1), diffuse=(0.3, 0.3, 0.3, 1))),
         size=(48, 40),
     )
-    same = acc.SameMeshReference(scene)
+    same = ref.RasterizedScene(scene)  # rasterized once, shaded for every setting below
     for frequency in ("flat", "gouraud", "phong"):
         for shading in (
             Shading(frequency=frequency),
             Shading(frequency=frequency, reflection="blinn-phong", blinn_exponent_scale=3.0, local_viewer=False, two_sided=True),
         ):
             expected = ref.render_reference(replace(scene, shading=shading))
-            np.testing.assert_array_equal(same.render(shading), expected.color, err_msg=str(shading))
+            np.testing.assert_array_equal(same.shade(shading), expected.color, err_msg=str(shading))
     np.testing.assert_array_equal(same.covered, expected.covered)
     np.testing.assert_array_equal(same.edge_margin, expected.edge_margin)
 

@@ -29,7 +29,8 @@ Public API:
     write_study(study, out_dir, markdown=None) -> list of written paths
     auto_shading(scene, max_error=1.0, renderer=None) -> AutoChoice
     pixel_error(image, reference) -> per-pixel error in 1/255
-    SameMeshReference(scene).render(shading) -> float64 colour, one rasterization per mesh
+The same-mesh float64 reference of each mesh is rasterized once and shaded for every
+variant (reference.RasterizedScene).
 """
 
 from __future__ import annotations
@@ -214,56 +215,6 @@ def specular_peak(scene: Scene, center, radius: float, material: Material, image
 
 
 # --------------------------------------------------------------------------- same-mesh reference
-
-
-class SameMeshReference:
-    """`reference.render_reference` split in two: the scene's meshes are rasterized once (in
-    float64, exactly as render_reference does), then shaded for any number of `Shading`
-    settings. Rasterization is most of the reference's cost on large meshes, and it does not
-    depend on the shading. The colours equal render_reference's for the same shading."""
-
-    def __init__(self, scene: Scene):
-        self.scene = scene
-        width, height = scene.size
-        camera = scene.camera
-        prepared = [ref._prepare(scene, obj) for obj in scene.objects]
-        face_counts = np.array([len(p.faces) for p in prepared], dtype=np.int64)
-        first_face = np.concatenate([[0], np.cumsum(face_counts)])
-        eye_corners = np.concatenate([p.eye_positions[p.faces] for p in prepared]) if prepared else np.zeros((0, 3, 3))
-        tris = ref._screen_triangles(eye_corners, np.arange(len(eye_corners)), camera, scene.size)
-        visibility = ref._rasterize(tris, scene.size, camera.near, camera.far)
-        covered = visibility.triangle >= 0
-        pixels = np.flatnonzero(covered)
-        screen_triangle = visibility.triangle[pixels]
-        source = tris.source[screen_triangle]
-        object_index = np.searchsorted(first_face, source, side="right") - 1
-        rows, columns = np.divmod(pixels, width)
-        ccw_in_ndc = ref._signed_area_fixed(tris.fixed[screen_triangle]) < 0
-        mirrored = np.array([p.mirrored for p in prepared], dtype=bool)
-        rays = ref.pixel_rays(camera, scene.size).reshape(-1, 3)[pixels]
-        self._prepared = prepared
-        self._pixels = pixels
-        self._object_index = object_index
-        self._local_triangle = source - first_face[object_index]
-        self._front_facing = ccw_in_ndc != mirrored[object_index]
-        self._weights = ref._ray_barycentrics(eye_corners[source], rays)
-        self.covered = covered.reshape(height, width)
-        margins = np.full(height * width, np.inf)
-        margins[pixels] = ref._edge_margins(tris.fixed[screen_triangle], columns, rows)
-        self.edge_margin = margins.reshape(height, width)
-
-    def render(self, shading: Shading) -> np.ndarray:
-        """(H, W, 4) float64 colour of the scene with `shading` instead of its own."""
-        scene = replace(self.scene, shading=shading)
-        width, height = scene.size
-        color = np.broadcast_to(np.asarray(scene.background, dtype=np.float64), (height * width, 4)).copy()
-        for index, (obj, geometry) in enumerate(zip(scene.objects, self._prepared)):
-            mine = self._object_index == index
-            if mine.any():
-                color[self._pixels[mine]] = ref._shade_pixels(
-                    scene, obj, geometry, self._local_triangle[mine], self._weights[mine], self._front_facing[mine]
-                )
-        return color.reshape(height, width, 4)
 
 
 # --------------------------------------------------------------------------- progress
@@ -487,10 +438,10 @@ def run_study(
             report(0.4 * weight, f"{block}: frame times")
             # 3. The same mesh in float64: one rasterization, every variant shaded.
             if config.same_mesh:
-                same = SameMeshReference(scenes[0])
+                same = ref.RasterizedScene(scenes[0])
                 compared = same.covered & (same.edge_margin >= EDGE_BAND)
                 for row, variant, frame in zip(block_rows, variants, float_frames):
-                    errors = pixel_error(frame.color, same.render(variant.shading()))[compared]
+                    errors = pixel_error(frame.color, same.shade(variant.shading()))[compared]
                     stats = ErrorStats.of(errors)
                     row.update(
                         same_p999=stats.p999, same_max=stats.max,

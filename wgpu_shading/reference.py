@@ -27,11 +27,11 @@ million triangles renders in seconds.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .scene import Camera, DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight
+from .scene import Camera, DirectionalLight, Material, PositionalLight, Scene, SceneObject, Shading, SpotLight
 
 # --------------------------------------------------------------------------- constants from conventions.md
 
@@ -711,63 +711,93 @@ def _shade_pixels(
     return combine(ambient_diffuse, specular, material, texel)
 
 
-def render_reference(scene: Scene) -> ReferenceImage:
-    """Rasterize and shade the scene's own meshes in float64 (see the module docstring)."""
-    width, height = scene.size
-    camera = scene.camera
-    prepared = [_prepare(scene, obj) for obj in scene.objects]
+class RasterizedScene:
+    """The scene's meshes rasterized once in float64: which triangle (and object) covers each
+    pixel, its perspective-correct barycentrics and its facing. Shading is a separate step
+    (`shade`), so one rasterization — most of the reference's cost on large meshes — serves
+    any number of shading settings (the accuracy study renders 12 per mesh)."""
 
-    # Every object's triangles in one list, in draw order (objects, then faces).
-    face_counts = np.array([len(p.faces) for p in prepared], dtype=np.int64)
-    first_face = np.concatenate([[0], np.cumsum(face_counts)])
-    if len(prepared):
-        eye_corners = np.concatenate([p.eye_positions[p.faces] for p in prepared])
-    else:
-        eye_corners = np.zeros((0, 3, 3))
-    tris = _screen_triangles(eye_corners, np.arange(len(eye_corners)), camera, scene.size)
-    visibility = _rasterize(tris, scene.size, camera.near, camera.far)
+    def __init__(self, scene: Scene):
+        self.scene = scene
+        width, height = scene.size
+        camera = scene.camera
+        self._prepared = [_prepare(scene, obj) for obj in scene.objects]
 
-    covered_flat = visibility.triangle >= 0
-    pixels = np.flatnonzero(covered_flat)
-    screen_triangle = visibility.triangle[pixels]
-    source = tris.source[screen_triangle]
-    object_index = np.searchsorted(first_face, source, side="right") - 1
-    local_triangle = source - first_face[object_index]
-    rows, columns = np.divmod(pixels, width)
+        # Every object's triangles in one list, in draw order (objects, then faces).
+        face_counts = np.array([len(p.faces) for p in self._prepared], dtype=np.int64)
+        first_face = np.concatenate([[0], np.cumsum(face_counts)])
+        if self._prepared:
+            eye_corners = np.concatenate([p.eye_positions[p.faces] for p in self._prepared])
+        else:
+            eye_corners = np.zeros((0, 3, 3))
+        tris = _screen_triangles(eye_corners, np.arange(len(eye_corners)), camera, scene.size)
+        visibility = _rasterize(tris, scene.size, camera.near, camera.far)
 
-    # Facing from the winding on screen: counter-clockwise in NDC is front, flipped for mirrored objects.
-    ccw_in_ndc = _signed_area_fixed(tris.fixed[screen_triangle]) < 0
-    mirrored = np.array([p.mirrored for p in prepared], dtype=bool)
-    front_facing = ccw_in_ndc != mirrored[object_index]
+        covered_flat = visibility.triangle >= 0
+        pixels = np.flatnonzero(covered_flat)
+        screen_triangle = visibility.triangle[pixels]
+        source = tris.source[screen_triangle]
+        self._pixels = pixels
+        self._object_index = np.searchsorted(first_face, source, side="right") - 1
+        self._local_triangle = source - first_face[self._object_index]
+        rows, columns = np.divmod(pixels, width)
 
-    rays = pixel_rays(camera, scene.size).reshape(-1, 3)[pixels]
-    weights = _ray_barycentrics(eye_corners[source], rays)
+        # Facing from the winding on screen: counter-clockwise in NDC is front, flipped for mirrored objects.
+        ccw_in_ndc = _signed_area_fixed(tris.fixed[screen_triangle]) < 0
+        mirrored = np.array([p.mirrored for p in self._prepared], dtype=bool)
+        self._front_facing = ccw_in_ndc != mirrored[self._object_index]
 
-    color = np.broadcast_to(np.asarray(scene.background, dtype=np.float64), (height * width, 4)).copy()
-    footprint = np.zeros(height * width)
-    for index, (obj, geometry) in enumerate(zip(scene.objects, prepared)):
-        mine = object_index == index
-        if mine.any():
-            color[pixels[mine]] = _shade_pixels(
-                scene, obj, geometry, local_triangle[mine], weights[mine], front_facing[mine]
-            )
-            if obj.material.texture is not None:
-                faces = geometry.faces[local_triangle[mine]]
-                footprint[pixels[mine]] = _texel_footprint(obj, geometry, faces, pixels[mine], scene)
+        rays = pixel_rays(camera, scene.size).reshape(-1, 3)[pixels]
+        self._weights = _ray_barycentrics(eye_corners[source], rays)
 
-    def image(values, fill, dtype):
+        self.covered = covered_flat.reshape(height, width)
+        self.triangle = self._image(self._local_triangle, -1, np.int64)
+        self.object = self._image(self._object_index, -1, np.int64)
+        self.depth = visibility.depth.reshape(height, width)
+        self.edge_margin = self._image(_edge_margins(tris.fixed[screen_triangle], columns, rows), np.inf, np.float64)
+
+    def _image(self, values: np.ndarray, fill, dtype) -> np.ndarray:
+        width, height = self.scene.size
         result = np.full(height * width, fill, dtype=dtype)
-        result[pixels] = values
+        result[self._pixels] = values
         return result.reshape(height, width)
 
+    def shade(self, shading: Shading | None = None) -> np.ndarray:
+        """(H, W, 4) float64 color with the scene's shading, or with `shading` instead."""
+        scene = self.scene if shading is None else replace(self.scene, shading=shading)
+        width, height = scene.size
+        color = np.broadcast_to(np.asarray(scene.background, dtype=np.float64), (height * width, 4)).copy()
+        for index, (obj, geometry) in enumerate(zip(scene.objects, self._prepared)):
+            mine = self._object_index == index
+            if mine.any():
+                color[self._pixels[mine]] = _shade_pixels(
+                    scene, obj, geometry, self._local_triangle[mine], self._weights[mine], self._front_facing[mine]
+                )
+        return color.reshape(height, width, 4)
+
+    def texel_footprint(self) -> np.ndarray:
+        """Texels per pixel step of each textured pixel (0 elsewhere): < 1 means magnified."""
+        width, height = self.scene.size
+        footprint = np.zeros(height * width)
+        for index, (obj, geometry) in enumerate(zip(self.scene.objects, self._prepared)):
+            mine = self._object_index == index
+            if mine.any() and obj.material.texture is not None:
+                faces = geometry.faces[self._local_triangle[mine]]
+                footprint[self._pixels[mine]] = _texel_footprint(obj, geometry, faces, self._pixels[mine], self.scene)
+        return footprint.reshape(height, width)
+
+
+def render_reference(scene: Scene) -> ReferenceImage:
+    """Rasterize and shade the scene's own meshes in float64 (see the module docstring)."""
+    rasterized = RasterizedScene(scene)
     return ReferenceImage(
-        color=color.reshape(height, width, 4),
-        covered=covered_flat.reshape(height, width),
-        triangle=image(local_triangle, -1, np.int64),
-        object=image(object_index, -1, np.int64),
-        depth=visibility.depth.reshape(height, width),
-        edge_margin=image(_edge_margins(tris.fixed[screen_triangle], columns, rows), np.inf, np.float64),
-        texel_footprint=footprint.reshape(height, width),
+        color=rasterized.shade(),
+        covered=rasterized.covered,
+        triangle=rasterized.triangle,
+        object=rasterized.object,
+        depth=rasterized.depth,
+        edge_margin=rasterized.edge_margin,
+        texel_footprint=rasterized.texel_footprint(),
     )
 
 
