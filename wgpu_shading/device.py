@@ -36,6 +36,10 @@ def requested_adapter(adapter: str | None = None) -> str:
 
 
 def _prepare_instance(selector: str) -> None:
+    from ._prebuilt_ffi import load_wgpu_native
+
+    # Before anything imports wgpu's backend: skips ~2 s of C-header parsing per process.
+    load_wgpu_native()
     import wgpu.backends.wgpu_native.extras as extras
 
     # Mesa's device-select Vulkan layer only reorders GPUs (we pick adapters ourselves) and

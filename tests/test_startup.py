@@ -1,0 +1,79 @@
+"""Cold start: the prebuilt cffi type table for wgpu-py (wgpu_shading/_prebuilt_ffi.py).
+
+Each test runs a fresh Python process, because the table only matters (and can only be
+installed) before wgpu's backend is first imported. Nothing here is timed: the tests
+check that the fast path is taken, that it draws exactly what wgpu-py's own path draws,
+and that every way it can fail falls back to a working render.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+RENDER_AND_REPORT = """
+import sys, numpy as np
+from wgpu_shading import Renderer
+from wgpu_shading.cli import mesh_scene
+renderer = Renderer()
+image = renderer.render(mesh_scene("builtin:torus?segments=24", (96, 64), None))
+np.save(sys.argv[1], image)
+import wgpu.backends.wgpu_native._ffi as ffi_module
+print(type(ffi_module.ffi).__name__)
+"""
+
+
+def render_in_new_process(tmp_path: Path, name: str, **environment: str) -> tuple[str, np.ndarray]:
+    """(the class name of the FFI wgpu-py ended up with, the rendered image)."""
+    out = tmp_path / f"{name}.npy"
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache"), **environment}
+    result = subprocess.run(
+        [sys.executable, "-c", RENDER_AND_REPORT, str(out)], capture_output=True, text=True, env=env, timeout=120
+    )
+    assert result.returncode == 0, result.stderr
+    return result.stdout.strip(), np.load(out)
+
+
+def test_prebuilt_table_is_used_cached_and_draws_the_same_image(tmp_path):
+    first_kind, first = render_in_new_process(tmp_path, "first")  # builds and caches the table
+    assert first_kind == "PrebuiltFFI"
+    assert len(list((tmp_path / "cache" / "wgpu-shading").glob("wgpu-ffi-*.txt"))) == 1
+    cached_kind, cached = render_in_new_process(tmp_path, "cached")  # reads the cached table
+    assert cached_kind == "PrebuiltFFI"
+    plain_kind, plain = render_in_new_process(tmp_path, "plain", WGPU_SHADING_PREBUILT_FFI="0")
+    assert plain_kind == "FFI"  # wgpu-py's own in-line FFI
+    assert (first[:, :, :3] > 0).any()
+    np.testing.assert_array_equal(first, plain)
+    np.testing.assert_array_equal(cached, plain)
+
+
+def test_a_damaged_cache_file_is_rebuilt(tmp_path):
+    render_in_new_process(tmp_path, "build")
+    (table,) = (tmp_path / "cache" / "wgpu-shading").glob("wgpu-ffi-*.txt")
+    table.write_text("('truncated', {'_types': b'\\x00")
+    kind, image = render_in_new_process(tmp_path, "rebuilt")
+    assert kind == "PrebuiltFFI" and (image[:, :, :3] > 0).any()
+    assert table.read_text().startswith("(")
+
+
+@pytest.mark.skipif(hasattr(os, "geteuid") and os.geteuid() == 0, reason="root can write anywhere")
+def test_an_unwritable_cache_folder_still_renders(tmp_path):
+    (tmp_path / "cache").mkdir()
+    (tmp_path / "cache").chmod(0o500)
+    try:
+        kind, image = render_in_new_process(tmp_path, "unwritable")
+    finally:
+        (tmp_path / "cache").chmod(0o700)
+    assert kind == "PrebuiltFFI" and (image[:, :, :3] > 0).any()
+
+
+def test_a_cache_path_that_is_a_file_still_renders(tmp_path):
+    # Works for root too: nothing can be created below a regular file.
+    (tmp_path / "cache").write_text("not a folder")
+    kind, image = render_in_new_process(tmp_path, "blocked")
+    assert kind == "PrebuiltFFI" and (image[:, :, :3] > 0).any()
