@@ -2,6 +2,7 @@
 
     wgpu-shading render SCENE.toml -o out.png
     wgpu-shading render MESH -o out.png [--frequency F] [--reflection R] [--material M] ...
+    wgpu-shading turntable MESH -o spin.gif [--frames 360] [--fps 30]   a turning view
     wgpu-shading shader SCENE.toml          print the generated WGSL
     wgpu-shading materials                  the material table
     wgpu-shading info                       adapters and versions
@@ -187,6 +188,33 @@ def command_render(args: argparse.Namespace) -> int:
     return 0
 
 
+def command_turntable(args: argparse.Namespace) -> int:
+    from .batch import check_animation_path, turntable, write_animation
+    from .renderer import Renderer
+
+    if args.frames < 1:
+        raise SceneError(f"--frames must be at least 1, got {args.frames}")
+    if not (args.fps > 0 and math.isfinite(args.fps)):
+        raise SceneError(f"--fps must be a positive number, got {args.fps}")
+    scene = _load(args)
+    output = Path(args.output or (Path(args.input.split("?")[0].replace("builtin:", "")).stem + ".gif"))
+    check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute
+    renderer = Renderer(adapter=args.adapter)
+    frames = (frame.color for frame in renderer.render_many(turntable(scene, args.frames, args.degrees)))
+    show_progress = not args.quiet and sys.stderr.isatty()
+
+    def progress(done: int) -> None:
+        print(f"\rframe {done}/{args.frames}", end="", file=sys.stderr, flush=True)
+
+    written = write_animation(output, frames, fps=args.fps, progress=progress if show_progress else None)
+    if show_progress:
+        print(file=sys.stderr)
+    if not args.quiet:
+        width, height = scene.size
+        print(f"wrote {output} ({written} frames, {width}×{height}, {args.fps:g} fps, {args.degrees:g}° turn)")
+    return 0
+
+
 def command_shader(args: argparse.Namespace) -> int:
     from .features import object_features
     from .shadergen import generate_wgsl
@@ -264,6 +292,21 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--depth", metavar="DEPTH.npy", help="also save eye-space depth (inf = background) as .npy")
     render.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     render.set_defaults(handler=command_render)
+
+    spin = commands.add_parser(
+        "turntable",
+        parents=[gpu],
+        help="render a turning view of a scene or mesh to a GIF or MP4",
+        description="Render the scene turning about the camera's up axis (camera and lights stay put) "
+        "and write an animated GIF (looping) or an MP4 (needs imageio-ffmpeg: the [video] extra).",
+    )
+    _add_scene_arguments(spin)
+    spin.add_argument("-o", "--output", help="output animation: .gif or .mp4 (default: INPUT.gif)")
+    spin.add_argument("--frames", type=int, default=360, help="number of frames (default: 360, one per degree)")
+    spin.add_argument("--degrees", type=float, default=360.0, help="total turn in degrees (default: 360, a loop)")
+    spin.add_argument("--fps", type=float, default=30.0, help="frames per second of the animation (default: 30)")
+    spin.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    spin.set_defaults(handler=command_turntable)
 
     shader = commands.add_parser("shader", help="print the WGSL generated for a scene", description="Print the WGSL generated for each object's feature set.")
     _add_scene_arguments(shader)
