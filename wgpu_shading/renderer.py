@@ -17,7 +17,7 @@ from typing import Iterable, Iterator
 import numpy as np
 import wgpu
 
-from .device import default_device
+from .device import default_device, uses_direct_upload
 from .errors import SceneError
 from .features import FeatureSet, object_features
 from .meshes import Mesh
@@ -110,6 +110,9 @@ class Renderer:
     def __init__(self, device=None, *, adapter: str | None = None):
         self._device = device if device is not None else default_device(adapter)
         self._pipelines = PipelineCache(self._device)
+        # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
+        # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
+        self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(self._device) else 0
         self._meshes: weakref.WeakKeyDictionary[Mesh, _GpuMesh] = weakref.WeakKeyDictionary()
         self._textures: weakref.WeakKeyDictionary[Texture, _GpuTexture] = weakref.WeakKeyDictionary()
         self._targets: dict[tuple[int, int, str], _Target] = {}
@@ -211,12 +214,12 @@ class Renderer:
             device = self._device
             # One upload serves every frequency: vertex buffers for Gouraud/Phong, storage
             # buffers for flat shading's vertex pulling.
-            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE
+            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
             gpu_mesh = _GpuMesh(
                 positions=device.create_buffer_with_data(data=mesh.positions, usage=usage),
-                normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX),
+                normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX | self._mesh_usage),
                 indices=device.create_buffer_with_data(
-                    data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE
+                    data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
                 ),
                 uvs=None if mesh.uvs is None else device.create_buffer_with_data(data=mesh.uvs, usage=usage),
                 triangle_count=mesh.triangle_count,
