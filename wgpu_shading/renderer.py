@@ -87,6 +87,21 @@ def _padded_row_bytes(width: int, bytes_per_pixel: int) -> int:
     return math.ceil(width * bytes_per_pixel / _ROW_ALIGNMENT) * _ROW_ALIGNMENT
 
 
+def _map_for_reading(buffer) -> None:
+    """map_sync(READ) without wgpu-py's extra empty submit.
+
+    wgpu-py 0.32 submits an empty command buffer before every read-mapping, a work-around
+    for wgpu-native#305, which concerns buffers written through the mapping API. Readback
+    buffers are only written by copy commands already submitted, so that submit only adds
+    a round trip to the driver (~0.7 ms a frame on lavapipe, measured); wgpu-py's own
+    "READ_NOSYNC" mode skips it. Falls back to the public mode if a wgpu-py lacks it.
+    """
+    try:
+        buffer.map_sync("READ_NOSYNC")
+    except (ValueError, KeyError, TypeError):
+        buffer.map_sync(wgpu.MapMode.READ)
+
+
 def _mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
     """Box-filtered mip levels down to 1×1 (texture values are used as linear, like the seeds)."""
     levels = [pixels]
@@ -376,7 +391,7 @@ class Renderer:
 
     @staticmethod
     def _read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels: int) -> np.ndarray:
-        buffer.map_sync(wgpu.MapMode.READ)
+        _map_for_reading(buffer)
         try:
             raw = np.frombuffer(buffer.read_mapped(copy=False), dtype=np.uint8).reshape(height, row_bytes)
             pixel_bytes = width * channels * np.dtype(dtype).itemsize
