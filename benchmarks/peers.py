@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from wgpu_shading import Renderer, Scene
+from wgpu_shading.renderer import _map_for_reading
 
 from .scenes import GeometryDraw
 
@@ -71,7 +72,8 @@ class TrivialLimitPeer(Peer):
 
     name = "limit"
 
-    def __init__(self, scene: Scene, renderer: Renderer, draw: GeometryDraw):
+    def __init__(self, scene: Scene, renderer: Renderer, draw: GeometryDraw, *, with_geometry: bool = True):
+        """with_geometry=False: no draw call at all, only clear, copy and readback (the floor)."""
         import wgpu
 
         from wgpu_shading.pipelines import COLOR_FORMATS, DEPTH_FORMAT
@@ -109,6 +111,9 @@ class TrivialLimitPeer(Peer):
         self.color = device.create_texture(size=(width, height, 1), format=COLOR_FORMATS["rgba8"], usage=usage)
         self.depth = device.create_texture(size=(width, height, 1), format=DEPTH_FORMAT, usage=usage)
         self.color_view, self.depth_view = self.color.create_view(), self.depth.create_view()
+        self.with_geometry = with_geometry
+        if not with_geometry:
+            self.name = "floor"
         self.row_bytes = -(-width * 4 // 256) * 256
         self.readback = device.create_buffer(
             size=self.row_bytes * height, usage=wgpu.BufferUsage.MAP_READ | wgpu.BufferUsage.COPY_DST
@@ -130,11 +135,12 @@ class TrivialLimitPeer(Peer):
                 "depth_store_op": "store",
             },
         )
-        render_pass.set_pipeline(self.pipeline)
-        render_pass.set_bind_group(0, self.bind_group)
-        render_pass.set_vertex_buffer(0, self.positions)
-        render_pass.set_index_buffer(self.indices, wgpu.IndexFormat.uint32)
-        render_pass.draw_indexed(self.index_count)
+        if self.with_geometry:
+            render_pass.set_pipeline(self.pipeline)
+            render_pass.set_bind_group(0, self.bind_group)
+            render_pass.set_vertex_buffer(0, self.positions)
+            render_pass.set_index_buffer(self.indices, wgpu.IndexFormat.uint32)
+            render_pass.draw_indexed(self.index_count)
         render_pass.end()
         encoder.copy_texture_to_buffer(
             {"texture": self.color},
@@ -142,7 +148,7 @@ class TrivialLimitPeer(Peer):
             (width, height, 1),
         )
         device.queue.submit([encoder.finish()])
-        self.readback.map_sync(wgpu.MapMode.READ)
+        _map_for_reading(self.readback)  # the Renderer's own readback call
         try:
             raw = np.frombuffer(self.readback.read_mapped(copy=False), dtype=np.uint8).reshape(height, self.row_bytes)
             image = raw[:, : width * 4].copy().reshape(height, width, 4)
@@ -153,57 +159,7 @@ class TrivialLimitPeer(Peer):
 
 # --------------------------------------------------------------------------- moderngl
 
-# The seed's Phong shaders (seeds/000, "实现Phong 着色"), as written there.
-SEED_VERTEX_SHADER = """
-#version 430
-layout (location=0) in vec3 vertPos;
-layout (location=1) in vec3 vertNormal;
-out vec3 varyingNormal;
-out vec3 varyingLightDir;
-out vec3 varyingVertPos;
-struct PositionalLight { vec4 ambient; vec4 diffuse; vec4 specular; vec3 position; };
-struct Material { vec4 ambient; vec4 diffuse; vec4 specular; float shininess; };
-uniform vec4 globalAmbient;
-uniform PositionalLight light;
-uniform Material material;
-uniform mat4 mv_matrix;
-uniform mat4 proj_matrix;
-uniform mat4 norm_matrix;
-void main(void)
-{   varyingVertPos = (mv_matrix * vec4(vertPos, 1.0)).xyz;
-    varyingLightDir = light.position - varyingVertPos;
-    varyingNormal = (norm_matrix * vec4(vertNormal, 1.0)).xyz;
-    gl_Position = proj_matrix * mv_matrix * vec4(vertPos, 1.0);
-}
-"""
-
-SEED_FRAGMENT_SHADER = """
-#version 430
-in vec3 varyingNormal;
-in vec3 varyingLightDir;
-in vec3 varyingVertPos;
-out vec4 fragColor;
-struct PositionalLight { vec4 ambient; vec4 diffuse; vec4 specular; vec3 position; };
-struct Material { vec4 ambient; vec4 diffuse; vec4 specular; float shininess; };
-uniform vec4 globalAmbient;
-uniform PositionalLight light;
-uniform Material material;
-uniform mat4 mv_matrix;
-uniform mat4 proj_matrix;
-uniform mat4 norm_matrix;
-void main(void)
-{   vec3 L = normalize(varyingLightDir);
-    vec3 N = normalize(varyingNormal);
-    vec3 V = normalize(-varyingVertPos);
-    vec3 R = normalize(reflect(-L, N));
-    float cosTheta = dot(L, N);
-    float cosPhi = dot(V, R);
-    vec3 ambient = ((globalAmbient * material.ambient) + (light.ambient * material.ambient)).xyz;
-    vec3 diffuse = light.diffuse.xyz * material.diffuse.xyz * max(cosTheta, 0.0);
-    vec3 specular = light.specular.xyz * material.specular.xyz * pow(max(cosPhi, 0.0), material.shininess);
-    fragColor = vec4((ambient + diffuse + specular), 1.0);
-}
-"""
+from .seed_glsl import SEED_FRAGMENT_SHADER, SEED_VERTEX_SHADER  # noqa: E402
 
 _MODERNGL_CONTEXT = None
 
