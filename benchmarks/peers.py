@@ -8,6 +8,7 @@ an RGBA8 image with a depth buffer and returns it as a numpy array: a warm frame
     limit          our device and readback path, same vertex buffers and depth test, but a
                    vertex shader that only transforms positions and a constant-color
                    fragment shader: what lavapipe needs for the geometry and the pixels alone
+                   (RawWgslPeer; its "floor" and "seed WGSL" variants serve the breakdown)
     moderngl       Mesa's llvmpipe OpenGL (EGL, headless) running the seed's GLSL Phong shader
     pygfx          pygfx's offscreen WgpuRenderer with MeshPhongMaterial on the same lavapipe
                    adapter; "default" keeps pygfx's defaults (2× supersampling, FXAA), "lean"
@@ -48,7 +49,7 @@ class WgpuShadingPeer(Peer):
         return self.renderer.render(self.scene)
 
 
-# --------------------------------------------------------------------------- trivial shader limit
+# --------------------------------------------------------------------------- raw WGSL on our device
 
 _TRIVIAL_WGSL = """
 struct Uniforms { clip_from_model: mat4x4<f32> }
@@ -65,44 +66,109 @@ fn fs_main() -> @location(0) vec4<f32> {
 }
 """
 
+# The seed's GLSL Phong shaders (seed_glsl.py) ported line by line to WGSL, with the
+# seed's uniforms in one block: the same math as the moderngl peer, through naga, SPIR-V
+# and lavapipe instead of Mesa's GLSL compiler and llvmpipe's OpenGL.
+_SEED_WGSL = """
+struct Seed {
+    mv_matrix: mat4x4<f32>, proj_matrix: mat4x4<f32>, norm_matrix: mat4x4<f32>,
+    global_ambient: vec4<f32>,
+    light_ambient: vec4<f32>, light_diffuse: vec4<f32>, light_specular: vec4<f32>, light_position: vec4<f32>,
+    material_ambient: vec4<f32>, material_diffuse: vec4<f32>, material_specular: vec4<f32>, shininess: vec4<f32>,
+}
+@group(0) @binding(0) var<uniform> u: Seed;
 
-class TrivialLimitPeer(Peer):
-    """Same device, vertex buffers, depth test, target formats and readback as the
-    Renderer; only the shaders are trivial. The floor for this geometry and size."""
+struct Varyings {
+    @builtin(position) position: vec4<f32>,
+    @location(0) normal: vec3<f32>,
+    @location(1) light_dir: vec3<f32>,
+    @location(2) vert_pos: vec3<f32>,
+}
 
-    name = "limit"
+@vertex
+fn vs_main(@location(0) vert_pos: vec3<f32>, @location(1) vert_normal: vec3<f32>) -> Varyings {
+    var out: Varyings;
+    out.vert_pos = (u.mv_matrix * vec4<f32>(vert_pos, 1.0)).xyz;
+    out.light_dir = u.light_position.xyz - out.vert_pos;
+    out.normal = (u.norm_matrix * vec4<f32>(vert_normal, 1.0)).xyz;
+    out.position = u.proj_matrix * u.mv_matrix * vec4<f32>(vert_pos, 1.0);
+    return out;
+}
 
-    def __init__(self, scene: Scene, renderer: Renderer, draw: GeometryDraw, *, with_geometry: bool = True):
-        """with_geometry=False: no draw call at all, only clear, copy and readback (the floor)."""
+@fragment
+fn fs_main(in: Varyings) -> @location(0) vec4<f32> {
+    let L = normalize(in.light_dir);
+    let N = normalize(in.normal);
+    let V = normalize(-in.vert_pos);
+    let R = normalize(reflect(-L, N));
+    let cos_theta = dot(L, N);
+    let cos_phi = dot(V, R);
+    let ambient = ((u.global_ambient * u.material_ambient) + (u.light_ambient * u.material_ambient)).xyz;
+    let diffuse = u.light_diffuse.xyz * u.material_diffuse.xyz * max(cos_theta, 0.0);
+    let specular = u.light_specular.xyz * u.material_specular.xyz * pow(max(cos_phi, 0.0), u.shininess.x);
+    return vec4<f32>(ambient + diffuse + specular, 1.0);
+}
+"""
+
+
+class RawWgslPeer(Peer):
+    """Our device, render target formats, depth test (reversed Z) and readback call, with
+    hand-written shaders instead of the Renderer's:
+
+        floor   no draw at all: clear, copy and readback only
+        limit   the same vertex and index buffers, a position-only vertex shader and a
+                constant-color fragment shader: the floor for this geometry and size
+        seed    the seed's Phong shaders ported literally to WGSL (the moderngl peer's math)
+    """
+
+    def __init__(self, scene: Scene, renderer: Renderer, draw: GeometryDraw, kind: str = "limit"):
         import wgpu
 
         from wgpu_shading.pipelines import COLOR_FORMATS, DEPTH_FORMAT
-        from wgpu_shading.uniforms import clip_from_eye, eye_from_model
+        from wgpu_shading.uniforms import clip_from_eye
 
+        if kind not in ("floor", "limit", "seed"):
+            raise ValueError(kind)
+        self.name = {"floor": "floor", "limit": "limit", "seed": "seed WGSL"}[kind]
+        self.kind = kind
         self.wgpu = wgpu
         device = self.device = renderer.device
-        (obj,) = scene.objects
         width, height = self.size = scene.size
-        clip_from_model = clip_from_eye(scene.camera, width / height) @ eye_from_model(scene, obj)
-        self.uniform_data = np.ascontiguousarray(clip_from_model.T, dtype=np.float32)
-        self.uniforms = device.create_buffer(size=64, usage=wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST)
+        projection = clip_from_eye(scene.camera, width / height)  # reversed Z, like the Renderer
+        if kind == "seed":
+            code = _SEED_WGSL
+            light_position = np.append(draw.light_eye_position, 0.0)
+            self.uniform_data = np.concatenate(
+                [
+                    draw.eye_from_model.T.ravel(), projection.T.ravel(), np.linalg.inv(draw.eye_from_model).ravel(),
+                    draw.global_ambient, draw.light_ambient, draw.light_diffuse, draw.light_specular, light_position,
+                    draw.material_ambient, draw.material_diffuse, draw.material_specular, (draw.shininess, 0, 0, 0),
+                ]
+            ).astype(np.float32)
+            visibility = wgpu.ShaderStage.VERTEX | wgpu.ShaderStage.FRAGMENT
+        else:
+            code = _TRIVIAL_WGSL
+            self.uniform_data = np.ascontiguousarray((projection @ draw.eye_from_model).T, dtype=np.float32)
+            visibility = wgpu.ShaderStage.VERTEX
+        size = self.uniform_data.nbytes
+        self.uniforms = device.create_buffer(size=size, usage=wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST)
         self.positions = device.create_buffer_with_data(data=draw.positions, usage=wgpu.BufferUsage.VERTEX)
+        self.normals = device.create_buffer_with_data(data=draw.normals, usage=wgpu.BufferUsage.VERTEX)
         self.indices = device.create_buffer_with_data(data=draw.indices, usage=wgpu.BufferUsage.INDEX)
         self.index_count = draw.indices.size
-        module = device.create_shader_module(code=_TRIVIAL_WGSL)
+        module = device.create_shader_module(code=code)
         layout = device.create_bind_group_layout(
-            entries=[{"binding": 0, "visibility": wgpu.ShaderStage.VERTEX, "buffer": {"type": wgpu.BufferBindingType.uniform}}]
+            entries=[{"binding": 0, "visibility": visibility, "buffer": {"type": wgpu.BufferBindingType.uniform}}]
         )
         self.bind_group = device.create_bind_group(
-            layout=layout, entries=[{"binding": 0, "resource": {"buffer": self.uniforms, "offset": 0, "size": 64}}]
+            layout=layout, entries=[{"binding": 0, "resource": {"buffer": self.uniforms, "offset": 0, "size": size}}]
         )
+        buffers = [{"array_stride": 12, "attributes": [{"format": "float32x3", "offset": 0, "shader_location": 0}]}]
+        if kind == "seed":
+            buffers.append({"array_stride": 12, "attributes": [{"format": "float32x3", "offset": 0, "shader_location": 1}]})
         self.pipeline = device.create_render_pipeline(
             layout=device.create_pipeline_layout(bind_group_layouts=[layout]),
-            vertex={
-                "module": module,
-                "entry_point": "vs_main",
-                "buffers": [{"array_stride": 12, "attributes": [{"format": "float32x3", "offset": 0, "shader_location": 0}]}],
-            },
+            vertex={"module": module, "entry_point": "vs_main", "buffers": buffers},
             primitive={"topology": "triangle-list", "cull_mode": "none"},
             depth_stencil={"format": DEPTH_FORMAT, "depth_write_enabled": True, "depth_compare": "greater"},
             fragment={"module": module, "entry_point": "fs_main", "targets": [{"format": COLOR_FORMATS["rgba8"]}]},
@@ -111,9 +177,6 @@ class TrivialLimitPeer(Peer):
         self.color = device.create_texture(size=(width, height, 1), format=COLOR_FORMATS["rgba8"], usage=usage)
         self.depth = device.create_texture(size=(width, height, 1), format=DEPTH_FORMAT, usage=usage)
         self.color_view, self.depth_view = self.color.create_view(), self.depth.create_view()
-        self.with_geometry = with_geometry
-        if not with_geometry:
-            self.name = "floor"
         self.row_bytes = -(-width * 4 // 256) * 256
         self.readback = device.create_buffer(
             size=self.row_bytes * height, usage=wgpu.BufferUsage.MAP_READ | wgpu.BufferUsage.COPY_DST
@@ -135,10 +198,12 @@ class TrivialLimitPeer(Peer):
                 "depth_store_op": "store",
             },
         )
-        if self.with_geometry:
+        if self.kind != "floor":
             render_pass.set_pipeline(self.pipeline)
             render_pass.set_bind_group(0, self.bind_group)
             render_pass.set_vertex_buffer(0, self.positions)
+            if self.kind == "seed":
+                render_pass.set_vertex_buffer(1, self.normals)
             render_pass.set_index_buffer(self.indices, wgpu.IndexFormat.uint32)
             render_pass.draw_indexed(self.index_count)
         render_pass.end()
@@ -155,6 +220,10 @@ class TrivialLimitPeer(Peer):
         finally:
             self.readback.unmap()
         return image
+
+
+def TrivialLimitPeer(scene: Scene, renderer: Renderer, draw: GeometryDraw) -> RawWgslPeer:
+    return RawWgslPeer(scene, renderer, draw, "limit")
 
 
 # --------------------------------------------------------------------------- moderngl

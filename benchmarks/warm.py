@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 from wgpu_shading import Renderer
 
 from .measure import Timing, interleaved, progress, thread_breakdown
-from .peers import ModernGLPeer, PygfxPeer, TrivialLimitPeer, WgpuShadingPeer
+from .peers import ModernGLPeer, PygfxPeer, RawWgslPeer, TrivialLimitPeer, WgpuShadingPeer
 from .scenes import benchmark_scenes, geometry_draw
 
 
@@ -60,24 +60,27 @@ class BreakdownRow:
 
 
 def run_breakdown(renderer: Renderer, size: int, *, rounds: int, frames: int) -> list[BreakdownRow]:
-    """Floor (clear + copy + readback), limit (trivial shaders), Gouraud, Phong; and threads."""
+    """Floor (clear + copy + readback), limit (trivial shaders), Gouraud, Phong, the seed's
+    shader ported to WGSL, moderngl; and the CPU of each thread."""
     rows = []
     for label, _, scene in benchmark_scenes((size,)):
         progress(f"breakdown: {label} at {size}²")
         draw = geometry_draw(scene, label)
         gouraud = replace(scene, shading=replace(scene.shading, frequency="gouraud"))
-        floor = TrivialLimitPeer(scene, renderer, draw, with_geometry=False)
-        limit = TrivialLimitPeer(scene, renderer, draw)
+        floor = RawWgslPeer(scene, renderer, draw, "floor")
+        limit = RawWgslPeer(scene, renderer, draw, "limit")
+        seed = RawWgslPeer(scene, renderer, draw, "seed")
         moderngl = ModernGLPeer(draw)
         contenders = {
             "floor": floor.render,
             "limit": limit.render,
             "gouraud": lambda: renderer.render(gouraud),
             "phong": lambda: renderer.render(scene),
+            "seed WGSL": seed.render,
             "moderngl": moderngl.render,
         }
         timings = interleaved(contenders, rounds=rounds, frames=frames)
-        threads = {name: thread_breakdown(contenders[name]) for name in ("phong", "moderngl")}
+        threads = {name: thread_breakdown(contenders[name]) for name in ("phong", "seed WGSL", "moderngl")}
         rows.append(BreakdownRow(label, size, timings, threads))
         moderngl.close()
         gc.collect()

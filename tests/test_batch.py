@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import replace
 
 import imageio.v3 as iio
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading import Camera, PositionalLight, Scene, SceneObject, SpotLight, DirectionalLight, load_mesh, material
-from wgpu_shading.batch import spun, turntable, write_animation
+from wgpu_shading.batch import _HELPERS, default_parallelism, spun, turntable, write_animation
 from wgpu_shading.cli import main
 
 from test_cli import run_cli
@@ -30,11 +31,11 @@ def torus_scene() -> Scene:
     )
 
 
-@pytest.mark.parametrize("in_flight", [1, 2, 3])
-def test_render_many_equals_single_renders(renderer, torus_scene, in_flight):
+@pytest.mark.parametrize("in_flight, parallel", [(1, 1), (2, 1), (3, 1), (1, 2), (2, 2), (2, 3), (2, None)])
+def test_render_many_equals_single_renders(renderer, torus_scene, in_flight, parallel):
     scenes = turntable(torus_scene, 7)
     expected = [renderer.render(scene) for scene in scenes]
-    frames = list(renderer.render_many(scenes, in_flight=in_flight))
+    frames = list(renderer.render_many(scenes, in_flight=in_flight, parallel=parallel))
     assert len(frames) == len(scenes)
     for frame, image in zip(frames, expected):
         np.testing.assert_array_equal(frame.color, image)  # pixel-exact: same pipeline, same uniforms
@@ -50,7 +51,8 @@ def test_render_many_float_depth_and_mixed_sizes(renderer, torus_scene):
         np.testing.assert_array_equal(frame.depth, single.depth)
 
 
-def test_render_many_is_lazy(renderer, torus_scene):
+@pytest.mark.parametrize("parallel", [1, 2])
+def test_render_many_is_lazy(renderer, torus_scene, parallel):
     consumed = []
 
     def scenes():
@@ -58,15 +60,26 @@ def test_render_many_is_lazy(renderer, torus_scene):
             consumed.append(index)
             yield spun(torus_scene, 10 * index)
 
-    stream = renderer.render_many(scenes(), in_flight=2)
+    stream = renderer.render_many(scenes(), in_flight=2, parallel=parallel)
     next(stream)
-    assert len(consumed) <= 3  # at most in_flight + 1 scenes taken before the first frame
+    assert len(consumed) <= 2 * parallel + 1  # at most in_flight per device, + 1, before the first frame
     assert len(list(stream)) == 9
 
 
-def test_render_many_rejects_bad_in_flight(renderer, torus_scene):
+def test_render_many_rejects_bad_in_flight_and_parallel(renderer, torus_scene):
     with pytest.raises(ValueError, match="in_flight"):
         list(renderer.render_many([torus_scene], in_flight=0))
+    with pytest.raises(ValueError, match="parallel"):
+        list(renderer.render_many([torus_scene], parallel=0))
+
+
+def test_lavapipe_batches_use_two_devices(renderer, torus_scene):
+    assert default_parallelism(renderer) == (2 if (os.cpu_count() or 1) >= 2 else 1)
+    list(renderer.render_many(turntable(torus_scene, 4), parallel=2))
+    (helper,) = _HELPERS[renderer][:1]
+    assert helper.device is not renderer.device and helper.pipeline_count >= 1  # it really drew
+    list(renderer.render_many(turntable(torus_scene, 4), parallel=2))
+    assert _HELPERS[renderer][0] is helper  # made once, then reused
 
 
 def test_spinning_the_view_equals_turning_the_object(renderer, torus_scene):

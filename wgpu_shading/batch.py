@@ -1,13 +1,15 @@
 """Many frames: pipelined rendering, turntable scenes, animation files.
 
-`render_many` renders a sequence of scenes with the same Renderer and yields their frames
-in order, identical to calling `render_frame` for each. It is faster because it never
-lets lavapipe wait for Python: frame i+1 is already submitted (and rendering on the
-driver's threads) while frame i is copied out of its readback buffer and handed to the
-caller, and while the caller works on it. Each frame in flight has its own render target
-and readback buffers; pipelines, meshes, bind groups and uniform buffers are shared
-(`queue.write_buffer` is ordered with submissions, so rewriting a uniform buffer for the
-next frame cannot change one already submitted).
+`render_many` renders a sequence of scenes and yields their frames in order, identical
+to calling `render_frame` for each. It is faster in two ways. Frames are pipelined: frame
+i+1 is already submitted while frame i is copied out of its readback buffer and handed to
+the caller, so the driver never waits for Python. And on lavapipe, frames alternate
+between two devices: each lavapipe device does its vertex processing and triangle binning
+on a single queue thread and only rasterizes on all cores, so one device leaves a core
+idle during binning; a second device fills it. Each frame in flight has its own render
+target and readback buffers; pipelines, meshes, bind groups and uniform buffers are
+shared per device (`queue.write_buffer` is ordered with submissions, so rewriting a
+uniform buffer for the next frame cannot change one already submitted).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import math
 import os
 import queue
 import threading
+import weakref
 from collections import deque
 from dataclasses import replace
 from pathlib import Path
@@ -40,37 +43,75 @@ def render_many(
     float32: bool = False,
     depth: bool = False,
     in_flight: int = DEFAULT_IN_FLIGHT,
+    parallel: int | None = None,
 ) -> Iterator["Frame"]:
     """Frames of `scenes`, in order, each equal to `renderer.render_frame(scene, ...)`.
 
-    Up to `in_flight` frames are submitted before the oldest is read back. `scenes` is
-    consumed lazily, so a generator of scenes works and memory stays bounded.
+    Up to `in_flight` frames per device are submitted before the oldest is read back.
+    `parallel` devices take frames in turn (None: `default_parallelism(renderer)`); the
+    extra devices are created once per renderer, on its adapter, and keep their own
+    pipelines and mesh uploads (each holds one more copy of the meshes it has drawn).
+    `scenes` is consumed lazily, so a generator of scenes works and memory stays bounded.
     """
     if in_flight < 1:
         raise ValueError(f"in_flight must be at least 1, got {in_flight}")
+    if parallel is None:
+        parallel = default_parallelism(renderer)
+    if parallel < 1:
+        raise ValueError(f"parallel must be at least 1, got {parallel}")
+    workers = [renderer, *_helpers(renderer, parallel - 1)]
     color_format = "float32" if float32 else "rgba8"
-    free_targets: dict[tuple[int, int], list] = {}
-    pending: deque = deque()  # (scene, target) submitted but not yet read, oldest first
+    free_targets: dict[tuple[int, tuple[int, int]], list] = {}
+    pending: deque = deque()  # (worker, scene, target) submitted but not yet read, oldest first
 
     def read_oldest() -> "Frame":
-        scene, target = pending.popleft()
-        frame = renderer._read(target, scene, read_depth=depth)
-        free_targets[scene.size].append(target)
+        worker, scene, target = pending.popleft()
+        frame = worker._read(target, scene, read_depth=depth)
+        free_targets[(id(worker), scene.size)].append(target)
         return frame
 
-    for scene in scenes:
-        size = scene.size
-        renderer._check_size(size)
-        slots = free_targets.setdefault(size, [])
-        if len(pending) >= in_flight:
+    for index, scene in enumerate(scenes):
+        worker = workers[index % len(workers)]
+        worker._check_size(scene.size)
+        if len(pending) >= in_flight * len(workers):
             yield read_oldest()
-        if not slots:
-            slots.append(renderer._new_target(size[0], size[1], color_format))
-        target = slots.pop()
-        renderer._submit(scene, target, read_depth=depth)
-        pending.append((scene, target))
+        slots = free_targets.setdefault((id(worker), scene.size), [])
+        target = slots.pop() if slots else worker._new_target(scene.size[0], scene.size[1], color_format)
+        worker._submit(scene, target, read_depth=depth)
+        pending.append((worker, scene, target))
     while pending:
         yield read_oldest()
+
+
+def default_parallelism(renderer: "Renderer") -> int:
+    """2 devices on a CPU adapter (lavapipe) with at least 2 cores, else 1.
+
+    Why: lavapipe runs each device's vertex processing and triangle binning on one queue
+    thread, and only the rasterization on all cores; a second device bins frame i+1 while
+    the first rasterizes frame i. A GPU gains nothing from this (it has one queue, and
+    parallelism inside), so it gets one device.
+    """
+    is_cpu = renderer.device.adapter.info.get("adapter_type") == "CPU"
+    return 2 if is_cpu and (os.cpu_count() or 1) >= 2 else 1
+
+
+# Extra renderers per primary renderer, each on its own device of the same adapter; made on
+# first use and dropped with the primary.
+_HELPERS: "weakref.WeakKeyDictionary[Renderer, list[Renderer]]" = weakref.WeakKeyDictionary()
+
+
+def _helpers(renderer: "Renderer", count: int) -> list["Renderer"]:
+    from .renderer import Renderer
+
+    helpers = _HELPERS.setdefault(renderer, [])
+    device = renderer.device
+    while len(helpers) < count:
+        # The same features as the primary device (e.g. direct mesh upload on lavapipe).
+        helper_device = device.adapter.request_device_sync(
+            label=f"wgpu-shading batch helper {len(helpers) + 1}", required_features=sorted(device.features)
+        )
+        helpers.append(Renderer(device=helper_device))
+    return helpers[:count]
 
 
 # --------------------------------------------------------------------------- turntable

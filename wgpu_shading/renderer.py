@@ -164,13 +164,19 @@ class Renderer:
         return self._read(target, scene, read_depth=depth)
 
     def render_many(
-        self, scenes: Iterable[Scene], *, float32: bool = False, depth: bool = False, in_flight: int = 2
+        self,
+        scenes: Iterable[Scene],
+        *,
+        float32: bool = False,
+        depth: bool = False,
+        in_flight: int = 2,
+        parallel: int | None = None,
     ) -> Iterator[Frame]:
         """Frames of many scenes, in order, each equal to render_frame(scene): faster than a
-        loop over render_frame because the next frame renders while one is read back."""
+        loop over render_frame (pipelined; on lavapipe spread over two devices). See batch.py."""
         from .batch import render_many
 
-        return render_many(self, scenes, float32=float32, depth=depth, in_flight=in_flight)
+        return render_many(self, scenes, float32=float32, depth=depth, in_flight=in_flight, parallel=parallel)
 
     def features(self, scene: Scene) -> list[FeatureSet]:
         """The feature set of each object (what `wgpu-shading shader` prints)."""
