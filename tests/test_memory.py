@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
+import numpy as np
 import pytest
 
 from wgpu_shading.device import uses_direct_upload
@@ -51,3 +53,20 @@ def test_a_mesh_upload_costs_one_copy_of_the_mesh():
     assert result.returncode == 0, result.stderr
     growth = float(result.stdout.strip())
     assert 0.8 < growth < 1.3  # one copy (the driver's); a staging buffer would make it ~2
+
+
+def test_texture_coordinates_are_uploaded_when_a_textured_draw_first_needs_them(renderer):
+    from dataclasses import replace
+
+    from wgpu_shading import Renderer, load_scene
+
+    textured = load_scene(Path(__file__).resolve().parent.parent / "examples" / "checker_sphere_modulate.toml")
+    (obj,) = textured.objects
+    plain = replace(textured, objects=(replace(obj, material=replace(obj.material, texture=None)),))
+    fresh = Renderer(device=renderer.device)
+    untextured_first = fresh.render(plain)
+    assert fresh._meshes[obj.mesh].uvs is None  # an untextured draw leaves them out
+    textured_image = fresh.render(textured)
+    assert fresh._meshes[obj.mesh].uvs is not None
+    np.testing.assert_array_equal(textured_image, Renderer(device=renderer.device).render(textured))
+    assert not np.array_equal(textured_image, untextured_first)

@@ -229,7 +229,7 @@ class Renderer:
             depth_row_bytes=depth_row_bytes,
         )
 
-    def _gpu_mesh(self, mesh: Mesh) -> _GpuMesh:
+    def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False) -> _GpuMesh:
         gpu_mesh = self._meshes.get(mesh)
         if gpu_mesh is None:
             device = self._device
@@ -242,10 +242,15 @@ class Renderer:
                 indices=device.create_buffer_with_data(
                     data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
                 ),
-                uvs=None if mesh.uvs is None else device.create_buffer_with_data(data=mesh.uvs, usage=usage),
+                uvs=None,
                 triangle_count=mesh.triangle_count,
             )
             self._meshes[mesh] = gpu_mesh
+        if with_uvs and gpu_mesh.uvs is None and mesh.uvs is not None:
+            # Texture coordinates only once a textured draw needs them: most meshes are drawn
+            # untextured, and a big mesh's uvs are a seventh of its memory.
+            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
+            gpu_mesh.uvs = self._device.create_buffer_with_data(data=mesh.uvs, usage=usage)
         return gpu_mesh
 
     def _gpu_texture(self, texture: Texture) -> _GpuTexture:
@@ -310,7 +315,7 @@ class Renderer:
                 _Draw(
                     entry=entry,
                     object_index=index,
-                    gpu_mesh=self._gpu_mesh(obj.mesh),
+                    gpu_mesh=self._gpu_mesh(obj.mesh, with_uvs=features.texture_mode is not None),
                     object_data=object_uniforms(scene, obj, entry.object_dtype),
                     texture=texture,
                 )
