@@ -172,11 +172,15 @@ class Camera:
 
     def eye_from_world(self) -> np.ndarray:
         """The view matrix (gluLookAt), float64 4x4, column vectors."""
-        right, true_up, backward = self.basis()
-        view = np.eye(4)
-        view[0, :3], view[1, :3], view[2, :3] = right, true_up, backward
-        view[:3, 3] = -view[:3, :3] @ np.asarray(self.eye)
-        return view
+        view = self.__dict__.get("_eye_from_world")
+        if view is None:
+            right, true_up, backward = self.basis()
+            view = np.eye(4)
+            view[0, :3], view[1, :3], view[2, :3] = right, true_up, backward
+            view[:3, 3] = -view[:3, :3] @ np.asarray(self.eye)
+            # Computed once per (immutable) camera: a frame needs it several times.
+            object.__setattr__(self, "_eye_from_world", view)
+        return view.copy()
 
 
 # --------------------------------------------------------------------------- lights
@@ -402,6 +406,13 @@ class SceneObject:
 
     def world_from_model(self) -> np.ndarray:
         """float64 4x4 for the mesh's stored (origin-relative) vertex positions."""
+        cached = self.__dict__.get("_world_from_model")
+        if cached is None:
+            cached = self._compute_world_from_model()
+            object.__setattr__(self, "_world_from_model", cached)  # once per (immutable) object
+        return cached.copy()
+
+    def _compute_world_from_model(self) -> np.ndarray:
         model = np.eye(4)
         model[:3, :3] = _rotation_xyz(self.rotate) @ np.diag(self.scale)
         model[:3, 3] = self.translate
