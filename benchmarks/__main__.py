@@ -1,8 +1,8 @@
 """Run every performance benchmark of issue #7 and print a table of medians and ratios.
 
     pip install -e '.[bench]'          # the peers (moderngl, pygfx) and matplotlib
-    python -m benchmarks               # everything, ~10-15 min on 2 cores
-    python -m benchmarks --quick       # smaller and fewer, ~3-4 min
+    python -m benchmarks               # everything, ~8-10 min on 2 cores
+    python -m benchmarks --quick       # smaller and fewer, ~2 min
     python -m benchmarks --only warm,cold
 
 Results: markdown tables on stdout, and in --out (default benchmarks/results/):
@@ -26,7 +26,7 @@ SECTIONS = ("warm", "breakdown", "cold", "batch", "memory", "scaling")
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="smaller sizes, fewer rounds (~3-4 min)")
+    parser.add_argument("--quick", action="store_true", help="smaller sizes, fewer rounds (~2 min)")
     parser.add_argument("--only", help=f"comma-separated sections: {', '.join(SECTIONS)}")
     parser.add_argument("--no-pygfx", action="store_true", help="leave pygfx out of the warm table")
     parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "results", help="output folder")
@@ -56,13 +56,13 @@ def main(argv: list[str] | None = None) -> int:
         from .warm import run_warm
 
         sizes = (512,) if quick else (512, 1024)
-        rows = run_warm(renderer, sizes, rounds=2 if quick else 5, frames=2 if quick else 3, pygfx=not args.no_pygfx)
+        rows = run_warm(renderer, sizes, rounds=2 if quick else 7, frames=2 if quick else 3, pygfx=not args.no_pygfx)
         results["warm"] = rows
         print(report.warm_table(rows), flush=True)
     if "breakdown" in chosen:
         from .warm import run_breakdown
 
-        rows = run_breakdown(renderer, 512, rounds=2 if quick else 4, frames=2 if quick else 3)
+        rows = run_breakdown(renderer, 512, rounds=2 if quick else 8, frames=2 if quick else 3)
         results["breakdown"] = rows
         print(report.breakdown_table(rows), flush=True)
     if "cold" in chosen:
@@ -88,7 +88,7 @@ def main(argv: list[str] | None = None) -> int:
 
         counts = (10_000, 100_000, 1_000_000) if quick else (10_000, 30_000, 100_000, 300_000, 1_000_000, 3_000_000)
         sides = (256, 512, 1024) if quick else (128, 256, 512, 1024, 2048)
-        rounds, frames = (2, 1) if quick else (3, 2)
+        rounds, frames = (2, 1) if quick else (4, 2)
         results["scaling"] = {
             "triangles": triangle_curve(renderer, counts, rounds=rounds, frames=frames),
             "pixels": pixel_curve(renderer, sides, rounds=rounds, frames=frames),
