@@ -77,3 +77,33 @@ def test_a_cache_path_that_is_a_file_still_renders(tmp_path):
     (tmp_path / "cache").write_text("not a folder")
     kind, image = render_in_new_process(tmp_path, "blocked")
     assert kind == "PrebuiltFFI" and (image[:, :, :3] > 0).any()
+
+
+@pytest.mark.parametrize(
+    "selector, environment",
+    [("lavapipe", {}), ("llvmpipe", {}), (None, {"WGPU_SHADING_ADAPTER": "llvmpipe"})],
+)
+def test_adapter_selection_still_works_on_the_fast_path(tmp_path, selector, environment):
+    out = tmp_path / "a.png"
+    args = ["render", "builtin:cube", "--size", "32", "-o", str(out), "-q"]
+    if selector:
+        args += ["--adapter", selector]
+    result = _run_cli(args, {"XDG_CACHE_HOME": str(tmp_path / "cache"), **environment})
+    assert result.returncode == 0, result.stderr
+    assert out.exists()
+
+
+@pytest.mark.parametrize("args, environment", [(["--adapter", "no-such-gpu"], {}), ([], {"WGPU_SHADING_ADAPTER": "no-such-gpu"})])
+def test_an_unknown_adapter_is_still_a_one_line_error(tmp_path, args, environment):
+    result = _run_cli(["render", "builtin:cube", "-o", str(tmp_path / "x.png"), *args], environment)
+    assert result.returncode == 2
+    assert result.stderr.strip().count("\n") == 0 and "Traceback" not in result.stderr
+    assert "no adapter matches 'no-such-gpu'" in result.stderr
+
+
+def _run_cli(args: list[str], environment: dict[str, str]) -> subprocess.CompletedProcess:
+    import shutil
+
+    executable = shutil.which("wgpu-shading", path=str(Path(sys.executable).parent)) or "wgpu-shading"
+    env = {key: value for key, value in os.environ.items() if key != "WGPU_SHADING_ADAPTER"}
+    return subprocess.run([executable, *args], capture_output=True, text=True, env={**env, **environment}, timeout=120)
