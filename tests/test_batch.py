@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from dataclasses import replace
 
 import imageio.v3 as iio
@@ -164,3 +165,11 @@ def test_cli_turntable_errors_are_one_line(args, message):
     assert result.returncode == 2
     assert result.stderr.strip().count("\n") == 0 and "Traceback" not in result.stderr, result.stderr
     assert result.stderr.startswith("wgpu-shading: error: ") and message in result.stderr
+
+
+def test_cli_mp4_without_imageio_ffmpeg_is_a_one_line_error(monkeypatch, capsys, tmp_path):
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)  # as if not installed
+    assert main(["turntable", "builtin:cube", "-o", str(tmp_path / "spin.mp4")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "needs imageio-ffmpeg" in err and "[video]" in err
+    assert not (tmp_path / "spin.mp4").exists()
