@@ -107,3 +107,33 @@ def _run_cli(args: list[str], environment: dict[str, str]) -> subprocess.Complet
     executable = shutil.which("wgpu-shading", path=str(Path(sys.executable).parent)) or "wgpu-shading"
     env = {key: value for key, value in os.environ.items() if key != "WGPU_SHADING_ADAPTER"}
     return subprocess.run([executable, *args], capture_output=True, text=True, env={**env, **environment}, timeout=120)
+
+
+FFI_REJECTED = """
+import numpy as np
+import wgpu_shading._prebuilt_ffi as prebuilt
+from wgpu_shading import Renderer
+from wgpu_shading.cli import mesh_scene
+
+built = prebuilt._prebuilt_ffi
+
+def rejected():  # an FFI that a future wgpu-py would use in some way we did not foresee
+    ffi = built()
+    def refuse(*args, **kwargs):
+        raise RuntimeError("unexpected use")
+    type(ffi).set_source = refuse
+    return ffi
+
+prebuilt._prebuilt_ffi = rejected
+print(prebuilt.load_wgpu_native())
+image = Renderer().render(mesh_scene("builtin:torus?segments=24", (96, 64), None))
+import wgpu.backends.wgpu_native._ffi as ffi_module
+print(type(ffi_module.ffi).__name__, bool((image[:, :, :3] > 0).any()))
+"""
+
+
+def test_when_wgpu_py_rejects_the_prebuilt_table_it_imports_normally(tmp_path):
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
+    result = subprocess.run([sys.executable, "-c", FFI_REJECTED], capture_output=True, text=True, env=env, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == ["False", "FFI", "True"]

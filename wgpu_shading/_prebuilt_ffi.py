@@ -37,6 +37,7 @@ _BACKEND_MODULE = "wgpu.backends.wgpu_native"
 _FORMAT_VERSION = "1"  # bump when the cache file's layout changes
 
 logger = logging.getLogger(__name__)
+_ABANDONED_MODULES: list = []
 
 
 def cache_folder() -> Path:
@@ -72,7 +73,8 @@ def load_wgpu_native() -> bool:
     except Exception as error:
         logger.debug("wgpu-py did not accept the prebuilt FFI, importing it normally: %s", error)
         for name in [name for name in sys.modules if name == _BACKEND_MODULE or name.startswith(_BACKEND_MODULE + ".")]:
-            del sys.modules[name]
+            # Kept alive: the native library may still hold the log callback they created.
+            _ABANDONED_MODULES.append(sys.modules.pop(name))
         adopted = False
     finally:
         cffi.FFI = original
