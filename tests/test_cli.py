@@ -113,3 +113,73 @@ def test_help_for_every_command():
         with pytest.raises(SystemExit) as exit_:
             main([command, "--help"])
         assert exit_.value.code == 0
+
+
+INVALID_OBJ = {
+    "nan.obj": ("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "1 vertex has NaN or infinite coordinates (first: vertex 0"),
+    "inf.obj": ("v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n", "NaN or infinite coordinates (first: vertex 1"),
+    "outside.obj": ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "a face refers to a vertex that does not exist"),
+    "empty.obj": ("# nothing\n", "contains no triangles"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(INVALID_OBJ))
+def test_invalid_mesh_files_are_one_line_errors(tmp_path, capsys, name):
+    text, message = INVALID_OBJ[name]
+    path = tmp_path / name
+    path.write_text(text)
+    assert main(["render", str(path), "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and name in err and message in err, err
+    assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["builtin:cube", "--size", "0x0"], "--size: width and height must be between 1 and 16384, got 0×0"),
+        (["builtin:cube", "--size", "100000x100000"], "got 100000×100000"),
+        (["builtin:cube", "--material", "kryptonite"], "unknown material 'kryptonite'"),
+    ],
+)
+def test_invalid_arguments_are_one_line_errors(tmp_path, capsys, args, message):
+    assert main(["render", *args, "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
+
+
+@pytest.mark.parametrize(
+    "camera, message",
+    [
+        ("eye = [1.0, 1.0, 1.0]\ntarget = [1.0, 1.0, 1.0]", "coincide"),
+        ("eye = [0.0, 5.0, 0.0]\nup = [0.0, 1.0, 0.0]", "parallel to the view direction"),
+    ],
+)
+def test_degenerate_cameras_are_one_line_errors(tmp_path, capsys, camera, message):
+    scene = tmp_path / "camera.toml"
+    scene.write_text(f'[camera]\n{camera}\n[[objects]]\nmesh = "builtin:cube"\n')
+    assert main(["render", str(scene), "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(scene) in err and message in err, err
+
+
+def test_image_too_big_for_the_adapter_is_a_clear_error(tmp_path, capsys, renderer):
+    # 16384² float32 needs a 4 GiB readback buffer; lavapipe allows 2 GiB per buffer.
+    assert main(["render", "builtin:cube", "--size", "16384", "--float", "-o", str(tmp_path / "x.npy")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "4.0 GiB readback buffer" in err and "8-bit target" in err, err
+
+
+def test_internal_errors_are_one_line_unless_debugging(monkeypatch, capsys):
+    import wgpu_shading.cli as cli
+
+    def broken(args):
+        raise RuntimeError("something the package did wrong")
+
+    monkeypatch.setattr(cli, "command_materials", broken)
+    assert cli.main(["materials"]) == 3
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "internal error: RuntimeError: something the package did wrong" in err
+    monkeypatch.setenv("WGPU_SHADING_DEBUG", "1")
+    with pytest.raises(RuntimeError):
+        cli.main(["materials"])

@@ -80,7 +80,7 @@ def test_far_from_origin_keeps_precision():
 @pytest.mark.parametrize(
     "positions, faces, message",
     [
-        ([[0, 0, 0], [1, 0, 0], [0, np.nan, 0]], [[0, 1, 2]], "1 vertices have NaN or infinite coordinates (first: vertex 2"),
+        ([[0, 0, 0], [1, 0, 0], [0, np.nan, 0]], [[0, 1, 2]], "1 vertex has NaN or infinite coordinates (first: vertex 2"),
         ([[0, 0, 0], [1, 0, 0], [0, np.inf, 0]], [[0, 1, 2]], "NaN or infinite"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 3]], "index 3 is out of range; the mesh has 3 vertices"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, -1]], "index -1 is out of range"),
@@ -127,3 +127,26 @@ def test_mesh_file_errors(tmp_path):
         load_mesh(tmp_path / "empty.obj")
     with pytest.raises(MeshError, match="unknown parameter 'slice'"):
         load_mesh("builtin:sphere?slice=3")
+
+
+def test_obj_texture_from_mtl_map_kd(tmp_path, renderer):
+    """An OBJ whose MTL names a texture (map_Kd) renders with it, as its author meant."""
+    import imageio.v3 as iio
+
+    from wgpu_shading import Camera, Scene, SceneObject
+
+    pixels = np.zeros((4, 4, 3), np.uint8)
+    pixels[:, :2] = (255, 0, 0)  # left half red
+    pixels[:, 2:] = (0, 0, 255)  # right half blue
+    iio.imwrite(tmp_path / "halves.png", pixels)
+    (tmp_path / "m.mtl").write_text("newmtl painted\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd halves.png\n")
+    (tmp_path / "quad.obj").write_text(
+        "mtllib m.mtl\nusemtl painted\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n"
+    )
+    mesh = load_mesh(tmp_path / "quad.obj")
+    assert mesh.material is not None and mesh.material.texture is not None
+    scene = Scene(objects=(SceneObject(mesh, mesh.material),), camera=Camera(eye=(0, 0, 2.0)), ambient=(1, 1, 1, 1), size=(32, 32))
+    image = renderer.render(scene)
+    assert image[16, 4, 0] > 200 and image[16, 4, 2] < 30  # left: red
+    assert image[16, 27, 2] > 200 and image[16, 27, 0] < 30  # right: blue

@@ -14,31 +14,42 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from .errors import DeviceError, MeshError, SceneError, WgpuShadingError
-from .features import FeatureSet
-from .materials import MATERIALS, material
-from .meshes import Mesh, load_mesh
-from .scene import (
-    Camera,
-    DirectionalLight,
-    Light,
-    Material,
-    PositionalLight,
-    Scene,
-    SceneObject,
-    Shading,
-    SpotLight,
-    Texture,
-)
-
 if TYPE_CHECKING:  # pragma: no cover
+    from .errors import DeviceError, MeshError, SceneError, WgpuShadingError
+    from .features import FeatureSet
+    from .materials import MATERIALS, material
+    from .meshes import Mesh, load_mesh
     from .renderer import Frame, Renderer
-    from .scenefile import load_scene
+    from .scene import (
+        Camera,
+        DirectionalLight,
+        Light,
+        Material,
+        PositionalLight,
+        Scene,
+        SceneObject,
+        Shading,
+        SpotLight,
+        Texture,
+    )
+    from .scenefile import load_scene, parse_scene
 
 __version__ = "0.1.0"
 
-# Importing wgpu costs ~0.1 s; load the GPU side only when it is first used.
-_LAZY = {"Renderer": "renderer", "Frame": "renderer", "load_scene": "scenefile", "parse_scene": "scenefile"}
+# Every name is loaded on first use: `import wgpu_shading` (which pytest does for the
+# golden-image plugin in any project that installs this package) costs nothing, and
+# numpy (~0.1 s) and wgpu (~0.1 s) load only when something needs them.
+_LAZY = {
+    "DeviceError": "errors", "MeshError": "errors", "SceneError": "errors", "WgpuShadingError": "errors",
+    "FeatureSet": "features",
+    "MATERIALS": "materials", "material": "materials",
+    "Mesh": "meshes", "load_mesh": "meshes",
+    "Frame": "renderer", "Renderer": "renderer",
+    "Camera": "scene", "DirectionalLight": "scene", "Light": "scene", "Material": "scene",
+    "PositionalLight": "scene", "Scene": "scene", "SceneObject": "scene", "Shading": "scene",
+    "SpotLight": "scene", "Texture": "scene",
+    "load_scene": "scenefile", "parse_scene": "scenefile",
+}
 
 
 def __getattr__(name: str) -> Any:
@@ -47,6 +58,10 @@ def __getattr__(name: str) -> Any:
 
         return getattr(import_module(f".{_LAZY[name]}", __name__), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
 
 
 __all__ = [

@@ -72,7 +72,7 @@ def render_many(
 
     for index, scene in enumerate(scenes):
         worker = workers[index % len(workers)]
-        worker._check_size(scene.size)
+        worker._check_size(scene.size, color_format)
         if len(pending) >= in_flight * len(workers):
             yield read_oldest()
         slots = free_targets.setdefault((id(worker), scene.size), [])

@@ -3,6 +3,9 @@
     wgpu-shading render SCENE.toml -o out.png
     wgpu-shading render MESH -o out.png [--frequency F] [--reflection R] [--material M] ...
     wgpu-shading turntable MESH -o spin.gif [--frames 360] [--fps 30]   a turning view
+    wgpu-shading check SCENE.toml --ref golden.png [--update]   golden-image test (exit 0/1)
+    wgpu-shading render SCENE --shading auto --max-error E   cheapest shading within E/255
+    wgpu-shading bench accuracy [--quick] [--out DIR]       the accuracy/time study
     wgpu-shading shader SCENE.toml          print the generated WGSL
     wgpu-shading materials                  the material table
     wgpu-shading info                       adapters and versions
@@ -15,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -22,9 +26,11 @@ from typing import Sequence
 
 from . import __version__
 from .errors import WgpuShadingError
-from .scene import FREQUENCIES, REFLECTIONS, SceneError
+from .scene import FREQUENCIES, REFLECTIONS, SceneError, image_size
 
 EXIT_USAGE = 2
+EXIT_INTERNAL = 3
+EXIT_MISMATCH = 1
 
 
 # --------------------------------------------------------------------------- scene from arguments
@@ -101,6 +107,8 @@ def _load(args: argparse.Namespace):
     from .scenefile import load_scene
 
     source: str = args.input
+    if args.size is not None:
+        args.size = image_size(args.size, "--size")  # before anything divides by it
     if source.lower().endswith(".toml"):
         scene = load_scene(source)
         if args.size:
@@ -183,6 +191,7 @@ def command_render(args: argparse.Namespace) -> int:
     float_target = args.float or output.suffix.lower() == ".npy"
     _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"))
     renderer = Renderer(adapter=args.adapter)
+    scene = _auto_shading(args, scene, renderer)
     frame = renderer.render_frame(scene, float32=float_target, depth=args.depth is not None)
     _write_image(output, frame.color, float_target)
     if args.depth is not None:
@@ -219,6 +228,134 @@ def command_turntable(args: argparse.Namespace) -> int:
     if not args.quiet:
         width, height = scene.size
         print(f"wrote {output} ({written} frames, {width}×{height}, {args.fps:g} fps, {args.degrees:g}° turn)")
+    return 0
+
+
+def command_check(args: argparse.Namespace) -> int:
+    """Render, compare with the reference and print the metrics: exit 0 on a match, 1 on a
+    mismatch (actual, expected and diff images written), 2 on a usage error."""
+    from .golden import GoldenError, Tolerance, check_image
+    from .renderer import Renderer
+
+    reference = Path(args.ref)
+    if reference.suffix.lower() != ".png":
+        raise GoldenError(f"--ref {args.ref!r}: the reference must be a .png file")
+    if args.output_dir is not None and not Path(args.output_dir).is_dir():
+        raise GoldenError(f"--output-dir {args.output_dir!r} is not an existing folder")
+    if args.update and not reference.parent.exists():
+        raise GoldenError(f"--ref {args.ref!r}: folder {str(reference.parent)!r} does not exist")
+    tolerance = Tolerance(
+        threshold=args.threshold,
+        max_fraction=args.max_fraction,
+        max_difference=args.max_difference,
+        flip_mean=args.flip,
+    )
+    scene = _load(args)
+    if not args.update and not reference.exists():
+        raise GoldenError(f"reference {args.ref!r} does not exist; run again with --update to create it")
+    image = Renderer(adapter=args.adapter).render(scene)
+    result = check_image(
+        image, reference, tolerance, update=args.update, output_dir=args.output_dir, amplification=args.amplify
+    )
+    if not args.quiet or not result.passed:
+        print(result.report())
+    return 0 if result.passed else EXIT_MISMATCH
+
+
+def _fraction(text: str) -> float:
+    """'0.001' or '0.1%'."""
+    try:
+        value = float(text[:-1]) / 100.0 if text.endswith("%") else float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a fraction such as 0.001 or 0.1%, got {text!r}") from None
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"expected a fraction between 0 and 1 (or 0%..100%), got {text!r}")
+    return value
+
+
+def _unit(text: str) -> int:
+    """An integer 0..255."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer 0..255 (units of 1/255), got {text!r}") from None
+    if not 0 <= value <= 255:
+        raise argparse.ArgumentTypeError(f"expected an integer 0..255 (units of 1/255), got {text!r}")
+    return value
+
+
+def _auto_shading(args: argparse.Namespace, scene, renderer):
+    """`--shading auto`: measure the candidates, print what was chosen, return the scene with it."""
+    if args.shading != "auto":
+        if args.max_error is not None:
+            raise SceneError("--max-error goes with --shading auto")
+        return scene
+    if args.frequency is not None:
+        raise SceneError("--shading auto chooses the frequency itself: leave out --frequency")
+    from .accuracy import auto_shading
+
+    choice = auto_shading(scene, 1.0 if args.max_error is None else args.max_error, renderer=renderer)
+    if not args.quiet:
+        print(choice.report())
+    return choice.scene
+
+
+def _error_budget(text: str) -> float:
+    """A number >= 0 in units of 1/255 ('1', '0.5', '2/255')."""
+    number = text[:-4] if text.endswith("/255") else text
+    try:
+        value = float(number)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an error in units of 1/255 such as 1 or 0.5, got {text!r}") from None
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"expected an error >= 0 (units of 1/255), got {text!r}")
+    return value
+
+
+def command_bench_accuracy(args: argparse.Namespace) -> int:
+    """The accuracy/time study (docs/accuracy.md): sweep, then CSV, JSON, Markdown, pictures."""
+    from dataclasses import replace as with_changes
+
+    from .accuracy import QUICK, AccuracyError, StudyConfig, require_matplotlib, run_study, write_study
+    from .renderer import Renderer
+
+    config = QUICK if args.quick else StudyConfig()
+    changes = {}
+    if args.triangles:
+        changes["triangles"] = tuple(args.triangles)
+        changes["figure_triangles"] = tuple(n for n in config.figure_triangles if n in args.triangles) or tuple(args.triangles[:3])
+    if args.sizes:
+        changes["sizes"] = tuple(args.sizes)
+        changes["figure_size"] = args.sizes[0] if config.figure_size not in args.sizes else config.figure_size
+    if args.frames is not None:
+        changes["frames"] = args.frames
+    if args.no_same_mesh:
+        changes["same_mesh"] = False
+    config = with_changes(config, **changes)
+    if args.markdown is not None and not Path(args.markdown).parent.is_dir():
+        raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
+    if not args.no_plot:
+        require_matplotlib()  # before the sweep, not after minutes of work
+    command = "wgpu-shading bench accuracy" + "".join(
+        f" {flag}" for flag, on in (("--quick", args.quick), ("--no-same-mesh", args.no_same_mesh), ("--no-plot", args.no_plot)) if on
+    )
+    for flag, value in (("--triangles", args.triangles), ("--sizes", args.sizes)):
+        if value:
+            command += f" {flag} " + " ".join(str(v) for v in value)
+    if args.frames is not None:
+        command += f" --frames {args.frames}"
+    command += f" --out {args.out}" + (f" --markdown {args.markdown}" if args.markdown else "")
+    points = len(config.variants) * len(config.triangles) * len(config.sizes)
+    if not args.quiet:
+        shape = f"{len(config.sizes)} size(s) × {len(config.triangles)} tessellations × {len(config.variants)} shading variants"
+        print(f"accuracy/time study: {points} points ({shape})", file=sys.stderr)
+    study = run_study(config, Renderer(adapter=args.adapter), progress=not args.quiet, command=command)
+    written = write_study(study, args.out, markdown=args.markdown, plot=not args.no_plot)
+    if not args.quiet:
+        from .accuracy import headline
+
+        print(headline(study))
+        print(f"wrote {', '.join(str(p) for p in written)} in {study.seconds:.0f} s")
     return 0
 
 
@@ -298,6 +435,14 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--float", action="store_true", help="render to a float32 target (.npy, or 16-bit .png)")
     render.add_argument("--depth", metavar="DEPTH.npy", help="also save eye-space depth (inf = background) as .npy")
     render.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    render.add_argument(
+        "--shading", choices=["auto"],
+        help="auto: measure every frequency/reflection on this scene and use the cheapest within --max-error",
+    )
+    render.add_argument(
+        "--max-error", type=_error_budget, metavar="E",
+        help="error budget of --shading auto, in units of 1/255 (p99.9 of the pixels; default 1)",
+    )
     render.set_defaults(handler=command_render)
 
     spin = commands.add_parser(
@@ -314,6 +459,62 @@ def build_parser() -> argparse.ArgumentParser:
     spin.add_argument("--fps", type=float, default=30.0, help="frames per second of the animation (default: 30)")
     spin.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     spin.set_defaults(handler=command_turntable)
+
+    from .golden import DEFAULT_AMPLIFICATION, Tolerance
+
+    defaults = Tolerance()
+    check = commands.add_parser(
+        "check",
+        parents=[gpu],
+        help="render and compare with a reference image (golden-image test)",
+        description=(
+            "Render a scene and compare it with a reference PNG. Prints the metrics; exits 0 when they "
+            "match, 1 when they differ (writes NAME.actual.png, NAME.expected.png and NAME.diff.png next "
+            "to the reference or in --output-dir), 2 on a usage error. --update writes a missing or "
+            "differing reference. See docs/golden-tests.md."
+        ),
+    )
+    _add_scene_arguments(check)
+    check.add_argument("--ref", required=True, metavar="REFERENCE.png", help="the reference image")
+    check.add_argument("--update", action="store_true", help="write the reference when it is missing or differs")
+    check.add_argument(
+        "--threshold", type=_unit, default=defaults.threshold, metavar="N",
+        help=f"a pixel differs when a channel differs by more than N/255 (default {defaults.threshold})",
+    )
+    check.add_argument(
+        "--max-fraction", type=_fraction, default=defaults.max_fraction, metavar="F",
+        help=f"fraction of pixels allowed to differ, e.g. 0.001 or 0.1%% (default {defaults.max_fraction:g})",
+    )
+    check.add_argument("--max-difference", type=_unit, metavar="N", help="also fail when any channel differs by more than N/255")
+    check.add_argument(
+        "--flip", type=float, metavar="MEAN", help="also fail when the mean NVIDIA FLIP error exceeds MEAN (needs flip-evaluator)"
+    )
+    check.add_argument("--output-dir", metavar="DIR", help="where to write the images of a failure (default: next to the reference)")
+    check.add_argument(
+        "--amplify", type=float, default=DEFAULT_AMPLIFICATION, metavar="K",
+        help=f"the diff image shows |actual − expected| × K (default {DEFAULT_AMPLIFICATION})",
+    )
+    check.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    check.set_defaults(handler=command_check)
+
+    bench = commands.add_parser("bench", help="benchmarks (accuracy)", description="Benchmarks.")
+    benches = bench.add_subparsers(dest="bench", metavar="BENCHMARK")
+    benches.required = True
+    accuracy = benches.add_parser(
+        "accuracy", parents=[gpu], help="the accuracy/time study",
+        description="Sweep shading frequency × reflection model × tessellation × image size on a sphere; "
+        "measure frame time and error against the exact sphere and the same-mesh float64 reference.",
+    )
+    accuracy.add_argument("--quick", action="store_true", help="a small sweep (3 tessellations, 128², 2 reflection models)")
+    accuracy.add_argument("--out", default="accuracy", metavar="DIR", help="folder for results.csv/.json, table.md and the images (default: accuracy)")
+    accuracy.add_argument("--markdown", metavar="FILE", help="also fill the generated blocks of this Markdown file (docs/accuracy.md)")
+    accuracy.add_argument("--triangles", type=int, nargs="+", metavar="N", help="tessellations (triangle counts) to sweep")
+    accuracy.add_argument("--sizes", type=int, nargs="+", metavar="PIXELS", help="square image sizes to sweep")
+    accuracy.add_argument("--frames", type=int, help="timed frames per point (default 5; 2 with --quick)")
+    accuracy.add_argument("--no-same-mesh", action="store_true", help="skip the same-mesh float64 reference")
+    accuracy.add_argument("--no-plot", action="store_true", help="skip the Pareto plot (which needs matplotlib)")
+    accuracy.add_argument("-q", "--quiet", action="store_true", help="no progress, print nothing on success")
+    accuracy.set_defaults(handler=command_bench_accuracy)
 
     shader = commands.add_parser("shader", help="print the WGSL generated for a scene", description="Print the WGSL generated for each object's feature set.")
     _add_scene_arguments(shader)
@@ -341,6 +542,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("wgpu-shading: interrupted", file=sys.stderr)
         return 130
+    except Exception as error:  # a bug, not bad input: still one line, the traceback on request
+        if os.environ.get("WGPU_SHADING_DEBUG"):
+            raise
+        print(
+            f"wgpu-shading: internal error: {type(error).__name__}: {error} "
+            "(set WGPU_SHADING_DEBUG=1 for the traceback, and please report it)",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -42,10 +42,10 @@ class Mesh:
     material:  the file's own material (OBJ/MTL, glTF), if any
     """
 
-    positions: np.ndarray
-    normals: np.ndarray
-    indices: np.ndarray
-    uvs: np.ndarray | None = None
+    positions: np.ndarray = field(repr=False)
+    normals: np.ndarray = field(repr=False)
+    indices: np.ndarray = field(repr=False)
+    uvs: np.ndarray | None = field(default=None, repr=False)
     origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
     name: str = ""
     material: "Material | None" = field(default=None, repr=False)
@@ -54,6 +54,9 @@ class Mesh:
         for array in (self.positions, self.normals, self.indices, self.uvs):
             if array is not None:
                 array.setflags(write=False)  # shared with GPU caches: must not change under them
+
+    def __repr__(self) -> str:
+        return f"Mesh({self.name!r}, {self.vertex_count} vertices, {self.triangle_count} triangles)"
 
     @property
     def vertex_count(self) -> int:
@@ -104,8 +107,9 @@ class Mesh:
         bad = ~np.isfinite(positions).all(axis=1)
         if bad.any():
             first = int(np.flatnonzero(bad)[0])
+            count = int(bad.sum())
             raise MeshError(
-                f"{name}: {int(bad.sum())} vertices have NaN or infinite coordinates "
+                f"{name}: {count} {'vertex has' if count == 1 else 'vertices have'} NaN or infinite coordinates "
                 f"(first: vertex {first} = {positions[first].tolist()})"
             )
         if faces.dtype.kind not in "iu":
@@ -391,6 +395,8 @@ def load_mesh(source: str | os.PathLike[str]) -> Mesh:
 
     try:
         loaded = trimesh.load(str(path), process=False)
+    except IndexError as error:  # trimesh indexes vertices with the file's face indices
+        raise MeshError(f"mesh file {text!r}: a face refers to a vertex that does not exist ({error})") from None
     except Exception as error:  # trimesh raises many exception types for malformed files
         raise MeshError(f"mesh file {text!r}: cannot be read ({type(error).__name__}: {error})") from None
     parts = _triangle_parts(loaded)

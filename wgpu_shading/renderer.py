@@ -184,18 +184,26 @@ class Renderer:
 
     # ------------------------------------------------------------------ resources
 
-    def _check_size(self, size: tuple[int, int]) -> None:
+    def _check_size(self, size: tuple[int, int], color_format: str) -> None:
         width, height = size
         limit = self._device.limits["max-texture-dimension-2d"]
         if width > limit or height > limit:
             raise SceneError(f"output.size {width}×{height} exceeds this adapter's limit of {limit} pixels per side")
+        readback_bytes = _padded_row_bytes(width, _BYTES_PER_PIXEL[color_format]) * height
+        if readback_bytes > self._device.limits["max-buffer-size"]:
+            raise SceneError(
+                f"output.size {width}×{height} with the {color_format} target needs a "
+                f"{readback_bytes / 2**30:.1f} GiB readback buffer; this adapter allows "
+                f"{self._device.limits['max-buffer-size'] / 2**30:.1f} GiB (use a smaller size"
+                + (" or the 8-bit target)" if color_format != "rgba8" else ")")
+            )
 
     def _target(self, size: tuple[int, int], color_format: str) -> _Target:
-        self._check_size(size)
         width, height = size
         key = (width, height, color_format)
         target = self._targets.get(key)
         if target is None:
+            self._check_size(size, color_format)
             target = self._targets[key] = self._new_target(width, height, color_format)
         return target
 

@@ -53,25 +53,13 @@ fn vs_main(@builtin(vertex_index) corner_index: u32) -> Varyings {
     // pixels anyway.
     let normal = safe_normalize(object_uniforms.eye_normal_from_model * cross(p1 - p0, p2 - p0), FALLBACK_NORMAL);
     let centroid = (object_uniforms.eye_from_model * vec4<f32>((p0 + p1 + p2) / 3.0, 1.0)).xyz;
-    let front = shade(centroid, normal, view_direction(centroid, normal));
-
     var out: Varyings;
     out.clip_position = frame_uniforms.clip_from_eye * (object_uniforms.eye_from_model * vec4<f32>(corner, 1.0));
-    out.front_ambient_diffuse = front.ambient_diffuse;
-#if SPECULAR
-    out.front_specular = front.specular;
-#endif
-#if TWO_SIDED
-    let back = shade(centroid, -normal, view_direction(centroid, -normal));
-    out.back_ambient_diffuse = back.ambient_diffuse;
-#if SPECULAR
-    out.back_specular = back.specular;
-#endif
-#endif
+    store_lighting(&out, centroid, normal);
 #if TEXTURE
     out.uv = vec2<f32>(mesh_uvs[2u * vertex], mesh_uvs[2u * vertex + 1u]);
 #endif
     return out;
 }
 
-#include "vertex_lit_fragment.wgsl"
+#include "vertex_lit.wgsl"

@@ -7,14 +7,8 @@
 #include "bindings.wgsl"
 #include "lighting.wgsl"
 #include "surface.wgsl"
+#include "vertex_input.wgsl"
 
-struct VertexInput {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-#if TEXTURE
-    @location(2) uv: vec2<f32>,
-#endif
-}
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,
@@ -38,24 +32,13 @@ struct Varyings {
 fn vs_main(vertex: VertexInput) -> Varyings {
     let eye_position = object_uniforms.eye_from_model * vec4<f32>(vertex.position, 1.0);
     let normal = safe_normalize(object_uniforms.eye_normal_from_model * vertex.normal, FALLBACK_NORMAL);
-    let front = shade(eye_position.xyz, normal, view_direction(eye_position.xyz, normal));
     var out: Varyings;
     out.clip_position = frame_uniforms.clip_from_eye * eye_position;
-    out.front_ambient_diffuse = front.ambient_diffuse;
-#if SPECULAR
-    out.front_specular = front.specular;
-#endif
-#if TWO_SIDED
-    let back = shade(eye_position.xyz, -normal, view_direction(eye_position.xyz, -normal));
-    out.back_ambient_diffuse = back.ambient_diffuse;
-#if SPECULAR
-    out.back_specular = back.specular;
-#endif
-#endif
+    store_lighting(&out, eye_position.xyz, normal);
 #if TEXTURE
     out.uv = vertex.uv;
 #endif
     return out;
 }
 
-#include "vertex_lit_fragment.wgsl"
+#include "vertex_lit.wgsl"

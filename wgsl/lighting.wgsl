@@ -26,16 +26,17 @@ fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
 }
 
 #if SPECULAR or SPOT_LIGHTS
-// cosine^exponent for a cosine in [-1, 1] and an exponent >= 0 (validated on the CPU).
-// pow(x, y) is undefined for x < 0 and for x = 0 with y <= 0, so the edge cases are decided
-// before pow runs: x^0 = 1 for every x (the limit of x^s as s → 0, and OpenGL's 0^0 = 1),
-// and a base <= 0 gives 0.
+// max(cosine, 0)^exponent for a cosine in [-1, 1] and an exponent >= 0 (validated on the
+// CPU). pow(x, y) is undefined for x < 0 and for x = 0 with y <= 0, so the edge cases are
+// decided before pow runs: a base <= 0 gives 0 for every exponent (0^0 too), and x^0 = 1
+// for x > 0. That makes the result continuous in the exponent at 0: a tiny shininess that
+// rounds to 0 in float32 changes nothing.
 fn guarded_power(cosine: f32, exponent: f32) -> f32 {
-    if (exponent <= 0.0) {
-        return 1.0;
-    }
     if (cosine <= 0.0) {
         return 0.0;
+    }
+    if (exponent <= 0.0) {
+        return 1.0;
     }
     return pow(min(cosine, 1.0), exponent);
 }

@@ -7,14 +7,8 @@
 #include "bindings.wgsl"
 #include "lighting.wgsl"
 #include "surface.wgsl"
+#include "vertex_input.wgsl"
 
-struct VertexInput {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-#if TEXTURE
-    @location(2) uv: vec2<f32>,
-#endif
-}
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,

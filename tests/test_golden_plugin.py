@@ -1,0 +1,221 @@
+"""The pytest plugin (assert_golden, --update-golden, --golden-output) as a user's project
+sees it: pytester runs a small test file with the plugin that the installed package
+registers, and the `check` command of the CLI."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+
+from wgpu_shading.cli import main
+
+pytest_plugins = ["pytester"]
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+USER_TEST = textwrap.dedent(
+    """
+    import numpy as np
+
+    def image(value):
+        img = np.zeros((40, 60, 4), np.uint8)
+        img[..., 3] = 255
+        img[10:30, 20:40, 0] = value
+        return img
+
+    def test_array(assert_golden):
+        import os
+        assert_golden(image(int(os.environ.get("GOLDEN_VALUE", "200"))), "refs/square.png")
+    """
+)
+
+
+def run(pytester, *args: str):
+    """pytest in this process on the pytester folder, without the hypothesis plugin
+    (it re-imports hypothesis in every inner run: seconds each)."""
+    return pytester.runpytest("-p", "no:hypothesispytest", "-p", "no:cacheprovider", *args)
+
+
+def _value(monkeypatch, value: int) -> None:
+    monkeypatch.setenv("GOLDEN_VALUE", str(value))
+
+
+def test_plugin_is_registered_by_the_package(pytester):
+    result = run(pytester, "--help")
+    result.stdout.fnmatch_lines(["*--update-golden*", "*--golden-output=DIR*"])
+
+
+def test_plugin_import_does_not_load_the_gpu_side():
+    """pytest imports the plugin in every run of every project that has the package."""
+    code = "import sys, wgpu_shading.pytest_plugin; print(sorted(m for m in ('wgpu', 'wgpu_shading.renderer', 'wgpu_shading.golden') if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_missing_reference_fails_and_says_how_to_create_it(pytester, monkeypatch):
+    _value(monkeypatch, 200)
+    pytester.makepyfile(test_user=USER_TEST)
+    out = pytester.path / "out"
+    result = run(pytester, f"--golden-output={out}")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*golden reference*refs/square.png does not exist*", "*pytest --update-golden*"])
+    assert list(out.rglob("square.actual.png"))
+
+
+def test_update_then_pass_then_fail_with_diff_images_then_update(pytester, monkeypatch):
+    pytester.makepyfile(test_user=USER_TEST)
+    reference = pytester.path / "refs" / "square.png"
+    out = pytester.path / "out"
+
+    _value(monkeypatch, 200)
+    result = run(pytester, "--update-golden")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines(["*golden references written*", f"created {reference}"])
+    assert iio.imread(reference)[20, 30].tolist() == [200, 0, 0, 255]
+
+    run(pytester).assert_outcomes(passed=1)
+    _value(monkeypatch, 204)  # 4/255: within the default threshold
+    run(pytester).assert_outcomes(passed=1)
+
+    _value(monkeypatch, 120)  # the square changes by 80/255
+    result = run(pytester, f"--golden-output={out}")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(
+        [
+            f"*golden image mismatch: {reference}",
+            "MISMATCH: 400 pixels (16.67 %) of 2400 differ by more than 8/255 (allowed: 0.10 %); max 80/255 at (row 10, col 20, red); 99.9th percentile 80/255",
+            "looks like: the largest differences are in the red channel*",
+            "*darker*",
+            "tolerance: threshold 8/255, max fraction 0.10 %",
+            "images: *square.actual.png, *square.expected.png, *square.diff.png",
+            "*--update-golden*",
+        ]
+    )
+    diff = next(out.rglob("square.diff.png"))
+    assert iio.imread(diff)[20, 30].tolist() == [255, 0, 0, 255]  # 80 × 10, clipped
+    assert iio.imread(reference)[20, 30, 0] == 200  # a failure never touches the reference
+
+    result = run(pytester, "--update-golden")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines([f"updated {reference}"])
+    assert iio.imread(reference)[20, 30, 0] == 120
+
+
+def test_ini_options_set_the_default_tolerance(pytester, monkeypatch):
+    pytester.makepyfile(test_user=USER_TEST)
+    _value(monkeypatch, 200)
+    run(pytester, "--update-golden").assert_outcomes(passed=1)
+    _value(monkeypatch, 180)
+    run(pytester).assert_outcomes(failed=1)
+    pytester.makeini("[pytest]\ngolden_threshold = 25\n")
+    run(pytester).assert_outcomes(passed=1)
+
+
+def test_scene_file_and_tolerance_argument(pytester, renderer):
+    # `renderer` imports the GPU side and creates the device in this process first, so the
+    # inner runs reuse them (pytester forgets modules first imported by an inner run).
+    pytester.makefile(
+        ".toml",
+        scene=textwrap.dedent(
+            """
+            [output]
+            size = [48, 48]
+            [camera]
+            eye = [0.0, 0.0, 3.0]
+            [[lights]]
+            type = "positional"
+            position = [2.0, 2.0, 3.0]
+            [[objects]]
+            mesh = "builtin:sphere?slices=16&stacks=8"
+            material = "jade"
+            """
+        ),
+    )
+    pytester.makepyfile(
+        test_scene=textwrap.dedent(
+            """
+            from wgpu_shading.golden import Tolerance
+
+            def test_scene(assert_golden):
+                result = assert_golden("scene.toml", "refs/scene.png", tolerance=Tolerance(threshold=2))
+                assert result.status in ("passed", "created")
+
+            def test_scene_resized(assert_golden):
+                assert_golden("scene.toml", "refs/scene32.png", size=(32, 24))
+            """
+        )
+    )
+    run(pytester, "--update-golden").assert_outcomes(passed=2)
+    assert iio.imread(pytester.path / "refs" / "scene32.png").shape == (24, 32, 4)
+    jade = iio.imread(pytester.path / "refs" / "scene.png")[24, 24]
+    assert jade[3] == 242  # jade's alpha 0.95 is stored
+    run(pytester).assert_outcomes(passed=2)
+
+
+# --------------------------------------------------------------------------- the check command
+
+
+@pytest.fixture
+def torus(tmp_path):
+    return str(EXAMPLES / "gold_torus_phong.toml")
+
+
+def test_check_command(tmp_path, torus, capsys):
+    reference = tmp_path / "torus.png"
+    assert main(["check", torus, "--ref", str(reference), "--size", "64"]) == 2
+    assert "does not exist; run again with --update" in capsys.readouterr().err
+
+    assert main(["check", torus, "--ref", str(reference), "--size", "64", "--update"]) == 0
+    assert f"created reference {reference}" in capsys.readouterr().out
+
+    assert main(["check", torus, "--ref", str(reference), "--size", "64"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"PASS {reference}: 0 pixels (0 %) of 4096 differ by more than 8/255") and "99.9th percentile 0/255" in out
+
+    assert main(["check", torus, "--ref", str(reference), "--size", "64", "--material", "jade"]) == 1
+    out = capsys.readouterr().out
+    assert out.startswith(f"FAIL {reference}: ") and "looks like:" in out and "wrote" in out
+    for kind in ("actual", "expected", "diff"):
+        assert (tmp_path / f"torus.{kind}.png").is_file()
+
+    outdir = tmp_path / "failures"
+    outdir.mkdir()
+    assert main(["check", torus, "--ref", str(reference), "--size", "48", "--output-dir", str(outdir)]) == 1
+    assert "sizes differ: actual 48×48, expected 64×64" in capsys.readouterr().out
+    assert (outdir / "torus.actual.png").is_file()
+
+    # Tolerance options: Gouraud instead of Phong differs only around the highlights.
+    assert main(["check", torus, "--ref", str(reference), "--size", "64", "--frequency", "gouraud"]) == 1
+    capsys.readouterr()
+    assert main(["check", torus, "--ref", str(reference), "--size", "64", "--frequency", "gouraud", "--threshold", "60", "-q"]) == 0
+    assert capsys.readouterr().out == ""
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [(["--threshold", "300"], "expected an integer 0..255"), (["--max-fraction", "2"], "expected a fraction between 0 and 1")],
+)
+def test_check_command_rejects_bad_tolerances(torus, capsys, args, message):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["check", torus, "--ref", "ref.png", *args])
+    assert exit_info.value.code == 2 and message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--ref", "x.jpg"], "the reference must be a .png file"),
+        (["--ref", "ref.png", "--output-dir", "/nonexistent/dir"], "is not an existing folder"),
+        (["--ref", "/nonexistent/dir/ref.png", "--update"], "folder '/nonexistent/dir' does not exist"),
+    ],
+)
+def test_check_command_usage_errors_are_one_line(torus, capsys, args, message):
+    assert main(["check", torus, "--size", "32", *args]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("wgpu-shading: error: ") and message in err and err.count("\n") == 1

@@ -1,0 +1,198 @@
+"""pytest plugin for golden-image tests, installed with wgpu-shading (entry point `pytest11`).
+
+    def test_torus(assert_golden):
+        assert_golden("scenes/torus.toml", "references/torus.png")        # a scene file
+        assert_golden(my_scene, "references/mine.png", size=(128, 128))   # a Scene
+        assert_golden(my_image_array, "references/array.png")             # any image
+
+Paths are relative to the test file's folder. The fixture renders scenes with the
+session-wide `golden_renderer` fixture (override it in a conftest.py to hand in your own
+Renderer), compares with the reference PNG and fails with a message that says how many
+pixels differ, by how much, where, and what the difference looks like; the actual,
+expected and amplified diff images are written to --golden-output (default: a `golden`
+folder in pytest's temporary directory) and named in the message.
+
+Options:
+    --update-golden         write missing references and rewrite those that differ
+    --golden-output DIR     where to write the images of failures
+ini options (pytest.ini / pyproject [tool.pytest.ini_options]):
+    golden_threshold        default per-channel threshold (1/255 units), 8
+    golden_max_fraction     default fraction of pixels allowed over it, 0.001
+
+This module is imported in every pytest run of every project that installed
+wgpu-shading, so it imports only pytest at load time; numpy, the comparison and the
+renderer are imported when a test first uses the fixture.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+import pytest
+
+_STASH_WRITTEN = pytest.StashKey[list]()
+_STASH_FAILED = pytest.StashKey[list]()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("wgpu-shading", "golden-image tests (wgpu-shading)")
+    group.addoption(
+        "--update-golden",
+        action="store_true",
+        default=False,
+        help="assert_golden: write missing reference images and rewrite those that differ (matching ones are left alone)",
+    )
+    group.addoption(
+        "--golden-output",
+        metavar="DIR",
+        default=None,
+        help="assert_golden: folder for the actual/expected/diff images of failures (default: <pytest basetemp>/golden)",
+    )
+    parser.addini("golden_threshold", "assert_golden: per-channel threshold in units of 1/255 (default 8)", default=None)
+    parser.addini("golden_max_fraction", "assert_golden: fraction of pixels allowed over the threshold (default 0.001)", default=None)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.stash[_STASH_WRITTEN] = []
+    config.stash[_STASH_FAILED] = []
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config: pytest.Config) -> None:
+    written = config.stash.get(_STASH_WRITTEN, [])
+    failed = config.stash.get(_STASH_FAILED, [])
+    if written:
+        terminalreporter.section("golden references written")
+        for line in written:
+            terminalreporter.write_line(line)
+    if failed:
+        terminalreporter.section("golden-image failures")
+        for line in failed:
+            terminalreporter.write_line(line)
+        terminalreporter.write_line("(if the change is intended, rerun with --update-golden and review the new references)")
+
+
+@pytest.fixture(scope="session")
+def golden_renderer():
+    """The Renderer that assert_golden renders scenes with: one per test session (lavapipe
+    by default). Override this fixture to use your own Renderer or device."""
+    from .renderer import Renderer
+
+    return Renderer()
+
+
+@pytest.fixture(scope="session")
+def golden_tolerance(pytestconfig: pytest.Config):
+    """The default Tolerance of assert_golden: the package defaults, or the ini options
+    golden_threshold / golden_max_fraction. Override this fixture for another default."""
+    from .golden import Tolerance
+
+    values = {}
+    threshold = pytestconfig.getini("golden_threshold")
+    fraction = pytestconfig.getini("golden_max_fraction")
+    try:
+        if threshold not in (None, ""):
+            values["threshold"] = int(threshold)
+        if fraction not in (None, ""):
+            values["max_fraction"] = float(fraction)
+    except ValueError as error:
+        raise pytest.UsageError(f"golden_threshold / golden_max_fraction: {error}") from None
+    return Tolerance(**values)
+
+
+class GoldenChecker:
+    """The callable behind the `assert_golden` fixture."""
+
+    def __init__(self, request: pytest.FixtureRequest, tolerance):
+        self._request = request
+        self._default_tolerance = tolerance
+        self._config = request.config
+
+    def _resolve(self, path) -> Path:
+        path = Path(path)
+        return path if path.is_absolute() else Path(self._request.path).parent / path
+
+    def _output_dir(self, reference: Path) -> Path:
+        option = self._config.getoption("--golden-output")
+        if option:
+            base = Path(option)
+            if not base.is_absolute():
+                base = Path(self._config.rootpath) / base
+        else:
+            base = self._request.getfixturevalue("tmp_path_factory").getbasetemp() / "golden"
+        # One folder per test, so references with the same name in different tests do not collide.
+        test = re.sub(r"[^A-Za-z0-9_.-]+", "_", self._request.node.nodeid).strip("_")[:150]
+        return base / test
+
+    def render(self, scene, size=None):
+        """A Scene, or a scene file (.toml, relative to the test file) → (H, W, 4) uint8."""
+        from dataclasses import replace
+
+        from .scene import Scene
+
+        if isinstance(scene, (str, os.PathLike)):
+            from .scenefile import load_scene
+
+            scene = load_scene(self._resolve(scene))
+        if not isinstance(scene, Scene):
+            raise TypeError(f"assert_golden: expected a Scene, a scene file path or an image array, got {type(scene).__name__}")
+        if size is not None:
+            scene = replace(scene, size=tuple(size))
+        renderer = self._request.getfixturevalue("golden_renderer")
+        return renderer.render(scene)
+
+    def __call__(self, subject, reference, *, tolerance=None, size=None, amplification=None):
+        """Render `subject` (a Scene or a .toml path) or take it as an image (an array), and
+        compare it with the reference PNG; fail the test with a readable message if they
+        differ. Returns the golden.CheckResult (.status: "passed", or "created"/"updated"
+        with --update-golden; .comparison: the metrics)."""
+        __tracebackhide__ = True
+        from .golden import DEFAULT_AMPLIFICATION, check_image, write_failure_images
+        from .scene import Scene
+
+        if isinstance(subject, (str, os.PathLike, Scene)):
+            image = self.render(subject, size)
+        else:
+            if size is not None:
+                raise TypeError("assert_golden: size= applies to scenes, not to images")
+            image = subject
+        reference = self._resolve(reference)
+        update = self._config.getoption("--update-golden")
+        tolerance = tolerance if tolerance is not None else self._default_tolerance
+        output_dir = self._output_dir(reference)
+        if not update and not reference.exists():
+            written = write_failure_images(image, None, reference, output_dir)
+            self._config.stash[_STASH_FAILED].append(f"{self._request.node.nodeid}: {output_dir}")
+            pytest.fail(
+                f"golden reference {reference} does not exist\n"
+                f"the actual image is at {written[0]}\n"
+                "create the reference with: pytest --update-golden",
+                pytrace=False,
+            )
+        result = check_image(
+            image,
+            reference,
+            tolerance,
+            update=update,
+            output_dir=output_dir,
+            amplification=amplification or DEFAULT_AMPLIFICATION,
+        )
+        if result.status in ("created", "updated"):
+            self._config.stash[_STASH_WRITTEN].append(f"{result.status} {reference}")
+            return result
+        if result.status == "failed":
+            self._config.stash[_STASH_FAILED].append(f"{self._request.node.nodeid}: {output_dir}")
+            comparison = result.comparison
+            lines = [f"golden image mismatch: {reference}", comparison.message, f"tolerance: {tolerance.describe()}"]
+            lines.append("images: " + ", ".join(str(p) for p in result.written))
+            lines.append("if the change is intended, rerun with --update-golden and review the new reference")
+            pytest.fail("\n".join(lines), pytrace=False)
+        return result
+
+
+@pytest.fixture
+def assert_golden(request: pytest.FixtureRequest, golden_tolerance) -> GoldenChecker:
+    """assert_golden(scene_or_image, "references/name.png", tolerance=None, size=None):
+    compare with a stored PNG; --update-golden writes it. See wgpu_shading.pytest_plugin."""
+    return GoldenChecker(request, golden_tolerance)
