@@ -1,7 +1,7 @@
 """Run every performance benchmark of issue #7 and print a table of medians and ratios.
 
     pip install -e '.[bench]'          # the peers (moderngl, pygfx) and matplotlib
-    python -m benchmarks               # everything, ~8-10 min on 2 cores
+    python -m benchmarks               # everything, ~6-10 min on 2 cores
     python -m benchmarks --quick       # smaller and fewer, ~2 min
     python -m benchmarks --only warm,cold
 
