@@ -12,10 +12,12 @@ from __future__ import annotations
 import math
 import weakref
 from dataclasses import dataclass, field
+from typing import Iterable, Iterator
+
 import numpy as np
 import wgpu
 
-from .device import default_device
+from .device import default_device, uses_direct_upload
 from .errors import SceneError
 from .features import FeatureSet, object_features
 from .meshes import Mesh
@@ -85,6 +87,21 @@ def _padded_row_bytes(width: int, bytes_per_pixel: int) -> int:
     return math.ceil(width * bytes_per_pixel / _ROW_ALIGNMENT) * _ROW_ALIGNMENT
 
 
+def _map_for_reading(buffer) -> None:
+    """map_sync(READ) without wgpu-py's extra empty submit.
+
+    wgpu-py 0.32 submits an empty command buffer before every read-mapping, a work-around
+    for wgpu-native#305, which concerns buffers written through the mapping API. Readback
+    buffers are only written by copy commands already submitted, so that submit only adds
+    a round trip to the driver (~0.7 ms a frame on lavapipe, measured); wgpu-py's own
+    "READ_NOSYNC" mode skips it. Falls back to the public mode if a wgpu-py lacks it.
+    """
+    try:
+        buffer.map_sync("READ_NOSYNC")
+    except (ValueError, KeyError, TypeError):
+        buffer.map_sync(wgpu.MapMode.READ)
+
+
 def _mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
     """Box-filtered mip levels down to 1×1 (texture values are used as linear, like the seeds)."""
     levels = [pixels]
@@ -108,6 +125,9 @@ class Renderer:
     def __init__(self, device=None, *, adapter: str | None = None):
         self._device = device if device is not None else default_device(adapter)
         self._pipelines = PipelineCache(self._device)
+        # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
+        # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
+        self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(self._device) else 0
         self._meshes: weakref.WeakKeyDictionary[Mesh, _GpuMesh] = weakref.WeakKeyDictionary()
         self._textures: weakref.WeakKeyDictionary[Texture, _GpuTexture] = weakref.WeakKeyDictionary()
         self._targets: dict[tuple[int, int, str], _Target] = {}
@@ -143,21 +163,32 @@ class Renderer:
         self._submit(scene, target, read_depth=depth)
         return self._read(target, scene, read_depth=depth)
 
+    def render_many(
+        self,
+        scenes: Iterable[Scene],
+        *,
+        float32: bool = False,
+        depth: bool = False,
+        in_flight: int = 2,
+        parallel: int | None = None,
+    ) -> Iterator[Frame]:
+        """Frames of many scenes, in order, each equal to render_frame(scene): faster than a
+        loop over render_frame (pipelined; on lavapipe spread over two devices). See batch.py."""
+        from .batch import render_many
+
+        return render_many(self, scenes, float32=float32, depth=depth, in_flight=in_flight, parallel=parallel)
+
     def features(self, scene: Scene) -> list[FeatureSet]:
         """The feature set of each object (what `wgpu-shading shader` prints)."""
         return [object_features(scene, obj, index) for index, obj in enumerate(scene.objects)]
 
     # ------------------------------------------------------------------ resources
 
-    def _target(self, size: tuple[int, int], color_format: str) -> _Target:
+    def _check_size(self, size: tuple[int, int], color_format: str) -> None:
         width, height = size
         limit = self._device.limits["max-texture-dimension-2d"]
         if width > limit or height > limit:
             raise SceneError(f"output.size {width}×{height} exceeds this adapter's limit of {limit} pixels per side")
-        key = (width, height, color_format)
-        target = self._targets.get(key)
-        if target is not None:
-            return target
         readback_bytes = _padded_row_bytes(width, _BYTES_PER_PIXEL[color_format]) * height
         if readback_bytes > self._device.limits["max-buffer-size"]:
             raise SceneError(
@@ -166,6 +197,18 @@ class Renderer:
                 f"{self._device.limits['max-buffer-size'] / 2**30:.1f} GiB (use a smaller size"
                 + (" or the 8-bit target)" if color_format != "rgba8" else ")")
             )
+
+    def _target(self, size: tuple[int, int], color_format: str) -> _Target:
+        width, height = size
+        key = (width, height, color_format)
+        target = self._targets.get(key)
+        if target is None:
+            self._check_size(size, color_format)
+            target = self._targets[key] = self._new_target(width, height, color_format)
+        return target
+
+    def _new_target(self, width: int, height: int, color_format: str) -> _Target:
+        """Fresh textures and readback buffers (render_many keeps one set per frame in flight)."""
         device = self._device
         color = device.create_texture(
             size=(width, height, 1),
@@ -180,7 +223,7 @@ class Renderer:
         color_row_bytes = _padded_row_bytes(width, _BYTES_PER_PIXEL[color_format])
         depth_row_bytes = _padded_row_bytes(width, 4)
         readback_usage = wgpu.BufferUsage.MAP_READ | wgpu.BufferUsage.COPY_DST
-        target = _Target(
+        return _Target(
             width=width,
             height=height,
             color_format=color_format,
@@ -193,26 +236,29 @@ class Renderer:
             color_row_bytes=color_row_bytes,
             depth_row_bytes=depth_row_bytes,
         )
-        self._targets[key] = target
-        return target
 
-    def _gpu_mesh(self, mesh: Mesh) -> _GpuMesh:
+    def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False) -> _GpuMesh:
         gpu_mesh = self._meshes.get(mesh)
         if gpu_mesh is None:
             device = self._device
             # One upload serves every frequency: vertex buffers for Gouraud/Phong, storage
             # buffers for flat shading's vertex pulling.
-            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE
+            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
             gpu_mesh = _GpuMesh(
                 positions=device.create_buffer_with_data(data=mesh.positions, usage=usage),
-                normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX),
+                normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX | self._mesh_usage),
                 indices=device.create_buffer_with_data(
-                    data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE
+                    data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
                 ),
-                uvs=None if mesh.uvs is None else device.create_buffer_with_data(data=mesh.uvs, usage=usage),
+                uvs=None,
                 triangle_count=mesh.triangle_count,
             )
             self._meshes[mesh] = gpu_mesh
+        if with_uvs and gpu_mesh.uvs is None and mesh.uvs is not None:
+            # Texture coordinates only once a textured draw needs them: most meshes are drawn
+            # untextured, and a big mesh's uvs are a seventh of its memory.
+            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
+            gpu_mesh.uvs = self._device.create_buffer_with_data(data=mesh.uvs, usage=usage)
         return gpu_mesh
 
     def _gpu_texture(self, texture: Texture) -> _GpuTexture:
@@ -277,7 +323,7 @@ class Renderer:
                 _Draw(
                     entry=entry,
                     object_index=index,
-                    gpu_mesh=self._gpu_mesh(obj.mesh),
+                    gpu_mesh=self._gpu_mesh(obj.mesh, with_uvs=features.texture_mode is not None),
                     object_data=object_uniforms(scene, obj, entry.object_dtype),
                     texture=texture,
                 )
@@ -364,7 +410,7 @@ class Renderer:
 
     @staticmethod
     def _read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels: int) -> np.ndarray:
-        buffer.map_sync(wgpu.MapMode.READ)
+        _map_for_reading(buffer)
         try:
             raw = np.frombuffer(buffer.read_mapped(copy=False), dtype=np.uint8).reshape(height, row_bytes)
             pixel_bytes = width * channels * np.dtype(dtype).itemsize

@@ -1,0 +1,118 @@
+"""Batch: a turntable of the bunny through the library, naive loop vs render_many.
+
+    naive                    for scene in views: renderer.render(scene)  (render, wait, read back)
+    render_many, one device  renderer.render_many(views, parallel=1)     (pipelined only)
+    render_many              renderer.render_many(views)  (pipelined, two lavapipe devices)
+
+Both run in the same process, alternating, after a warm-up; frames per second from the
+median pass. The per-thread CPU of one naive frame gives the ceiling any overlap can
+reach on this machine: a naive frame's wall time is its serial chain (Python, then the
+driver's queue thread binning triangles, then the rasterizer threads), while a perfectly
+overlapped one needs total CPU ÷ cores.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from wgpu_shading import Renderer
+from wgpu_shading.batch import turntable
+
+from .measure import progress, thread_breakdown
+from .scenes import BUNNY, bunny_scene, torus_scene
+
+
+@dataclass
+class BatchResult:
+    scene: str
+    frames: int
+    size: int
+    seconds: dict[str, list[float]]  # mode -> seconds per pass over all frames
+    identical: bool
+    threads: dict[str, float]  # thread role -> ms CPU per naive frame
+    cli_seconds: float | None
+    cli_frames_written: int | None
+
+    def fps(self, mode: str) -> float:
+        return self.frames / statistics.median(self.seconds[mode])
+
+    @property
+    def overlap_ceiling(self) -> float:
+        """Best possible speed-up from overlap alone on os.cpu_count() cores."""
+        serial = sum(v for k, v in self.threads.items() if k != "rasterizer threads")
+        raster = self.threads.get("rasterizer threads", 0.0)
+        rasterizers = 2  # llvmpipe starts one rasterizer thread per core (2 here)
+        naive = serial + raster / rasterizers
+        total = serial + raster
+        return naive / (total / (os.cpu_count() or 1))
+
+
+def run_batch(renderer: Renderer, frames: int, size: int, *, passes: int) -> BatchResult:
+    scene = bunny_scene(size)
+    label = "bunny 70K"
+    if scene is None:
+        scene, label = torus_scene(size), "torus 10K"
+    views = turntable(scene, frames)
+    progress(f"batch: {frames} views of the {label} at {size}², naive vs render_many")
+    naive_frames = [renderer.render(view) for view in views[:6]]
+    batch_frames = [frame.color for frame in renderer.render_many(views[:6])]
+    identical = all(np.array_equal(a, b) for a, b in zip(naive_frames, batch_frames))
+
+    def naive() -> None:
+        for view in views:
+            renderer.render(view)
+
+    def batched(parallel: int | None) -> None:
+        for _ in renderer.render_many(views, parallel=parallel):
+            pass
+
+    modes = {
+        "naive": naive,
+        "render_many, one device": lambda: batched(1),
+        "render_many": lambda: batched(None),
+    }
+    list(renderer.render_many(views[:4]))  # make the helper device and its pipeline: not timed
+    seconds: dict[str, list[float]] = {mode: [] for mode in modes}
+    names = list(modes)
+    for index in range(passes):
+        shift = index % len(names)
+        for mode in names[shift:] + names[:shift]:
+            start = time.perf_counter()
+            modes[mode]()
+            seconds[mode].append(time.perf_counter() - start)
+    cycle = iter(views * 100)
+    threads = thread_breakdown(lambda: renderer.render(next(cycle)))
+    cli_seconds, written = _cli_turntable(frames, size)
+    return BatchResult(label, frames, size, seconds, identical, threads, cli_seconds, written)
+
+
+def _cli_turntable(frames: int, size: int) -> tuple[float | None, int | None]:
+    """`wgpu-shading turntable` end to end (a GIF, with its encoding), in a new process."""
+    if not BUNNY.exists():
+        return None, None
+    progress(f"batch: wgpu-shading turntable bunny -o spin.gif --frames {frames}")
+    cli = shutil.which("wgpu-shading", path=str(Path(sys.executable).parent)) or "wgpu-shading"
+    with tempfile.TemporaryDirectory() as folder:
+        out = Path(folder) / "spin.gif"
+        start = time.perf_counter()
+        subprocess.run(
+            [cli, "turntable", str(BUNNY), "-o", str(out), "--frames", str(frames), "--size", str(size), "-q"],
+            check=True,
+            timeout=1800,
+        )
+        seconds = time.perf_counter() - start
+        from PIL import Image
+
+        with Image.open(out) as gif:
+            written = gif.n_frames
+    return seconds, written

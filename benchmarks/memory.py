@@ -1,0 +1,67 @@
+"""Memory: peak RSS of rendering the 1.3M-triangle sphere, against 3× its arrays + baseline.
+
+Measured in fresh processes (scripts/memory_peak.py). Besides the default run, one with
+LP_NUM_THREADS=0 (llvmpipe rasterizing on the driver's thread, nothing queued) isolates
+how much of the peak is llvmpipe's binned-triangle queue rather than our buffers.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from wgpu_shading.meshes import sphere_for_triangles
+
+from .measure import progress
+
+SCRIPT = Path(__file__).resolve().parent / "scripts" / "memory_peak.py"
+
+
+@dataclass
+class MemoryRow:
+    label: str
+    triangles: int
+    mesh_bytes: int
+    baseline: int
+    with_mesh: int
+    peak: int  # median over runs
+
+    @property
+    def peak_over_baseline_in_meshes(self) -> float:
+        return (self.peak - self.baseline) / self.mesh_bytes
+
+
+def run_memory(triangles: int, size: int, runs: int) -> list[MemoryRow]:
+    progress(f"memory: {triangles:,}-triangle sphere at {size}², {runs} fresh processes per variant")
+    mesh = sphere_for_triangles(triangles)
+    rows = []
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "sphere.npz"
+        np.savez(path, positions=mesh.positions, normals=mesh.normals, indices=mesh.indices, uvs=mesh.uvs)
+        for label, extra_env in (("default", {}), ("LP_NUM_THREADS=0 (no binning queue)", {"LP_NUM_THREADS": "0"})):
+            samples = []
+            for _ in range(runs):
+                result = subprocess.run(
+                    [sys.executable, str(SCRIPT), str(path), str(size)],
+                    env={**os.environ, **extra_env}, capture_output=True, text=True, timeout=600, check=True,
+                )
+                samples.append(json.loads(result.stdout.strip().splitlines()[-1]))
+            rows.append(
+                MemoryRow(
+                    label=label,
+                    triangles=samples[0]["triangles"],
+                    mesh_bytes=samples[0]["mesh_bytes"],
+                    baseline=int(statistics.median(s["baseline"] for s in samples)),
+                    with_mesh=int(statistics.median(s["with_mesh"] for s in samples)),
+                    peak=int(statistics.median(s["peak"] for s in samples)),
+                )
+            )
+    return rows

@@ -1,0 +1,225 @@
+"""Markdown tables and plots of the benchmark results."""
+
+from __future__ import annotations
+
+import statistics
+from pathlib import Path
+
+MiB = 2**20
+
+
+def _ms(value: float) -> str:
+    return f"{value:,.1f}" if value < 100 else f"{value:,.0f}"
+
+
+def _ratio(value: float) -> str:
+    return f"{value:.2f}×"
+
+
+def _mark(ok: bool) -> str:
+    return "met" if ok else "**missed**"
+
+
+def warm_table(rows) -> str:
+    names = list(rows[0].timings)
+    lines = [
+        "## Warm frame (render + readback to numpy), median ms per frame",
+        "",
+        "| scene | size | " + " | ".join(names) + " | ours ÷ moderngl (≤ 1.0) | ours ÷ pygfx (≤ 0.1) | ours ÷ pygfx lean | ours ÷ limit | CPU: ours ÷ moderngl |",
+        "|---|---|" + "---:|" * len(names) + "---:|---:|---:|---:|---:|",
+    ]
+    for row in rows:
+        cells = [_ms(row.timings[n].median_ms) for n in names]
+        pygfx = row.ratio("wgpu-shading", "pygfx") if "pygfx" in row.timings else float("nan")
+        lean = row.ratio("wgpu-shading", "pygfx lean") if "pygfx lean" in row.timings else float("nan")
+        moderngl = row.ratio("wgpu-shading", "moderngl")
+        cpu = row.timings["wgpu-shading"].cpu_median_ms / row.timings["moderngl"].cpu_median_ms
+        lines.append(
+            f"| {row.scene} | {row.size}² | " + " | ".join(cells)
+            + f" | {_ratio(moderngl)} {'✓' if moderngl <= 1.0 else '✗'} | {_ratio(pygfx)} {'✓' if pygfx <= 0.1 else '✗'}"
+            + f" | {_ratio(lean)} | {_ratio(row.ratio('wgpu-shading', 'limit'))} | {_ratio(cpu)} |"
+        )
+    lines.append("")
+    lines.append("Interquartile ranges (ms) of the wall times, to show the noise: " + "; ".join(
+        f"{row.scene} {row.size}²: " + ", ".join(f"{n} {row.timings[n].spread}" for n in names if row.timings[n].spread)
+        for row in rows[:2]
+    ) + " …")
+    return "\n".join(lines) + "\n"
+
+
+def breakdown_table(rows) -> str:
+    names = list(rows[0].timings)
+    lines = [
+        "## Where our frame goes (512², median ms per frame)",
+        "",
+        "floor = clear + copy + readback without any draw; limit = same geometry with trivial shaders; "
+        "gouraud / phong = wgpu-shading's per-vertex / per-fragment lighting; seed WGSL = the seed's GLSL "
+        "Phong shader ported literally to WGSL on our device (moderngl runs the GLSL itself).",
+        "",
+        "| scene | " + " | ".join(names) + " | geometry (limit − floor) | lighting (phong − limit) | phong ÷ seed WGSL | seed WGSL ÷ moderngl |",
+        "|---|" + "---:|" * len(names) + "---:|---:|---:|---:|",
+    ]
+    for row in rows:
+        t = {n: row.timings[n].median_ms for n in names}
+        lines.append(
+            f"| {row.scene} | " + " | ".join(_ms(t[n]) for n in names)
+            + f" | {_ms(t['limit'] - t['floor'])} | {_ms(t['phong'] - t['limit'])}"
+            + f" | {_ratio(t['phong'] / t['seed WGSL'])} | {_ratio(t['seed WGSL'] / t['moderngl'])} |"
+        )
+    lines += ["", "CPU ms per frame by thread (all threads of the process; moderngl runs its driver on the main thread):", ""]
+    roles = sorted({role for row in rows for per in row.threads.values() for role in per})
+    lines.append("| scene | renderer | " + " | ".join(roles) + " | total |")
+    lines.append("|---|---|" + "---:|" * len(roles) + "---:|")
+    for row in rows:
+        for name, per in row.threads.items():
+            lines.append(
+                f"| {row.scene} | {name} | " + " | ".join(_ms(per.get(role, 0.0)) for role in roles)
+                + f" | {_ms(sum(per.values()))} |"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def cold_table(cold) -> str:
+    reference = cold.median("moderngl script")
+    lines = [
+        "## Cold start: process start to PNG on disk (`wgpu-shading render builtin:torus -o t.png`)",
+        "",
+        "| variant | median s | min–max s | ÷ moderngl script |",
+        "|---|---:|---:|---:|",
+    ]
+    for name, runs in cold.runs.items():
+        lines.append(
+            f"| {name} | {statistics.median(runs):.3f} | {min(runs):.3f}–{max(runs):.3f} | {_ratio(statistics.median(runs) / reference)} |"
+        )
+    cli = cold.median("wgpu-shading CLI")
+    lines += [
+        "",
+        f"Target ≤ 1.0 s: {_mark(cli <= 1.0)} ({cli:.3f} s). Ratio to the minimal moderngl script: {_ratio(cli / reference)}.",
+        "",
+        "Phases of a cold render (medians, ms; each step as the CLI does it):",
+        "",
+        "| phase | now | prebuilt FFI off (≈ before) |",
+        "|---|---:|---:|",
+    ]
+    for name, seconds in cold.phases.items():
+        before = cold.phases_without_ffi.get(name)
+        lines.append(f"| {name} | {seconds * 1000:.0f} | {before * 1000:.0f} |" if before is not None else f"| {name} | {seconds * 1000:.0f} | |")
+    lines.append(
+        f"| **sum** | **{sum(cold.phases.values()) * 1000:.0f}** | **{sum(cold.phases_without_ffi.values()) * 1000:.0f}** |"
+    )
+    return "\n".join(lines) + "\n"
+
+
+def batch_table(batch) -> str:
+    naive, many = batch.fps("naive"), batch.fps("render_many")
+    speedup = many / naive
+    labels = {
+        "naive": "naive loop: render() and wait",
+        "render_many, one device": "render_many(parallel=1): pipelined",
+        "render_many": "render_many(): pipelined, 2 devices (default)",
+    }
+    lines = [
+        f"## Batch: {batch.frames}-view turntable of the {batch.scene} at {batch.size}²",
+        "",
+        "| mode | frames/s (median pass) | ÷ naive | passes (s) |",
+        "|---|---:|---:|---|",
+    ]
+    for mode in batch.seconds:
+        lines.append(
+            f"| {labels.get(mode, mode)} | {batch.fps(mode):.1f} | {_ratio(batch.fps(mode) / naive)} | "
+            f"{', '.join(f'{s:.1f}' for s in batch.seconds[mode])} |"
+        )
+    lines += [
+        "",
+        f"Speed-up {_ratio(speedup)} (target ≥ 2×: {_mark(speedup >= 2.0)}); frames identical to render(): {batch.identical}.",
+        "",
+        "CPU ms per naive frame by thread: " + ", ".join(f"{k} {v:.1f}" for k, v in batch.threads.items())
+        + f" (total {sum(batch.threads.values()):.1f}).",
+        f"Ceiling for any overlap on this machine (naive serial chain ÷ (total CPU ÷ cores)): {_ratio(batch.overlap_ceiling)}.",
+    ]
+    if batch.cli_seconds is not None:
+        lines.append(
+            f"`wgpu-shading turntable bunny -o spin.gif --frames {batch.frames} --size {batch.size}` end to end "
+            f"(incl. loading the OBJ and GIF encoding): {batch.cli_seconds:.1f} s, {batch.cli_frames_written} frames written, "
+            f"{batch.cli_frames_written / batch.cli_seconds:.1f} frames/s."
+        )
+    return "\n".join(lines) + "\n"
+
+
+def memory_table(rows) -> str:
+    lines = [
+        "## Memory: peak RSS rendering the 1.3M-triangle sphere at 512²",
+        "",
+        "| variant | triangles | mesh arrays MiB | baseline MiB | peak − baseline MiB | ÷ mesh arrays (< 3) |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for row in rows:
+        ratio = row.peak_over_baseline_in_meshes
+        lines.append(
+            f"| {row.label} | {row.triangles:,} | {row.mesh_bytes / MiB:.1f} | {row.baseline / MiB:.0f} | "
+            f"{(row.peak - row.baseline) / MiB:.0f} | {_ratio(ratio)} {'✓' if ratio < 3 else '✗'} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def scaling_table(scaling) -> str:
+    lines = ["## Scaling (median ms per frame)", ""]
+    for key, unit in (("triangles", "triangles (sphere, 512²)"), ("pixels", "pixels (torus 10K)")):
+        points = scaling[key]
+        names = list(points[0].timings)
+        lines += [f"| {unit} | " + " | ".join(names) + " | ours ÷ moderngl |", "|---:|" + "---:|" * (len(names) + 1)]
+        for point in points:
+            t = {n: point.timings[n].median_ms for n in names}
+            lines.append(f"| {point.x:,} | " + " | ".join(_ms(t[n]) for n in names) + f" | {_ratio(t['wgpu-shading'] / t['moderngl'])} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def plot_scaling(scaling, folder: Path) -> None:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:  # the [bench] extra brings matplotlib; without it, tables only
+        return
+    for key, label, name in (
+        ("triangles", "triangles (UV sphere, 512×512)", "scaling_triangles.png"),
+        ("pixels", "pixels (10K-triangle torus, square images)", "scaling_pixels.png"),
+    ):
+        points = scaling[key]
+        figure, axes = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+        for peer, style in (("wgpu-shading", "o-"), ("moderngl", "s--"), ("limit", "^:")):
+            axes.plot([p.x for p in points], [p.timings[peer].median_ms for p in points], style, label=peer)
+        axes.set_xscale("log")
+        axes.set_yscale("log")
+        axes.set_xlabel(label)
+        axes.set_ylabel("warm frame, ms (median)")
+        axes.grid(True, which="both", alpha=0.3)
+        axes.legend()
+        axes.set_title(f"Frame time vs {key}: render + readback on lavapipe / llvmpipe")
+        figure.tight_layout()
+        figure.savefig(folder / name)
+        plt.close(figure)
+
+
+def everything(results: dict) -> str:
+    parts = [f"command: `{results['command']}`", f"machine: {results['machine']}", ""]
+    if "warm" in results:
+        parts.append(warm_table(results["warm"]))
+    if "breakdown" in results:
+        parts.append(breakdown_table(results["breakdown"]))
+    if "cold" in results:
+        parts.append(cold_table(results["cold"]))
+    if "batch" in results:
+        parts.append(batch_table(results["batch"]))
+    if "memory" in results:
+        parts.append(memory_table(results["memory"]))
+    if "scaling" in results:
+        parts.append(scaling_table(results["scaling"]))
+    parts.append(
+        f"Run time {results['seconds'] / 60:.1f} min; load average (1, 5, 15 min) at start "
+        f"{tuple(round(x, 2) for x in results['load_average_at_start'])}, at end "
+        f"{tuple(round(x, 2) for x in results['load_average_at_end'])}."
+    )
+    return "\n".join(parts) + "\n"

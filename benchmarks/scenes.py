@@ -1,0 +1,163 @@
+"""The benchmark scenes, and the plain arrays every peer renderer draws them from.
+
+Three meshes (the seed's gold torus, the Stanford bunny, a 1.3M-triangle sphere), each
+framed and lit the same way for every renderer: one white positional light, a gold
+material, global ambient, the same camera. `GeometryDraw` carries exactly what a peer
+needs (float32 positions, normals, uint32 indices, float64 matrices, light and material),
+so all renderers rasterize identical triangles at identical screen positions.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from wgpu_shading import Scene, load_scene
+from wgpu_shading.cli import mesh_scene
+from wgpu_shading.meshes import sphere_for_triangles
+
+REPO = Path(__file__).resolve().parent.parent
+BUNNY = REPO.parent / "shared" / "models" / "stanford-bunny.obj"
+TORUS_SCENE = REPO / "examples" / "gold_torus_phong.toml"
+
+
+@dataclass(frozen=True)
+class GeometryDraw:
+    """One mesh, one light, one material: the common ground of all peers."""
+
+    name: str
+    positions: np.ndarray  # (N, 3) float32, relative to the mesh origin
+    normals: np.ndarray  # (N, 3) float32
+    indices: np.ndarray  # (F, 3) uint32
+    eye_from_model: np.ndarray  # float64 4x4, column vectors
+    world_from_model: np.ndarray
+    camera_eye: tuple[float, float, float]
+    camera_target: tuple[float, float, float]
+    camera_up: tuple[float, float, float]
+    fov_y: float
+    near: float
+    far: float
+    light_eye_position: np.ndarray  # (3,)
+    light_world_position: tuple[float, float, float]
+    light_ambient: tuple[float, float, float, float]
+    light_diffuse: tuple[float, float, float, float]
+    light_specular: tuple[float, float, float, float]
+    global_ambient: tuple[float, float, float, float]
+    material_ambient: tuple[float, float, float, float]
+    material_diffuse: tuple[float, float, float, float]
+    material_specular: tuple[float, float, float, float]
+    shininess: float
+    size: tuple[int, int]
+
+    @property
+    def triangle_count(self) -> int:
+        return len(self.indices)
+
+    def gl_projection(self) -> np.ndarray:
+        """gluPerspective (OpenGL's -1..1 depth), float64, column vectors."""
+        width, height = self.size
+        focal = 1.0 / math.tan(math.radians(self.fov_y) / 2.0)
+        near, far = self.near, self.far
+        projection = np.zeros((4, 4))
+        projection[0, 0] = focal * height / width
+        projection[1, 1] = focal
+        projection[2, 2] = (far + near) / (near - far)
+        projection[2, 3] = 2.0 * far * near / (near - far)
+        projection[3, 2] = -1.0
+        return projection
+
+
+def geometry_draw(scene: Scene, name: str) -> GeometryDraw:
+    """The arrays and matrices of a one-object, one-positional-light scene."""
+    (obj,) = scene.objects
+    (light,) = scene.lights
+    camera = scene.camera
+    eye_from_world = camera.eye_from_world()
+    world_from_model = obj.world_from_model()
+    return GeometryDraw(
+        name=name,
+        positions=obj.mesh.positions,
+        normals=obj.mesh.normals,
+        indices=obj.mesh.indices,
+        eye_from_model=eye_from_world @ world_from_model,
+        world_from_model=world_from_model,
+        camera_eye=camera.eye,
+        camera_target=camera.target,
+        camera_up=camera.up,
+        fov_y=camera.fov_y,
+        near=camera.near,
+        far=camera.far,
+        light_eye_position=(eye_from_world @ np.append(light.position, 1.0))[:3],
+        light_world_position=light.position,
+        light_ambient=light.ambient,
+        light_diffuse=light.diffuse,
+        light_specular=light.specular,
+        global_ambient=scene.ambient,
+        material_ambient=obj.material.ambient,
+        material_diffuse=obj.material.diffuse,
+        material_specular=obj.material.specular,
+        shininess=obj.material.shininess,
+        size=scene.size,
+    )
+
+
+def torus_scene(size: int) -> Scene:
+    """Seed 000's gold torus scene (examples/gold_torus_phong.toml: Phong shading, one white
+    positional light) with the issue's ~10K triangles: 72×72 segments = 10,368 triangles
+    instead of the seed's 48×48 = 4,608; same shape and framing."""
+    scene = load_scene(TORUS_SCENE)
+    (obj,) = scene.objects
+    from wgpu_shading.meshes import load_mesh
+
+    mesh = load_mesh("builtin:torus?major=0.5&minor=0.2&segments=72")
+    return replace(scene, objects=(replace(obj, mesh=mesh),), size=(size, size))
+
+
+def bunny_scene(size: int) -> Scene | None:
+    """The Stanford bunny (~70K triangles), framed by the CLI's camera; None without shared/."""
+    if not BUNNY.exists():
+        return None
+    return _cached_mesh_scene(str(BUNNY), size)
+
+
+def sphere_scene(size: int, triangles: int = 1_300_000) -> Scene:
+    scene = _cached_mesh_scene("builtin:sphere", size)  # camera and light for a unit sphere
+    mesh = _sphere(triangles)
+    (obj,) = scene.objects
+    return replace(scene, objects=(replace(obj, mesh=mesh),))
+
+
+_MESH_SCENES: dict[tuple[str, int], Scene] = {}
+_SPHERES: dict[int, object] = {}
+
+
+def _cached_mesh_scene(source: str, size: int) -> Scene:
+    key = (source, size)
+    if key not in _MESH_SCENES:
+        same_mesh = next((s for (src, _), s in _MESH_SCENES.items() if src == source), None)
+        if same_mesh is None:
+            _MESH_SCENES[key] = mesh_scene(source, (size, size), None)
+        else:
+            _MESH_SCENES[key] = replace(same_mesh, size=(size, size))
+    return _MESH_SCENES[key]
+
+
+def _sphere(triangles: int):
+    if triangles not in _SPHERES:
+        _SPHERES[triangles] = sphere_for_triangles(triangles)
+    return _SPHERES[triangles]
+
+
+def benchmark_scenes(sizes: tuple[int, ...]) -> list[tuple[str, int, Scene]]:
+    """(label, size, scene) for every scene × size; the bunny only when shared/ exists."""
+    result = []
+    for size in sizes:
+        result.append(("torus 10K", size, torus_scene(size)))
+        bunny = bunny_scene(size)
+        if bunny is not None:
+            result.append(("bunny 70K", size, bunny))
+        result.append(("sphere 1.3M", size, sphere_scene(size)))
+    return result

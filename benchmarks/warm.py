@@ -1,0 +1,87 @@
+"""Warm frame time: render + readback to numpy, after compilation, for every peer.
+
+Also the breakdown of our own frame into its parts (the floor of an empty frame, the
+trivial-shader limit, Gouraud, Phong) and the CPU time of each thread, which together
+say where the time beyond the limit goes.
+"""
+
+from __future__ import annotations
+
+import gc
+from dataclasses import dataclass, replace
+
+from wgpu_shading import Renderer
+
+from .measure import Timing, interleaved, progress, thread_breakdown
+from .peers import ModernGLPeer, PygfxPeer, RawWgslPeer, TrivialLimitPeer, WgpuShadingPeer
+from .scenes import benchmark_scenes, geometry_draw
+
+
+@dataclass
+class WarmRow:
+    scene: str
+    size: int
+    triangles: int
+    timings: dict[str, Timing]
+
+    def ratio(self, numerator: str, denominator: str) -> float:
+        return self.timings[numerator].median_ms / self.timings[denominator].median_ms
+
+
+def run_warm(renderer: Renderer, sizes: tuple[int, ...], *, rounds: int, frames: int, pygfx: bool = True) -> list[WarmRow]:
+    rows = []
+    for label, size, scene in benchmark_scenes(sizes):
+        draw = geometry_draw(scene, label)
+        progress(f"warm: {label} at {size}² ({draw.triangle_count:,} triangles)")
+        peers = [
+            WgpuShadingPeer(scene, renderer),
+            TrivialLimitPeer(scene, renderer, draw),
+            ModernGLPeer(draw),
+        ]
+        if pygfx:
+            peers += [PygfxPeer(draw, lean=False), PygfxPeer(draw, lean=True)]
+        # pygfx's default frame is 10-50x slower: fewer of its frames keep the run short.
+        counts = {p.name: (1 if p.name == "pygfx" else frames) for p in peers}
+        timings = interleaved({p.name: p.render for p in peers}, rounds=rounds, frames=counts)
+        rows.append(WarmRow(label, size, draw.triangle_count, timings))
+        for peer in peers:
+            peer.close()
+        del peers
+        gc.collect()
+    return rows
+
+
+@dataclass
+class BreakdownRow:
+    scene: str
+    size: int
+    timings: dict[str, Timing]
+    threads: dict[str, dict[str, float]]  # contender -> thread role -> ms CPU per frame
+
+
+def run_breakdown(renderer: Renderer, size: int, *, rounds: int, frames: int) -> list[BreakdownRow]:
+    """Floor (clear + copy + readback), limit (trivial shaders), Gouraud, Phong, the seed's
+    shader ported to WGSL, moderngl; and the CPU of each thread."""
+    rows = []
+    for label, _, scene in benchmark_scenes((size,)):
+        progress(f"breakdown: {label} at {size}²")
+        draw = geometry_draw(scene, label)
+        gouraud = replace(scene, shading=replace(scene.shading, frequency="gouraud"))
+        floor = RawWgslPeer(scene, renderer, draw, "floor")
+        limit = RawWgslPeer(scene, renderer, draw, "limit")
+        seed = RawWgslPeer(scene, renderer, draw, "seed")
+        moderngl = ModernGLPeer(draw)
+        contenders = {
+            "floor": floor.render,
+            "limit": limit.render,
+            "gouraud": lambda: renderer.render(gouraud),
+            "phong": lambda: renderer.render(scene),
+            "seed WGSL": seed.render,
+            "moderngl": moderngl.render,
+        }
+        timings = interleaved(contenders, rounds=rounds, frames=frames)
+        threads = {name: thread_breakdown(contenders[name]) for name in ("phong", "seed WGSL", "moderngl")}
+        rows.append(BreakdownRow(label, size, timings, threads))
+        moderngl.close()
+        gc.collect()
+    return rows
