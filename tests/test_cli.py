@@ -183,3 +183,18 @@ def test_internal_errors_are_one_line_unless_debugging(monkeypatch, capsys):
     monkeypatch.setenv("WGPU_SHADING_DEBUG", "1")
     with pytest.raises(RuntimeError):
         cli.main(["materials"])
+
+
+@pytest.mark.parametrize("suffix", [".jpg", ".bmp", ".tif"])
+def test_other_image_formats(tmp_path, suffix, renderer):
+    out = tmp_path / f"torus{suffix}"
+    assert main(["render", "builtin:torus", "--size", "64", "-o", str(out), "-q"]) == 0
+    image = iio.imread(out)
+    assert image.shape[:2] == (64, 64) and image[..., :3].max() > 100  # the torus is there
+
+
+def test_float_output_needs_a_format_that_keeps_it(tmp_path, capsys):
+    assert main(["render", "builtin:cube", "--float", "-o", str(tmp_path / "x.jpg")]) == 2
+    assert "--float writes .npy (float32) or .png (16-bit)" in capsys.readouterr().err
+    assert main(["render", "builtin:cube", "--float", "--size", "32", "-o", str(tmp_path / "x.png"), "-q"]) == 0
+    assert iio.imread(tmp_path / "x.png").dtype == np.uint16

@@ -170,15 +170,22 @@ def _write_image(path: Path, image, float_target: bool) -> None:
     import imageio.v3 as iio
 
     if float_target:
-        if suffix != ".png":
-            raise SceneError(f"{path}: --float writes .npy or 16-bit .png, not {suffix!r}")
         image = np.round(np.clip(image, 0.0, 1.0) * 65535.0).astype(np.uint16)
+    if suffix in _FORMATS_WITHOUT_ALPHA:
+        # The color is already over the background; alpha only marks translucent materials,
+        # which an opaque framebuffer (OpenGL's default) shows as their RGB.
+        image = image[:, :, :3]
     iio.imwrite(path, image)
 
 
-def _check_output(path: Path, allowed: Sequence[str]) -> None:
+_FORMATS_WITHOUT_ALPHA = (".jpg", ".jpeg")
+
+
+def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
     if path.suffix.lower() not in allowed:
         raise SceneError(f"output {str(path)!r}: unsupported format; use one of {', '.join(allowed)}")
+    if float_target and path.suffix.lower() not in (".npy", ".png"):
+        raise SceneError(f"output {str(path)!r}: --float writes .npy (float32) or .png (16-bit), not {path.suffix!r}")
     if not path.parent.exists():
         raise SceneError(f"output {str(path)!r}: folder {str(path.parent)!r} does not exist")
 
@@ -189,7 +196,7 @@ def command_render(args: argparse.Namespace) -> int:
     scene = _load(args)
     output = Path(args.output or (Path(args.input.split("?")[0].replace("builtin:", "")).stem + ".png"))
     float_target = args.float or output.suffix.lower() == ".npy"
-    _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"))
+    _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
     renderer = Renderer(adapter=args.adapter)
     scene = _auto_shading(args, scene, renderer)
     frame = renderer.render_frame(scene, float32=float_target, depth=args.depth is not None)
