@@ -153,39 +153,28 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
 # --------------------------------------------------------------------------- commands
 
 
-def _write_image(path: Path, image, float_target: bool) -> None:
+def _write_image(path: Path, image) -> None:
+    """.npy keeps float32 exactly; image formats get the 8-bit image, written by Pillow
+    directly (imageio's plugin discovery would add ~0.1 s to every cold start)."""
     import numpy as np
 
-    suffix = path.suffix.lower()
-    if suffix == ".npy":
+    if path.suffix.lower() == ".npy":
         np.save(path, image)
         return
-    if suffix == ".png" and not float_target:
-        # 8-bit PNGs go straight to Pillow: imageio's plugin discovery and import cost
-        # ~0.1 s, a seventh of the whole cold start of `wgpu-shading render`.
-        from PIL import Image
+    from PIL import Image
 
-        Image.fromarray(np.ascontiguousarray(image)).save(path)
-        return
-    import imageio.v3 as iio
-
-    if float_target:
-        image = np.round(np.clip(image, 0.0, 1.0) * 65535.0).astype(np.uint16)
-    if suffix in _FORMATS_WITHOUT_ALPHA:
-        # The color is already over the background; alpha only marks translucent materials,
-        # which an opaque framebuffer (OpenGL's default) shows as their RGB.
+    if path.suffix.lower() in (".jpg", ".jpeg"):
+        # JPEG has no alpha. The color is already over the background; alpha only marks
+        # translucent materials, which an opaque framebuffer (OpenGL's default) shows as RGB.
         image = image[:, :, :3]
-    iio.imwrite(path, image)
-
-
-_FORMATS_WITHOUT_ALPHA = (".jpg", ".jpeg")
+    Image.fromarray(np.ascontiguousarray(image)).save(path)
 
 
 def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
     if path.suffix.lower() not in allowed:
         raise SceneError(f"output {str(path)!r}: unsupported format; use one of {', '.join(allowed)}")
-    if float_target and path.suffix.lower() not in (".npy", ".png"):
-        raise SceneError(f"output {str(path)!r}: --float writes .npy (float32) or .png (16-bit), not {path.suffix!r}")
+    if float_target and path.suffix.lower() != ".npy":
+        raise SceneError(f"output {str(path)!r}: --float writes exact float32 values to .npy, not {path.suffix!r}")
     if not path.parent.exists():
         raise SceneError(f"output {str(path)!r}: folder {str(path.parent)!r} does not exist")
 
@@ -200,7 +189,7 @@ def command_render(args: argparse.Namespace) -> int:
     renderer = Renderer(adapter=args.adapter)
     scene = _auto_shading(args, scene, renderer)
     frame = renderer.render_frame(scene, float32=float_target, depth=args.depth is not None)
-    _write_image(output, frame.color, float_target)
+    _write_image(output, frame.color)
     if args.depth is not None:
         import numpy as np
 
@@ -439,7 +428,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_scene_arguments(render)
     render.add_argument("-o", "--output", help="output image: .png (8-bit), .npy (float32), .jpg, .tif (default: INPUT.png)")
-    render.add_argument("--float", action="store_true", help="render to a float32 target (.npy, or 16-bit .png)")
+    render.add_argument("--float", action="store_true", help="render to a float32 target and save it as .npy (implied by -o x.npy)")
     render.add_argument("--depth", metavar="DEPTH.npy", help="also save eye-space depth (inf = background) as .npy")
     render.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     render.add_argument(
