@@ -1,13 +1,9 @@
 """The seed's GLSL, which the moderngl peer runs (plain strings: importable without the package)."""
 
-# The seed's Phong shaders (seeds/000, "实现Phong 着色"), as written there.
-SEED_VERTEX_SHADER = """
-#version 430
-layout (location=0) in vec3 vertPos;
-layout (location=1) in vec3 vertNormal;
-out vec3 varyingNormal;
-out vec3 varyingLightDir;
-out vec3 varyingVertPos;
+# The seed's Phong shaders (seeds/000, "实现Phong 着色"), as written there. Both stages
+# declare the same structs and uniforms ("uniform declarations identical to those in the
+# vertex shader").
+_DECLARATIONS = """
 struct PositionalLight { vec4 ambient; vec4 diffuse; vec4 specular; vec3 position; };
 struct Material { vec4 ambient; vec4 diffuse; vec4 specular; float shininess; };
 uniform vec4 globalAmbient;
@@ -16,7 +12,16 @@ uniform Material material;
 uniform mat4 mv_matrix;
 uniform mat4 proj_matrix;
 uniform mat4 norm_matrix;
-void main(void)
+"""
+
+SEED_VERTEX_SHADER = """
+#version 430
+layout (location=0) in vec3 vertPos;
+layout (location=1) in vec3 vertNormal;
+out vec3 varyingNormal;
+out vec3 varyingLightDir;
+out vec3 varyingVertPos;
+""" + _DECLARATIONS + """void main(void)
 {   varyingVertPos = (mv_matrix * vec4(vertPos, 1.0)).xyz;
     varyingLightDir = light.position - varyingVertPos;
     varyingNormal = (norm_matrix * vec4(vertNormal, 1.0)).xyz;
@@ -30,15 +35,7 @@ in vec3 varyingNormal;
 in vec3 varyingLightDir;
 in vec3 varyingVertPos;
 out vec4 fragColor;
-struct PositionalLight { vec4 ambient; vec4 diffuse; vec4 specular; vec3 position; };
-struct Material { vec4 ambient; vec4 diffuse; vec4 specular; float shininess; };
-uniform vec4 globalAmbient;
-uniform PositionalLight light;
-uniform Material material;
-uniform mat4 mv_matrix;
-uniform mat4 proj_matrix;
-uniform mat4 norm_matrix;
-void main(void)
+""" + _DECLARATIONS + """void main(void)
 {   vec3 L = normalize(varyingLightDir);
     vec3 N = normalize(varyingNormal);
     vec3 V = normalize(-varyingVertPos);
