@@ -10,7 +10,6 @@ import textwrap
 from pathlib import Path
 
 import imageio.v3 as iio
-import numpy as np
 import pytest
 
 from wgpu_shading.cli import main

@@ -18,7 +18,6 @@ pixel to the neighbouring triangle or to the background; nowhere else may covera
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest
@@ -37,7 +36,7 @@ from wgpu_shading.scene import (
     Texture,
 )
 
-from support import EDGE_BAND, REQUIRED_FRACTION, SILHOUETTE_BAND, TOLERANCE, compare, smooth_texture  # noqa: E402
+from support import EDGE_BAND, SILHOUETTE_BAND, compare, smooth_texture  # noqa: E402
 
 
 def lights_of_every_kind() -> tuple:

@@ -34,6 +34,13 @@ from wgpu_shading.scene import (
 
 SPHERE = uv_sphere(1.0, 16, 8)
 EXAMPLES = 200
+# The lighting equation has measure-zero discontinuities (f_i at N·L = 0, the spot's cone
+# edge, x^0 at x = 0). A UV sphere's vertices lie exactly on them for axis-aligned lights
+# and cameras (cos 90° in float64 is 6e-17, in float32 0), which hypothesis loves to draw;
+# float32 and float64 then legitimately disagree for a whole Gouraud triangle. This fixed,
+# generic extra rotation keeps the random scenes off those coincidences: the exact
+# boundaries are test_hard_cases_lighting.py's job, with exact inputs.
+GENERIC_ROTATION = (0.731, -0.419, 0.263)  # degrees
 
 settings.register_profile(
     "wgpu-shading",
@@ -112,7 +119,7 @@ def scenes(draw) -> Scene:
         SPHERE,
         material,
         translate=draw(points_around(0.0, 0.5)),
-        rotate=draw(st.tuples(*[st.floats(-180.0, 180.0)] * 3)),
+        rotate=tuple(a + b for a, b in zip(draw(st.tuples(*[st.floats(-180.0, 180.0)] * 3)), GENERIC_ROTATION)),
         scale=scale,
     )
     eye = draw(points_around(4.0, 7.0))

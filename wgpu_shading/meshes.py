@@ -58,6 +58,10 @@ class Mesh:
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, {self.vertex_count} vertices, {self.triangle_count} triangles)"
 
+    def _repr_pretty_(self, printer, cycle: bool) -> None:
+        """IPython's (and hypothesis's) pretty printer: the short repr, not every array."""
+        printer.text(repr(self))
+
     @property
     def vertex_count(self) -> int:
         return len(self.positions)

@@ -567,7 +567,7 @@ def _merge_nearest(best_depth, best_triangle, pixel, depth, triangle) -> None:
     first = np.ones(len(pixel), dtype=bool)
     first[1:] = pixel[1:] != pixel[:-1]
     pixel, depth, triangle = pixel[first], depth[first], triangle[first]
-    current_depth, current_triangle = best_depth[pixel], best_triangle[pixel]
+    current_depth = best_depth[pixel]
     # Triangles arrive in draw order, so on equal depth the one already stored was drawn first.
     nearer = depth < current_depth
     best_depth[pixel[nearer]] = depth[nearer]
