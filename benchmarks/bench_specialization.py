@@ -43,7 +43,7 @@ from wgpu_shading.device import default_device, describe_device  # noqa: E402
 from wgpu_shading.features import FeatureSet, object_features  # noqa: E402
 from wgpu_shading.layout import Layouts  # noqa: E402
 from wgpu_shading.pipelines import DEPTH_FORMAT, PipelineCache, vertex_buffer_layouts  # noqa: E402
-from wgpu_shading.uniforms import clip_from_eye, frame_uniforms, object_uniforms  # noqa: E402
+from wgpu_shading.uniforms import clip_from_eye, eye_from_model, frame_uniforms, object_uniforms  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 UBER_SOURCE = (Path(__file__).resolve().parent / "uber.wgsl").read_text()
@@ -203,7 +203,7 @@ class Harness:
         features = object_features(scene, scene.objects[0])
         entry = self.pipelines.get(features)
         frame = self.buffer(frame_uniforms(scene, entry.frame_dtype), wgpu.BufferUsage.UNIFORM)
-        obj = self.buffer(object_uniforms(scene, scene.objects[0], entry.object_dtype), wgpu.BufferUsage.UNIFORM)
+        obj = self.buffer(object_uniforms(eye_from_model(scene, scene.objects[0]), scene.objects[0].material, entry.object_dtype), wgpu.BufferUsage.UNIFORM)
         object_resources = [obj] + ([self.view, self.sampler] if features.texture_mode else [])
         groups = [self._group(entry.bind_group_layouts[0], [frame]), self._group(entry.bind_group_layouts[1], object_resources)]
         return Variant(entry.pipeline, groups, uses_uvs=features.texture_mode is not None)

@@ -18,7 +18,7 @@ from wgpu_shading.features import object_features
 from wgpu_shading.layout import layouts_for
 from wgpu_shading.scene import Scene
 from wgpu_shading.shadergen import generate_wgsl, preprocess
-from wgpu_shading.uniforms import frame_uniforms, object_uniforms
+from wgpu_shading.uniforms import eye_from_model, frame_uniforms, object_uniforms
 
 
 def run_kernel(device, scene: Scene, inputs: np.ndarray, body: str, outputs: int, object_index: int = 0) -> np.ndarray:
@@ -62,7 +62,7 @@ fn harness_main(@builtin(global_invocation_id) id: vec3<u32>) {{
 """
     layouts = layouts_for(generate_wgsl(features))
     frame = frame_uniforms(scene, layouts.dtype("FrameUniforms"))
-    object_data = object_uniforms(scene, obj, layouts.dtype("ObjectUniforms"))
+    object_data = object_uniforms(eye_from_model(scene, obj), obj.material, layouts.dtype("ObjectUniforms"))
     pipeline = device.create_compute_pipeline(
         layout="auto", compute={"module": device.create_shader_module(code=source), "entry_point": "harness_main"}
     )

@@ -313,18 +313,19 @@ class Renderer:
 
     # ------------------------------------------------------------------ frame
 
-    def _prepare(self, scene: Scene, color_format: str) -> list[_Draw]:
+    def _prepare(self, scene: Scene, color_format: str, eye_from_world: np.ndarray) -> list[_Draw]:
         draws = []
         for index, obj in enumerate(scene.objects):
             features = object_features(scene, obj, index)
-            entry = self._pipelines.get(features, color_format, is_mirrored(scene, obj))
+            model_view = eye_from_world @ obj.world_from_model()  # float64, once per object
+            entry = self._pipelines.get(features, color_format, is_mirrored(model_view))
             texture = self._gpu_texture(obj.material.texture) if features.texture_mode else None
             draws.append(
                 _Draw(
                     entry=entry,
                     object_index=index,
                     gpu_mesh=self._gpu_mesh(obj.mesh, with_uvs=features.texture_mode is not None),
-                    object_data=object_uniforms(scene, obj, entry.object_dtype),
+                    object_data=object_uniforms(model_view, obj.material, entry.object_dtype),
                     texture=texture,
                 )
             )
@@ -332,7 +333,8 @@ class Renderer:
 
     def _submit(self, scene: Scene, target: _Target, *, read_depth: bool) -> None:
         device = self._device
-        draws = self._prepare(scene, target.color_format)
+        eye_from_world = scene.camera.eye_from_world()  # once per frame
+        draws = self._prepare(scene, target.color_format, eye_from_world)
         encoder = device.create_command_encoder()
         render_pass = encoder.begin_render_pass(
             color_attachments=[
@@ -352,7 +354,7 @@ class Renderer:
         )
         if draws:
             # Every object shares the frame uniforms; their layout depends only on scene-level features.
-            frame_data = frame_uniforms(scene, draws[0].entry.frame_dtype)
+            frame_data = frame_uniforms(scene, draws[0].entry.frame_dtype, eye_from_world)
             frame_buffer = self._uniform_buffer("frame", 0, frame_data)
         for draw in draws:
             entry = draw.entry

@@ -121,14 +121,6 @@ def _set(instance: object, **values: object) -> None:
 # --------------------------------------------------------------------------- camera
 
 
-def _cross(a, b) -> np.ndarray:
-    """np.cross for two 3-vectors, bit for bit (same products and differences, no FMA), at a
-    twentieth of the cost: every frame computes the view matrix several times."""
-    a0, a1, a2 = (float(v) for v in a)
-    b0, b1, b2 = (float(v) for v in b)
-    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
-
-
 @dataclass(frozen=True)
 class Camera:
     """A perspective camera (gluLookAt + gluPerspective)."""
@@ -165,22 +157,18 @@ class Camera:
         """Unit right, up and backward (eye-space +x, +y, +z) axes in world space, float64."""
         backward = np.subtract(self.eye, self.target)
         backward = backward / np.linalg.norm(backward)
-        right = _cross(self.up, backward)
+        right = np.cross(self.up, backward)
         right = right / np.linalg.norm(right)
-        true_up = _cross(backward, right)
+        true_up = np.cross(backward, right)
         return right, true_up, backward
 
     def eye_from_world(self) -> np.ndarray:
         """The view matrix (gluLookAt), float64 4x4, column vectors."""
-        view = self.__dict__.get("_eye_from_world")
-        if view is None:
-            right, true_up, backward = self.basis()
-            view = np.eye(4)
-            view[0, :3], view[1, :3], view[2, :3] = right, true_up, backward
-            view[:3, 3] = -view[:3, :3] @ np.asarray(self.eye)
-            # Computed once per (immutable) camera: a frame needs it several times.
-            object.__setattr__(self, "_eye_from_world", view)
-        return view.copy()
+        right, true_up, backward = self.basis()
+        view = np.eye(4)
+        view[0, :3], view[1, :3], view[2, :3] = right, true_up, backward
+        view[:3, 3] = -view[:3, :3] @ np.asarray(self.eye)
+        return view
 
 
 # --------------------------------------------------------------------------- lights
@@ -406,13 +394,6 @@ class SceneObject:
 
     def world_from_model(self) -> np.ndarray:
         """float64 4x4 for the mesh's stored (origin-relative) vertex positions."""
-        cached = self.__dict__.get("_world_from_model")
-        if cached is None:
-            cached = self._compute_world_from_model()
-            object.__setattr__(self, "_world_from_model", cached)  # once per (immutable) object
-        return cached.copy()
-
-    def _compute_world_from_model(self) -> np.ndarray:
         model = np.eye(4)
         model[:3, :3] = _rotation_xyz(self.rotate) @ np.diag(self.scale)
         model[:3, 3] = self.translate

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .scene import Camera, DirectionalLight, Scene, SceneObject, SpotLight
+from .scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
 
 
 def clip_from_eye(camera: Camera, aspect: float) -> np.ndarray:
@@ -52,10 +52,11 @@ def _fill_light_colors(lights: np.ndarray, index: int, light: object) -> None:
     lights["specular"][index] = light.specular  # type: ignore[attr-defined]
 
 
-def frame_uniforms(scene: Scene, dtype: np.dtype) -> np.ndarray:
-    """The FrameUniforms buffer contents for `scene`."""
+def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: np.ndarray | None = None) -> np.ndarray:
+    """The FrameUniforms buffer contents for `scene` (pass the view matrix if you have it)."""
     data = np.zeros((), dtype)
-    eye_from_world = scene.camera.eye_from_world()
+    if eye_from_world is None:
+        eye_from_world = scene.camera.eye_from_world()
     rotation = eye_from_world[:3, :3]
     width, height = scene.size
     data["clip_from_eye"] = clip_from_eye(scene.camera, width / height).T  # column-major
@@ -87,25 +88,23 @@ def eye_from_model(scene: Scene, obj: SceneObject) -> np.ndarray:
     return scene.camera.eye_from_world() @ obj.world_from_model()
 
 
-def object_uniforms(scene: Scene, obj: SceneObject, dtype: np.dtype) -> np.ndarray:
-    """The ObjectUniforms buffer contents for one object."""
+def object_uniforms(model_view: np.ndarray, material: Material, dtype: np.dtype) -> np.ndarray:
+    """The ObjectUniforms buffer contents for one object, from its float64 model-view matrix."""
     data = np.zeros((), dtype)
-    model_view = eye_from_model(scene, obj)
     data["eye_from_model"] = model_view.T
     normal_matrix = np.linalg.inv(model_view[:3, :3]).T  # the seed's norm_matrix
     data["eye_normal_from_model"][:, :3] = normal_matrix.T  # columns padded to vec4
-    material = data["material"]
-    source = obj.material
-    material["ambient"] = source.ambient
-    material["diffuse"] = source.diffuse
-    material["specular"] = source.specular
-    material["shininess"] = source.shininess
-    if "emission" in material.dtype.names:
-        material["emission"] = source.emission
+    fields = data["material"]
+    fields["ambient"] = material.ambient
+    fields["diffuse"] = material.diffuse
+    fields["specular"] = material.specular
+    fields["shininess"] = material.shininess
+    if "emission" in fields.dtype.names:
+        fields["emission"] = material.emission
     return data
 
 
-def is_mirrored(scene: Scene, obj: SceneObject) -> bool:
+def is_mirrored(model_view: np.ndarray) -> bool:
     """True when the model-view matrix flips handedness (negative determinant): the
     triangles' winding reverses on screen, so the pipeline's front face must too."""
-    return bool(np.linalg.det(eye_from_model(scene, obj)[:3, :3]) < 0.0)
+    return bool(np.linalg.det(model_view[:3, :3]) < 0.0)
