@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading import Camera, PositionalLight, Scene, SceneObject, SpotLight, DirectionalLight, load_mesh, material
-from wgpu_shading.batch import _HELPERS, default_parallelism, spun, turntable, write_animation
+from wgpu_shading.batch import default_parallelism, spun, turntable, write_animation
 from wgpu_shading.cli import main
 
 from test_cli import run_cli
@@ -77,10 +77,10 @@ def test_render_many_rejects_bad_in_flight_and_parallel(renderer, torus_scene):
 def test_lavapipe_batches_use_two_devices(renderer, torus_scene):
     assert default_parallelism(renderer) == (2 if (os.cpu_count() or 1) >= 2 else 1)
     list(renderer.render_many(turntable(torus_scene, 4), parallel=2))
-    (helper,) = _HELPERS[renderer][:1]
+    (helper,) = renderer._batch_helpers[:1]
     assert helper.device is not renderer.device and helper.pipeline_count >= 1  # it really drew
     list(renderer.render_many(turntable(torus_scene, 4), parallel=2))
-    assert _HELPERS[renderer][0] is helper  # made once, then reused
+    assert renderer._batch_helpers[0] is helper  # made once, then reused
 
 
 def test_spinning_the_view_equals_turning_the_object(renderer, torus_scene):

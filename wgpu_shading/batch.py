@@ -18,7 +18,6 @@ import math
 import os
 import queue
 import threading
-import weakref
 from collections import deque
 from dataclasses import replace
 from pathlib import Path
@@ -95,15 +94,12 @@ def default_parallelism(renderer: "Renderer") -> int:
     return 2 if is_cpu and (os.cpu_count() or 1) >= 2 else 1
 
 
-# Extra renderers per primary renderer, each on its own device of the same adapter; made on
-# first use and dropped with the primary.
-_HELPERS: "weakref.WeakKeyDictionary[Renderer, list[Renderer]]" = weakref.WeakKeyDictionary()
-
-
 def _helpers(renderer: "Renderer", count: int) -> list["Renderer"]:
+    """`count` extra renderers, each on its own device of the same adapter. They belong to
+    `renderer` (made on first use, kept with it, dropped with it)."""
     from .renderer import Renderer
 
-    helpers = _HELPERS.setdefault(renderer, [])
+    helpers = renderer._batch_helpers
     device = renderer.device
     while len(helpers) < count:
         # The same features as the primary device (e.g. direct mesh upload on lavapipe).

@@ -133,6 +133,7 @@ class Renderer:
         self._targets: dict[tuple[int, int, str], _Target] = {}
         self._uniform_buffers: dict[tuple[str, int, int], object] = {}
         self._bind_groups: dict[tuple, object] = {}
+        self._batch_helpers: list[Renderer] = []  # extra devices for render_many (batch.py)
         self._sampler = self._device.create_sampler(
             address_mode_u=wgpu.AddressMode.repeat,
             address_mode_v=wgpu.AddressMode.repeat,
