@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Callable, Iterable, Iterator
 import numpy as np
 
 from .errors import SceneError
-from .scene import DirectionalLight, PositionalLight, Scene, SpotLight
+from .scene import DirectionalLight, PositionalLight, Scene, SpotLight, output_path
 
 if TYPE_CHECKING:  # pragma: no cover
     from .renderer import Frame, Renderer
@@ -173,12 +173,8 @@ def turntable(scene: Scene, frames: int, degrees: float = 360.0) -> list[Scene]:
 
 def check_animation_path(path: Path) -> None:
     """One-line errors for what write_animation cannot do, before any rendering starts."""
-    suffix = path.suffix.lower()
-    if suffix not in ANIMATION_SUFFIXES:
-        raise SceneError(f"output {str(path)!r}: unsupported format; use one of {', '.join(ANIMATION_SUFFIXES)}")
-    if not path.parent.exists():
-        raise SceneError(f"output {str(path)!r}: folder {str(path.parent)!r} does not exist")
-    if suffix == ".mp4":
+    output_path(path, ANIMATION_SUFFIXES)
+    if path.suffix.lower() == ".mp4":
         try:
             import imageio_ffmpeg  # noqa: F401
         except ImportError:

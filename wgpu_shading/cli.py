@@ -26,7 +26,7 @@ from typing import Sequence
 
 from . import __version__
 from .errors import WgpuShadingError
-from .scene import FREQUENCIES, REFLECTIONS, SceneError, image_size
+from .scene import FREQUENCIES, REFLECTIONS, SceneError, image_size, output_path
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
@@ -170,20 +170,24 @@ def _write_image(path: Path, image) -> None:
     Image.fromarray(np.ascontiguousarray(image)).save(path)
 
 
+def _default_output(args: argparse.Namespace, suffix: str) -> Path:
+    """-o, or the input's name with `suffix` in the current folder (builtin:torus → torus.png)."""
+    if args.output:
+        return Path(args.output)
+    return Path(Path(args.input.split("?")[0].replace("builtin:", "")).stem + suffix)
+
+
 def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
-    if path.suffix.lower() not in allowed:
-        raise SceneError(f"output {str(path)!r}: unsupported format; use one of {', '.join(allowed)}")
+    output_path(path, allowed)
     if float_target and path.suffix.lower() != ".npy":
         raise SceneError(f"output {str(path)!r}: --float writes exact float32 values to .npy, not {path.suffix!r}")
-    if not path.parent.exists():
-        raise SceneError(f"output {str(path)!r}: folder {str(path.parent)!r} does not exist")
 
 
 def command_render(args: argparse.Namespace) -> int:
     from .renderer import Renderer
 
     scene = _load(args)
-    output = Path(args.output or (Path(args.input.split("?")[0].replace("builtin:", "")).stem + ".png"))
+    output = _default_output(args, ".png")
     float_target = args.float or output.suffix.lower() == ".npy"
     _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
     renderer = Renderer(adapter=args.adapter)
@@ -209,7 +213,7 @@ def command_turntable(args: argparse.Namespace) -> int:
     if not (args.fps > 0 and math.isfinite(args.fps)):
         raise SceneError(f"--fps must be a positive number, got {args.fps}")
     scene = _load(args)
-    output = Path(args.output or (Path(args.input.split("?")[0].replace("builtin:", "")).stem + ".gif"))
+    output = _default_output(args, ".gif")
     check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute
     renderer = Renderer(adapter=args.adapter)
     frames = (frame.color for frame in renderer.render_many(turntable(scene, args.frames, args.degrees)))

@@ -28,6 +28,7 @@ from .errors import SceneError
 
 if TYPE_CHECKING:  # pragma: no cover
     import os
+    from pathlib import Path
 
     from .meshes import Mesh
 
@@ -438,6 +439,18 @@ def image_size(value: object, name: str = "output.size") -> tuple[int, int]:
     if not (1 <= width <= MAX_IMAGE_SIDE and 1 <= height <= MAX_IMAGE_SIDE):
         raise SceneError(f"{name}: width and height must be between 1 and {MAX_IMAGE_SIDE}, got {width}×{height}")
     return width, height
+
+
+def output_path(path: "os.PathLike[str] | str", suffixes: Sequence[str]) -> "Path":
+    """A file to write: one of `suffixes`, in a folder that exists (checked before any work)."""
+    from pathlib import Path
+
+    path = Path(path)
+    if path.suffix.lower() not in suffixes:
+        raise SceneError(f"output {str(path)!r}: unsupported format; use one of {', '.join(suffixes)}")
+    if not path.parent.exists():
+        raise SceneError(f"output {str(path)!r}: folder {str(path.parent)!r} does not exist")
+    return path
 
 
 @dataclass(frozen=True)
