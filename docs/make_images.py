@@ -9,29 +9,11 @@ import sys
 from pathlib import Path
 
 import imageio.v3 as iio
-import numpy as np
-from PIL import Image, ImageDraw, ImageFont
-
 from wgpu_shading import Renderer, SceneError, load_scene
+from wgpu_shading.accuracy import contact_sheet
 
 ROOT = Path(__file__).resolve().parent.parent
 IMAGES = ROOT / "docs" / "images"
-
-
-def contact_sheet(panels: list[tuple[str, np.ndarray]], columns: int) -> np.ndarray:
-    """Panels in a grid, each with its label underneath."""
-    height, width = panels[0][1].shape[:2]
-    label_height = 34
-    rows = (len(panels) + columns - 1) // columns
-    sheet = Image.new("RGB", (columns * width, rows * (height + label_height)), (255, 255, 255))
-    draw = ImageDraw.Draw(sheet)
-    font = ImageFont.load_default(size=20)
-    for index, (label, image) in enumerate(panels):
-        x, y = (index % columns) * width, (index // columns) * (height + label_height)
-        sheet.paste(Image.fromarray(image[:, :, :3]), (x, y))
-        text_width = draw.textlength(label, font=font)
-        draw.text((x + (width - text_width) / 2, y + height + 6), label, fill=(0, 0, 0), font=font)
-    return np.asarray(sheet)
 
 
 def main() -> int:
@@ -48,11 +30,11 @@ def main() -> int:
         iio.imwrite(IMAGES / f"{path.stem}.png", rendered[path.stem])
         print(f"wrote docs/images/{path.stem}.png")
     modes = [("Flat", "gold_torus_flat"), ("Gouraud", "gold_torus_gouraud"), ("Phong", "gold_torus_phong"), ("Blinn-Phong (k = 3)", "gold_torus_blinn_phong")]
-    sheet = contact_sheet([(label, rendered[name][96:416, 16:496]) for label, name in modes], columns=4)
+    sheet = contact_sheet([[(label, rendered[name][96:416, 16:496]) for label, name in modes]])
     iio.imwrite(IMAGES / "gold_torus_modes.png", sheet)
     print("wrote docs/images/gold_torus_modes.png")
     gallery = [(name.replace("_", " "), image[::2, ::2]) for name, image in rendered.items() if not name.startswith("gold_torus")]
-    iio.imwrite(IMAGES / "examples.png", contact_sheet(gallery, columns=4))
+    iio.imwrite(IMAGES / "examples.png", contact_sheet([gallery[i : i + 4] for i in range(0, len(gallery), 4)]))
     print("wrote docs/images/examples.png")
     return 0
 

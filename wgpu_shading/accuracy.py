@@ -853,25 +853,28 @@ def heat_colors(values: np.ndarray, low: float = HEAT_RANGE[0], high: float = HE
     return np.round(_INFERNO[index] * (1 - fraction) + _INFERNO[index + 1] * fraction).astype(np.uint8)
 
 
-def _sheet(panels: list[list[tuple[str, np.ndarray]]], title_rows: Sequence[str] = (), footer: np.ndarray | None = None) -> np.ndarray:
-    """A grid of RGB panels (rows of (label, image)), each labelled underneath."""
+def contact_sheet(panels: list[list[tuple[str, np.ndarray]]], footer: np.ndarray | None = None) -> np.ndarray:
+    """A grid of RGB(A) panels (rows of (label, image), labels may have several lines), each
+    labelled underneath, with an optional footer image (a color bar, say)."""
     from PIL import Image, ImageDraw, ImageFont
 
     height, width = panels[0][0][1].shape[:2]
     lines = max(label.count("\n") + 1 for row in panels for label, _ in row)
-    label_height = 6 + 17 * lines
+    font_size = max(8, min(24, width // 18))  # 14 px under the study's 256-px panels
+    line_height = font_size + 3
+    label_height = 6 + line_height * lines
     columns = max(len(row) for row in panels)
     footer_height = 0 if footer is None else footer.shape[0] + 8
     sheet = Image.new("RGB", (columns * width, len(panels) * (height + label_height) + footer_height), (255, 255, 255))
     draw = ImageDraw.Draw(sheet)
-    font = ImageFont.load_default(size=min(14, max(8, width // 13)))
+    font = ImageFont.load_default(size=font_size)
     for r, row in enumerate(panels):
         for c, (label, image) in enumerate(row):
             x, y = c * width, r * (height + label_height)
             sheet.paste(Image.fromarray(np.ascontiguousarray(image[:, :, :3])), (x, y))
             for k, text in enumerate(label.split("\n")):
                 text_width = draw.textlength(text, font=font)
-                draw.text((x + (width - text_width) / 2, y + height + 3 + 17 * k), text, fill=(0, 0, 0), font=font)
+                draw.text((x + (width - text_width) / 2, y + height + 3 + line_height * k), text, fill=(0, 0, 0), font=font)
     if footer is not None:
         sheet.paste(Image.fromarray(footer), ((columns * width - footer.shape[1]) // 2, len(panels) * (height + label_height) + 4))
     return np.asarray(sheet)
@@ -884,7 +887,7 @@ def seed_figure(study: Study) -> np.ndarray:
     rows = []
     for frequency in FREQUENCIES:
         rows.append([(f"{frequency}\n{triangles[n]:,} triangles", study.frames[n, frequency]) for n in points if (n, frequency) in study.frames])
-    return _sheet([row for row in rows if row])
+    return contact_sheet([row for row in rows if row])
 
 
 def _color_bar(width: int) -> np.ndarray:
@@ -925,7 +928,7 @@ def error_map_sheet(study: Study) -> np.ndarray:
         if row:
             rows.append(row)
     width = rows[0][0][1].shape[1] * max(len(r) for r in rows)
-    return _sheet(rows, footer=_color_bar(width))
+    return contact_sheet(rows, footer=_color_bar(width))
 
 
 _FREQUENCY_MARKERS = {"flat": "s", "gouraud": "^", "phong": "o"}
