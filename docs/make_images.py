@@ -6,11 +6,13 @@ Renders every scene in examples/ with one Renderer and composes labelled contact
 from __future__ import annotations
 
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import imageio.v3 as iio
 from wgpu_shading import Renderer, SceneError, load_scene
 from wgpu_shading.accuracy import contact_sheet
+from wgpu_shading.golden import diff_image
 
 ROOT = Path(__file__).resolve().parent.parent
 IMAGES = ROOT / "docs" / "images"
@@ -36,7 +38,29 @@ def main() -> int:
     gallery = [(name.replace("_", " "), image[::2, ::2]) for name, image in rendered.items() if not name.startswith("gold_torus")]
     iio.imwrite(IMAGES / "examples.png", contact_sheet([gallery[i : i + 4] for i in range(0, len(gallery), 4)]))
     print("wrote docs/images/examples.png")
+    iio.imwrite(IMAGES / "golden_failure.png", golden_failure(renderer))
+    print("wrote docs/images/golden_failure.png")
     return 0
+
+
+def golden_failure(renderer: Renderer):
+    """docs/golden-tests.md's failure picture: `check --reflection blinn-phong
+    --blinn-exponent-scale 1` against a Phong reference of the gold torus."""
+    expected_scene = replace(load_scene(ROOT / "examples" / "gold_torus_phong.toml"), size=(288, 288))
+    actual_scene = replace(
+        expected_scene, shading=replace(expected_scene.shading, reflection="blinn-phong", blinn_exponent_scale=1.0)
+    )
+    expected, actual = renderer.render(expected_scene), renderer.render(actual_scene)
+    crop = (slice(40, 248), slice(0, 288))
+    return contact_sheet(
+        [
+            [
+                ("actual: Blinn-Phong, k = 1", actual[crop]),
+                ("expected: Phong", expected[crop]),
+                ("diff, amplified 10 times", diff_image(actual, expected)[crop]),
+            ]
+        ]
+    )
 
 
 if __name__ == "__main__":
