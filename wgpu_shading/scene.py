@@ -122,6 +122,14 @@ def _set(instance: object, **values: object) -> None:
 # --------------------------------------------------------------------------- camera
 
 
+def _cross(a, b) -> np.ndarray:
+    """np.cross for two 3-vectors, bit for bit (the same products and differences), at a
+    twentieth of the cost: np.cross's axis handling is most of a frame's CPU preparation."""
+    a0, a1, a2 = (float(v) for v in a)
+    b0, b1, b2 = (float(v) for v in b)
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
 @dataclass(frozen=True)
 class Camera:
     """A perspective camera (gluLookAt + gluPerspective)."""
@@ -158,9 +166,9 @@ class Camera:
         """Unit right, up and backward (eye-space +x, +y, +z) axes in world space, float64."""
         backward = np.subtract(self.eye, self.target)
         backward = backward / np.linalg.norm(backward)
-        right = np.cross(self.up, backward)
+        right = _cross(self.up, backward)
         right = right / np.linalg.norm(right)
-        true_up = np.cross(backward, right)
+        true_up = _cross(backward, right)
         return right, true_up, backward
 
     def eye_from_world(self) -> np.ndarray:
