@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from wgpu_shading import Renderer
-from wgpu_shading.batch import turntable
+from wgpu_shading.scene.turntable import turntable
 
 from .measure import progress, thread_breakdown
 from .scenes import BUNNY, bunny_scene, torus_scene

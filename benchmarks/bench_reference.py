@@ -11,8 +11,8 @@ from __future__ import annotations
 import argparse
 import time
 
-from wgpu_shading import reference
-from wgpu_shading.meshes import sphere_for_triangles
+from wgpu_shading.study import reference
+from wgpu_shading.scene import sphere_for_triangles
 from wgpu_shading.scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, Shading
 
 

@@ -4,7 +4,7 @@
 
 For each scene, both variants run through the same harness (same meshes, targets, render
 pass, copy and readback); only the pipeline and its uniform data differ:
-  specialized  the renderer's shader for the scene's feature set (wgpu_shading.pipelines)
+  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.pipelines)
   uber         benchmarks/uber.wgsl: every feature compiled in, switched by uniforms
 Reported: median warm frame time (render + readback) with frames of the two variants
 interleaved (the machine is shared and noisy, so only side-by-side ratios mean anything),
@@ -39,11 +39,11 @@ from wgpu_shading import (  # noqa: E402
     load_mesh,
     load_scene,
 )
-from wgpu_shading.device import default_device, describe_device  # noqa: E402
-from wgpu_shading.features import FeatureSet, object_features  # noqa: E402
-from wgpu_shading.layout import Layouts  # noqa: E402
-from wgpu_shading.pipelines import DEPTH_FORMAT, PipelineCache, vertex_buffer_layouts  # noqa: E402
-from wgpu_shading.uniforms import clip_from_eye, eye_from_model, frame_uniforms, object_uniforms  # noqa: E402
+from wgpu_shading.render.device import default_device, describe_device  # noqa: E402
+from wgpu_shading.render.features import FeatureSet, object_features  # noqa: E402
+from wgpu_shading.render.layout import Layouts  # noqa: E402
+from wgpu_shading.render.pipelines import DEPTH_FORMAT, PipelineCache, vertex_buffer_layouts  # noqa: E402
+from wgpu_shading.render.uniforms import clip_from_eye, eye_from_model, frame_uniforms, object_uniforms  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 UBER_SOURCE = (Path(__file__).resolve().parent / "uber.wgsl").read_text()
@@ -96,7 +96,7 @@ def scenes(size: int) -> dict[str, Scene]:
 
 
 def uber_uniforms(scene: Scene, layouts: Layouts) -> tuple[np.ndarray, np.ndarray]:
-    """UberFrame and UberObject contents, computed like wgpu_shading.uniforms does."""
+    """UberFrame and UberObject contents, computed like wgpu_shading.render.uniforms does."""
     frame = np.zeros((), layouts.dtype("UberFrame"))
     view = scene.camera.eye_from_world()
     width, height = scene.size

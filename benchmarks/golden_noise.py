@@ -45,7 +45,7 @@ sys.path.insert(0, str(ROOT / "tests" / "golden"))
 
 from golden_cases import cases  # noqa: E402
 
-from wgpu_shading.golden import Tolerance, compare, flip_mean, read_image  # noqa: E402
+from wgpu_shading.testing.golden import Tolerance, compare, flip_mean, read_image  # noqa: E402
 
 VARIANTS: list[tuple[str, dict[str, str]]] = [
     ("run-to-run #1", {}),

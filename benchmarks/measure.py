@@ -153,7 +153,7 @@ def machine_description() -> str:
         pass
     import wgpu
 
-    from wgpu_shading.device import default_device, describe_device
+    from wgpu_shading.render.device import default_device, describe_device
 
     return (
         f"{cpu}, {os.cpu_count()} cores, {memory}; {os_name}; Python {platform.python_version()}; "

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wgpu_shading.meshes import sphere_for_triangles
+from wgpu_shading.scene import sphere_for_triangles
 
 from .measure import progress
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from wgpu_shading import Renderer, Scene
-from wgpu_shading.renderer import _map_for_reading
+from wgpu_shading.render.renderer import _map_for_reading
 
 from .scenes import GeometryDraw
 
@@ -124,8 +124,8 @@ class RawWgslPeer(Peer):
     def __init__(self, scene: Scene, renderer: Renderer, draw: GeometryDraw, kind: str = "limit"):
         import wgpu
 
-        from wgpu_shading.pipelines import COLOR_FORMATS, DEPTH_FORMAT
-        from wgpu_shading.uniforms import clip_from_eye
+        from wgpu_shading.render.pipelines import COLOR_FORMATS, DEPTH_FORMAT
+        from wgpu_shading.render.uniforms import clip_from_eye
 
         if kind not in ("floor", "limit", "seed"):
             raise ValueError(kind)
@@ -311,7 +311,7 @@ class PygfxPeer(Peer):
         import pygfx as gfx
         from rendercanvas.offscreen import RenderCanvas
 
-        from wgpu_shading.device import select_adapter
+        from wgpu_shading.render.device import select_adapter
 
         _select_pygfx_adapter(gfx, select_adapter)
         self.name = "pygfx lean" if lean else "pygfx"

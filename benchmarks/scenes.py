@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from wgpu_shading import Scene, load_scene
-from wgpu_shading.cli import mesh_scene
-from wgpu_shading.meshes import sphere_for_triangles
+from wgpu_shading.assets.mesh_scene import mesh_scene
+from wgpu_shading.scene import sphere_for_triangles
 
 REPO = Path(__file__).resolve().parent.parent
 BUNNY = REPO.parent / "shared" / "models" / "stanford-bunny.obj"
@@ -110,7 +110,7 @@ def torus_scene(size: int) -> Scene:
     instead of the seed's 48×48 = 4,608; same shape and framing."""
     scene = load_scene(TORUS_SCENE)
     (obj,) = scene.objects
-    from wgpu_shading.meshes import load_mesh
+    from wgpu_shading.assets import load_mesh
 
     mesh = load_mesh("builtin:torus?major=0.5&minor=0.2&segments=72")
     return replace(scene, objects=(replace(obj, mesh=mesh),), size=(size, size))

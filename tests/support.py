@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wgpu_shading import reference as ref
+from wgpu_shading.study import reference as ref
 from wgpu_shading.scene import Texture
 
 TOLERANCE = 1.0 / 255.0

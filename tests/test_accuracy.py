@@ -1,4 +1,4 @@
-"""The accuracy/time study (wgpu_shading.accuracy) and `--shading auto`.
+"""The accuracy/time study (wgpu_shading.study.accuracy) and `--shading auto`.
 
 What is asserted are orders of error, never times: the machine is shared and noisy.
 """
@@ -14,10 +14,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from wgpu_shading import accuracy as acc
-from wgpu_shading import reference as ref
+from wgpu_shading.study import accuracy as acc
+from wgpu_shading.study import reference as ref
 from wgpu_shading.cli import main
-from wgpu_shading.meshes import cube, sphere_for_triangles, torus, uv_sphere
+from wgpu_shading.scene import cube, sphere_for_triangles, torus, uv_sphere
 from wgpu_shading.scene import Camera, DirectionalLight, Material, PositionalLight, Scene, SceneObject, Shading
 
 

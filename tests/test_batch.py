@@ -11,7 +11,9 @@ import numpy as np
 import pytest
 
 from wgpu_shading import Camera, PositionalLight, Scene, SceneObject, SpotLight, DirectionalLight, load_mesh, material
-from wgpu_shading.batch import default_parallelism, spun, turntable, write_animation
+from wgpu_shading.assets.animation import write_animation
+from wgpu_shading.render.pipelining import default_parallelism
+from wgpu_shading.scene.turntable import spun, turntable
 from wgpu_shading.cli import main
 
 from test_cli import run_cli

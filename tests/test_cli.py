@@ -176,7 +176,7 @@ def test_internal_errors_are_one_line_unless_debugging(monkeypatch, capsys):
     def broken(args):
         raise RuntimeError("something the package did wrong")
 
-    monkeypatch.setattr(cli, "command_materials", broken)
+    monkeypatch.setattr(cli.info, "command_materials", broken)
     assert cli.main(["materials"]) == 3
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "internal error: RuntimeError: something the package did wrong" in err

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading import DeviceError, Renderer, Scene, SceneObject, load_mesh
-from wgpu_shading import device as device_module
+from wgpu_shading.render import device as device_module
 
 
 class FakeAdapter:

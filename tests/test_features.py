@@ -1,5 +1,5 @@
 """Every lighting feature moves pixels in the expected direction, and by the amount the
-float64 evaluation of SPEC §3 predicts (wgpu_shading.reference), at the sampled pixels.
+float64 evaluation of SPEC §3 predicts (wgpu_shading.study.reference), at the sampled pixels.
 
 The stage: a square facing the camera, lit from in front. Each test renders on the GPU
 (float32 target), checks the whole image against the same-mesh float64 reference
@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from support import EDGE_BAND, compare, smooth_texture
-from wgpu_shading import reference as ref
-from wgpu_shading.meshes import plane, uv_sphere
+from wgpu_shading.study import reference as ref
+from wgpu_shading.scene import plane, uv_sphere
 from wgpu_shading.scene import (
     Camera,
     DirectionalLight,

@@ -1,4 +1,4 @@
-"""The golden-image comparison itself (wgpu_shading.golden): what passes, what fails, and
+"""The golden-image comparison itself (wgpu_shading.testing.golden): what passes, what fails, and
 that a failure's message names what went wrong. Images are real renders of a small scene,
 changed the way real defects and real noise change them."""
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading import Camera, PositionalLight, Scene, SceneObject, Shading, load_mesh, material
-from wgpu_shading.golden import (
+from wgpu_shading.testing.golden import (
     GoldenError,
     Tolerance,
     as_rgba8,
@@ -289,7 +289,7 @@ def test_read_image_rejects_what_it_cannot_compare(tmp_path):
 
 def test_flip_metric(renderer, scene, base):
     pytest.importorskip("flip_evaluator")
-    from wgpu_shading.golden import flip_mean
+    from wgpu_shading.testing.golden import flip_mean
 
     assert flip_mean(base, base) == pytest.approx(0.0, abs=1e-6)
     obj = scene.objects[0]

@@ -52,7 +52,7 @@ def test_plugin_is_registered_by_the_package(pytester):
 
 def test_plugin_import_does_not_load_the_gpu_side():
     """pytest imports the plugin in every run of every project that has the package."""
-    code = "import sys, wgpu_shading.pytest_plugin; print(sorted(m for m in ('wgpu', 'wgpu_shading.renderer', 'wgpu_shading.golden') if m in sys.modules))"
+    code = "import sys, wgpu_shading.testing.pytest_plugin; print(sorted(m for m in ('wgpu', 'wgpu_shading.render.renderer', 'wgpu_shading.testing.golden') if m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
 
@@ -139,7 +139,7 @@ def test_scene_file_and_tolerance_argument(pytester, renderer):
     pytester.makepyfile(
         test_scene=textwrap.dedent(
             """
-            from wgpu_shading.golden import Tolerance
+            from wgpu_shading.testing.golden import Tolerance
 
             def test_scene(assert_golden):
                 result = assert_golden("scene.toml", "refs/scene.png", tolerance=Tolerance(threshold=2))

@@ -5,7 +5,7 @@ Acceptance criteria:
   shading with both reflection models agrees with the float64 evaluation of the lighting
   equation within 1/255 on at least 99.9 % of the covered pixels;
 - every frequency agrees with the same-mesh reference (the same triangles, rasterized and
-  shaded in float64 by wgpu_shading.reference) within 1/255 on at least 99.9 % of the
+  shaded in float64 by wgpu_shading.study.reference) within 1/255 on at least 99.9 % of the
   covered pixels, over scenes with every light kind, attenuation, a texture in each
   combine mode, two-sided lighting, mirrored objects and both viewer models.
 
@@ -22,8 +22,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgpu_shading import reference as ref
-from wgpu_shading.meshes import Mesh, cube, plane, sphere_for_triangles, torus, uv_sphere
+from wgpu_shading.study import reference as ref
+from wgpu_shading.scene import Mesh, cube, plane, sphere_for_triangles, torus, uv_sphere
 from wgpu_shading.scene import (
     Camera,
     DirectionalLight,

@@ -22,7 +22,7 @@ from wgpu_shading import (
     load_mesh,
     material,
 )
-from wgpu_shading.meshes import Mesh
+from wgpu_shading.scene import Mesh
 
 SIZE = (96, 96)
 SPHERE = load_mesh("builtin:sphere?slices=32&stacks=16")

@@ -17,8 +17,8 @@ import pytest
 
 from support import EDGE_BAND, compare
 from wgsl_harness import gpu_shade, run_kernel
-from wgpu_shading import reference as ref
-from wgpu_shading.meshes import Mesh, plane, uv_sphere
+from wgpu_shading.study import reference as ref
+from wgpu_shading.scene import Mesh, plane, uv_sphere
 from wgpu_shading.scene import (
     Camera,
     DirectionalLight,

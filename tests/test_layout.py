@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 import wgpu
 
-from wgpu_shading.features import FeatureSet
-from wgpu_shading.layout import Layouts, field_offsets
-from wgpu_shading.shadergen import generate_wgsl, preprocess
+from wgpu_shading.render.features import FeatureSet
+from wgpu_shading.render.layout import Layouts, field_offsets
+from wgpu_shading.render.shadergen import generate_wgsl, preprocess
 
 EVERY_EXTRA = FeatureSet(
     frequency="phong",

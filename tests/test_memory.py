@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wgpu_shading.device import uses_direct_upload
+from wgpu_shading.render.device import uses_direct_upload
 
 MEASURE_UPLOAD = """
 import gc, numpy as np
 from wgpu_shading import Renderer
-from wgpu_shading.meshes import Mesh
+from wgpu_shading.scene import Mesh
 
 def rss():
     for line in open("/proc/self/status"):

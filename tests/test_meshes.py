@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading import MeshError, load_mesh
-from wgpu_shading.meshes import Mesh, sphere_for_triangles, uv_sphere, vertex_normals
+from wgpu_shading.scene import Mesh, sphere_for_triangles, uv_sphere, vertex_normals
 
 
 @pytest.mark.parametrize(

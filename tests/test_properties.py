@@ -19,8 +19,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from support import EDGE_BAND, compare
-from wgpu_shading import reference as ref
-from wgpu_shading.meshes import uv_sphere
+from wgpu_shading.study import reference as ref
+from wgpu_shading.scene import uv_sphere
 from wgpu_shading.scene import (
     Camera,
     DirectionalLight,

@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from wgpu_shading import reference as ref
-from wgpu_shading.meshes import Mesh, plane, sphere_for_triangles, uv_sphere
+from wgpu_shading.study import reference as ref
+from wgpu_shading.scene import Mesh, plane, sphere_for_triangles, uv_sphere
 from wgpu_shading.scene import (
     Camera,
     DirectionalLight,

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading import DirectionalLight, PositionalLight, SceneError, SpotLight, load_scene
-from wgpu_shading.materials import material
+from wgpu_shading.scene import material
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

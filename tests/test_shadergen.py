@@ -8,8 +8,8 @@ import re
 
 import pytest
 
-from wgpu_shading.features import FeatureSet
-from wgpu_shading.shadergen import ShaderSourceError, generate_wgsl, preprocess
+from wgpu_shading.render.features import FeatureSet
+from wgpu_shading.render.shadergen import ShaderSourceError, generate_wgsl, preprocess
 
 FILES = {
     "main.wgsl": '#include "part.wgsl"\n#include "part.wgsl"\nmain\n',

@@ -19,7 +19,7 @@ import pytest
 RENDER_AND_REPORT = """
 import sys, numpy as np
 from wgpu_shading import Renderer
-from wgpu_shading.cli import mesh_scene
+from wgpu_shading.assets.mesh_scene import mesh_scene
 renderer = Renderer()
 image = renderer.render(mesh_scene("builtin:torus?segments=24", (96, 64), None))
 np.save(sys.argv[1], image)
@@ -111,9 +111,9 @@ def _run_cli(args: list[str], environment: dict[str, str]) -> subprocess.Complet
 
 FFI_REJECTED = """
 import numpy as np
-import wgpu_shading._prebuilt_ffi as prebuilt
+import wgpu_shading.render._prebuilt_ffi as prebuilt
 from wgpu_shading import Renderer
-from wgpu_shading.cli import mesh_scene
+from wgpu_shading.assets.mesh_scene import mesh_scene
 
 built = prebuilt._prebuilt_ffi
 

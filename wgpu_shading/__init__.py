@@ -5,9 +5,10 @@ with wgpu — on Mesa's lavapipe by default.
     from wgpu_shading import Renderer, load_scene
     image = Renderer().render(load_scene("examples/gold_torus_phong.toml"))
 
-The pipeline, one module per stage: scene.py / scenefile.py (scene description) →
-features.py (feature set) → shadergen.py + wgsl/ (generated WGSL) → pipelines.py (cached
-pipelines) → renderer.py (render pass, readback) → numpy image.
+The pipeline, one subpackage per stage (docs/architecture.md): scene/ (what to draw) and
+assets/ (files) → render/ (feature set → WGSL from wgsl/ → cached pipeline → render pass)
+→ numpy image; study/ (float64 reference, accuracy study), testing/ (golden images) and
+cli/ sit on top.
 """
 
 from __future__ import annotations
@@ -16,23 +17,24 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from .errors import DeviceError, MeshError, SceneError, WgpuShadingError
-    from .features import FeatureSet
-    from .materials import MATERIALS, material
-    from .meshes import Mesh, load_mesh
-    from .renderer import Frame, Renderer
+    from .assets import load_mesh, load_scene, parse_scene
+    from .render.features import FeatureSet
+    from .render.renderer import Frame, Renderer
     from .scene import (
+        MATERIALS,
         Camera,
         DirectionalLight,
         Light,
         Material,
+        Mesh,
         PositionalLight,
         Scene,
         SceneObject,
         Shading,
         SpotLight,
         Texture,
+        material,
     )
-    from .scenefile import load_scene, parse_scene
 
 __version__ = "0.1.0"
 
@@ -41,14 +43,13 @@ __version__ = "0.1.0"
 # numpy (~0.1 s) and wgpu (~0.1 s) load only when something needs them.
 _LAZY = {
     "DeviceError": "errors", "MeshError": "errors", "SceneError": "errors", "WgpuShadingError": "errors",
-    "FeatureSet": "features",
-    "MATERIALS": "materials", "material": "materials",
-    "Mesh": "meshes", "load_mesh": "meshes",
-    "Frame": "renderer", "Renderer": "renderer",
+    "FeatureSet": "render.features",
+    "MATERIALS": "scene", "material": "scene", "Mesh": "scene",
+    "load_mesh": "assets", "load_scene": "assets", "parse_scene": "assets",
+    "Frame": "render.renderer", "Renderer": "render.renderer",
     "Camera": "scene", "DirectionalLight": "scene", "Light": "scene", "Material": "scene",
     "PositionalLight": "scene", "Scene": "scene", "SceneObject": "scene", "Shading": "scene",
     "SpotLight": "scene", "Texture": "scene",
-    "load_scene": "scenefile", "parse_scene": "scenefile",
 }
 
 

@@ -16,8 +16,8 @@ from dataclasses import replace
 import numpy as np
 
 from wgpu_shading import Renderer
-from wgpu_shading.cli import mesh_scene
-from wgpu_shading.meshes import Mesh
+from wgpu_shading.assets.mesh_scene import mesh_scene
+from wgpu_shading.scene import Mesh
 
 
 def status(key: str) -> int:

@@ -14,7 +14,7 @@ import sys
 
 os.environ.setdefault("NODEVICE_SELECT", "1")
 if "--prebuilt-ffi" in sys.argv:
-    from wgpu_shading._prebuilt_ffi import load_wgpu_native
+    from wgpu_shading.render._prebuilt_ffi import load_wgpu_native
 
     load_wgpu_native()
 import wgpu  # noqa: E402

@@ -77,7 +77,7 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config: pytest.Config)
 def golden_renderer():
     """The Renderer that assert_golden renders scenes with: one per test session (lavapipe
     by default). Override this fixture to use your own Renderer or device."""
-    from .renderer import Renderer
+    from ..render.renderer import Renderer
 
     return Renderer()
 
@@ -129,10 +129,10 @@ class GoldenChecker:
         """A Scene, or a scene file (.toml, relative to the test file) → (H, W, 4) uint8."""
         from dataclasses import replace
 
-        from .scene import Scene
+        from ..scene import Scene
 
         if isinstance(scene, (str, os.PathLike)):
-            from .scenefile import load_scene
+            from ..assets.scenefile import load_scene
 
             scene = load_scene(self._resolve(scene))
         if not isinstance(scene, Scene):
@@ -149,7 +149,7 @@ class GoldenChecker:
         with --update-golden; .comparison: the metrics)."""
         __tracebackhide__ = True
         from .golden import DEFAULT_AMPLIFICATION, check_image, write_failure_images
-        from .scene import Scene
+        from ..scene import Scene
 
         if isinstance(subject, (str, os.PathLike, Scene)):
             image = self.render(subject, size)

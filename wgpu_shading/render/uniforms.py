@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
+from ..scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
 
 
 def clip_from_eye(camera: Camera, aspect: float) -> np.ndarray:

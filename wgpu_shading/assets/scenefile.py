@@ -20,17 +20,18 @@ import tomllib
 from pathlib import Path
 from typing import Any, Mapping
 
-from .errors import MeshError, SceneError
-from .materials import material as named_material
-from .meshes import BUILTIN_PREFIX, load_mesh
-from .scene import (
+from ..errors import MeshError, SceneError
+from ..scene import BUILTIN_PREFIX
+from ..scene.materials import material as named_material
+from .meshes import load_mesh
+from .textures import load_texture
+from ..scene import (
     LIGHT_TYPES,
     Camera,
     Material,
     Scene,
     SceneObject,
     Shading,
-    Texture,
     image_size,
 )
 
@@ -101,7 +102,7 @@ def _material(value: Any, base: Path, where: str) -> Material:
     if "texture" in value:
         if not isinstance(value["texture"], str):
             raise SceneError(f"{where}.material.texture: expected a path to an image, got {value['texture']!r}")
-        fields["texture"] = Texture.from_file(_resolve(value["texture"], base))
+        fields["texture"] = load_texture(_resolve(value["texture"], base))
     try:
         return Material(**fields)
     except SceneError as error:

@@ -31,7 +31,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .errors import WgpuShadingError
+from ..errors import WgpuShadingError
 
 CHANNELS = ("red", "green", "blue", "alpha")
 DEFAULT_AMPLIFICATION = 10

@@ -17,7 +17,7 @@ from __future__ import annotations
 import os
 from functools import lru_cache
 
-from .errors import DeviceError
+from ..errors import DeviceError
 
 ADAPTER_ENVIRONMENT_VARIABLE = "WGPU_SHADING_ADAPTER"
 DEFAULT_ADAPTER = "lavapipe"

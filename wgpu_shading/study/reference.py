@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .scene import Camera, DirectionalLight, Material, PositionalLight, Scene, SceneObject, Shading, SpotLight
+from ..scene import Camera, DirectionalLight, Material, PositionalLight, Scene, SceneObject, Shading, SpotLight
 
 # --------------------------------------------------------------------------- constants from conventions.md
 

@@ -50,9 +50,8 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from . import reference as ref
-from .errors import WgpuShadingError
-from .meshes import sphere_for_triangles
-from .scene import FREQUENCIES, Camera, Material, PositionalLight, Scene, SceneObject, Shading
+from ..errors import WgpuShadingError
+from ..scene import FREQUENCIES, sphere_for_triangles, Camera, Material, PositionalLight, Scene, SceneObject, Shading
 
 ERROR_UNIT = 1.0 / 255.0  # errors are reported in multiples of one 8-bit step
 SILHOUETTE_BAND = 1.0  # pixels inside the exact silhouette left out of the analytic comparison
@@ -360,7 +359,7 @@ def run_study(
     float32 target for its errors, then timed (RGBA8, warm, interleaved); the same-mesh
     reference is rasterized once and shaded for every variant."""
     if renderer is None:
-        from .renderer import Renderer
+        from ..render.renderer import Renderer
 
         renderer = Renderer()
     started = time.perf_counter()
@@ -521,8 +520,8 @@ def environment(renderer) -> dict:
     """What the numbers were measured on (absolute times are not portable)."""
     import wgpu
 
-    from . import __version__
-    from .device import describe_device
+    from .. import __version__
+    from ..render.device import describe_device
 
     try:
         load = os.getloadavg()[0]
@@ -1074,7 +1073,7 @@ def auto_shading(
     if frames < 1:
         raise AccuracyError("frames must be at least 1")
     if renderer is None:
-        from .renderer import Renderer
+        from ..render.renderer import Renderer
 
         renderer = Renderer()
     reference, candidates = auto_candidates(scene.shading)

@@ -17,12 +17,12 @@ from typing import Iterable, Iterator
 import numpy as np
 import wgpu
 
+from ..errors import SceneError
+from ..scene import Mesh, Scene, Texture
 from .device import default_device, uses_direct_upload
-from .errors import SceneError
 from .features import FeatureSet, object_features
-from .meshes import Mesh
 from .pipelines import COLOR_FORMATS, DEPTH_FORMAT, PipelineCache, PipelineEntry
-from .scene import Scene, Texture
+from .pipelining import render_many
 from .uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
 
 _BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
@@ -133,7 +133,7 @@ class Renderer:
         self._targets: dict[tuple[int, int, str], _Target] = {}
         self._uniform_buffers: dict[tuple[str, int, int], object] = {}
         self._bind_groups: dict[tuple, object] = {}
-        self._batch_helpers: list[Renderer] = []  # extra devices for render_many (batch.py)
+        self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
         self._sampler = self._device.create_sampler(
             address_mode_u=wgpu.AddressMode.repeat,
             address_mode_v=wgpu.AddressMode.repeat,
@@ -174,10 +174,20 @@ class Renderer:
         parallel: int | None = None,
     ) -> Iterator[Frame]:
         """Frames of many scenes, in order, each equal to render_frame(scene): faster than a
-        loop over render_frame (pipelined; on lavapipe spread over two devices). See batch.py."""
-        from .batch import render_many
-
+        loop over render_frame (pipelined; on lavapipe spread over two devices). See pipelining.py."""
         return render_many(self, scenes, float32=float32, depth=depth, in_flight=in_flight, parallel=parallel)
+
+    def _helper_renderers(self, count: int) -> list["Renderer"]:
+        """`count` extra renderers, each on its own device of the same adapter, for
+        render_many. They belong to this renderer (made on first use, dropped with it)."""
+        helpers = self._batch_helpers
+        while len(helpers) < count:
+            # The same features as the primary device (e.g. direct mesh upload on lavapipe).
+            helper_device = self._device.adapter.request_device_sync(
+                label=f"wgpu-shading batch helper {len(helpers) + 1}", required_features=sorted(self._device.features)
+            )
+            helpers.append(Renderer(device=helper_device))
+        return helpers[:count]
 
     def features(self, scene: Scene) -> list[FeatureSet]:
         """The feature set of each object (what `wgpu-shading shader` prints)."""

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .errors import SceneError
-from .scene import DirectionalLight, PositionalLight, Scene, SceneObject, SpotLight
+from ..errors import SceneError
+from ..scene import DirectionalLight, PositionalLight, Scene, SceneObject, SpotLight
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,129 @@
+"""Arguments shared by the commands: the scene to render and the command-line overrides."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import replace
+from pathlib import Path
+from typing import Sequence
+
+from ..assets.images import output_path
+from ..errors import SceneError
+from ..scene import FREQUENCIES, REFLECTIONS, image_size
+
+
+def _size(text: str) -> tuple[int, int]:
+    """'512' or '640x480'."""
+    parts = text.lower().replace("×", "x").split("x")
+    try:
+        numbers = [int(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT or SIZE, got {text!r}") from None
+    if len(numbers) == 1:
+        numbers *= 2
+    if len(numbers) != 2:
+        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT or SIZE, got {text!r}")
+    return numbers[0], numbers[1]
+
+
+def _load(args: argparse.Namespace):
+    """The scene named on the command line, with the command-line overrides applied."""
+    from ..assets.mesh_scene import mesh_scene
+    from ..assets.scenefile import load_scene
+    from ..scene import material
+
+    source: str = args.input
+    if args.size is not None:
+        args.size = image_size(args.size, "--size")  # before anything divides by it
+    if source.lower().endswith(".toml"):
+        scene = load_scene(source)
+        if args.size:
+            scene = replace(scene, size=args.size)
+        if args.material:
+            chosen = material(args.material)
+            scene = replace(scene, objects=tuple(replace(o, material=chosen) for o in scene.objects))
+    else:
+        scene = mesh_scene(source, args.size or (512, 512), args.material)
+    shading = scene.shading
+    overrides = {
+        key: value
+        for key, value in (
+            ("frequency", args.frequency),
+            ("reflection", args.reflection),
+            ("blinn_exponent_scale", args.blinn_exponent_scale),
+        )
+        if value is not None
+    }
+    if args.infinite_viewer:
+        overrides["local_viewer"] = False
+    if args.two_sided:
+        overrides["two_sided"] = True
+    if overrides:
+        scene = replace(scene, shading=replace(shading, **overrides))
+    return scene
+
+
+def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("input", help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB) or builtin:NAME")
+    parser.add_argument("--size", type=_size, help="image size, WIDTHxHEIGHT or SIZE (default: the scene's, or 512)")
+    parser.add_argument("--frequency", choices=FREQUENCIES, help="shading frequency (overrides the scene)")
+    parser.add_argument("--reflection", choices=REFLECTIONS, help="reflection model (overrides the scene)")
+    parser.add_argument(
+        "--blinn-exponent-scale", type=float, metavar="K", help="Blinn-Phong exponent = shininess × K (seed: 3, OpenGL: 1)"
+    )
+    parser.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
+    parser.add_argument("--infinite-viewer", action="store_true", help="OpenGL's default viewer: V = (0, 0, 1)")
+    parser.add_argument("--two-sided", action="store_true", help="light back faces with the flipped normal")
+
+
+# --------------------------------------------------------------------------- commands
+
+
+def _default_output(args: argparse.Namespace, suffix: str) -> Path:
+    """-o, or the input's name with `suffix` in the current folder (builtin:torus → torus.png)."""
+    if args.output:
+        return Path(args.output)
+    return Path(Path(args.input.split("?")[0].replace("builtin:", "")).stem + suffix)
+
+
+def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
+    output_path(path, allowed)
+    if float_target and path.suffix.lower() != ".npy":
+        raise SceneError(f"output {str(path)!r}: --float writes exact float32 values to .npy, not {path.suffix!r}")
+
+
+
+def _fraction(text: str) -> float:
+    """'0.001' or '0.1%'."""
+    try:
+        value = float(text[:-1]) / 100.0 if text.endswith("%") else float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a fraction such as 0.001 or 0.1%, got {text!r}") from None
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"expected a fraction between 0 and 1 (or 0%..100%), got {text!r}")
+    return value
+
+
+def _unit(text: str) -> int:
+    """An integer 0..255."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer 0..255 (units of 1/255), got {text!r}") from None
+    if not 0 <= value <= 255:
+        raise argparse.ArgumentTypeError(f"expected an integer 0..255 (units of 1/255), got {text!r}")
+    return value
+
+
+
+def _error_budget(text: str) -> float:
+    """A number >= 0 in units of 1/255 ('1', '0.5', '2/255')."""
+    number = text[:-4] if text.endswith("/255") else text
+    try:
+        value = float(number)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an error in units of 1/255 such as 1 or 0.5, got {text!r}") from None
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"expected an error >= 0 (units of 1/255), got {text!r}")
+    return value

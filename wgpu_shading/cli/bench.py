@@ -1,0 +1,76 @@
+"""`bench accuracy`: the accuracy/time study (docs/accuracy.md)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def command_bench_accuracy(args: argparse.Namespace) -> int:
+    """The accuracy/time study (docs/accuracy.md): sweep, then CSV, JSON, Markdown, pictures."""
+    from dataclasses import replace as with_changes
+
+    from ..study.accuracy import QUICK, AccuracyError, StudyConfig, require_matplotlib, run_study, write_study
+    from ..render.renderer import Renderer
+
+    config = QUICK if args.quick else StudyConfig()
+    changes = {}
+    if args.triangles:
+        changes["triangles"] = tuple(args.triangles)
+        changes["figure_triangles"] = tuple(n for n in config.figure_triangles if n in args.triangles) or tuple(args.triangles[:3])
+    if args.sizes:
+        changes["sizes"] = tuple(args.sizes)
+        changes["figure_size"] = args.sizes[0] if config.figure_size not in args.sizes else config.figure_size
+    if args.frames is not None:
+        changes["frames"] = args.frames
+    if args.no_same_mesh:
+        changes["same_mesh"] = False
+    config = with_changes(config, **changes)
+    if args.markdown is not None and not Path(args.markdown).parent.is_dir():
+        raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
+    if not args.no_plot:
+        require_matplotlib()  # before the sweep, not after minutes of work
+    command = "wgpu-shading bench accuracy" + "".join(
+        f" {flag}" for flag, on in (("--quick", args.quick), ("--no-same-mesh", args.no_same_mesh), ("--no-plot", args.no_plot)) if on
+    )
+    for flag, value in (("--triangles", args.triangles), ("--sizes", args.sizes)):
+        if value:
+            command += f" {flag} " + " ".join(str(v) for v in value)
+    if args.frames is not None:
+        command += f" --frames {args.frames}"
+    command += f" --out {args.out}" + (f" --markdown {args.markdown}" if args.markdown else "")
+    points = len(config.variants) * len(config.triangles) * len(config.sizes)
+    if not args.quiet:
+        shape = f"{len(config.sizes)} size(s) × {len(config.triangles)} tessellations × {len(config.variants)} shading variants"
+        print(f"accuracy/time study: {points} points ({shape})", file=sys.stderr)
+    study = run_study(config, Renderer(adapter=args.adapter), progress=not args.quiet, command=command)
+    written = write_study(study, args.out, markdown=args.markdown, plot=not args.no_plot)
+    if not args.quiet:
+        from ..study.accuracy import headline
+
+        print(headline(study))
+        print(f"wrote {', '.join(str(p) for p in written)} in {study.seconds:.0f} s")
+    return 0
+
+
+
+def add_bench(commands, gpu: argparse.ArgumentParser) -> None:
+    bench = commands.add_parser("bench", help="benchmarks (accuracy)", description="Benchmarks.")
+    benches = bench.add_subparsers(dest="bench", metavar="BENCHMARK")
+    benches.required = True
+    accuracy = benches.add_parser(
+        "accuracy", parents=[gpu], help="the accuracy/time study",
+        description="Sweep shading frequency × reflection model × tessellation × image size on a sphere; "
+        "measure frame time and error against the exact sphere and the same-mesh float64 reference.",
+    )
+    accuracy.add_argument("--quick", action="store_true", help="a small sweep (3 tessellations, 128², 2 reflection models)")
+    accuracy.add_argument("--out", default="accuracy", metavar="DIR", help="folder for results.csv/.json, table.md and the images (default: accuracy)")
+    accuracy.add_argument("--markdown", metavar="FILE", help="also fill the generated blocks of this Markdown file (docs/accuracy.md)")
+    accuracy.add_argument("--triangles", type=int, nargs="+", metavar="N", help="tessellations (triangle counts) to sweep")
+    accuracy.add_argument("--sizes", type=int, nargs="+", metavar="PIXELS", help="square image sizes to sweep")
+    accuracy.add_argument("--frames", type=int, help="timed frames per point (default 5; 2 with --quick)")
+    accuracy.add_argument("--no-same-mesh", action="store_true", help="skip the same-mesh float64 reference")
+    accuracy.add_argument("--no-plot", action="store_true", help="skip the Pareto plot (which needs matplotlib)")
+    accuracy.add_argument("-q", "--quiet", action="store_true", help="no progress, print nothing on success")
+    accuracy.set_defaults(handler=command_bench_accuracy)

@@ -1,0 +1,81 @@
+"""`check`: render and compare with a reference image (golden-image test)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from .arguments import _add_scene_arguments, _fraction, _load, _unit
+
+EXIT_MISMATCH = 1
+
+
+def command_check(args: argparse.Namespace) -> int:
+    """Render, compare with the reference and print the metrics: exit 0 on a match, 1 on a
+    mismatch (actual, expected and diff images written), 2 on a usage error."""
+    from ..testing.golden import GoldenError, Tolerance, check_image
+    from ..render.renderer import Renderer
+
+    reference = Path(args.ref)
+    if reference.suffix.lower() != ".png":
+        raise GoldenError(f"--ref {args.ref!r}: the reference must be a .png file")
+    if args.output_dir is not None and not Path(args.output_dir).is_dir():
+        raise GoldenError(f"--output-dir {args.output_dir!r} is not an existing folder")
+    if args.update and not reference.parent.exists():
+        raise GoldenError(f"--ref {args.ref!r}: folder {str(reference.parent)!r} does not exist")
+    tolerance = Tolerance(
+        threshold=args.threshold,
+        max_fraction=args.max_fraction,
+        max_difference=args.max_difference,
+        flip_mean=args.flip,
+    )
+    scene = _load(args)
+    if not args.update and not reference.exists():
+        raise GoldenError(f"reference {args.ref!r} does not exist; run again with --update to create it")
+    image = Renderer(adapter=args.adapter).render(scene)
+    result = check_image(
+        image, reference, tolerance, update=args.update, output_dir=args.output_dir, amplification=args.amplify
+    )
+    if not args.quiet or not result.passed:
+        print(result.report())
+    return 0 if result.passed else EXIT_MISMATCH
+
+
+
+def add_check(commands, gpu: argparse.ArgumentParser) -> None:
+    from ..testing.golden import DEFAULT_AMPLIFICATION, Tolerance
+
+    defaults = Tolerance()
+    check = commands.add_parser(
+        "check",
+        parents=[gpu],
+        help="render and compare with a reference image (golden-image test)",
+        description=(
+            "Render a scene and compare it with a reference PNG. Prints the metrics; exits 0 when they "
+            "match, 1 when they differ (writes NAME.actual.png, NAME.expected.png and NAME.diff.png next "
+            "to the reference or in --output-dir), 2 on a usage error. --update writes a missing or "
+            "differing reference. See docs/golden-tests.md."
+        ),
+    )
+    _add_scene_arguments(check)
+    check.add_argument("--ref", required=True, metavar="REFERENCE.png", help="the reference image")
+    check.add_argument("--update", action="store_true", help="write the reference when it is missing or differs")
+    check.add_argument(
+        "--threshold", type=_unit, default=defaults.threshold, metavar="N",
+        help=f"a pixel differs when a channel differs by more than N/255 (default {defaults.threshold})",
+    )
+    check.add_argument(
+        "--max-fraction", type=_fraction, default=defaults.max_fraction, metavar="F",
+        help=f"fraction of pixels allowed to differ, e.g. 0.001 or 0.1%% (default {defaults.max_fraction:g})",
+    )
+    check.add_argument("--max-difference", type=_unit, metavar="N", help="also fail when any channel differs by more than N/255")
+    check.add_argument(
+        "--flip", type=float, metavar="MEAN", help="also fail when the mean NVIDIA FLIP error exceeds MEAN (needs flip-evaluator)"
+    )
+    check.add_argument("--output-dir", metavar="DIR", help="where to write the images of a failure (default: next to the reference)")
+    check.add_argument(
+        "--amplify", type=float, default=DEFAULT_AMPLIFICATION, metavar="K",
+        help=f"the diff image shows |actual − expected| × K (default {DEFAULT_AMPLIFICATION})",
+    )
+    check.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    check.set_defaults(handler=command_check)

@@ -1,0 +1,80 @@
+"""The `wgpu-shading` command line.
+
+    wgpu-shading render SCENE.toml -o out.png
+    wgpu-shading render MESH -o out.png [--frequency F] [--reflection R] [--material M] ...
+    wgpu-shading turntable MESH -o spin.gif [--frames 360] [--fps 30]   a turning view
+    wgpu-shading check SCENE.toml --ref golden.png [--update]   golden-image test (exit 0/1)
+    wgpu-shading render SCENE --shading auto --max-error E   cheapest shading within E/255
+    wgpu-shading bench accuracy [--quick] [--out DIR]       the accuracy/time study
+    wgpu-shading shader SCENE.toml          print the generated WGSL
+    wgpu-shading materials                  the material table
+    wgpu-shading info                       adapters and versions
+
+Errors a user can cause (missing file, bad key, bad value, no adapter) print one line on
+stderr and exit with status 2; no traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from typing import Sequence
+
+from .. import __version__
+from ..errors import WgpuShadingError
+from . import bench, check, info, render
+
+EXIT_USAGE = 2
+EXIT_INTERNAL = 3
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="wgpu-shading",
+        description="Classic local lighting (Phong/Blinn-Phong; flat, Gouraud, Phong shading) rendered offscreen with wgpu.",
+    )
+    parser.add_argument("--version", action="version", version=f"wgpu-shading {__version__}")
+    # Options of every command that uses the GPU.
+    gpu = argparse.ArgumentParser(add_help=False)
+    gpu.add_argument(
+        "--adapter", help="lavapipe (default), gpu, or part of an adapter's name; also WGPU_SHADING_ADAPTER"
+    )
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    commands.required = True
+
+    render.add_render(commands, gpu)
+    check.add_check(commands, gpu)
+    bench.add_bench(commands, gpu)
+    render.add_shader(commands, gpu)
+    info.add_info(commands, gpu)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.handler(args)
+    except WgpuShadingError as error:
+        print(f"wgpu-shading: error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as error:  # unwritable output, full disk, ...
+        print(f"wgpu-shading: error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("wgpu-shading: interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:  # a bug, not bad input: still one line, the traceback on request
+        if os.environ.get("WGPU_SHADING_DEBUG"):
+            raise
+        print(
+            f"wgpu-shading: internal error: {type(error).__name__}: {error} "
+            "(set WGPU_SHADING_DEBUG=1 for the traceback, and please report it)",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,138 @@
+"""`render`, `turntable` and `shader`: a scene or mesh to an image, an animation, or WGSL."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+from ..errors import SceneError
+from .arguments import _add_scene_arguments, _check_output, _default_output, _error_budget, _load
+
+
+def command_render(args: argparse.Namespace) -> int:
+    from ..assets.images import write_image
+    from ..render.renderer import Renderer
+
+    scene = _load(args)
+    output = _default_output(args, ".png")
+    float_target = args.float or output.suffix.lower() == ".npy"
+    _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
+    renderer = Renderer(adapter=args.adapter)
+    scene = _auto_shading(args, scene, renderer)
+    frame = renderer.render_frame(scene, float32=float_target, depth=args.depth is not None)
+    write_image(output, frame.color)
+    if args.depth is not None:
+        import numpy as np
+
+        np.save(args.depth, frame.depth.astype(np.float32))
+    if not args.quiet:
+        width, height = scene.size
+        print(f"wrote {output} ({width}×{height}, {scene.shading.frequency} shading, {scene.shading.reflection} reflection)")
+    return 0
+
+
+def command_turntable(args: argparse.Namespace) -> int:
+    from ..assets.animation import check_animation_path, write_animation
+    from ..scene.turntable import turntable
+    from ..render.renderer import Renderer
+
+    if args.frames < 1:
+        raise SceneError(f"--frames must be at least 1, got {args.frames}")
+    if not (args.fps > 0 and math.isfinite(args.fps)):
+        raise SceneError(f"--fps must be a positive number, got {args.fps}")
+    scene = _load(args)
+    output = _default_output(args, ".gif")
+    check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute
+    renderer = Renderer(adapter=args.adapter)
+    frames = (frame.color for frame in renderer.render_many(turntable(scene, args.frames, args.degrees)))
+    show_progress = not args.quiet and sys.stderr.isatty()
+
+    def progress(done: int) -> None:
+        print(f"\rframe {done}/{args.frames}", end="", file=sys.stderr, flush=True)
+
+    written = write_animation(output, frames, fps=args.fps, progress=progress if show_progress else None)
+    if show_progress:
+        print(file=sys.stderr)
+    if not args.quiet:
+        width, height = scene.size
+        print(f"wrote {output} ({written} frames, {width}×{height}, {args.fps:g} fps, {args.degrees:g}° turn)")
+    return 0
+
+
+
+def _auto_shading(args: argparse.Namespace, scene, renderer):
+    """`--shading auto`: measure the candidates, print what was chosen, return the scene with it."""
+    if args.shading != "auto":
+        if args.max_error is not None:
+            raise SceneError("--max-error goes with --shading auto")
+        return scene
+    if args.frequency is not None:
+        raise SceneError("--shading auto chooses the frequency itself: leave out --frequency")
+    from ..study.accuracy import auto_shading
+
+    choice = auto_shading(scene, 1.0 if args.max_error is None else args.max_error, renderer=renderer)
+    if not args.quiet:
+        print(choice.report())
+    return choice.scene
+
+
+
+def command_shader(args: argparse.Namespace) -> int:
+    from ..render.features import object_features
+    from ..render.shadergen import generate_wgsl
+
+    scene = _load(args)
+    seen = set()
+    for index, obj in enumerate(scene.objects):
+        features = object_features(scene, obj, index)
+        if features in seen:
+            continue
+        seen.add(features)
+        print(f"// ===== objects {index}: {obj.mesh.name}")
+        print(generate_wgsl(features))
+    if not scene.objects:
+        print("// the scene has no objects: nothing is drawn, no shader is needed")
+    return 0
+
+
+
+def add_render(commands, gpu: argparse.ArgumentParser) -> None:
+    render = commands.add_parser(
+        "render", parents=[gpu], help="render a scene or a mesh to an image", description="Render a scene file or a mesh to an image."
+    )
+    _add_scene_arguments(render)
+    render.add_argument("-o", "--output", help="output image: .png (8-bit), .npy (float32), .jpg, .tif (default: INPUT.png)")
+    render.add_argument("--float", action="store_true", help="render to a float32 target and save it as .npy (implied by -o x.npy)")
+    render.add_argument("--depth", metavar="DEPTH.npy", help="also save eye-space depth (inf = background) as .npy")
+    render.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    render.add_argument(
+        "--shading", choices=["auto"],
+        help="auto: measure every frequency/reflection on this scene and use the cheapest within --max-error",
+    )
+    render.add_argument(
+        "--max-error", type=_error_budget, metavar="E",
+        help="error budget of --shading auto, in units of 1/255 (p99.9 of the pixels; default 1)",
+    )
+    render.set_defaults(handler=command_render)
+
+    spin = commands.add_parser(
+        "turntable",
+        parents=[gpu],
+        help="render a turning view of a scene or mesh to a GIF or MP4",
+        description="Render the scene turning about the camera's up axis (camera and lights stay put) "
+        "and write an animated GIF (looping) or an MP4 (needs imageio-ffmpeg: the [video] extra).",
+    )
+    _add_scene_arguments(spin)
+    spin.add_argument("-o", "--output", help="output animation: .gif or .mp4 (default: INPUT.gif)")
+    spin.add_argument("--frames", type=int, default=360, help="number of frames (default: 360, one per degree)")
+    spin.add_argument("--degrees", type=float, default=360.0, help="total turn in degrees (default: 360, a loop)")
+    spin.add_argument("--fps", type=float, default=30.0, help="frames per second of the animation (default: 30)")
+    spin.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    spin.set_defaults(handler=command_turntable)
+
+
+def add_shader(commands, gpu: argparse.ArgumentParser) -> None:
+    shader = commands.add_parser("shader", help="print the WGSL generated for a scene", description="Print the WGSL generated for each object's feature set.")
+    _add_scene_arguments(shader)
+    shader.set_defaults(handler=command_shader)

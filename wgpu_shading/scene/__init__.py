@@ -1,0 +1,55 @@
+"""What to draw: plain, immutable, validated dataclasses (SPEC §11).
+
+A scene is what a TOML scene file describes: output, shading settings, a camera, global
+ambient light, lights and objects, each object a Mesh with a Material and a transform.
+Everything here is world space and float64; the GPU's float32 eye space is `render/`'s.
+Procedural meshes (`builtin:torus`, ...) and the classic material table live here too.
+This package imports nothing else of ours but `errors`: files are `assets/`'s business.
+
+Valid ranges (enforced on construction, so a bad value fails loudly and early):
+  colors        RGBA or RGB (alpha 1), every component finite and >= 0, alpha <= 1
+  positions     finite, |coordinate| <= 1e15
+  directions    finite and not zero (they are normalized when used)
+  shininess     0 .. 1e6 (0 means x^0 = 1: a uniform specular term on the lit side)
+  attenuation   constant, linear, quadratic: each finite and >= 0, not all zero
+  spot cutoff   0 .. 90 degrees; spot exponent 0 .. 1e6
+  fov_y         strictly between 0 and 180 degrees; 0 < near < far
+  scale         every component finite and non-zero (negative mirrors)
+  size          1 .. 16384 pixels per side
+"""
+
+from .builtins import BUILTIN_PREFIX, BUILTINS, builtin, cube, plane, sphere_for_triangles, torus, uv_sphere
+from .camera import Camera
+from .lights import LIGHT_TYPES, DirectionalLight, Light, PositionalLight, SpotLight
+from .material import Material, Texture
+from .materials import MATERIALS, canonical_name, material
+from .mesh import Mesh, face_normals, vertex_normals
+from .objects import Scene, SceneObject, Shading
+from .values import (
+    FREQUENCIES,
+    MAX_COORDINATE,
+    MAX_EXPONENT,
+    MAX_IMAGE_SIDE,
+    REFLECTIONS,
+    TEXTURE_MODES,
+    Color,
+    Frequency,
+    Reflection,
+    TextureMode,
+    Vec3,
+    choice,
+    color,
+    direction,
+    image_size,
+    number,
+    vec3,
+)
+
+__all__ = [
+    "BUILTINS", "BUILTIN_PREFIX", "Camera", "Color", "DirectionalLight", "FREQUENCIES", "Frequency",
+    "LIGHT_TYPES", "Light", "MATERIALS", "MAX_COORDINATE", "MAX_EXPONENT", "MAX_IMAGE_SIDE", "Material",
+    "Mesh", "PositionalLight", "REFLECTIONS", "Reflection", "Scene", "SceneObject", "Shading", "SpotLight",
+    "TEXTURE_MODES", "Texture", "TextureMode", "Vec3", "builtin", "canonical_name", "choice", "color", "cube",
+    "direction", "face_normals", "image_size", "material", "number", "plane", "sphere_for_triangles", "torus",
+    "uv_sphere", "vec3", "vertex_normals",
+]

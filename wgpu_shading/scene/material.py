@@ -1,0 +1,80 @@
+"""Materials and textures (OpenGL material model; SPEC §5 texture modes)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import SceneError
+from .values import MAX_EXPONENT, TEXTURE_MODES, Color, TextureMode, _set, choice, color, number
+
+
+@dataclass(frozen=True, eq=False)
+class Texture:
+    """An RGBA8 image (rows top to bottom) sampled with the mesh's UVs (v = 0 at the bottom)."""
+
+    pixels: np.ndarray
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        pixels = np.asarray(self.pixels)
+        if pixels.ndim == 2:
+            pixels = np.repeat(pixels[:, :, None], 3, axis=2)
+        if pixels.ndim != 3 or pixels.shape[2] not in (1, 2, 3, 4) or 0 in pixels.shape[:2]:
+            raise SceneError(f"texture {self.name!r}: expected an H×W×(1..4) image, got shape {pixels.shape}")
+        if pixels.dtype != np.uint8:
+            if pixels.dtype.kind == "f":
+                if not np.isfinite(pixels).all():
+                    raise SceneError(f"texture {self.name!r}: pixel values must be finite")
+                pixels = np.round(np.clip(pixels, 0.0, 1.0) * 255.0)
+            elif pixels.dtype == np.uint16:
+                pixels = pixels // 257
+            pixels = pixels.astype(np.uint8)
+        channels = pixels.shape[2]
+        if channels == 1:
+            pixels = np.repeat(pixels, 3, axis=2)
+        elif channels == 2:  # luminance + alpha
+            pixels = np.concatenate([np.repeat(pixels[:, :, :1], 3, axis=2), pixels[:, :, 1:]], axis=2)
+        if pixels.shape[2] == 3:
+            pixels = np.concatenate([pixels, np.full(pixels.shape[:2] + (1,), 255, np.uint8)], axis=2)
+        pixels = np.ascontiguousarray(pixels)
+        pixels.setflags(write=False)
+        _set(self, pixels=pixels)
+
+
+@dataclass(frozen=True)
+class Material:
+    """OpenGL material; the defaults are OpenGL's (grey diffuse, no specular)."""
+
+    ambient: Color = (0.2, 0.2, 0.2, 1.0)
+    diffuse: Color = (0.8, 0.8, 0.8, 1.0)
+    specular: Color = (0.0, 0.0, 0.0, 1.0)
+    emission: Color = (0.0, 0.0, 0.0, 1.0)
+    shininess: float = 0.0  # OpenGL units (the table's value × 128)
+    texture: Texture | None = None
+    texture_mode: TextureMode = "modulate"
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        prefix = f"material {self.name!r}" if self.name else "material"
+        _set(
+            self,
+            ambient=color(self.ambient, f"{prefix}.ambient"),
+            diffuse=color(self.diffuse, f"{prefix}.diffuse"),
+            specular=color(self.specular, f"{prefix}.specular"),
+            emission=color(self.emission, f"{prefix}.emission"),
+            shininess=number(self.shininess, f"{prefix}.shininess", 0.0, MAX_EXPONENT),
+            texture_mode=choice(self.texture_mode, f"{prefix}.texture_mode", TEXTURE_MODES),
+        )
+        if self.texture is not None and not isinstance(self.texture, Texture):
+            raise SceneError(f"{prefix}.texture: expected a Texture, got {type(self.texture).__name__}")
+
+    @property
+    def has_specular(self) -> bool:
+        return max(self.specular[:3]) > 0.0
+
+    @property
+    def has_emission(self) -> bool:
+        return max(self.emission[:3]) > 0.0
+

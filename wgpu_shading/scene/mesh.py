@@ -1,0 +1,214 @@
+"""The Mesh type and vertex normals.
+
+Vertex positions are stored in float32 *relative to* `Mesh.origin` (float64, the centre
+of the bounding box). The GPU wants float32, and a mesh modelled 1e5 units from the
+origin would lose its detail in float32 absolute coordinates; the origin is added back
+in float64 on the CPU as part of the model matrix (see SceneObject.world_from_model).
+
+Vertex normals come from the file when it has them, else they are the normalized sum
+of the adjacent faces' unit normals (the seeds' definition).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import MeshError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .material import Material
+
+
+@dataclass(frozen=True, eq=False)
+class Mesh:
+    """An indexed triangle mesh, ready for upload.
+
+    positions: (N, 3) float32, relative to `origin`
+    normals:   (N, 3) float32, unit length (zero only where no normal can be defined)
+    indices:   (F, 3) uint32, counter-clockwise front faces
+    uvs:       (N, 2) float32 or None (v = 0 at the bottom of the image)
+    origin:    float64 offset added back to `positions`
+    material:  the file's own material (OBJ/MTL, glTF), if any
+    """
+
+    positions: np.ndarray = field(repr=False)
+    normals: np.ndarray = field(repr=False)
+    indices: np.ndarray = field(repr=False)
+    uvs: np.ndarray | None = field(default=None, repr=False)
+    origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    name: str = ""
+    material: "Material | None" = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        for array in (self.positions, self.normals, self.indices, self.uvs):
+            if array is not None:
+                array.setflags(write=False)  # shared with GPU caches: must not change under them
+
+    def __repr__(self) -> str:
+        return f"Mesh({self.name!r}, {self.vertex_count} vertices, {self.triangle_count} triangles)"
+
+    def _repr_pretty_(self, printer, cycle: bool) -> None:
+        """IPython's (and hypothesis's) pretty printer: the short repr, not every array."""
+        printer.text(repr(self))
+
+    @property
+    def vertex_count(self) -> int:
+        return len(self.positions)
+
+    @property
+    def triangle_count(self) -> int:
+        return len(self.indices)
+
+    @property
+    def nbytes(self) -> int:
+        """Size of the mesh's own arrays in bytes."""
+        return sum(a.nbytes for a in (self.positions, self.normals, self.indices, self.uvs) if a is not None)
+
+    def world_positions(self) -> np.ndarray:
+        """Positions in model space as float64 (origin added back)."""
+        return self.positions.astype(np.float64) + np.asarray(self.origin)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """float64 (lower, upper) corners of the bounding box in model space."""
+        return (
+            self.positions.min(axis=0).astype(np.float64) + self.origin,
+            self.positions.max(axis=0).astype(np.float64) + self.origin,
+        )
+
+    @classmethod
+    def from_arrays(
+        cls,
+        positions: np.ndarray,
+        indices: np.ndarray,
+        normals: np.ndarray | None = None,
+        uvs: np.ndarray | None = None,
+        *,
+        name: str = "mesh",
+        material: "Material | None" = None,
+    ) -> "Mesh":
+        """Validate and convert user arrays; computes normals when none are given."""
+        positions = np.asarray(positions, dtype=np.float64)
+        faces = np.asarray(indices)
+        if positions.ndim != 2 or positions.shape[1] != 3:
+            raise MeshError(f"{name}: positions must have shape (N, 3), got {positions.shape}")
+        if faces.ndim == 1 and faces.size % 3 == 0:
+            faces = faces.reshape(-1, 3)
+        if faces.ndim != 2 or faces.shape[1] != 3:
+            raise MeshError(f"{name}: indices must have shape (F, 3) (triangles), got {faces.shape}")
+        if len(positions) == 0 or len(faces) == 0:
+            raise MeshError(f"{name}: the mesh is empty ({len(positions)} vertices, {len(faces)} triangles)")
+        bad = ~np.isfinite(positions).all(axis=1)
+        if bad.any():
+            first = int(np.flatnonzero(bad)[0])
+            count = int(bad.sum())
+            raise MeshError(
+                f"{name}: {count} {'vertex has' if count == 1 else 'vertices have'} NaN or infinite coordinates "
+                f"(first: vertex {first} = {positions[first].tolist()})"
+            )
+        if faces.dtype.kind not in "iu":
+            if faces.dtype.kind == "f" and np.all(np.isfinite(faces)) and np.all(faces == np.round(faces)):
+                faces = faces.astype(np.int64)
+            else:
+                raise MeshError(f"{name}: indices must be integers, got dtype {faces.dtype}")
+        low, high = int(faces.min()), int(faces.max())
+        if low < 0 or high >= len(positions):
+            culprit = low if low < 0 else high
+            raise MeshError(
+                f"{name}: index {culprit} is out of range; the mesh has {len(positions)} vertices (valid: 0..{len(positions) - 1})"
+            )
+        faces = np.ascontiguousarray(faces, dtype=np.uint32)
+        if normals is None:
+            unit_normals = vertex_normals(positions, faces)
+        else:
+            unit_normals = _validated_normals(np.asarray(normals, dtype=np.float64), positions, faces, name)
+        if uvs is not None:
+            uvs = np.asarray(uvs, dtype=np.float64)
+            if uvs.shape != (len(positions), 2):
+                raise MeshError(f"{name}: uvs must have shape ({len(positions)}, 2), got {uvs.shape}")
+            if not np.isfinite(uvs).all():
+                raise MeshError(f"{name}: uvs contain NaN or infinite values")
+            uvs = np.ascontiguousarray(uvs, dtype=np.float32)
+        lower, upper = positions.min(axis=0), positions.max(axis=0)
+        origin = (lower + upper) / 2.0
+        if np.all(np.abs(origin) <= 1e-3 * max(float((upper - lower).max()), 1e-30)):
+            origin = np.zeros(3)  # keep meshes that are already centred bit-exact
+        return cls(
+            positions=np.ascontiguousarray(positions - origin, dtype=np.float32),
+            normals=np.ascontiguousarray(unit_normals, dtype=np.float32),
+            indices=faces,
+            uvs=uvs,
+            origin=tuple(float(v) for v in origin),
+            name=name,
+            material=material,
+        )
+
+
+# --------------------------------------------------------------------------- normals
+
+
+def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit face normals (zero for zero-area faces) and twice the face areas, float64."""
+    p0, p1, p2 = (positions[faces[:, k]] for k in range(3))
+    cross = np.cross(p1 - p0, p2 - p0)
+    length = np.linalg.norm(cross, axis=1)
+    scale = np.max(np.abs(positions)) if len(positions) else 1.0
+    # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
+    degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
+    unit = np.zeros_like(cross)
+    np.divide(cross, length[:, None], out=unit, where=~degenerate[:, None])
+    return unit, np.where(degenerate, 0.0, length)
+
+
+def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Normalized sum of the unit normals of the faces around each vertex (seeds 000, 001, 004).
+
+    Zero-area faces contribute nothing. Where the sum cancels (a vertex shared by a
+    thin double-sided sheet, say), the normal of the largest adjacent face is used
+    instead, so every vertex that touches a real face gets a unit normal. Vertices
+    that touch no face with area keep a zero normal; the shaders then fall back to
+    the geometric normal.
+    """
+    positions = np.asarray(positions, dtype=np.float64)
+    unit_faces, areas = face_normals(positions, faces)
+    count = len(positions)
+    flat_vertices = faces.reshape(-1)
+    summed = np.stack(
+        [np.bincount(flat_vertices, weights=np.repeat(unit_faces[:, k], 3), minlength=count) for k in range(3)],
+        axis=1,
+    )
+    length = np.linalg.norm(summed, axis=1)
+    adjacent = np.bincount(flat_vertices, weights=np.repeat((areas > 0).astype(float), 3), minlength=count)
+    # A sum of k unit vectors that is shorter than 1e-6·k has cancelled: its direction is noise.
+    cancelled = (length <= 1e-6 * np.maximum(adjacent, 1.0)) & (adjacent > 0)
+    result = np.zeros_like(summed)
+    good = length > 0
+    good &= ~cancelled
+    result[good] = summed[good] / length[good, None]
+    if cancelled.any():
+        # The largest adjacent face wins: sort faces by area and let larger ones overwrite.
+        order = np.argsort(areas)
+        corner_vertices = faces[order].reshape(-1)
+        corner_normals = np.repeat(unit_faces[order], 3, axis=0)
+        corner_areas = np.repeat(areas[order], 3)
+        keep = cancelled[corner_vertices] & (corner_areas > 0)
+        result[corner_vertices[keep]] = corner_normals[keep]
+    return result
+
+
+def _validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndarray, name: str) -> np.ndarray:
+    if normals.shape != positions.shape:
+        raise MeshError(f"{name}: normals must have shape {positions.shape}, got {normals.shape}")
+    finite = np.isfinite(normals).all(axis=1)
+    length = np.linalg.norm(np.where(finite[:, None], normals, 0.0), axis=1)
+    usable = finite & (length > 1e-20)
+    result = np.zeros_like(normals)
+    result[usable] = normals[usable] / length[usable, None]
+    if not usable.all():
+        # Zero-length or NaN normals in the input: replace those with computed ones
+        # rather than let normalize(0) reach the shader.
+        computed = vertex_normals(positions, faces)
+        result[~usable] = computed[~usable]
+    return result

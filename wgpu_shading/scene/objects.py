@@ -1,0 +1,135 @@
+"""Objects placed in the world, the shading settings, and the Scene that holds it all."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import SceneError
+from .camera import Camera
+from .lights import DirectionalLight, Light, PositionalLight, SpotLight
+from .material import Material
+from .mesh import Mesh
+from .values import (
+    FREQUENCIES,
+    MAX_EXPONENT,
+    REFLECTIONS,
+    Color,
+    Frequency,
+    Reflection,
+    Vec3,
+    _set,
+    choice,
+    color,
+    image_size,
+    number,
+    vec3,
+)
+
+
+def _rotation_xyz(degrees: Vec3) -> np.ndarray:
+    """Rotate about X, then Y, then Z (fixed axes): R = Rz · Ry · Rx."""
+    ax, ay, az = np.radians(degrees)
+    cx, sx, cy, sy, cz, sz = np.cos(ax), np.sin(ax), np.cos(ay), np.sin(ay), np.cos(az), np.sin(az)
+    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    """A mesh placed in the world: model = translate · rotate · scale."""
+
+    mesh: "Mesh"
+    material: Material = field(default_factory=Material)
+    translate: Vec3 = (0.0, 0.0, 0.0)
+    rotate: Vec3 = (0.0, 0.0, 0.0)  # degrees about X, then Y, then Z
+    scale: Vec3 = (1.0, 1.0, 1.0)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.mesh, Mesh):
+            raise SceneError(f"object.mesh: expected a Mesh, got {type(self.mesh).__name__}")
+        if not isinstance(self.material, Material):
+            raise SceneError(f"object.material: expected a Material, got {type(self.material).__name__}")
+        scale = vec3(self.scale, "object.scale")
+        if min(abs(s) for s in scale) == 0.0:
+            raise SceneError(f"object.scale: components must be non-zero (the object would be flat), got {list(scale)}")
+        _set(
+            self,
+            translate=vec3(self.translate, "object.translate"),
+            rotate=vec3(self.rotate, "object.rotate"),
+            scale=scale,
+        )
+
+    def world_from_model(self) -> np.ndarray:
+        """float64 4x4 for the mesh's stored (origin-relative) vertex positions."""
+        model = np.eye(4)
+        model[:3, :3] = _rotation_xyz(self.rotate) @ np.diag(self.scale)
+        model[:3, 3] = self.translate
+        # Mesh positions are stored relative to mesh.origin (float32 keeps precision that way);
+        # put the origin back here, in float64.
+        model[:3, 3] += model[:3, :3] @ np.asarray(self.mesh.origin)
+        return model
+
+
+# --------------------------------------------------------------------------- shading, scene
+
+
+@dataclass(frozen=True)
+class Shading:
+    """The two independent axes of SPEC §2 plus OpenGL's light-model switches."""
+
+    frequency: Frequency = "phong"
+    reflection: Reflection = "phong"
+    blinn_exponent_scale: float = 1.0  # k_blinn: Blinn-Phong exponent = shininess × this
+    local_viewer: bool = True
+    two_sided: bool = False
+
+    def __post_init__(self) -> None:
+        for key in ("local_viewer", "two_sided"):
+            if not isinstance(getattr(self, key), bool):
+                raise SceneError(f"shading.{key}: expected true or false, got {getattr(self, key)!r}")
+        _set(
+            self,
+            frequency=choice(self.frequency, "shading.frequency", FREQUENCIES),
+            reflection=choice(self.reflection, "shading.reflection", REFLECTIONS),
+            blinn_exponent_scale=number(
+                self.blinn_exponent_scale, "shading.blinn_exponent_scale", 0.0, MAX_EXPONENT
+            ),
+        )
+
+
+
+@dataclass(frozen=True)
+class Scene:
+    objects: tuple[SceneObject, ...] = ()
+    lights: tuple[Light, ...] = ()
+    camera: Camera = field(default_factory=Camera)
+    shading: Shading = field(default_factory=Shading)
+    ambient: Color = (0.2, 0.2, 0.2, 1.0)  # global ambient (GL_LIGHT_MODEL_AMBIENT)
+    size: tuple[int, int] = (512, 512)  # width, height
+    background: Color = (0.0, 0.0, 0.0, 1.0)
+
+    def __post_init__(self) -> None:
+        objects = tuple(self.objects)
+        lights = tuple(self.lights)
+        for index, obj in enumerate(objects):
+            if not isinstance(obj, SceneObject):
+                raise SceneError(f"objects[{index}]: expected a SceneObject, got {type(obj).__name__}")
+        for index, light in enumerate(lights):
+            if not isinstance(light, (DirectionalLight, PositionalLight, SpotLight)):
+                raise SceneError(f"lights[{index}]: expected a light, got {type(light).__name__}")
+        if not isinstance(self.camera, Camera):
+            raise SceneError(f"camera: expected a Camera, got {type(self.camera).__name__}")
+        if not isinstance(self.shading, Shading):
+            raise SceneError(f"shading: expected a Shading, got {type(self.shading).__name__}")
+        _set(
+            self,
+            objects=objects,
+            lights=lights,
+            ambient=color(self.ambient, "ambient.color"),
+            size=image_size(self.size),
+            background=color(self.background, "output.background"),
+        )
