@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from wgpu_shading import Renderer, Scene
-from wgpu_shading.render.renderer import _map_for_reading
+from wgpu_shading.render.resources import map_for_reading
 
 from .scenes import GeometryDraw
 
@@ -213,7 +213,7 @@ class RawWgslPeer(Peer):
             (width, height, 1),
         )
         device.queue.submit([encoder.finish()])
-        _map_for_reading(self.readback)  # the Renderer's own readback call
+        map_for_reading(self.readback)  # the Renderer's own readback call
         try:
             raw = np.frombuffer(self.readback.read_mapped(copy=False), dtype=np.uint8).reshape(height, self.row_bytes)
             image = raw[:, : width * 4].copy().reshape(height, width, 4)

@@ -9,24 +9,33 @@ scene again, or the same meshes from another camera, only rewrites uniforms.
 
 from __future__ import annotations
 
-import math
 import weakref
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Iterable, Iterator
 
 import numpy as np
 import wgpu
+from pyglm import glm
 
 from ..errors import SceneError
 from ..scene import Mesh, Scene, Texture
 from .device import default_device, uses_direct_upload
 from .features import FeatureSet, object_features
-from .pipelines import COLOR_FORMATS, DEPTH_FORMAT, PipelineCache, PipelineEntry
+from .pipelines import PipelineCache, PipelineEntry
 from .pipelining import render_many
+from .resources import (
+    BYTES_PER_PIXEL,
+    GpuMesh,
+    GpuTexture,
+    Target,
+    new_target,
+    padded_row_bytes,
+    read_buffer,
+    upload_mesh,
+    upload_texture,
+    upload_uvs,
+)
 from .uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
-
-_BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
-_ROW_ALIGNMENT = 256  # WebGPU's required bytes_per_row multiple for texture copies
 
 
 @dataclass(frozen=True)
@@ -42,80 +51,15 @@ class Frame:
     depth: np.ndarray | None = None
 
 
-@dataclass
-class _GpuMesh:
-    positions: object
-    normals: object
-    indices: object
-    uvs: object | None
-    triangle_count: int
-    storage_groups: dict = field(default_factory=dict)  # flat shading's vertex-pulling bind groups
-
-
-@dataclass
-class _GpuTexture:
-    texture: object
-    view: object
-    object_groups: dict = field(default_factory=dict)  # object bind groups that bind this view
-
-
-@dataclass
-class _Target:
-    width: int
-    height: int
-    color_format: str
-    color: object
-    color_view: object
-    depth: object
-    depth_view: object
-    color_readback: object
-    depth_readback: object
-    color_row_bytes: int
-    depth_row_bytes: int
-
 
 @dataclass
 class _Draw:
     entry: PipelineEntry
     object_index: int
-    gpu_mesh: _GpuMesh
+    gpu_mesh: GpuMesh
     object_data: np.ndarray
-    texture: _GpuTexture | None
+    texture: GpuTexture | None
 
-
-def _padded_row_bytes(width: int, bytes_per_pixel: int) -> int:
-    return math.ceil(width * bytes_per_pixel / _ROW_ALIGNMENT) * _ROW_ALIGNMENT
-
-
-def _map_for_reading(buffer) -> None:
-    """map_sync(READ) without wgpu-py's extra empty submit.
-
-    wgpu-py 0.32 submits an empty command buffer before every read-mapping, a work-around
-    for wgpu-native#305, which concerns buffers written through the mapping API. Readback
-    buffers are only written by copy commands already submitted, so that submit only adds
-    a round trip to the driver (~0.7 ms a frame on lavapipe, measured); wgpu-py's own
-    "READ_NOSYNC" mode skips it. Falls back to the public mode if a wgpu-py lacks it.
-    """
-    try:
-        buffer.map_sync("READ_NOSYNC")
-    except (ValueError, KeyError, TypeError):
-        buffer.map_sync(wgpu.MapMode.READ)
-
-
-def _mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
-    """Box-filtered mip levels down to 1×1 (texture values are used as linear, like the seeds)."""
-    levels = [pixels]
-    current = pixels.astype(np.float32)
-    while current.shape[0] > 1 or current.shape[1] > 1:
-        height, width = current.shape[:2]
-        if height % 2:
-            current = np.concatenate([current, current[-1:]], axis=0)
-        if width % 2:
-            current = np.concatenate([current, current[:, -1:]], axis=1)
-        current = current.reshape(current.shape[0] // 2, 2, current.shape[1] // 2, 2, 4).mean(axis=(1, 3))
-        current = current[: max(1, height // 2), : max(1, width // 2)]
-        levels.append(np.round(current).astype(np.uint8))
-    return levels
 
 
 class Renderer:
@@ -128,9 +72,9 @@ class Renderer:
         # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
         # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
         self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(self._device) else 0
-        self._meshes: weakref.WeakKeyDictionary[Mesh, _GpuMesh] = weakref.WeakKeyDictionary()
-        self._textures: weakref.WeakKeyDictionary[Texture, _GpuTexture] = weakref.WeakKeyDictionary()
-        self._targets: dict[tuple[int, int, str], _Target] = {}
+        self._meshes: weakref.WeakKeyDictionary[Mesh, GpuMesh] = weakref.WeakKeyDictionary()
+        self._textures: weakref.WeakKeyDictionary[Texture, GpuTexture] = weakref.WeakKeyDictionary()
+        self._targets: dict[tuple[int, int, str], Target] = {}
         self._uniform_buffers: dict[tuple[str, int, int], object] = {}
         self._bind_groups: dict[tuple, object] = {}
         self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
@@ -200,7 +144,7 @@ class Renderer:
         limit = self._device.limits["max-texture-dimension-2d"]
         if width > limit or height > limit:
             raise SceneError(f"output.size {width}×{height} exceeds this adapter's limit of {limit} pixels per side")
-        readback_bytes = _padded_row_bytes(width, _BYTES_PER_PIXEL[color_format]) * height
+        readback_bytes = padded_row_bytes(width, BYTES_PER_PIXEL[color_format]) * height
         if readback_bytes > self._device.limits["max-buffer-size"]:
             raise SceneError(
                 f"output.size {width}×{height} with the {color_format} target needs a "
@@ -209,7 +153,7 @@ class Renderer:
                 + (" or the 8-bit target)" if color_format != "rgba8" else ")")
             )
 
-    def _target(self, size: tuple[int, int], color_format: str) -> _Target:
+    def _target(self, size: tuple[int, int], color_format: str) -> Target:
         width, height = size
         key = (width, height, color_format)
         target = self._targets.get(key)
@@ -218,81 +162,21 @@ class Renderer:
             target = self._targets[key] = self._new_target(width, height, color_format)
         return target
 
-    def _new_target(self, width: int, height: int, color_format: str) -> _Target:
-        """Fresh textures and readback buffers (render_many keeps one set per frame in flight)."""
-        device = self._device
-        color = device.create_texture(
-            size=(width, height, 1),
-            format=COLOR_FORMATS[color_format],
-            usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.COPY_SRC,
-        )
-        depth = device.create_texture(
-            size=(width, height, 1),
-            format=DEPTH_FORMAT,
-            usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.COPY_SRC,
-        )
-        color_row_bytes = _padded_row_bytes(width, _BYTES_PER_PIXEL[color_format])
-        depth_row_bytes = _padded_row_bytes(width, 4)
-        readback_usage = wgpu.BufferUsage.MAP_READ | wgpu.BufferUsage.COPY_DST
-        return _Target(
-            width=width,
-            height=height,
-            color_format=color_format,
-            color=color,
-            color_view=color.create_view(),
-            depth=depth,
-            depth_view=depth.create_view(),
-            color_readback=device.create_buffer(size=color_row_bytes * height, usage=readback_usage),
-            depth_readback=device.create_buffer(size=depth_row_bytes * height, usage=readback_usage),
-            color_row_bytes=color_row_bytes,
-            depth_row_bytes=depth_row_bytes,
-        )
+    def _new_target(self, width: int, height: int, color_format: str) -> Target:
+        return new_target(self._device, width, height, color_format)
 
-    def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False) -> _GpuMesh:
+    def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False) -> GpuMesh:
         gpu_mesh = self._meshes.get(mesh)
         if gpu_mesh is None:
-            device = self._device
-            # One upload serves every frequency: vertex buffers for Gouraud/Phong, storage
-            # buffers for flat shading's vertex pulling.
-            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
-            gpu_mesh = _GpuMesh(
-                positions=device.create_buffer_with_data(data=mesh.positions, usage=usage),
-                normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX | self._mesh_usage),
-                indices=device.create_buffer_with_data(
-                    data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
-                ),
-                uvs=None,
-                triangle_count=mesh.triangle_count,
-            )
-            self._meshes[mesh] = gpu_mesh
-        if with_uvs and gpu_mesh.uvs is None and mesh.uvs is not None:
-            # Texture coordinates only once a textured draw needs them: most meshes are drawn
-            # untextured, and a big mesh's uvs are a seventh of its memory.
-            usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | self._mesh_usage
-            gpu_mesh.uvs = self._device.create_buffer_with_data(data=mesh.uvs, usage=usage)
+            gpu_mesh = self._meshes[mesh] = upload_mesh(self._device, mesh, self._mesh_usage)
+        if with_uvs:
+            upload_uvs(self._device, gpu_mesh, mesh, self._mesh_usage)
         return gpu_mesh
 
-    def _gpu_texture(self, texture: Texture) -> _GpuTexture:
+    def _gpu_texture(self, texture: Texture) -> GpuTexture:
         gpu_texture = self._textures.get(texture)
         if gpu_texture is None:
-            # Rows bottom-up: texture row 0 is the image's last row, so v = 0 is the bottom.
-            levels = _mip_chain(np.ascontiguousarray(texture.pixels[::-1]))
-            height, width = levels[0].shape[:2]
-            gpu = self._device.create_texture(
-                size=(width, height, 1),
-                format=wgpu.TextureFormat.rgba8unorm,
-                usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
-                mip_level_count=len(levels),
-            )
-            for level, pixels in enumerate(levels):
-                self._device.queue.write_texture(
-                    {"texture": gpu, "mip_level": level},
-                    np.ascontiguousarray(pixels),
-                    {"bytes_per_row": pixels.shape[1] * 4, "rows_per_image": pixels.shape[0]},
-                    (pixels.shape[1], pixels.shape[0], 1),
-                )
-            gpu_texture = _GpuTexture(texture=gpu, view=gpu.create_view())
-            self._textures[texture] = gpu_texture
+            gpu_texture = self._textures[texture] = upload_texture(self._device, texture)
         return gpu_texture
 
     def _uniform_buffer(self, role: str, index: int, data: np.ndarray):
@@ -308,7 +192,7 @@ class Renderer:
 
     def _bind_group(self, cache: dict, layout, resources: tuple) -> object:
         """A bind group, cached in `cache`: the dict of whoever owns the resources (the renderer
-        for uniform buffers, a _GpuMesh for its buffers, a _GpuTexture for its view), so a
+        for uniform buffers, a GpuMesh for its buffers, a GpuTexture for its view), so a
         cached group never outlives, or keeps alive, what it binds."""
         key = (id(layout),) + tuple(id(r) for r in resources)
         group = cache.get(key)
@@ -324,11 +208,11 @@ class Renderer:
 
     # ------------------------------------------------------------------ frame
 
-    def _prepare(self, scene: Scene, color_format: str, eye_from_world: np.ndarray) -> list[_Draw]:
+    def _prepare(self, scene: Scene, color_format: str, eye_from_world: glm.dmat4) -> list[_Draw]:
         draws = []
         for index, obj in enumerate(scene.objects):
             features = object_features(scene, obj, index)
-            model_view = eye_from_world @ obj.world_from_model()  # float64, once per object
+            model_view = eye_from_world * obj.model_matrix()  # double precision, once per object
             entry = self._pipelines.get(features, color_format, is_mirrored(model_view))
             texture = self._gpu_texture(obj.material.texture) if features.texture_mode else None
             draws.append(
@@ -342,9 +226,9 @@ class Renderer:
             )
         return draws
 
-    def _submit(self, scene: Scene, target: _Target, *, read_depth: bool) -> None:
+    def _submit(self, scene: Scene, target: Target, *, read_depth: bool) -> None:
         device = self._device
-        eye_from_world = scene.camera.eye_from_world()  # once per frame
+        eye_from_world = scene.camera.view_matrix()  # once per frame
         draws = self._prepare(scene, target.color_format, eye_from_world)
         encoder = device.create_command_encoder()
         render_pass = encoder.begin_render_pass(
@@ -410,24 +294,13 @@ class Renderer:
             )
         device.queue.submit([encoder.finish()])
 
-    def _read(self, target: _Target, scene: Scene, *, read_depth: bool) -> Frame:
-        color = self._read_buffer(
+    def _read(self, target: Target, scene: Scene, *, read_depth: bool) -> Frame:
+        color = read_buffer(
             target.color_readback, target.color_row_bytes, target.height, target.width,
             np.uint8 if target.color_format == "rgba8" else np.float32, 4,
         )
         depth = None
         if read_depth:
-            raw = self._read_buffer(target.depth_readback, target.depth_row_bytes, target.height, target.width, np.float32, 1)
+            raw = read_buffer(target.depth_readback, target.depth_row_bytes, target.height, target.width, np.float32, 1)
             depth = linear_depth(raw[:, :, 0], scene.camera)
         return Frame(color=color, depth=depth)
-
-    @staticmethod
-    def _read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels: int) -> np.ndarray:
-        _map_for_reading(buffer)
-        try:
-            raw = np.frombuffer(buffer.read_mapped(copy=False), dtype=np.uint8).reshape(height, row_bytes)
-            pixel_bytes = width * channels * np.dtype(dtype).itemsize
-            image = raw[:, :pixel_bytes].copy().view(dtype).reshape(height, width, channels)
-        finally:
-            buffer.unmap()
-        return image

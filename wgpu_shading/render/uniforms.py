@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from pyglm import glm
 
 from ..scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
 
@@ -20,17 +21,22 @@ def clip_from_eye(camera: Camera, aspect: float) -> np.ndarray:
     """Perspective projection with reversed Z: depth 1 at the near plane, 0 at the far plane.
 
     Paired with a float32 depth buffer and the `greater` test, reversed Z spreads float
-    precision evenly over distance, so near/far ratios of 1e-7 do not z-fight.
+    precision evenly over distance, so near/far ratios of 1e-7 do not z-fight. It is the
+    right-handed zero-to-one (Vulkan) perspective with near and far swapped, built in
+    double precision: pyglm's perspective functions exist in single precision only, and
+    rounding their tan() and quotients in float32 moved triangle edges by a pixel against
+    the float64 reference (tests/test_gpu_vs_reference.py, the hard-case meshes).
     """
     focal = 1.0 / math.tan(math.radians(camera.fov_y) / 2.0)
     near, far = camera.near, camera.far
-    projection = np.zeros((4, 4))
-    projection[0, 0] = focal / aspect
-    projection[1, 1] = focal
-    projection[2, 2] = near / (far - near)
-    projection[2, 3] = near * far / (far - near)
-    projection[3, 2] = -1.0
-    return projection
+    return np.array(
+        glm.dmat4(
+            glm.dvec4(focal / aspect, 0.0, 0.0, 0.0),  # columns
+            glm.dvec4(0.0, focal, 0.0, 0.0),
+            glm.dvec4(0.0, 0.0, near / (far - near), -1.0),
+            glm.dvec4(0.0, 0.0, near * far / (far - near), 0.0),
+        )
+    )
 
 
 def linear_depth(depth: np.ndarray, camera: Camera) -> np.ndarray:
@@ -42,22 +48,17 @@ def linear_depth(depth: np.ndarray, camera: Camera) -> np.ndarray:
     return np.where(depth > 0.0, distance, np.inf)
 
 
-def _unit(vector: np.ndarray) -> np.ndarray:
-    return vector / np.linalg.norm(vector)
-
-
 def _fill_light_colors(lights: np.ndarray, index: int, light: object) -> None:
     lights["ambient"][index] = light.ambient  # type: ignore[attr-defined]
     lights["diffuse"][index] = light.diffuse  # type: ignore[attr-defined]
     lights["specular"][index] = light.specular  # type: ignore[attr-defined]
 
 
-def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: np.ndarray | None = None) -> np.ndarray:
+def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: glm.dmat4 | None = None) -> np.ndarray:
     """The FrameUniforms buffer contents for `scene` (pass the view matrix if you have it)."""
     data = np.zeros((), dtype)
-    if eye_from_world is None:
-        eye_from_world = scene.camera.eye_from_world()
-    rotation = eye_from_world[:3, :3]
+    view = scene.camera.view_matrix() if eye_from_world is None else glm.dmat4(eye_from_world)
+    rotation = glm.dmat3(view)
     width, height = scene.size
     data["clip_from_eye"] = clip_from_eye(scene.camera, width / height).T  # column-major
     data["global_ambient"] = scene.ambient
@@ -71,29 +72,30 @@ def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: np.ndarray | N
         lights = data[f"{kind}_lights"]
         _fill_light_colors(lights, index, light)
         if isinstance(light, DirectionalLight):
-            lights["direction_to_light"][index] = _unit(rotation @ -np.asarray(light.direction))
+            lights["direction_to_light"][index] = glm.normalize(rotation * -glm.dvec3(*light.direction))
             continue
-        lights["position"][index] = (eye_from_world @ np.append(light.position, 1.0))[:3]
+        lights["position"][index] = glm.dvec3(view * glm.dvec4(glm.dvec3(*light.position), 1.0))
         if "attenuation" in lights.dtype.names:
             lights["attenuation"][index] = light.attenuation
         if isinstance(light, SpotLight):
-            lights["direction"][index] = _unit(rotation @ np.asarray(light.direction))
+            lights["direction"][index] = glm.normalize(rotation * glm.dvec3(*light.direction))
             lights["cutoff_chord_squared"][index] = 4.0 * math.sin(math.radians(light.cutoff) / 2.0) ** 2
             lights["exponent"][index] = light.exponent
     return data
 
 
-def eye_from_model(scene: Scene, obj: SceneObject) -> np.ndarray:
-    """float64 model-view matrix (formed before any rounding to float32)."""
-    return scene.camera.eye_from_world() @ obj.world_from_model()
+def eye_from_model(scene: Scene, obj: SceneObject) -> glm.dmat4:
+    """The model-view matrix in double precision (formed before any rounding to float32)."""
+    return scene.camera.view_matrix() * obj.model_matrix()
 
 
-def object_uniforms(model_view: np.ndarray, material: Material, dtype: np.dtype) -> np.ndarray:
-    """The ObjectUniforms buffer contents for one object, from its float64 model-view matrix."""
+def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtype: np.dtype) -> np.ndarray:
+    """The ObjectUniforms buffer contents for one object, from its double-precision model-view."""
+    model_view = glm.dmat4(model_view)
     data = np.zeros((), dtype)
-    data["eye_from_model"] = model_view.T
-    normal_matrix = np.linalg.inv(model_view[:3, :3]).T  # the seed's norm_matrix
-    data["eye_normal_from_model"][:, :3] = normal_matrix.T  # columns padded to vec4
+    data["eye_from_model"] = np.array(model_view).T  # column-major
+    normal_matrix = glm.inverseTranspose(glm.dmat3(model_view))  # the seed's norm_matrix
+    data["eye_normal_from_model"][:, :3] = np.array(normal_matrix).T  # columns padded to vec4
     fields = data["material"]
     fields["ambient"] = material.ambient
     fields["diffuse"] = material.diffuse
@@ -104,7 +106,7 @@ def object_uniforms(model_view: np.ndarray, material: Material, dtype: np.dtype)
     return data
 
 
-def is_mirrored(model_view: np.ndarray) -> bool:
+def is_mirrored(model_view: glm.dmat4 | np.ndarray) -> bool:
     """True when the model-view matrix flips handedness (negative determinant): the
     triangles' winding reverses on screen, so the pipeline's front face must too."""
-    return bool(np.linalg.det(model_view[:3, :3]) < 0.0)
+    return glm.determinant(glm.dmat3(glm.dmat4(model_view))) < 0.0

@@ -6,17 +6,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from pyglm import glm
 
 from ..errors import SceneError
 from .values import Vec3, _set, direction, number, vec3
-
-
-def _cross(a, b) -> np.ndarray:
-    """np.cross for two 3-vectors, bit for bit (the same products and differences), at a
-    twentieth of the cost: np.cross's axis handling is most of a frame's CPU preparation."""
-    a0, a1, a2 = (float(v) for v in a)
-    b0, b1, b2 = (float(v) for v in b)
-    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
 
 
 @dataclass(frozen=True)
@@ -41,30 +34,26 @@ class Camera:
         far = number(self.far, "camera.far", 0.0, math.inf, low_open=True)
         if not far > near:
             raise SceneError(f"camera.far ({far:g}) must be greater than camera.near ({near:g})")
-        forward = np.subtract(target, eye)
-        distance = float(np.linalg.norm(forward))
-        scale = max(float(np.abs(eye).max()), float(np.abs(target).max()), 1.0)
+        forward = glm.dvec3(*target) - glm.dvec3(*eye)
+        distance = glm.length(forward)
+        scale = max(max(abs(v) for v in eye), max(abs(v) for v in target), 1.0)
         if distance <= 1e-12 * scale:
             raise SceneError(f"camera: eye {list(eye)} and target {list(target)} coincide; the view direction is undefined")
-        up_unit = np.asarray(up) / np.linalg.norm(up)
-        if np.linalg.norm(np.cross(forward / distance, up_unit)) < 1e-9:
+        if glm.length(glm.cross(forward / distance, glm.normalize(glm.dvec3(*up)))) < 1e-9:
             raise SceneError(f"camera.up {list(up)} is parallel to the view direction; pick an up vector that is not")
         _set(self, eye=eye, target=target, up=up, fov_y=fov_y, near=near, far=far)
 
-    def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Unit right, up and backward (eye-space +x, +y, +z) axes in world space, float64."""
-        backward = np.subtract(self.eye, self.target)
-        backward = backward / np.linalg.norm(backward)
-        right = _cross(self.up, backward)
-        right = right / np.linalg.norm(right)
-        true_up = _cross(backward, right)
-        return right, true_up, backward
+    def view_matrix(self) -> glm.dmat4:
+        """The view matrix (gluLookAt, right-handed), in double precision: camera-relative
+        rendering forms model-view in float64 before anything is rounded to float32."""
+        return glm.lookAtRH(glm.dvec3(*self.eye), glm.dvec3(*self.target), glm.dvec3(*self.up))
 
     def eye_from_world(self) -> np.ndarray:
-        """The view matrix (gluLookAt), float64 4x4, column vectors."""
-        right, true_up, backward = self.basis()
-        view = np.eye(4)
-        view[0, :3], view[1, :3], view[2, :3] = right, true_up, backward
-        view[:3, 3] = -view[:3, :3] @ np.asarray(self.eye)
-        return view
+        """The view matrix as a float64 4x4 numpy array (column vectors: p_eye = M @ p_world)."""
+        return np.array(self.view_matrix())
 
+    def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Unit right, up and backward (eye-space +x, +y, +z) axes in world space, float64:
+        the rows of the view matrix's rotation."""
+        view = self.eye_from_world()
+        return view[0, :3], view[1, :3], view[2, :3]

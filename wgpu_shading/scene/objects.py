@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from pyglm import glm
 
 from ..errors import SceneError
 from .camera import Camera
@@ -27,15 +29,8 @@ from .values import (
     vec3,
 )
 
-
-def _rotation_xyz(degrees: Vec3) -> np.ndarray:
-    """Rotate about X, then Y, then Z (fixed axes): R = Rz · Ry · Rx."""
-    ax, ay, az = np.radians(degrees)
-    cx, sx, cy, sy, cz, sz = np.cos(ax), np.sin(ax), np.cos(ay), np.sin(ay), np.cos(az), np.sin(az)
-    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
-    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
-    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
-    return rz @ ry @ rx
+# Euler XYZ about fixed axes is R = Rz · Ry · Rx: applied to the matrix in the order Z, Y, X.
+_AXES_ZYX = (glm.dvec3(0.0, 0.0, 1.0), glm.dvec3(0.0, 1.0, 0.0), glm.dvec3(1.0, 0.0, 0.0))
 
 
 @dataclass(frozen=True)
@@ -63,15 +58,23 @@ class SceneObject:
             scale=scale,
         )
 
+    def model_matrix(self) -> glm.dmat4:
+        # (pyglm converts a *tuple* through float32: glm.dvec3(t) loses digits, glm.dvec3(*t) does not.)
+        """translate · Rz · Ry · Rx · scale · translate(mesh.origin), in double precision.
+
+        Rotations are about fixed axes, X first. Mesh positions are stored relative to
+        mesh.origin (float32 keeps their precision that way); the last factor puts the
+        origin back, in float64."""
+        model = glm.translate(glm.dmat4(1.0), glm.dvec3(*self.translate))
+        for degrees, axis in zip(reversed(self.rotate), _AXES_ZYX):
+            if degrees:  # skip exact zeros so unrotated objects stay bit-exact
+                model = glm.rotate(model, math.radians(degrees), axis)
+        model = glm.scale(model, glm.dvec3(*self.scale))
+        return glm.translate(model, glm.dvec3(*self.mesh.origin))
+
     def world_from_model(self) -> np.ndarray:
-        """float64 4x4 for the mesh's stored (origin-relative) vertex positions."""
-        model = np.eye(4)
-        model[:3, :3] = _rotation_xyz(self.rotate) @ np.diag(self.scale)
-        model[:3, 3] = self.translate
-        # Mesh positions are stored relative to mesh.origin (float32 keeps precision that way);
-        # put the origin back here, in float64.
-        model[:3, 3] += model[:3, :3] @ np.asarray(self.mesh.origin)
-        return model
+        """The model matrix as a float64 4x4 numpy array (column vectors)."""
+        return np.array(self.model_matrix())
 
 
 # --------------------------------------------------------------------------- shading, scene

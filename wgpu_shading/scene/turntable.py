@@ -5,27 +5,11 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-import numpy as np
+from pyglm import glm
 
 from ..errors import SceneError
 from .lights import DirectionalLight, PositionalLight, SpotLight
 from .objects import Scene
-
-
-
-def _rotation_about(axis: np.ndarray, degrees: float) -> np.ndarray:
-    """Right-handed rotation matrix (float64) about a unit axis."""
-    x, y, z = axis
-    angle = math.radians(degrees)
-    c, s = math.cos(angle), math.sin(angle)
-    t = 1.0 - c
-    return np.array(
-        [
-            [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
-            [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
-            [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
-        ]
-    )
 
 
 def spun(scene: Scene, degrees: float) -> Scene:
@@ -36,16 +20,14 @@ def spun(scene: Scene, degrees: float) -> Scene:
     −degrees. Objects keep their own transforms, so this works for any scene.
     """
     camera = scene.camera
-    axis = np.asarray(camera.up, dtype=np.float64)
-    axis = axis / np.linalg.norm(axis)
-    rotation = _rotation_about(axis, -degrees)
-    pivot = np.asarray(camera.target, dtype=np.float64)
+    rotation = glm.dmat3(glm.rotate(-math.radians(degrees), glm.normalize(glm.dvec3(*camera.up))))
+    pivot = glm.dvec3(*camera.target)
 
     def point(p) -> tuple[float, float, float]:
-        return tuple(float(v) for v in rotation @ (np.asarray(p) - pivot) + pivot)
+        return tuple(rotation * (glm.dvec3(*p) - pivot) + pivot)
 
     def direction(d) -> tuple[float, float, float]:
-        return tuple(float(v) for v in rotation @ np.asarray(d))
+        return tuple(rotation * glm.dvec3(*d))
 
     lights = []
     for light in scene.lights:

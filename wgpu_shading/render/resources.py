@@ -1,0 +1,172 @@
+"""GPU resources that outlive a frame: render targets with their readback buffers, mesh
+and texture uploads, and reading a mapped buffer back into numpy."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import wgpu
+
+from ..scene import Mesh, Texture
+from .pipelines import COLOR_FORMATS, DEPTH_FORMAT
+
+BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
+_ROW_ALIGNMENT = 256  # WebGPU's required bytes_per_row multiple for texture copies
+
+
+@dataclass
+class GpuMesh:
+    positions: object
+    normals: object
+    indices: object
+    uvs: object | None
+    triangle_count: int
+    storage_groups: dict = field(default_factory=dict)  # flat shading's vertex-pulling bind groups
+
+
+@dataclass
+class GpuTexture:
+    texture: object
+    view: object
+    object_groups: dict = field(default_factory=dict)  # object bind groups that bind this view
+
+
+@dataclass
+class Target:
+    width: int
+    height: int
+    color_format: str
+    color: object
+    color_view: object
+    depth: object
+    depth_view: object
+    color_readback: object
+    depth_readback: object
+    color_row_bytes: int
+    depth_row_bytes: int
+
+
+def padded_row_bytes(width: int, bytes_per_pixel: int) -> int:
+    return math.ceil(width * bytes_per_pixel / _ROW_ALIGNMENT) * _ROW_ALIGNMENT
+
+
+def map_for_reading(buffer) -> None:
+    """map_sync(READ) without wgpu-py's extra empty submit.
+
+    wgpu-py 0.32 submits an empty command buffer before every read-mapping, a work-around
+    for wgpu-native#305, which concerns buffers written through the mapping API. Readback
+    buffers are only written by copy commands already submitted, so that submit only adds
+    a round trip to the driver (~0.7 ms a frame on lavapipe, measured); wgpu-py's own
+    "READ_NOSYNC" mode skips it. Falls back to the public mode if a wgpu-py lacks it.
+    """
+    try:
+        buffer.map_sync("READ_NOSYNC")
+    except (ValueError, KeyError, TypeError):
+        buffer.map_sync(wgpu.MapMode.READ)
+
+
+def mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
+    """Box-filtered mip levels down to 1×1 (texture values are used as linear, like the seeds)."""
+    levels = [pixels]
+    current = pixels.astype(np.float32)
+    while current.shape[0] > 1 or current.shape[1] > 1:
+        height, width = current.shape[:2]
+        if height % 2:
+            current = np.concatenate([current, current[-1:]], axis=0)
+        if width % 2:
+            current = np.concatenate([current, current[:, -1:]], axis=1)
+        current = current.reshape(current.shape[0] // 2, 2, current.shape[1] // 2, 2, 4).mean(axis=(1, 3))
+        current = current[: max(1, height // 2), : max(1, width // 2)]
+        levels.append(np.round(current).astype(np.uint8))
+    return levels
+
+
+
+def new_target(device, width: int, height: int, color_format: str) -> Target:
+    """Fresh color and depth textures with their readback buffers (render_many keeps one
+    set per frame in flight)."""
+    color = device.create_texture(
+        size=(width, height, 1),
+        format=COLOR_FORMATS[color_format],
+        usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.COPY_SRC,
+    )
+    depth = device.create_texture(
+        size=(width, height, 1),
+        format=DEPTH_FORMAT,
+        usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.COPY_SRC,
+    )
+    color_row_bytes = padded_row_bytes(width, BYTES_PER_PIXEL[color_format])
+    depth_row_bytes = padded_row_bytes(width, 4)
+    readback_usage = wgpu.BufferUsage.MAP_READ | wgpu.BufferUsage.COPY_DST
+    return Target(
+        width=width,
+        height=height,
+        color_format=color_format,
+        color=color,
+        color_view=color.create_view(),
+        depth=depth,
+        depth_view=depth.create_view(),
+        color_readback=device.create_buffer(size=color_row_bytes * height, usage=readback_usage),
+        depth_readback=device.create_buffer(size=depth_row_bytes * height, usage=readback_usage),
+        color_row_bytes=color_row_bytes,
+        depth_row_bytes=depth_row_bytes,
+    )
+
+
+
+def upload_mesh(device, mesh: Mesh, extra_usage: int) -> GpuMesh:
+    """Positions, normals and indices of `mesh` in GPU buffers. One upload serves every
+    frequency: vertex buffers for Gouraud/Phong, storage buffers for flat shading's vertex
+    pulling. `extra_usage` is MAP_WRITE where the device writes such buffers in place."""
+    usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
+    return GpuMesh(
+        positions=device.create_buffer_with_data(data=mesh.positions, usage=usage),
+        normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX | extra_usage),
+        indices=device.create_buffer_with_data(
+            data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | extra_usage
+        ),
+        uvs=None,
+        triangle_count=mesh.triangle_count,
+    )
+
+
+def upload_uvs(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
+    """Texture coordinates only once a textured draw needs them: most meshes are drawn
+    untextured, and a big mesh's uvs are a seventh of its memory."""
+    if gpu_mesh.uvs is None and mesh.uvs is not None:
+        usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
+        gpu_mesh.uvs = device.create_buffer_with_data(data=mesh.uvs, usage=usage)
+
+
+def upload_texture(device, texture: Texture) -> GpuTexture:
+    """The texture with its box-filtered mip chain, rows bottom-up: texture row 0 is the
+    image's last row, so v = 0 is the bottom."""
+    levels = mip_chain(np.ascontiguousarray(texture.pixels[::-1]))
+    height, width = levels[0].shape[:2]
+    gpu = device.create_texture(
+        size=(width, height, 1),
+        format=wgpu.TextureFormat.rgba8unorm,
+        usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
+        mip_level_count=len(levels),
+    )
+    for level, pixels in enumerate(levels):
+        device.queue.write_texture(
+            {"texture": gpu, "mip_level": level},
+            np.ascontiguousarray(pixels),
+            {"bytes_per_row": pixels.shape[1] * 4, "rows_per_image": pixels.shape[0]},
+            (pixels.shape[1], pixels.shape[0], 1),
+        )
+    return GpuTexture(texture=gpu, view=gpu.create_view())
+
+
+def read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels: int) -> np.ndarray:
+    map_for_reading(buffer)
+    try:
+        raw = np.frombuffer(buffer.read_mapped(copy=False), dtype=np.uint8).reshape(height, row_bytes)
+        pixel_bytes = width * channels * np.dtype(dtype).itemsize
+        image = raw[:, :pixel_bytes].copy().view(dtype).reshape(height, width, channels)
+    finally:
+        buffer.unmap()
+    return image
