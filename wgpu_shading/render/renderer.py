@@ -4,12 +4,20 @@ A Renderer owns one wgpu device (the shared default one, or the caller's) and ke
 everything that outlives a frame: pipelines (per feature set), mesh and texture
 uploads (per Mesh/Texture object, released when those are garbage-collected), uniform
 buffers, render targets and readback buffers (per size and format). Rendering the same
-scene again, or the same meshes from another camera, only rewrites uniforms.
+scene again, or the same meshes from another camera, only rewrites uniforms. Every one
+of these caches is bounded and evicts the least recently used entry (caches.py).
+
+Threads: a Renderer may be shared. Preparing, submitting and reading back a frame, and
+every cache mutation, happen under the renderer's lock (the uniform buffers and render
+targets are reused between frames, so two frames must not interleave on one renderer);
+validation of the scene and the caller's own work run in parallel. For parallel
+rendering, give each thread its own Renderer (docs/reliability.md).
 """
 
 from __future__ import annotations
 
-import weakref
+import threading
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Iterable, Iterator
 
@@ -17,9 +25,20 @@ import numpy as np
 import wgpu
 from pyglm import glm
 
-from ..errors import SceneError
+from ..errors import DeviceError, SceneError, WgpuShadingError
 from ..scene import Mesh, Scene, Texture
-from .device import default_device, uses_direct_upload
+from .caches import (
+    BIND_GROUP_CACHE_ENTRIES,
+    MESH_CACHE_BYTES,
+    MESH_CACHE_ENTRIES,
+    TARGET_CACHE_ENTRIES,
+    TEXTURE_CACHE_BYTES,
+    TEXTURE_CACHE_ENTRIES,
+    UNIFORM_CACHE_ENTRIES,
+    LruCache,
+    ObjectCache,
+)
+from .device import default_device, device_lost, forget_device, uses_direct_upload
 from .features import FeatureSet, object_features
 from .pipelines import PipelineCache, PipelineEntry
 from .pipelining import render_many
@@ -68,15 +87,20 @@ class Renderer:
 
     def __init__(self, device=None, *, adapter: str | None = None):
         self._device = device if device is not None else default_device(adapter)
+        # One frame at a time per renderer (reentrant: render_many's helpers and the
+        # accuracy study call back into render_frame).
+        self._lock = threading.RLock()
         self._pipelines = PipelineCache(self._device)
         # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
         # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
         self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(self._device) else 0
-        self._meshes: weakref.WeakKeyDictionary[Mesh, GpuMesh] = weakref.WeakKeyDictionary()
-        self._textures: weakref.WeakKeyDictionary[Texture, GpuTexture] = weakref.WeakKeyDictionary()
-        self._targets: dict[tuple[int, int, str], Target] = {}
-        self._uniform_buffers: dict[tuple[str, int, int], object] = {}
-        self._bind_groups: dict[tuple, object] = {}
+        self._meshes: ObjectCache[GpuMesh] = ObjectCache(MESH_CACHE_ENTRIES, MESH_CACHE_BYTES, lambda m: m.nbytes)
+        self._textures: ObjectCache[GpuTexture] = ObjectCache(
+            TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes
+        )
+        self._targets: LruCache[Target] = LruCache(TARGET_CACHE_ENTRIES)
+        self._uniform_buffers: LruCache[object] = LruCache(UNIFORM_CACHE_ENTRIES)
+        self._bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
         self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
         self._sampler = self._device.create_sampler(
             address_mode_u=wgpu.AddressMode.repeat,
@@ -102,11 +126,31 @@ class Renderer:
         return self.render_frame(scene, float32=float32).color
 
     def render_frame(self, scene: Scene, *, float32: bool = False, depth: bool = False) -> Frame:
-        """Color and, with depth=True, eye-space depth of one frame."""
+        """Color and, with depth=True, eye-space depth of one frame. Safe to call from
+        several threads: frames on one renderer are serialised (see the module docstring)."""
+        check_scene_argument(scene, "render")
         color_format = "float32" if float32 else "rgba8"
-        target = self._target(scene.size, color_format)
-        self._submit(scene, target, read_depth=depth)
-        return self._read(target, scene, read_depth=depth)
+        with self._lock, self._device_errors():
+            target = self._target(scene.size, color_format)
+            self._submit(scene, target, read_depth=depth)
+            return self._read(target, scene, read_depth=depth)
+
+    @contextmanager
+    def _device_errors(self):
+        """A lost device becomes a DeviceError, and the shared default device is dropped so
+        that the next Renderer() gets a fresh one."""
+        try:
+            yield
+        except WgpuShadingError:
+            raise
+        except Exception as error:
+            if device_lost(error):
+                forget_device(self._device)
+                raise DeviceError(
+                    f"the wgpu device was lost ({str(error).strip().splitlines()[-1].strip()}); "
+                    "create a new Renderer to continue"
+                ) from None
+            raise
 
     def render_many(
         self,
@@ -124,6 +168,10 @@ class Renderer:
     def _helper_renderers(self, count: int) -> list["Renderer"]:
         """`count` extra renderers, each on its own device of the same adapter, for
         render_many. They belong to this renderer (made on first use, dropped with it)."""
+        with self._lock:
+            return self._make_helpers(count)
+
+    def _make_helpers(self, count: int) -> list["Renderer"]:
         helpers = self._batch_helpers
         while len(helpers) < count:
             # The same features as the primary device (e.g. direct mesh upload on lavapipe).
@@ -159,7 +207,7 @@ class Renderer:
         target = self._targets.get(key)
         if target is None:
             self._check_size(size, color_format)
-            target = self._targets[key] = self._new_target(width, height, color_format)
+            target = self._targets.put(key, self._new_target(width, height, color_format))
         return target
 
     def _new_target(self, width: int, height: int, color_format: str) -> Target:
@@ -168,7 +216,7 @@ class Renderer:
     def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False) -> GpuMesh:
         gpu_mesh = self._meshes.get(mesh)
         if gpu_mesh is None:
-            gpu_mesh = self._meshes[mesh] = upload_mesh(self._device, mesh, self._mesh_usage)
+            gpu_mesh = self._meshes.put(mesh, upload_mesh(self._device, mesh, self._mesh_usage))
         if with_uvs:
             upload_uvs(self._device, gpu_mesh, mesh, self._mesh_usage)
         return gpu_mesh
@@ -176,7 +224,7 @@ class Renderer:
     def _gpu_texture(self, texture: Texture) -> GpuTexture:
         gpu_texture = self._textures.get(texture)
         if gpu_texture is None:
-            gpu_texture = self._textures[texture] = upload_texture(self._device, texture)
+            gpu_texture = self._textures.put(texture, upload_texture(self._device, texture))
         return gpu_texture
 
     def _uniform_buffer(self, role: str, index: int, data: np.ndarray):
@@ -186,15 +234,16 @@ class Renderer:
             buffer = self._device.create_buffer(
                 size=data.nbytes, usage=wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST
             )
-            self._uniform_buffers[key] = buffer
+            self._uniform_buffers.put(key, buffer)
         self._device.queue.write_buffer(buffer, 0, data.tobytes())
         return buffer
 
-    def _bind_group(self, cache: dict, layout, resources: tuple) -> object:
-        """A bind group, cached in `cache`: the dict of whoever owns the resources (the renderer
-        for uniform buffers, a GpuMesh for its buffers, a GpuTexture for its view), so a
-        cached group never outlives, or keeps alive, what it binds."""
-        key = (id(layout),) + tuple(id(r) for r in resources)
+    def _bind_group(self, cache: LruCache, layout, resources: tuple) -> object:
+        """A bind group, cached in `cache`: the LRU cache of whoever owns the resources (the
+        renderer for uniform buffers, a GpuMesh for its buffers, a GpuTexture for its view).
+        The key holds the bound objects themselves (identity-hashed), not their id()s: an
+        evicted buffer's id may be reused by a new one, which must not find the old group."""
+        key = (layout,) + tuple(resources)
         group = cache.get(key)
         if group is None:
             entries = []
@@ -203,7 +252,7 @@ class Renderer:
                     resource = {"buffer": resource, "offset": 0, "size": resource.size}
                 entries.append({"binding": binding, "resource": resource})
             group = self._device.create_bind_group(layout=layout, entries=entries)
-            cache[key] = group
+            cache.put(key, group)
         return group
 
     # ------------------------------------------------------------------ frame
@@ -304,3 +353,10 @@ class Renderer:
             raw = read_buffer(target.depth_readback, target.depth_row_bytes, target.height, target.width, np.float32, 1)
             depth = linear_depth(raw[:, :, 0], scene.camera)
         return Frame(color=color, depth=depth)
+
+
+def check_scene_argument(scene: object, where: str) -> None:
+    """A clear error for a caller who passes something other than a Scene (a dict, a path)."""
+    if not isinstance(scene, Scene):
+        hint = " (load a scene file with load_scene(path))" if isinstance(scene, (str, bytes)) or hasattr(scene, "__fspath__") else ""
+        raise SceneError(f"{where}: expected a Scene, got {type(scene).__name__}{hint}")

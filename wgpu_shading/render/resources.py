@@ -10,6 +10,7 @@ import numpy as np
 import wgpu
 
 from ..scene import Mesh, Texture
+from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
 from .pipelines import COLOR_FORMATS, DEPTH_FORMAT
 
 BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
@@ -23,14 +24,21 @@ class GpuMesh:
     indices: object
     uvs: object | None
     triangle_count: int
-    storage_groups: dict = field(default_factory=dict)  # flat shading's vertex-pulling bind groups
+    # flat shading's vertex-pulling bind groups (one per layout: a handful)
+    storage_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
+
+    @property
+    def nbytes(self) -> int:
+        return sum(b.size for b in (self.positions, self.normals, self.indices, self.uvs) if b is not None)
 
 
 @dataclass
 class GpuTexture:
     texture: object
     view: object
-    object_groups: dict = field(default_factory=dict)  # object bind groups that bind this view
+    nbytes: int = 0
+    # object bind groups that bind this view (one per object uniform buffer and layout)
+    object_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
 
 
 @dataclass
@@ -158,7 +166,7 @@ def upload_texture(device, texture: Texture) -> GpuTexture:
             {"bytes_per_row": pixels.shape[1] * 4, "rows_per_image": pixels.shape[0]},
             (pixels.shape[1], pixels.shape[0], 1),
         )
-    return GpuTexture(texture=gpu, view=gpu.create_view())
+    return GpuTexture(texture=gpu, view=gpu.create_view(), nbytes=sum(level.nbytes for level in levels))
 
 
 def read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels: int) -> np.ndarray:
