@@ -11,6 +11,7 @@ from ..errors import MeshError
 from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.mesh import Mesh, vertex_normals
 from .file_materials import material_from_trimesh
+from .mesh_checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 
@@ -29,15 +30,34 @@ def load_mesh(source: str | os.PathLike[str]) -> Mesh:
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")
     import trimesh  # lazy: trimesh costs ~0.3 s to import
 
+    where = f"mesh file {text!r}"
+    file_size = file_size_or_error(path, where)
+    declared = ply_declared_counts(path, where, file_size) if path.suffix.lower() == ".ply" else None
     try:
-        loaded = trimesh.load(str(path), process=False)
+        with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
+            source = text_source(path, where, file_size)
+            if source is None:
+                loaded = trimesh.load(str(path), process=False)
+            else:
+                resolver = trimesh.resolvers.FilePathResolver(str(path))
+                loaded = trimesh.load(source, file_type=path.suffix.lower().lstrip("."), process=False, resolver=resolver)
+    except MeshError:
+        raise
     except IndexError as error:  # trimesh indexes vertices with the file's face indices
-        raise MeshError(f"mesh file {text!r}: a face refers to a vertex that does not exist ({error})") from None
-    except Exception as error:  # trimesh raises many exception types for malformed files
-        raise MeshError(f"mesh file {text!r}: cannot be read ({type(error).__name__}: {error})") from None
+        raise MeshError(f"{where}: a face refers to a vertex that does not exist ({error})") from None
+    except (Exception, RecursionError) as error:  # trimesh raises many exception types for malformed files
+        raise MeshError(f"{where}: {describe_load_error(error, path)}") from None
     parts = _triangle_parts(loaded)
     if not parts:
-        raise MeshError(f"mesh file {text!r} contains no triangles")
+        raise MeshError(f"{where} contains no triangles")
+    if declared is not None:
+        # Polygons become one or more triangles each, so a whole file has at least as many.
+        vertices = sum(len(p.vertices) for p in parts)
+        if vertices < declared[0] or sum(len(p.faces) for p in parts) < declared[1]:
+            raise MeshError(
+                f"{where}: truncated: the header declares {declared[0]} vertices and {declared[1]} faces, "
+                f"the file holds {vertices} vertices and {sum(len(p.faces) for p in parts)} triangles"
+            )
     return _merge(parts, name=path.name)
 
 

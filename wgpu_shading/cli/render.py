@@ -41,6 +41,8 @@ def command_turntable(args: argparse.Namespace) -> int:
         raise SceneError(f"--frames must be at least 1, got {args.frames}")
     if not (args.fps > 0 and math.isfinite(args.fps)):
         raise SceneError(f"--fps must be a positive number, got {args.fps}")
+    if not (math.isfinite(args.degrees) and abs(args.degrees) <= 1e6):
+        raise SceneError(f"--degrees must be a finite number of degrees (at most 1e6 in size), got {args.degrees}")
     scene = _load(args)
     output = _default_output(args, ".gif")
     check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute

@@ -224,6 +224,12 @@ class Renderer:
     def _gpu_texture(self, texture: Texture) -> GpuTexture:
         gpu_texture = self._textures.get(texture)
         if gpu_texture is None:
+            height, width = texture.pixels.shape[:2]
+            limit = self._device.limits["max-texture-dimension-2d"]
+            if width > limit or height > limit:
+                raise SceneError(
+                    f"texture {texture.name!r}: {width}×{height} pixels exceeds this adapter's limit of {limit} pixels per side"
+                )
             gpu_texture = self._textures.put(texture, upload_texture(self._device, texture))
         return gpu_texture
 
@@ -299,6 +305,13 @@ class Renderer:
         if draws:
             # Every object shares the frame uniforms; their layout depends only on scene-level features.
             frame_data = frame_uniforms(scene, draws[0].entry.frame_dtype, eye_from_world)
+            uniform_limit = device.limits["max-uniform-buffer-binding-size"]
+            if frame_data.nbytes > uniform_limit:
+                render_pass.end()
+                raise SceneError(
+                    f"lights: the {len(scene.lights)} lights need {frame_data.nbytes} bytes of uniforms; this adapter "
+                    f"binds at most {uniform_limit} (use fewer lights)"
+                )
             frame_buffer = self._uniform_buffer("frame", 0, frame_data)
         for draw in draws:
             entry = draw.entry

@@ -94,8 +94,8 @@ def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtyp
     model_view = glm.dmat4(model_view)
     data = np.zeros((), dtype)
     data["eye_from_model"] = np.array(model_view).T  # column-major
-    normal_matrix = glm.inverseTranspose(glm.dmat3(model_view))  # the seed's norm_matrix
-    data["eye_normal_from_model"][:, :3] = np.array(normal_matrix).T  # columns padded to vec4
+    normal_matrix = np.array(glm.inverseTranspose(glm.dmat3(model_view)))  # the seed's norm_matrix
+    data["eye_normal_from_model"][:, :3] = _unit_scaled(normal_matrix).T  # columns padded to vec4
     fields = data["material"]
     fields["ambient"] = material.ambient
     fields["diffuse"] = material.diffuse
@@ -104,6 +104,19 @@ def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtyp
     if "emission" in fields.dtype.names:
         fields["emission"] = material.emission
     return data
+
+
+def _unit_scaled(normal_matrix: np.ndarray) -> np.ndarray:
+    """The normal matrix scaled by a power of two towards unit size when it is far from it.
+
+    Only its direction matters (the shaders normalize what it returns), but a tiny object
+    scale makes it huge: flat shading multiplies it with a cross product of float32 edges,
+    and the squared length of that overflowed float32 (a black, unlit object). Scaling by
+    2^k is exact, so matrices of ordinary size are left untouched bit for bit."""
+    largest = float(np.abs(normal_matrix).max())
+    if 2.0**-20 <= largest <= 2.0**20:
+        return normal_matrix
+    return normal_matrix * 2.0 ** -math.frexp(largest)[1]
 
 
 def is_mirrored(model_view: glm.dmat4 | np.ndarray) -> bool:
