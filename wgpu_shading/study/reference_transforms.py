@@ -1,7 +1,11 @@
 """The spaces of the float64 reference: model → world → eye with 4×4 matrices derived here
 from docs/conventions.md (gluLookAt, T · Rz · Ry · Rx · S, the inverse-transpose normal
 matrix), and eye → window per point (the perspective divide written out, no projection
-matrix), plus the eye-space rays back through the pixel centres."""
+matrix), plus the eye-space rays back through the pixel centres.
+
+Why numpy and not pyglm, as the renderer uses: this reference exists to check the renderer,
+so it derives every matrix itself from the written conventions. Importing the renderer's
+pyglm matrices would make a bug in them invisible to every test that compares against it."""
 
 from __future__ import annotations
 
