@@ -19,15 +19,11 @@ from collections import deque
 from typing import TYPE_CHECKING, Iterable, Iterator
 
 from ..scene import Scene
+from ..scene.objects import check_scene_argument
 
 if TYPE_CHECKING:  # pragma: no cover
     from .renderer import Frame, Renderer
 
-
-def check_scene_argument(scene: object, where: str) -> None:
-    from .renderer import check_scene_argument as check
-
-    check(scene, where)
 
 DEFAULT_IN_FLIGHT = 2
 

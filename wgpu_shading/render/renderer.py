@@ -27,6 +27,7 @@ from pyglm import glm
 
 from ..errors import DeviceError, SceneError, WgpuShadingError
 from ..scene import Mesh, Scene, Texture
+from ..scene.objects import check_scene_argument
 from .caches import (
     BIND_GROUP_CACHE_ENTRIES,
     MESH_CACHE_BYTES,
@@ -367,9 +368,3 @@ class Renderer:
             depth = linear_depth(raw[:, :, 0], scene.camera)
         return Frame(color=color, depth=depth)
 
-
-def check_scene_argument(scene: object, where: str) -> None:
-    """A clear error for a caller who passes something other than a Scene (a dict, a path)."""
-    if not isinstance(scene, Scene):
-        hint = " (load a scene file with load_scene(path))" if isinstance(scene, (str, bytes)) or hasattr(scene, "__fspath__") else ""
-        raise SceneError(f"{where}: expected a Scene, got {type(scene).__name__}{hint}")

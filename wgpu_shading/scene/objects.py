@@ -178,3 +178,10 @@ class Scene:
                     f"objects[{index}] ({obj.mesh.name}): seen from the camera its coordinates reach {reach:.3g}; "
                     f"at most {MAX_EYE_COORDINATE:g} are supported (float32); scale it down or move the camera"
                 )
+
+
+def check_scene_argument(scene: object, where: str) -> None:
+    """A clear error for a caller who passes something other than a Scene (a dict, a path)."""
+    if not isinstance(scene, Scene):
+        hint = " (load a scene file with load_scene(path))" if isinstance(scene, (str, bytes)) or hasattr(scene, "__fspath__") else ""
+        raise SceneError(f"{where}: expected a Scene, got {type(scene).__name__}{hint}")
