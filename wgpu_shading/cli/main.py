@@ -22,15 +22,23 @@ import sys
 from typing import Sequence
 
 from .. import __version__
-from ..errors import WgpuShadingError
+from ..errors import WgpuShadingError, shorten
 from . import bench, check, info, render
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line usage errors (its own put the whole usage text first): the
+    same "wgpu-shading ...: error: ..." line and exit status 2 as every other bad input."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {shorten(message)} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="wgpu-shading",
         description="Classic local lighting (Phong/Blinn-Phong; flat, Gouraud, Phong shading) rendered offscreen with wgpu.",
     )
