@@ -171,8 +171,9 @@ class Scene:
             corners = np.array(
                 [[x, y, z, 1.0] for x in (lower[0], upper[0]) for y in (lower[1], upper[1]) for z in (lower[2], upper[2])]
             ).T
-            eye = (view @ np.array(obj.model_matrix())) @ corners
-            reach = float(np.abs(eye[:3]).max())
+            with np.errstate(all="ignore"):  # an overflow is caught just below, underflow is harmless
+                eye = (view @ np.array(obj.model_matrix())) @ corners
+                reach = float(np.abs(eye[:3]).max())
             if not reach <= MAX_EYE_COORDINATE:
                 raise SceneError(
                     f"objects[{index}] ({obj.mesh.name}): seen from the camera its coordinates reach {reach:.3g}; "
