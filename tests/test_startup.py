@@ -1,4 +1,4 @@
-"""Cold start: the prebuilt cffi type table for wgpu-py (wgpu_shading/_prebuilt_ffi.py).
+"""Cold start: the prebuilt cffi type table for wgpu-py (wgpu_shading/render/_prebuilt_ffi.py).
 
 Each test runs a fresh Python process, because the table only matters (and can only be
 installed) before wgpu's backend is first imported. Nothing here is timed: the tests

@@ -1,4 +1,4 @@
-// Resource bindings. wgpu_shading/pipelines.py creates the matching bind group layouts
+// Resource bindings. wgpu_shading/render/pipelines.py creates the matching bind group layouts
 // from the same feature set.
 
 @group(0) @binding(0) var<uniform> frame_uniforms: FrameUniforms;

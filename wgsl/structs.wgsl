@@ -1,5 +1,5 @@
 // Uniform layouts: the one declaration of every uniform block.
-// wgpu_shading/layout.py parses these structs (after the #if lines are resolved) into
+// wgpu_shading/render/layout.py parses these structs (after the #if lines are resolved) into
 // numpy dtypes, so the Python side can never disagree with the shader about offsets.
 //
 // PositionalLight and Material keep the seed's fields (file 000) at the seed's offsets:

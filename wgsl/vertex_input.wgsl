@@ -1,5 +1,5 @@
 // Vertex buffers of the indexed frequencies (Gouraud, Phong): separate position, normal
-// and UV buffers (wgpu_shading/pipelines.py, vertex_buffer_layouts).
+// and UV buffers (wgpu_shading/render/pipelines.py, vertex_buffer_layouts).
 
 struct VertexInput {
     @location(0) position: vec3<f32>,
