@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import MeshError
+from .normals import crease_normals, face_normals
 
 if TYPE_CHECKING:  # pragma: no cover
     from .material import Material
@@ -175,8 +176,6 @@ class Mesh:
                 colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
             colors = np.ascontiguousarray(np.clip(np.nan_to_num(colors, nan=1.0), 0.0, 1.0), dtype=np.float32)
         if normals is None and crease_angle is not None:
-            from .normals import crease_normals  # the welded, creased normals of SPEC §12
-
             source, faces, unit_normals = crease_normals(positions, faces, crease_angle, flat_faces)
             if source is not None:
                 positions = positions[source]
@@ -210,19 +209,6 @@ class Mesh:
 
 
 # --------------------------------------------------------------------------- normals
-
-
-def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit face normals (zero for zero-area faces) and twice the face areas, float64."""
-    p0, p1, p2 = (positions[faces[:, k]] for k in range(3))
-    cross = np.cross(p1 - p0, p2 - p0)
-    length = np.linalg.norm(cross, axis=1)
-    scale = np.max(np.abs(positions)) if len(positions) else 1.0
-    # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
-    degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
-    unit = np.zeros_like(cross)
-    np.divide(cross, length[:, None], out=unit, where=~degenerate[:, None])
-    return unit, np.where(degenerate, 0.0, length)
 
 
 def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:

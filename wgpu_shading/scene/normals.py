@@ -23,7 +23,19 @@ import math
 
 import numpy as np
 
-from .mesh import face_normals
+
+
+def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit face normals (zero for zero-area faces) and twice the face areas, float64."""
+    p0, p1, p2 = (positions[faces[:, k]] for k in range(3))
+    cross = np.cross(p1 - p0, p2 - p0)
+    length = np.linalg.norm(cross, axis=1)
+    scale = np.max(np.abs(positions)) if len(positions) else 1.0
+    # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
+    degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
+    unit = np.zeros_like(cross)
+    np.divide(cross, length[:, None], out=unit, where=~degenerate[:, None])
+    return unit, np.where(degenerate, 0.0, length)
 
 
 def weld_by_position(positions: np.ndarray) -> np.ndarray:
