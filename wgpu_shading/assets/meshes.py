@@ -170,8 +170,11 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
     row_of = dict(zip(names, rows))
     materials: dict[str, Material | None] = {}
     pieces = []
-    for node in scene.graph.nodes_geometry:
-        world_from_node, geometry_name = scene.graph[node]
+    # The graph's node set has no order: draw instances in the file's primitive order.
+    position = {name: index for index, name in enumerate(names)}
+    instances = sorted(((scene.graph[node][1], str(node)) for node in scene.graph.nodes_geometry), key=lambda i: (position[i[0]], i[1]))
+    for geometry_name, node in instances:
+        world_from_node, _ = scene.graph[node]
         geometry = scene.geometry[geometry_name]
         if not isinstance(geometry, trimesh.Trimesh) or not len(geometry.faces):
             continue
