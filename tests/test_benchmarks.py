@@ -81,7 +81,7 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 
 # --------------------------------------------------------------------------- python -m benchmarks --smoke
 
-SMOKE_STEPS = ("warm", "breakdown", "cold", "batch", "memory", "scaling", "specialization", "reference", "golden_noise", "report")
+SMOKE_STEPS = ("warm", "breakdown", "cold", "batch", "memory", "scaling", "specialization", "reference", "golden_noise", "loading", "report")
 
 
 @pytest.fixture(scope="module")
