@@ -21,7 +21,7 @@ import sys
 import time
 from pathlib import Path
 
-SECTIONS = ("warm", "breakdown", "cold", "batch", "memory", "scaling")
+SECTIONS = ("warm", "breakdown", "cold", "batch", "memory", "scaling", "dataset")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -94,6 +94,14 @@ def main(argv: list[str] | None = None) -> int:
             "pixels": pixel_curve(renderer, sides, rounds=rounds, frames=frames),
         }
         print(report.scaling_table(results["scaling"]), flush=True)
+
+    if "dataset" in chosen:
+        from .dataset import default_meshes, run_dataset_benchmark, table
+
+        views, sizes = (12, (256,)) if quick else (48, (256, 512))
+        dataset = run_dataset_benchmark(renderer, default_meshes(), views, sizes, passes=1 if quick else 3)
+        results["dataset"] = dataset
+        print("\n## Dataset rendering (benchmarks/dataset.py)\n\n" + table(dataset), flush=True)
 
     elapsed = time.perf_counter() - started
     results["seconds"] = elapsed

@@ -57,6 +57,8 @@ def local_cluster(workers: int, lavapipe_threads: int | None = None):
             threads_per_worker=1,
             processes=True,
             dashboard_address=None,
+            # No dashboard; the scheduler's small HTTP server (health, metrics) on a free port.
+            scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
             silence_logs=logging.CRITICAL,
             host="127.0.0.1",
             memory_limit=0,

@@ -52,13 +52,15 @@ def render_dataset(
     adapter: str | None = None,
     lavapipe_threads: int | None = None,
     renderer=None,
+    parallel: int | None = None,
 ) -> BatchResult:
     """Render every job into `output` (one folder per mesh) and return what happened.
 
     workers=1 renders in this process with frame pipelining; workers=N>1 starts a Dask
     LocalCluster of N processes; scheduler="tcp://host:port" (or a scheduler file) uses an
     existing Dask cluster. Jobs whose outputs exist and match their manifest row are skipped.
-    `renderer`: render in-process on this Renderer (yours, on your device) instead of a new one.
+    `renderer`: render in-process on this Renderer (yours, on your device) instead of a new one;
+    `parallel`: its render_many devices (None: 2 on lavapipe). Dask workers use one each.
     """
     if not jobs:
         raise SceneError("batch: no jobs")
@@ -81,7 +83,7 @@ def render_dataset(
     work = chunks(todo, chunk_size) if todo else []
     bar = _progress_bar(len(todo), progress)
     try:
-        for records in _execute(work, out_dir, workers, scheduler, adapter, lavapipe_threads, renderer):
+        for records in _execute(work, out_dir, workers, scheduler, adapter, lavapipe_threads, renderer, parallel):
             for record in records:
                 if record["ok"]:
                     result.rendered.append(record["id"])
@@ -109,21 +111,21 @@ def _progress_bar(total: int, enabled: bool):
     return tqdm(total=total, unit="frame", smoothing=0.1, dynamic_ncols=True)
 
 
-def _execute(work, out_dir: Path, workers: int, scheduler: str | None, adapter, lavapipe_threads, renderer) -> Iterator[list[dict]]:
+def _execute(work, out_dir: Path, workers: int, scheduler: str | None, adapter, lavapipe_threads, renderer, parallel) -> Iterator[list[dict]]:
     if not work:
         return
     if workers == 1 and scheduler is None:
-        yield from _in_process(work, out_dir, adapter, renderer)
+        yield from _in_process(work, out_dir, adapter, renderer, parallel)
         return
     from .cluster import run_on_dask
 
     yield from run_on_dask(work, out_dir, workers=workers, scheduler=scheduler, adapter=adapter, lavapipe_threads=lavapipe_threads)
 
 
-def _in_process(work: list[list[Job]], out_dir: Path, adapter, renderer) -> Iterator[list[dict]]:
+def _in_process(work: list[list[Job]], out_dir: Path, adapter, renderer, parallel) -> Iterator[list[dict]]:
     from .chunk import ChunkRenderer
 
-    chunk_renderer = ChunkRenderer(renderer, adapter=adapter)
+    chunk_renderer = ChunkRenderer(renderer, adapter=adapter, parallel=parallel)
     try:
         for chunk in work:
             yield chunk_renderer.render(chunk, out_dir)
