@@ -9,6 +9,7 @@ with ok=False and its error; the other jobs of the chunk go on.
 from __future__ import annotations
 
 import os
+import time
 from collections import OrderedDict
 from collections import deque
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -81,7 +82,9 @@ class ChunkRenderer:
         return scene
 
     def render(self, jobs: list[Job], out_dir: str | Path) -> list[dict]:
-        """Render and write `jobs`; one record per job, in order."""
+        """Render and write `jobs`; one record per job, in order. Each record's `seconds` is
+        its share of the chunk's time (loading, rendering, writing)."""
+        start = time.perf_counter()
         out_dir = Path(out_dir)
         records: dict[str, dict] = {}
         writes: deque[tuple[Job, Future]] = deque()
@@ -106,7 +109,8 @@ class ChunkRenderer:
             self._render_stream(items, out_dir, color, depth, normals, ids, writes, records)
         while writes:
             self._collect(writes.popleft(), records)
-        return [records[job.id] for job in jobs]
+        share = (time.perf_counter() - start) / max(len(jobs), 1)
+        return [{**records[job.id], "seconds": share} for job in jobs]
 
     def _render_stream(self, items, out_dir, color, depth, normals, ids, writes, records) -> None:
         scenes = [scene for _, scene in items]

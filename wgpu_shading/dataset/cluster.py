@@ -92,22 +92,23 @@ def run_on_dask(
         from .worker import RendererPlugin
 
         # Workers share the cores: one device each (render_many's second device would
-        # oversubscribe them).
-        client.register_plugin(RendererPlugin(adapter, parallel=1))
-        yield from _stream(client, work, str(out_dir.resolve()), distributed)
+        # oversubscribe them). Idempotent: a cluster that has it keeps its warm renderers.
+        plugin = RendererPlugin(adapter, parallel=1)
+        client.register_plugin(plugin)
+        yield from _stream(client, work, str(out_dir.resolve()), plugin.name, distributed)
     finally:
         client.close(timeout=10)
         if cluster is not None:
             cluster.close(timeout=10)
 
 
-def _stream(client, work: list[list[Job]], out_dir: str, distributed) -> Iterator[list[dict]]:
+def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distributed) -> Iterator[list[dict]]:
     from .worker import render_chunk_task
 
     batch = uuid.uuid4().hex[:12]  # keys unique per run: a reused key returns an old result
     futures = {}
     for index, chunk in enumerate(work):
-        future = client.submit(render_chunk_task, chunk, out_dir, key=f"wgpu-shading-chunk-{batch}-{index}", pure=False)
+        future = client.submit(render_chunk_task, chunk, out_dir, plugin_name, key=f"wgpu-shading-chunk-{batch}-{index}", pure=False)
         futures[future] = chunk
     pending = distributed.as_completed(futures)
     for future in pending:
@@ -118,7 +119,7 @@ def _stream(client, work: list[list[Job]], out_dir: str, distributed) -> Iterato
             future.release()
             if len(chunk) > 1:  # find the job that kills workers: retry one job per task
                 for job in chunk:
-                    single = client.submit(render_chunk_task, [job], out_dir, key=f"wgpu-shading-job-{batch}-{job.id}", pure=False)
+                    single = client.submit(render_chunk_task, [job], out_dir, plugin_name, key=f"wgpu-shading-job-{batch}-{job.id}", pure=False)
                     futures[single] = [job]
                     pending.add(single)
                 continue

@@ -27,6 +27,7 @@ class BatchResult:
     skipped: list[str] = field(default_factory=list)
     failed: dict[str, str] = field(default_factory=dict)
     seconds: float = 0.0
+    busy_seconds: float = 0.0  # time spent inside chunks (loading, rendering, writing), all workers
 
     @property
     def frames_per_second(self) -> float:
@@ -85,6 +86,7 @@ def render_dataset(
     try:
         for records in _execute(work, out_dir, workers, scheduler, adapter, lavapipe_threads, renderer, parallel):
             for record in records:
+                result.busy_seconds += record.get("seconds", 0.0)
                 if record["ok"]:
                     result.rendered.append(record["id"])
                 else:
