@@ -45,6 +45,7 @@ MODELS = next(
 )
 REAL_MESHES = ("stanford-bunny.obj", "teapot.obj", "suzanne.obj", "cow.obj")
 BUILTIN_MESHES = ("builtin:torus", "builtin:sphere", "builtin:cube", "builtin:torus?segments=96")
+SMOKE_MESHES = ("builtin:torus?segments=16", "builtin:cube")
 MODES = ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers")
 
 
@@ -177,7 +178,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     renderer = Renderer()
     if args.smoke:
-        results = run_dataset_benchmark(renderer, ["builtin:torus?segments=16", "builtin:cube"], 4, (32,), 1, chunk=2)
+        results = run_dataset_benchmark(renderer, list(SMOKE_MESHES), 4, (32,), 1, chunk=2)
     else:
         results = run_dataset_benchmark(renderer, default_meshes(), args.views, (256, 512), args.passes)
     print(table(results))

@@ -1,5 +1,5 @@
-"""The dataset benchmark (benchmarks/dataset.py) in its smoke mode: every mode runs and
-writes what the others write, so the comparison is fair. Nothing is timed here."""
+"""The dataset benchmark (benchmarks/dataset.py) compares like with like: its naive loop
+writes the pixels `batch` writes. (Its smoke run is in test_benchmarks.py.) Nothing timed."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from PIL import Image
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # the repository's benchmarks/ package
 
-from benchmarks.dataset import MODES, naive_loop, run_dataset_benchmark, table  # noqa: E402
+from benchmarks.dataset import naive_loop  # noqa: E402
 from wgpu_shading.dataset import Outputs, mesh_jobs, render_dataset, turntable_views  # noqa: E402
 
 
@@ -22,12 +22,3 @@ def test_naive_loop_writes_the_pixels_of_render_dataset(tmp_path, renderer):
     for job in jobs:
         name = f"{job.folder}/{job.name}.png"
         assert np.array_equal(np.array(Image.open(tmp_path / "naive" / name)), np.array(Image.open(tmp_path / "batch" / name)))
-
-
-def test_dataset_benchmark_smoke(renderer):
-    results = run_dataset_benchmark(renderer, ["builtin:torus?segments=16", "builtin:cube"], 3, (24,), 1, chunk=2)
-    (result,) = results
-    assert set(result.seconds) == set(MODES) and result.frames == 6
-    assert all(result.fps(mode) > 0 for mode in MODES)
-    text = table(results)
-    assert "| 24² |" in text and "Dask overhead" in text

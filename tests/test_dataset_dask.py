@@ -50,6 +50,11 @@ def test_killing_a_worker_mid_run_loses_nothing(tmp_path, renderer):
             present_at_kill = {path for path in out.glob("*/view_*.json")}
             run.join(timeout=60)
             assert not run.is_alive()
+            # The restarted process joined later; the plugin gave it a warm renderer too.
+            client.wait_for_workers(2, timeout=30)
+            has_renderer = client.run(lambda dask_worker: (os.getpid(), bool(getattr(dask_worker, "_wgpu_shading_chunk_renderers", None))))
+            assert pids[0] not in {pid for pid, _ in has_renderer.values()}
+            assert all(ready for _, ready in has_renderer.values()) and len(has_renderer) == 2
     finally:
         cluster.close(timeout=10)
     result = outcome["result"]
