@@ -17,8 +17,9 @@ from __future__ import annotations
 
 import os
 import threading
+from contextlib import contextmanager
 
-from ..errors import DeviceError
+from ..errors import DeviceError, WgpuShadingError
 
 ADAPTER_ENVIRONMENT_VARIABLE = "WGPU_SHADING_ADAPTER"
 DEFAULT_ADAPTER = "lavapipe"
@@ -121,6 +122,23 @@ def device_lost(error: BaseException) -> bool:
     """True when a wgpu error says that its device is lost or destroyed."""
     text = str(error).lower()
     return "device is lost" in text or "device lost" in text or "device was lost" in text
+
+
+@contextmanager
+def lost_device_errors(device):
+    """Inside: an error that says `device` is lost becomes a DeviceError, and the device
+    leaves the default-device cache, so that the next Renderer() gets a fresh one."""
+    try:
+        yield
+    except WgpuShadingError:
+        raise
+    except Exception as error:
+        if device_lost(error):
+            forget_device(device)
+            raise DeviceError(
+                f"the wgpu device was lost ({str(error).strip().splitlines()[-1].strip()}); create a new Renderer to continue"
+            ) from None
+        raise
 
 
 def forget_device(device) -> None:

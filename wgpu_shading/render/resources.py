@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import wgpu
 
+from ..errors import SceneError
 from ..scene import Mesh, Texture
 from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
 from .pipelines import COLOR_FORMATS, DEPTH_FORMAT
@@ -24,12 +25,14 @@ class GpuMesh:
     indices: object
     uvs: object | None
     triangle_count: int
+    colors: object | None = None
     # flat shading's vertex-pulling bind groups (one per layout: a handful)
     storage_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
 
     @property
     def nbytes(self) -> int:
-        return sum(b.size for b in (self.positions, self.normals, self.indices, self.uvs) if b is not None)
+        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors)
+        return sum(b.size for b in buffers if b is not None)
 
 
 @dataclass
@@ -148,9 +151,20 @@ def upload_uvs(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
         gpu_mesh.uvs = device.create_buffer_with_data(data=mesh.uvs, usage=usage)
 
 
+def upload_colors(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
+    """Vertex colors (float32 RGBA), once a draw needs them."""
+    if gpu_mesh.colors is None and mesh.colors is not None:
+        usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
+        gpu_mesh.colors = device.create_buffer_with_data(data=mesh.colors, usage=usage)
+
+
 def upload_texture(device, texture: Texture) -> GpuTexture:
     """The texture with its box-filtered mip chain, rows bottom-up: texture row 0 is the
     image's last row, so v = 0 is the bottom."""
+    height, width = texture.pixels.shape[:2]
+    limit = device.limits["max-texture-dimension-2d"]
+    if width > limit or height > limit:
+        raise SceneError(f"texture {texture.name!r}: {width}×{height} pixels exceeds this adapter's limit of {limit} pixels per side")
     levels = mip_chain(np.ascontiguousarray(texture.pixels[::-1]))
     height, width = levels[0].shape[:2]
     gpu = device.create_texture(
