@@ -385,13 +385,21 @@ def test_fuzz_mesh_files(renderer, tmp_path_factory, file):
     check_rendered(renderer, scene, f"mesh {data[:200]!r}")
 
 
-def _cli(*argv: str) -> tuple[int, str]:
+def _cli(*argv: str, cwd: Path | None = None) -> tuple[int, str]:
+    """main(argv) in-process: exit status and stderr. In `cwd` (commands without -o write
+    INPUT.png into the current folder)."""
     out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        try:
-            code = main(list(argv))
-        except SystemExit as exit_:  # argparse's usage errors
-            code = exit_.code if isinstance(exit_.code, int) else 2
+    previous = os.getcwd()
+    if cwd is not None:
+        os.chdir(cwd)
+    try:
+        with redirect_stdout(out), redirect_stderr(err):
+            try:
+                code = main(list(argv))
+            except SystemExit as exit_:  # argparse's usage errors
+                code = exit_.code if isinstance(exit_.code, int) else 2
+    finally:
+        os.chdir(previous)
     return code, err.getvalue()
 
 
@@ -447,7 +455,7 @@ def test_fuzz_command_lines(renderer, tmp_path_factory, data):
     folder = tmp_path_factory.mktemp("cli", numbered=True)
     argv = data.draw(command_line(folder))
     STATS["command lines"] += 1
-    code, err = _cli(*argv)
+    code, err = _cli(*argv, cwd=folder)
     assert code in (0, 1, 2), f"exit {code} for {argv}: {err[-500:]}"
     assert "internal error" not in err and "Traceback" not in err, f"{argv}: {err[-500:]}"
     if code == 2:
