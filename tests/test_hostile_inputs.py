@@ -228,3 +228,9 @@ def test_a_huge_but_accepted_light_is_not_darker_than_a_normal_one(renderer):
     normal, huge = image((1, 1, 1, 1)), image((1e6, 1e6, 1e6, 1))
     assert np.isfinite(huge).all()
     assert (huge[..., :3] >= normal[..., :3] - 1e-6).all()
+
+
+@pytest.mark.parametrize("fps", ["1e-300", "0", "nan", "1e300"])
+def test_turntable_fps_out_of_range_is_a_clear_error(tmp_path, capsys, fps):
+    code, err = _run(capsys, "turntable", "builtin:cube", "--fps", fps, "--frames", "1", "-o", str(tmp_path / "t.gif"))
+    assert code == 2 and "--fps must be between 0.01 and 1000 frames per second" in err

@@ -16,6 +16,8 @@ from ..errors import SceneError
 from .images import output_path
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
+# GIF stores a frame's delay in hundredths of a second, 1..65535.
+MIN_FPS, MAX_FPS = 0.01, 1000.0
 
 
 
@@ -47,6 +49,8 @@ def write_animation(
     """
     path = Path(path)
     check_animation_path(path)
+    if not (isinstance(fps, (int, float)) and MIN_FPS <= fps <= MAX_FPS):
+        raise SceneError(f"fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {fps!r}")
     encoder = _GifEncoder(path, fps) if path.suffix.lower() == ".gif" else _Mp4Encoder(path, fps)
     work: queue.Queue = queue.Queue(maxsize=4)  # bounded: rendering may run ahead only a little
     failure: list[BaseException] = []
@@ -92,7 +96,7 @@ class _GifEncoder:
 
     def __init__(self, path: Path, fps: float):
         self.path = path
-        self.delay = max(1, round(100.0 / fps))  # GIF counts in hundredths of a second
+        self.delay = min(65535, max(1, round(100.0 / fps)))  # GIF counts in hundredths of a second
         self.file = None
         self.size: tuple[int, int] | None = None
         self.count = 0
