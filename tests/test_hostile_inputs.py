@@ -212,6 +212,16 @@ def test_library_constructors_raise_the_same_checks():
         from wgpu_shading import material
 
         material(1)
+    from wgpu_shading import DeviceError, Mesh
+
+    with pytest.raises(DeviceError, match="device: expected a wgpu.GPUDevice, got int"):
+        Renderer(device=5)
+    with pytest.raises(DeviceError, match="adapter: expected a selector"):
+        Renderer(adapter=5)
+    with pytest.raises(SceneError, match="load_scene: expected a path to a scene file, got NoneType"):
+        load_scene(None)
+    with pytest.raises(MeshError, match="positions must be numbers"):
+        Mesh.from_arrays("abc", [[0, 1, 2]])
 
 
 def test_a_huge_but_accepted_light_is_not_darker_than_a_normal_one(renderer):

@@ -189,6 +189,8 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".",
 
 def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = None) -> Scene:
     """Read a scene file. Errors name the file and the offending key."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise SceneError(f"load_scene: expected a path to a scene file, got {type(path).__name__}")
     path = Path(path)
     try:
         with open(path, "rb") as file:

@@ -24,7 +24,7 @@ import numpy as np
 import wgpu
 from pyglm import glm
 
-from ..errors import SceneError
+from ..errors import DeviceError, SceneError
 from ..scene import Mesh, Scene, Texture
 from ..scene.objects import check_scene_argument
 from .caches import (
@@ -92,6 +92,10 @@ class Renderer:
     uploads and buffers. Pass `device=` to render on a wgpu device you already have."""
 
     def __init__(self, device=None, *, adapter: str | None = None):
+        if adapter is not None and not isinstance(adapter, str):
+            raise DeviceError(f"adapter: expected a selector such as 'lavapipe' or 'gpu', got {type(adapter).__name__}")
+        if device is not None and not isinstance(device, wgpu.GPUDevice):
+            raise DeviceError(f"device: expected a wgpu.GPUDevice, got {type(device).__name__}")
         self._device = device if device is not None else default_device(adapter)
         # One frame at a time per renderer (reentrant: render_many's helpers and the
         # accuracy study call back into render_frame).

@@ -162,7 +162,10 @@ class Mesh:
     def _from_arrays(
         cls, positions, indices, normals, uvs, *, name: str, material, colors, parts, crease_angle, flat_faces
     ) -> "Mesh":
-        positions = np.asarray(positions, dtype=np.float64)
+        try:
+            positions = np.asarray(positions, dtype=np.float64)
+        except (TypeError, ValueError) as error:
+            raise MeshError(f"{name}: positions must be numbers ({error})") from None
         faces = np.asarray(indices)
         if positions.ndim != 2 or positions.shape[1] != 3:
             raise MeshError(f"{name}: positions must have shape (N, 3), got {positions.shape}")
