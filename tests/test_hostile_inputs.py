@@ -106,6 +106,13 @@ MESH_CASES = [
         b"element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
         ["missing_face.ply", "truncated", "2 faces"],
     ),
+    (  # found by the fuzz test: trimesh reads PLY faces unchecked, normals then failed with IndexError
+        "face_out_of_range.ply",
+        lambda: b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+        b"element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n3 0 0 1\n",
+        ["face_out_of_range.ply", "a face refers to vertex 1", "1 vertices"],
+    ),
+    ("face_out_of_range.stl", lambda: b"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex nan 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid\n", ["face_out_of_range.stl", "NaN or infinite"]),
     ("tiny.obj", lambda: b"v 0 0 0\nv 1e-20 0 0\nv 0 1e-20 0\nf 1 2 3\n", ["tiny.obj", "1.41e-20 units across"]),
     ("huge.obj", lambda: b"v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n", ["huge.obj"]),
     ("far.obj", lambda: b"v 1e15 0 0\nv 1e15 1 0\nv 1e15 0 1\nf 1 2 3\n", ["mesh", "far.obj", "automatic camera and light"]),

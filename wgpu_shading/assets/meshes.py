@@ -259,7 +259,26 @@ def _piece_normals(piece: _Piece, crease_angle: float) -> _Piece:
     )
 
 
+def _check_piece(piece: _Piece, name: str) -> None:
+    """What normals and welding index with must be valid first (trimesh reads PLY, STL and
+    OFF faces without checking them, process=False): finite positions, indices in range."""
+    if piece.faces.ndim != 2 or piece.faces.shape[1] != 3:
+        raise MeshError(f"{name}: faces must be triangles, got an array of shape {piece.faces.shape}")
+    if not np.isfinite(piece.positions).all():
+        bad = int(np.flatnonzero(~np.isfinite(piece.positions).all(axis=1))[0])
+        raise MeshError(f"{name}: vertex {bad} has a NaN or infinite coordinate: {piece.positions[bad].tolist()}")
+    low, high = int(piece.faces.min()), int(piece.faces.max())
+    if low < 0 or high >= len(piece.positions):
+        culprit = low if low < 0 else high
+        raise MeshError(
+            f"{name}: a face refers to vertex {culprit}, but the file has {len(piece.positions)} vertices "
+            f"(valid: 0..{len(piece.positions) - 1})"
+        )
+
+
 def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
+    for piece in pieces:
+        _check_piece(piece, name)
     pieces = [_piece_normals(piece, crease_angle) for piece in pieces]
     any_uvs = any(p.uvs is not None for p in pieces)
     any_colors = any(p.colors is not None for p in pieces)
