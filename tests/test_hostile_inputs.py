@@ -5,6 +5,7 @@ nothing reaches the GPU that would give inf, NaN or a blank image."""
 from __future__ import annotations
 
 import gc
+import math
 import os
 import warnings
 from pathlib import Path
@@ -251,3 +252,13 @@ def test_a_huge_but_accepted_light_is_not_darker_than_a_normal_one(renderer):
 def test_turntable_fps_out_of_range_is_a_clear_error(tmp_path, capsys, fps):
     code, err = _run(capsys, "turntable", "builtin:cube", "--fps", fps, "--frames", "1", "-o", str(tmp_path / "t.gif"))
     assert code == 2 and "--fps must be between 0.01 and 1000 frames per second" in err
+
+
+def test_inf_that_slips_past_validation_never_reaches_a_shader(renderer):
+    """The net under validation: a value forced in afterwards (frozen dataclasses can be
+    bypassed) is refused at upload, naming the object."""
+    material = Material()
+    object.__setattr__(material, "diffuse", (math.inf, 0.0, 0.0, 1.0))
+    scene = Scene(objects=(SceneObject(builtin("builtin:cube"), material),), lights=(PositionalLight(),), size=(8, 8))
+    with pytest.raises(SceneError, match=r"objects\[0\]: a value derived from it .* is not finite in float32"):
+        Renderer(device=renderer.device).render(scene)

@@ -55,7 +55,7 @@ from .resources import (
     upload_texture,
     upload_uvs,
 )
-from .uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
+from .uniforms import finite_uniform_bytes, frame_uniforms, is_mirrored, linear_depth, object_uniforms
 
 
 @dataclass(frozen=True)
@@ -235,6 +235,7 @@ class Renderer:
         return gpu_texture
 
     def _uniform_buffer(self, role: str, index: int, data: np.ndarray):
+        payload = finite_uniform_bytes(data, "camera and lights" if role == "frame" else f"objects[{index}]")
         key = (role, index, data.nbytes)
         buffer = self._uniform_buffers.get(key)
         if buffer is None:
@@ -242,7 +243,7 @@ class Renderer:
                 size=data.nbytes, usage=wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST
             )
             self._uniform_buffers.put(key, buffer)
-        self._device.queue.write_buffer(buffer, 0, data.tobytes())
+        self._device.queue.write_buffer(buffer, 0, payload)
         return buffer
 
     def _bind_group(self, cache: LruCache, layout, resources: tuple) -> object:

@@ -14,6 +14,7 @@ import math
 import numpy as np
 from pyglm import glm
 
+from ..errors import SceneError
 from ..scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
 
 
@@ -119,6 +120,18 @@ def _unit_scaled(normal_matrix: np.ndarray) -> np.ndarray:
     if 2.0**-20 <= largest <= 2.0**20:
         return normal_matrix
     return normal_matrix * 2.0 ** -math.frexp(largest)[1]
+
+
+def finite_uniform_bytes(data: np.ndarray, where: str) -> bytes:
+    """The buffer's bytes, after a last check that every value is finite in float32 (every
+    uniform field is f32). Scene validation keeps them finite; this is the net under it, so
+    that inf or NaN never reaches a shader."""
+    payload = data.tobytes()
+    if not np.isfinite(np.frombuffer(payload, np.float32)).all():
+        raise SceneError(
+            f"{where}: a value derived from it (matrix, normal matrix, colour, projection) is not finite in float32"
+        )
+    return payload
 
 
 def is_mirrored(model_view: glm.dmat4 | np.ndarray) -> bool:
