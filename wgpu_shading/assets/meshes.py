@@ -10,14 +10,16 @@ import numpy as np
 from ..errors import MeshError
 from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.mesh import Mesh, vertex_normals
+from .examples import resolve_example
 from .file_materials import material_from_trimesh
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 
 
 def load_mesh(source: str | os.PathLike[str]) -> Mesh:
-    """A built-in (`builtin:torus`) or a mesh file (OBJ, PLY, STL, OFF, GLB/glTF)."""
-    text = str(source)
+    """A built-in (`builtin:torus`), a sample (`example:knot.obj`) or a mesh file (OBJ, PLY,
+    STL, OFF, GLB/glTF)."""
+    text = resolve_example(str(source))
     if text.startswith(BUILTIN_PREFIX):
         return builtin(text)
     path = Path(text)

@@ -23,6 +23,7 @@ from typing import Any, Mapping
 from ..errors import MeshError, SceneError
 from ..scene import BUILTIN_PREFIX
 from ..scene.materials import material as named_material
+from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
 from .meshes import load_mesh
 from .textures import load_texture
 from ..scene import (
@@ -102,7 +103,11 @@ def _material(value: Any, base: Path, where: str) -> Material:
     if "texture" in value:
         if not isinstance(value["texture"], str):
             raise SceneError(f"{where}.material.texture: expected a path to an image, got {value['texture']!r}")
-        fields["texture"] = load_texture(_resolve(value["texture"], base))
+        texture_path = _resolve(value["texture"], base)
+        try:
+            fields["texture"] = load_texture(texture_path)
+        except SceneError as error:
+            raise SceneError(f"{error}{models_hint(texture_path) if not texture_path.exists() else ''}") from None
     try:
         return Material(**fields)
     except SceneError as error:
@@ -131,11 +136,12 @@ def _object(table: Mapping[str, Any], index: int, base: Path) -> SceneObject:
     mesh_text = table["mesh"]
     if not isinstance(mesh_text, str):
         raise SceneError(f"{where}.mesh: expected a string, got {mesh_text!r}")
-    source = mesh_text if mesh_text.startswith(BUILTIN_PREFIX) else str(_resolve(mesh_text, base))
+    source = mesh_text if mesh_text.startswith((BUILTIN_PREFIX, EXAMPLE_PREFIX)) else str(_resolve(mesh_text, base))
     try:
         mesh = load_mesh(source)
     except MeshError as error:
-        raise SceneError(f"{where}.mesh: {error}") from None
+        hint = models_hint(Path(source)) if not Path(source).exists() else ""
+        raise SceneError(f"{where}.mesh: {error}{hint}") from None
     if "material" in table:
         try:
             material = _material(table["material"], base, where)
@@ -174,8 +180,8 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".")
 
 
 def load_scene(path: str | os.PathLike[str]) -> Scene:
-    """Read a scene file. Errors name the file and the offending key."""
-    path = Path(path)
+    """Read a scene file (or `example:NAME.toml`). Errors name the file and the offending key."""
+    path = Path(resolve_example(str(path)))
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:

@@ -84,7 +84,7 @@ def _default_output(args: argparse.Namespace, suffix: str) -> Path:
     """-o, or the input's name with `suffix` in the current folder (builtin:torus → torus.png)."""
     if args.output:
         return Path(args.output)
-    return Path(Path(args.input.split("?")[0].replace("builtin:", "")).stem + suffix)
+    return Path(Path(args.input.split("?")[0].replace("builtin:", "").replace("example:", "")).stem + suffix)
 
 
 def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
