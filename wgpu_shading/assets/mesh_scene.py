@@ -2,28 +2,24 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from ..scene import PositionalLight, Scene, SceneObject, material
+from ..scene import Scene, SceneObject, material
 from ..scene.framing import framing_camera
+from ..scene.lighting import viewer_lights
 from .meshes import load_mesh
 
 
-def mesh_scene(mesh_source: str, size: tuple[int, int], material_name: str | None):
-    """A scene for a bare mesh: framed by the camera, lit like the seeds' demo (a white light
-    up, right and in front, global ambient 0.2), the file's material or gold."""
+def mesh_scene(mesh_source: str, size: tuple[int, int], material_name: str | None, up=(0.0, 1.0, 0.0)):
+    """A scene for a bare mesh: framed by the camera from its `up` axis (f3d's --up), lit by
+    a key light and a headlight fill (scene/lighting.py), the file's material or gold."""
     mesh = load_mesh(mesh_source)
     if material_name:
         chosen = material(material_name)
     else:
         chosen = mesh.material or material("gold")
-    lower, upper = mesh.bounds()
-    center = (lower + upper) / 2.0
-    radius = max(float(np.linalg.norm(upper - lower)) / 2.0, 1e-12)
-    light_position = center + np.array([5.0, 2.0, 2.0]) * radius * 1.5
+    camera = framing_camera(mesh, size, up=up)
     return Scene(
         objects=(SceneObject(mesh, chosen),),
-        lights=(PositionalLight(position=tuple(light_position)),),
-        camera=framing_camera(mesh, size),
+        lights=viewer_lights(camera),
+        camera=camera,
         size=size,
     )

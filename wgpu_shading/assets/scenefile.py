@@ -40,7 +40,7 @@ _TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
 _SECTIONS = {
     "output": {"size", "background"},
     "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided"},
-    "camera": {"eye", "target", "up", "fov_y", "near", "far"},
+    "camera": {"eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height", "azimuth", "elevation"},
     "ambient": {"color"},
 }
 _LIGHT_KEYS = {
@@ -157,6 +157,19 @@ def _object(table: Mapping[str, Any], index: int, base: Path) -> SceneObject:
         raise SceneError(f"{where}: {error}") from None
 
 
+def _camera(table: Mapping[str, Any]) -> Camera:
+    """[camera]: azimuth and elevation (degrees) turn the camera about its target after the
+    other keys placed it, as f3d's --camera-azimuth-angle/--camera-elevation-angle do."""
+    keys = {key: value for key, value in table.items() if key not in ("azimuth", "elevation")}
+    turns = {}
+    for key in ("azimuth", "elevation"):
+        value = table.get(key, 0.0)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise SceneError(f"camera.{key}: expected a number of degrees, got {value!r}")
+        turns[key] = float(value)
+    return Camera(**keys).orbited(**turns)
+
+
 def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".") -> Scene:
     """A Scene from an already-parsed TOML document (paths relative to `base`)."""
     base_path = Path(base)
@@ -171,7 +184,7 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".")
     return Scene(
         objects=tuple(objects),
         lights=tuple(lights),
-        camera=Camera(**camera),
+        camera=_camera(camera),
         shading=Shading(**shading),
         ambient=ambient.get("color", defaults.ambient),
         size=image_size(output.get("size", defaults.size)),

@@ -11,11 +11,13 @@ from typing import Sequence
 from ..assets.images import output_path
 from ..errors import SceneError
 from ..scene import FREQUENCIES, REFLECTIONS, image_size
+from ..scene.framing import up_direction
+from .viewer_options import add_viewer_arguments, apply_viewer_options
 
 
 def _size(text: str) -> tuple[int, int]:
-    """'512' or '640x480'."""
-    parts = text.lower().replace("×", "x").split("x")
+    """'512', '640x480' or f3d's '640,480'."""
+    parts = text.lower().replace("×", "x").replace(",", "x").split("x")
     try:
         numbers = [int(p) for p in parts]
     except ValueError:
@@ -44,7 +46,9 @@ def _load(args: argparse.Namespace):
             chosen = material(args.material)
             scene = replace(scene, objects=tuple(replace(o, material=chosen) for o in scene.objects))
     else:
-        scene = mesh_scene(source, args.size or (512, 512), args.material)
+        up = up_direction(args.up) if getattr(args, "up", None) else (0.0, 1.0, 0.0)
+        scene = mesh_scene(source, args.size or (512, 512), args.material, up=up)
+    scene = apply_viewer_options(scene, args, bare_mesh=not source.lower().endswith(".toml"))
     shading = scene.shading
     overrides = {
         key: value
@@ -66,7 +70,10 @@ def _load(args: argparse.Namespace):
 
 def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB) or builtin:NAME")
-    parser.add_argument("--size", type=_size, help="image size, WIDTHxHEIGHT or SIZE (default: the scene's, or 512)")
+    parser.add_argument(
+        "--size", "--resolution", type=_size, dest="size",
+        help="image size, WIDTHxHEIGHT, WIDTH,HEIGHT or SIZE (default: the scene's, or 512)",
+    )
     parser.add_argument("--frequency", choices=FREQUENCIES, help="shading frequency (overrides the scene)")
     parser.add_argument("--reflection", choices=REFLECTIONS, help="reflection model (overrides the scene)")
     parser.add_argument(
@@ -75,6 +82,7 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
     parser.add_argument("--infinite-viewer", action="store_true", help="OpenGL's default viewer: V = (0, 0, 1)")
     parser.add_argument("--two-sided", action="store_true", help="light back faces with the flipped normal")
+    add_viewer_arguments(parser)
 
 
 # --------------------------------------------------------------------------- commands

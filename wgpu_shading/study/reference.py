@@ -31,6 +31,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..errors import SceneError
 from ..scene import Camera, DirectionalLight, Material, PositionalLight, Scene, SceneObject, Shading, SpotLight
 
 # --------------------------------------------------------------------------- constants from conventions.md
@@ -336,6 +337,10 @@ def sample_texture_bilinear(pixels: np.ndarray, uv: np.ndarray) -> np.ndarray:
 
 def pixel_rays(camera: Camera, size: tuple[int, int]) -> np.ndarray:
     """(H, W, 3) eye-space directions through the pixel centres, z = -1."""
+    if camera.orthographic:  # every path of the reference starts from these rays
+        raise SceneError(
+            "the float64 reference renders perspective cameras only; camera.projection is 'orthographic'"
+        )
     width, height = size
     tan_half = math.tan(math.radians(camera.fov_y) / 2.0)
     aspect = width / height
