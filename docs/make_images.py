@@ -11,7 +11,7 @@ from pathlib import Path
 
 import imageio.v3 as iio
 from wgpu_shading import Renderer, SceneError, load_scene
-from wgpu_shading.study.accuracy import contact_sheet
+from wgpu_shading.study.accuracy_pictures import contact_sheet
 from wgpu_shading.testing.golden import diff_image
 
 ROOT = Path(__file__).resolve().parent.parent

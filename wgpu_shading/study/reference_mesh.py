@@ -1,0 +1,227 @@
+"""The same-mesh reference: the scene's own triangles, transformed to eye space, rasterized once
+in float64 (`RasterizedScene`, on `reference_raster`) and shaded per pixel at any shading
+frequency and reflection model (flat, Gouraud or Phong, through `reference_lighting`) with
+perspective-correct barycentrics; `render_reference` does both for the scene's own shading."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..scene import Scene, SceneObject, Shading
+from .reference_image import ReferenceImage
+from .reference_lighting import FALLBACK_NORMAL, _dot, combine, safe_normalize, sample_texture_bilinear, shade, view_vectors
+from .reference_raster import _edge_margins, _rasterize, _screen_triangles, _signed_area_fixed
+from .reference_transforms import _transform_points, model_matrix, normal_matrix, pixel_rays, view_matrix
+
+
+@dataclass
+class _PreparedObject:
+    """One object's geometry in eye space."""
+
+    model_view: np.ndarray
+    normal_matrix: np.ndarray
+    mirrored: bool
+    eye_positions: np.ndarray  # (V, 3)
+    eye_normals: np.ndarray  # (V, 3) normal matrix · vertex normal, unnormalized
+    model_positions: np.ndarray  # (V, 3) stored (origin-relative) positions, float64
+    faces: np.ndarray  # (F, 3) int64
+
+
+def _prepare(scene: Scene, obj: SceneObject) -> _PreparedObject:
+    model_view = view_matrix(scene.camera) @ model_matrix(obj)
+    normals_to_eye = normal_matrix(model_view)
+    model_positions = obj.mesh.positions.astype(np.float64)
+    return _PreparedObject(
+        model_view=model_view,
+        normal_matrix=normals_to_eye,
+        # A mirrored transform flips the screen winding of outward-facing triangles.
+        mirrored=bool(np.linalg.det(model_view[:3, :3]) < 0.0),
+        eye_positions=_transform_points(model_view, model_positions),
+        eye_normals=obj.mesh.normals.astype(np.float64) @ normals_to_eye.T,
+        model_positions=model_positions,
+        faces=obj.mesh.indices.astype(np.int64),
+    )
+
+
+def _ray_barycentrics(corners: np.ndarray, rays: np.ndarray) -> np.ndarray:
+    """Perspective-correct barycentrics: where each eye ray meets its triangle's plane,
+    expressed in the triangle's (N, 3, 3) eye-space corners. Exact for clipped triangles too."""
+    p0, p1, p2 = corners[:, 0], corners[:, 1], corners[:, 2]
+    normal = np.cross(p1 - p0, p2 - p0)
+    along = _dot(normal, rays)
+    safe_along = np.where(along != 0.0, along, 1.0)
+    point = rays * (_dot(normal, p0) / safe_along)[:, None]
+    twice_area = _dot(normal, normal)
+    safe_area = np.where(twice_area > 0.0, twice_area, 1.0)
+    b0 = _dot(normal, np.cross(p2 - p1, point - p1)) / safe_area
+    b1 = _dot(normal, np.cross(p0 - p2, point - p2)) / safe_area
+    weights = np.stack([b0, b1, 1.0 - b0 - b1], axis=1)
+    degenerate = (along == 0.0) | (twice_area <= 0.0)  # cannot cover a pixel; guard anyway
+    return np.where(degenerate[:, None], 1.0 / 3.0, weights)
+
+
+def _texel_footprint(obj: SceneObject, prepared: _PreparedObject, faces: np.ndarray, pixels: np.ndarray, scene: Scene) -> np.ndarray:
+    """Texels per pixel step at each pixel: how far (u·W, v·H) moves when the ray moves to a
+    neighbouring pixel centre, staying on the same triangle's plane (as the GPU's quad
+    derivatives do, helper pixels included)."""
+    height, width = obj.material.texture.pixels.shape[:2]
+    texture_scale = np.array([width, height], dtype=np.float64)
+    corners = prepared.eye_positions[faces]
+    uvs = obj.mesh.uvs.astype(np.float64)[faces] * texture_scale
+    image_width, image_height = scene.size
+    rows, columns = np.divmod(pixels, image_width)
+    tan_half = math.tan(math.radians(scene.camera.fov_y) / 2.0)
+
+    def texel_position(column_offset, row_offset):
+        x = 2.0 * (columns + 0.5 + column_offset) / image_width - 1.0
+        y = 1.0 - 2.0 * (rows + 0.5 + row_offset) / image_height
+        rays = np.stack([x * tan_half * image_width / image_height, y * tan_half, -np.ones_like(x)], axis=1)
+        return np.einsum("nk,nkc->nc", _ray_barycentrics(corners, rays), uvs)
+
+    centre = texel_position(0, 0)
+    steps = [texel_position(dx, dy) - centre for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))]
+    return np.max([np.linalg.norm(step, axis=1) for step in steps], axis=0)
+
+
+def _shade_pixels(
+    scene: Scene,
+    obj: SceneObject,
+    prepared: _PreparedObject,
+    triangles: np.ndarray,
+    weights: np.ndarray,
+    front_facing: np.ndarray,
+) -> np.ndarray:
+    """RGBA of the pixels where `obj` is visible: triangle index, barycentrics (N, 3) and facing."""
+    shading = scene.shading
+    material = obj.material
+    faces = prepared.faces[triangles]
+    back = shading.two_sided & ~front_facing  # back faces are lit with -N only when two-sided
+    flip = np.where(back, -1.0, 1.0)[:, None]
+
+    def shade_with(points, normals):
+        return shade(points, normals, view_vectors(points, normals, shading.local_viewer), scene, material)
+
+    if shading.frequency == "flat":
+        # One evaluation per triangle: face normal from the stored positions, at the centroid.
+        p = prepared.model_positions[faces]
+        face_normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) @ prepared.normal_matrix.T
+        normals = safe_normalize(face_normal, FALLBACK_NORMAL) * flip
+        centroids = prepared.eye_positions[faces].mean(axis=1)
+        ambient_diffuse, specular = shade_with(centroids, normals)
+    elif shading.frequency == "gouraud":
+        # Light each vertex (front with N, back with -N), then interpolate both parts unclamped.
+        vertex_normals = safe_normalize(prepared.eye_normals, FALLBACK_NORMAL)
+        used = np.unique(faces)
+        front = shade_with(prepared.eye_positions[used], vertex_normals[used])
+        back_parts = shade_with(prepared.eye_positions[used], -vertex_normals[used]) if shading.two_sided else front
+        slot = np.searchsorted(used, faces)  # (N, 3) rows of `used`
+        parts = []
+        for k in range(2):
+            chosen = np.where(back[:, None, None], back_parts[k][slot], front[k][slot])
+            parts.append(np.einsum("nk,nkc->nc", weights, chosen))
+        ambient_diffuse, specular = parts
+    else:  # phong
+        normals = safe_normalize(np.einsum("nk,nkc->nc", weights, prepared.eye_normals[faces]), FALLBACK_NORMAL) * flip
+        points = np.einsum("nk,nkc->nc", weights, prepared.eye_positions[faces])
+        ambient_diffuse, specular = shade_with(points, normals)
+
+    texel = None
+    if material.texture is not None:
+        if obj.mesh.uvs is None:
+            raise ValueError(f"material {material.name!r} has a texture but mesh {obj.mesh.name!r} has no UVs")
+        uv = np.einsum("nk,nkc->nc", weights, obj.mesh.uvs.astype(np.float64)[faces])
+        texel = sample_texture_bilinear(material.texture.pixels, uv)
+    return combine(ambient_diffuse, specular, material, texel)
+
+
+class RasterizedScene:
+    """The scene's meshes rasterized once in float64: which triangle (and object) covers each
+    pixel, its perspective-correct barycentrics and its facing. Shading is a separate step
+    (`shade`), so one rasterization — most of the reference's cost on large meshes — serves
+    any number of shading settings (the accuracy study renders 12 per mesh)."""
+
+    def __init__(self, scene: Scene):
+        self.scene = scene
+        width, height = scene.size
+        camera = scene.camera
+        self._prepared = [_prepare(scene, obj) for obj in scene.objects]
+
+        # Every object's triangles in one list, in draw order (objects, then faces).
+        face_counts = np.array([len(p.faces) for p in self._prepared], dtype=np.int64)
+        first_face = np.concatenate([[0], np.cumsum(face_counts)])
+        if self._prepared:
+            eye_corners = np.concatenate([p.eye_positions[p.faces] for p in self._prepared])
+        else:
+            eye_corners = np.zeros((0, 3, 3))
+        tris = _screen_triangles(eye_corners, np.arange(len(eye_corners)), camera, scene.size)
+        visibility = _rasterize(tris, scene.size, camera.near, camera.far)
+
+        covered_flat = visibility.triangle >= 0
+        pixels = np.flatnonzero(covered_flat)
+        screen_triangle = visibility.triangle[pixels]
+        source = tris.source[screen_triangle]
+        self._pixels = pixels
+        self._object_index = np.searchsorted(first_face, source, side="right") - 1
+        self._local_triangle = source - first_face[self._object_index]
+        rows, columns = np.divmod(pixels, width)
+
+        # Facing from the winding on screen: counter-clockwise in NDC is front, flipped for mirrored objects.
+        ccw_in_ndc = _signed_area_fixed(tris.fixed[screen_triangle]) < 0
+        mirrored = np.array([p.mirrored for p in self._prepared], dtype=bool)
+        self._front_facing = ccw_in_ndc != mirrored[self._object_index]
+
+        rays = pixel_rays(camera, scene.size).reshape(-1, 3)[pixels]
+        self._weights = _ray_barycentrics(eye_corners[source], rays)
+
+        self.covered = covered_flat.reshape(height, width)
+        self.triangle = self._image(self._local_triangle, -1, np.int64)
+        self.object = self._image(self._object_index, -1, np.int64)
+        self.depth = visibility.depth.reshape(height, width)
+        self.edge_margin = self._image(_edge_margins(tris.fixed[screen_triangle], columns, rows), np.inf, np.float64)
+
+    def _image(self, values: np.ndarray, fill, dtype) -> np.ndarray:
+        width, height = self.scene.size
+        result = np.full(height * width, fill, dtype=dtype)
+        result[self._pixels] = values
+        return result.reshape(height, width)
+
+    def shade(self, shading: Shading | None = None) -> np.ndarray:
+        """(H, W, 4) float64 color with the scene's shading, or with `shading` instead."""
+        scene = self.scene if shading is None else replace(self.scene, shading=shading)
+        width, height = scene.size
+        color = np.broadcast_to(np.asarray(scene.background, dtype=np.float64), (height * width, 4)).copy()
+        for index, (obj, geometry) in enumerate(zip(scene.objects, self._prepared)):
+            mine = self._object_index == index
+            if mine.any():
+                color[self._pixels[mine]] = _shade_pixels(
+                    scene, obj, geometry, self._local_triangle[mine], self._weights[mine], self._front_facing[mine]
+                )
+        return color.reshape(height, width, 4)
+
+    def texel_footprint(self) -> np.ndarray:
+        """Texels per pixel step of each textured pixel (0 elsewhere): < 1 means magnified."""
+        width, height = self.scene.size
+        footprint = np.zeros(height * width)
+        for index, (obj, geometry) in enumerate(zip(self.scene.objects, self._prepared)):
+            mine = self._object_index == index
+            if mine.any() and obj.material.texture is not None:
+                faces = geometry.faces[self._local_triangle[mine]]
+                footprint[self._pixels[mine]] = _texel_footprint(obj, geometry, faces, self._pixels[mine], self.scene)
+        return footprint.reshape(height, width)
+
+
+def render_reference(scene: Scene) -> ReferenceImage:
+    """Rasterize and shade the scene's own meshes in float64 (see the module docstring)."""
+    rasterized = RasterizedScene(scene)
+    return ReferenceImage(
+        color=rasterized.shade(),
+        covered=rasterized.covered,
+        triangle=rasterized.triangle,
+        object=rasterized.object,
+        depth=rasterized.depth,
+        edge_margin=rasterized.edge_margin,
+        texel_footprint=rasterized.texel_footprint(),
+    )

@@ -1,0 +1,84 @@
+"""The pixels of a golden-image test: any image to (H, W, 4) uint8, reference PNGs read
+and written, and the amplified difference image a person looks at when a test fails.
+
+Pure numpy (imageio for the files, imported when a file is read or written).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .tolerance import GoldenError
+
+DEFAULT_AMPLIFICATION = 10
+
+
+def as_rgba8(image, what: str = "image") -> np.ndarray:
+    """An (H, W, 4) uint8 copy of a uint8 image with 1, 3 or 4 channels, or of a float image
+    in [0, 1] (rounded like the renderer's 8-bit target)."""
+    array = np.asarray(image)
+    if array.ndim == 2:
+        array = array[:, :, None]
+    if array.ndim != 3 or array.shape[2] not in (1, 3, 4) or array.shape[0] == 0 or array.shape[1] == 0:
+        raise GoldenError(f"{what}: expected an (height, width, 1|3|4) image, got shape {array.shape}")
+    if array.dtype == np.uint8:
+        pass
+    elif np.issubdtype(array.dtype, np.floating):
+        if not np.isfinite(array).all():
+            raise GoldenError(f"{what}: float image holds NaN or infinity")
+        array = np.round(np.clip(array, 0.0, 1.0) * 255.0).astype(np.uint8)
+    else:
+        raise GoldenError(f"{what}: expected uint8 or float pixels, got {array.dtype}")
+    if array.shape[2] == 1:
+        array = np.repeat(array, 3, axis=2)
+    if array.shape[2] == 3:
+        array = np.concatenate([array, np.full(array.shape[:2] + (1,), 255, np.uint8)], axis=2)
+    return np.ascontiguousarray(array)
+
+
+def size_text(image: np.ndarray) -> str:
+    """An image array's size as WIDTH×HEIGHT, for messages."""
+    return f"{image.shape[1]}×{image.shape[0]}"
+
+
+def read_image(path: str | os.PathLike[str]) -> np.ndarray:
+    """An 8-bit PNG (or another image format Pillow reads) as (H, W, 4) uint8."""
+    import imageio.v3 as iio
+
+    path = Path(path)
+    if not path.is_file():
+        raise GoldenError(f"reference {str(path)!r} does not exist")
+    try:
+        image = iio.imread(path, plugin="pillow")
+    except Exception as error:  # imageio raises many kinds
+        raise GoldenError(f"reference {str(path)!r} cannot be read as an image: {error}") from None
+    if image.dtype != np.uint8:
+        raise GoldenError(f"reference {str(path)!r}: expected 8-bit pixels, got {image.dtype}")
+    return as_rgba8(image, f"reference {str(path)!r}")
+
+
+def write_image(path: str | os.PathLike[str], image) -> Path:
+    """Write an image as an 8-bit RGBA PNG, creating the folder."""
+    import imageio.v3 as iio
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    iio.imwrite(path, as_rgba8(image), extension=".png")
+    return path
+
+
+def diff_image(actual, expected, amplification: float = DEFAULT_AMPLIFICATION) -> np.ndarray:
+    """The amplified difference as an opaque RGB(A) image: each color channel is
+    |actual − expected| × amplification (clipped to 255), so black means identical and the
+    hue says which channel differs; an alpha difference shows in all three (gray/white)."""
+    a = as_rgba8(actual, "actual").astype(np.int16)
+    e = as_rgba8(expected, "expected").astype(np.int16)
+    if a.shape != e.shape:
+        raise GoldenError(f"diff image: sizes differ ({size_text(a)} vs {size_text(e)})")
+    delta = np.abs(a - e)
+    rgb = np.maximum(delta[:, :, :3], delta[:, :, 3:4])
+    amplified = np.clip(np.round(rgb * float(amplification)), 0, 255).astype(np.uint8)
+    return np.concatenate([amplified, np.full(amplified.shape[:2] + (1,), 255, np.uint8)], axis=2)
