@@ -38,7 +38,7 @@ from ..scene import (
 
 _TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
 _SECTIONS = {
-    "output": {"size", "background"},
+    "output": {"size", "background", "samples", "transparent"},
     "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided"},
     "camera": {"eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height", "azimuth", "elevation"},
     "ambient": {"color"},
@@ -157,6 +157,19 @@ def _object(table: Mapping[str, Any], index: int, base: Path) -> SceneObject:
         raise SceneError(f"{where}: {error}") from None
 
 
+def _background(output: Mapping[str, Any], default) -> Any:
+    """[output] background, with alpha 0 when `transparent = true` (SPEC §13)."""
+    background = output.get("background", default)
+    transparent = output.get("transparent", False)
+    if not isinstance(transparent, bool):
+        raise SceneError(f"output.transparent: expected true or false, got {transparent!r}")
+    if not transparent:
+        return background
+    if not isinstance(background, (list, tuple)) or len(background) not in (3, 4):
+        return background  # Scene reports what is wrong with it
+    return (*background[:3], 0.0)
+
+
 def _camera(table: Mapping[str, Any]) -> Camera:
     """[camera]: azimuth and elevation (degrees) turn the camera about its target after the
     other keys placed it, as f3d's --camera-azimuth-angle/--camera-elevation-angle do."""
@@ -188,7 +201,8 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".")
         shading=Shading(**shading),
         ambient=ambient.get("color", defaults.ambient),
         size=image_size(output.get("size", defaults.size)),
-        background=output.get("background", defaults.background),
+        background=_background(output, defaults.background),
+        samples=output.get("samples", defaults.samples),
     )
 
 

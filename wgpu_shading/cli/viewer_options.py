@@ -11,6 +11,9 @@ names), lights, background. Each flag maps onto a scene-file key (docs/scene-fil
     --camera-orthographic          [camera] projection = "orthographic"
     --camera-ortho-height H        [camera] ortho_height (implies orthographic)
     --light SPEC (repeatable)      [[lights]]: replaces the scene's or the default lights
+    --samples 1|4                  [output] samples (MSAA antialiasing)
+    --background-color R,G,B[,A]   [output] background
+    --no-background                [output] transparent = true (background alpha 0)
 """
 
 from __future__ import annotations
@@ -40,6 +43,16 @@ def _vector(text: str) -> tuple[float, ...]:
         raise argparse.ArgumentTypeError(f"expected numbers separated by commas (X,Y,Z), got {text!r}") from None
     if len(values) != 3:
         raise argparse.ArgumentTypeError(f"expected 3 numbers X,Y,Z, got {text!r}")
+    return values
+
+
+def _color(text: str) -> tuple[float, ...]:
+    try:
+        values = tuple(float(part) for part in text.replace(" ", "").split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected R,G,B or R,G,B,A (0..1), got {text!r}") from None
+    if len(values) not in (3, 4):
+        raise argparse.ArgumentTypeError(f"expected R,G,B or R,G,B,A (0..1), got {text!r}")
     return values
 
 
@@ -103,6 +116,10 @@ def add_viewer_arguments(parser: argparse.ArgumentParser) -> None:
                         help="orthographic projection keeping the framing (height = the perspective view's at the target)")
     camera.add_argument("--camera-ortho-height", type=float, metavar="H",
                         help="orthographic view height in world units ([camera] ortho_height; implies --camera-orthographic)")
+    output = parser.add_argument_group("output")
+    output.add_argument("--samples", type=int, choices=(1, 4), help="antialiasing: 4 = MSAA with 4 samples per pixel (default: the scene's, 1)")
+    output.add_argument("--background-color", type=_color, metavar="R,G,B[,A]", help="background color, components 0..1 ([output] background)")
+    output.add_argument("--no-background", action="store_true", help="transparent background: alpha 0 where nothing is drawn (PNG, TIFF, .npy)")
     lights = parser.add_argument_group("lights")
     lights.add_argument("--light", action="append", metavar="SPEC",
                         help=f"replace the lights (repeat for more): {LIGHT_SYNTAX}")
@@ -138,6 +155,19 @@ def apply_viewer_options(scene: Scene, args: argparse.Namespace, bare_mesh: bool
         lights = tuple(parse_light(spec, camera) for spec in args.light)
     elif bare_mesh and camera is not scene.camera:
         lights = viewer_lights(camera)
-    if camera is scene.camera and lights is scene.lights:
+    output: dict = {}
+    if getattr(args, "samples", None) is not None:
+        output["samples"] = args.samples
+    background = scene.background
+    if getattr(args, "background_color", None) is not None:
+        background = args.background_color if len(args.background_color) == 4 else (*args.background_color, background[3])
+    if getattr(args, "no_background", False):
+        background = (*background[:3], 0.0)
+    if background != scene.background:
+        output["background"] = background
+    if camera is scene.camera and lights is scene.lights and not output:
         return scene
-    return replace(scene, camera=camera, lights=lights)
+    try:
+        return replace(scene, camera=camera, lights=lights, **output)
+    except SceneError as error:
+        raise SceneError(f"command-line options: {error}") from None
