@@ -39,7 +39,7 @@ from ..scene import (
 _TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
 _SECTIONS = {
     "output": {"size", "background", "samples", "transparent"},
-    "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided"},
+    "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided", "clamp_vertex_colors"},
     "camera": {"eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height", "azimuth", "elevation"},
     "ambient": {"color"},
 }

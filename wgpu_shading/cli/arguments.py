@@ -63,6 +63,8 @@ def _load(args: argparse.Namespace):
         overrides["local_viewer"] = False
     if args.two_sided:
         overrides["two_sided"] = True
+    if getattr(args, "clamp_vertex_colors", False):
+        overrides["clamp_vertex_colors"] = True
     if overrides:
         scene = replace(scene, shading=replace(shading, **overrides))
     return scene
@@ -82,6 +84,10 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
     parser.add_argument("--infinite-viewer", action="store_true", help="OpenGL's default viewer: V = (0, 0, 1)")
     parser.add_argument("--two-sided", action="store_true", help="light back faces with the flipped normal")
+    parser.add_argument(
+        "--clamp-vertex-colors", action="store_true",
+        help="flat/Gouraud: clamp each vertex's color before interpolation, as OpenGL fixed-function does",
+    )
     add_viewer_arguments(parser)
 
 

@@ -26,6 +26,7 @@ class FeatureSet:
     texture_mode: str | None = None  # None | modulate | modulate_all | blend
     two_sided: bool = False
     local_viewer: bool = True
+    clamp_vertex_colors: bool = False  # flat/Gouraud: OpenGL's per-vertex clamp (SPEC §13)
 
     @property
     def light_count(self) -> int:
@@ -51,6 +52,7 @@ class FeatureSet:
             "TEXTURE_BLEND": self.texture_mode == "blend",
             "TWO_SIDED": self.two_sided,
             "LOCAL_VIEWER": self.local_viewer,
+            "CLAMP_VERTEX_COLORS": self.clamp_vertex_colors,
         }
 
     def describe(self) -> str:
@@ -74,6 +76,8 @@ class FeatureSet:
             f"two_sided={self.two_sided}",
             f"viewer={'local' if self.local_viewer else 'infinite'}",
         ]
+        if self.clamp_vertex_colors:
+            parts.append("clamp_vertex_colors=True")
         return " ".join(parts)
 
     def scene_part(self) -> "FeatureSet":
@@ -117,4 +121,6 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0) -> FeatureSe
         texture_mode=texture_mode,
         two_sided=scene.shading.two_sided,
         local_viewer=scene.shading.local_viewer,
+        # Phong shading has no vertex colors: leaving the flag out keeps one pipeline for both.
+        clamp_vertex_colors=scene.shading.clamp_vertex_colors and scene.shading.frequency != "phong",
     )

@@ -91,9 +91,12 @@ class Shading:
     blinn_exponent_scale: float = 1.0  # k_blinn: Blinn-Phong exponent = shininess × this
     local_viewer: bool = True
     two_sided: bool = False
+    # Flat/Gouraud: clamp each vertex's (face's) color to [0, 1] before interpolation, as
+    # OpenGL fixed-function does; default False is the seeds' GLSL (clamp per fragment only).
+    clamp_vertex_colors: bool = False
 
     def __post_init__(self) -> None:
-        for key in ("local_viewer", "two_sided"):
+        for key in ("local_viewer", "two_sided", "clamp_vertex_colors"):
             if not isinstance(getattr(self, key), bool):
                 raise SceneError(f"shading.{key}: expected true or false, got {getattr(self, key)!r}")
         _set(
