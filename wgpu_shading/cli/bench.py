@@ -29,6 +29,15 @@ def command_bench_accuracy(args: argparse.Namespace) -> int:
     config = with_changes(config, **changes)
     if args.markdown is not None and not Path(args.markdown).parent.is_dir():
         raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
+    from ..assets.images import check_folder_writable, check_writable
+
+    if args.markdown is not None:
+        check_writable(Path(args.markdown), "--markdown")
+    # --out is created if missing: its nearest existing ancestor must take new files.
+    existing = Path(args.out).absolute()
+    while not existing.exists():
+        existing = existing.parent
+    check_folder_writable(existing, "--out")
     plot = not args.no_plot
     if plot:
         try:

@@ -50,6 +50,12 @@ class Frame:
     color: np.ndarray
     depth: np.ndarray | None = None
 
+    def _repr_png_(self) -> bytes:
+        """Jupyter (and IPython's display) shows a Frame as its color image."""
+        from ..assets.images import png_bytes
+
+        return png_bytes(self.color)
+
 
 
 @dataclass
