@@ -4,35 +4,133 @@
     python -m benchmarks               # everything, ~6-10 min on 2 cores
     python -m benchmarks --quick       # smaller and fewer, ~2 min
     python -m benchmarks --only warm,cold
+    python -m benchmarks --smoke       # does every benchmark still run? ~20 s; numbers mean nothing
 
 Results: markdown tables on stdout, and in --out (default benchmarks/results/):
 results.md, results.json, scaling_triangles.png, scaling_pixels.png.
 Absolute times are specific to this machine and its load; the ratios, measured side by
 side in one run, are what carries over.
+
+--smoke runs every phase above and the standalone benchmarks (bench_specialization.py,
+bench_reference.py, golden_noise.py) once each, on tiny inputs (meshes of at most 2K
+triangles, 32-64 px images, one round), with the peers that are installed (moderngl and
+pygfx come with the [bench] extra; without it they are left out and named), and ends with
+one line saying what ran. It writes into a temporary folder (or --out), never into docs/.
+tests/test_benchmarks.py runs it, so that a benchmark the code moved away from fails a test
+instead of rotting until the next real run.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
+import importlib.util
 import json
 import os
+import shutil
+import subprocess
 import sys
+import tempfile
 import time
+import traceback
 from pathlib import Path
 
 SECTIONS = ("warm", "breakdown", "cold", "batch", "memory", "scaling")
+HERE = Path(__file__).resolve().parent
+# --smoke only: the standalone benchmarks, each with its own smallest arguments. None of
+# them is given an output file (bench_specialization.py --output would rewrite docs/).
+SMOKE_SCRIPTS = {
+    "specialization": ("bench_specialization.py", "--size", "64", "--frames", "1"),
+    "reference": ("bench_reference.py", "--size", "32", "--triangles", "20", "200", "--repeat", "1"),
+    "golden_noise": ("golden_noise.py", "--smoke"),
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class Settings:
+    """Sizes and repetitions of one kind of run."""
+
+    warm_sizes: tuple[int, ...]
+    warm_rounds: int
+    warm_frames: int
+    breakdown_size: int
+    breakdown_rounds: int
+    breakdown_frames: int
+    cold_rounds: int
+    batch_frames: int
+    batch_size: int
+    memory_triangles: int
+    memory_size: int
+    memory_runs: int
+    scaling_counts: tuple[int, ...]
+    scaling_sides: tuple[int, ...]
+    scaling_rounds: int
+    scaling_frames: int
+    # What only the smoke run changes (the defaults are the real runs').
+    tiny: bool = False  # scenes.py's tiny meshes instead of the 10K torus, bunny and 1.3M sphere
+    scaling_size: int = 512  # image side of the triangle curve
+    thread_frames: int = 5  # per-thread CPU: at least this many frames ...
+    thread_seconds: float = 1.0  # ... and this long (the kernel counts CPU time in 10 ms ticks)
+    cold_size: int | None = None  # image side of the cold CLI renders (None: the CLI's 512)
+    cold_fill_caches: bool = True  # an untimed first run of each cold variant
+    cold_phase_rounds: int | None = None  # rounds of the phases without prebuilt FFI (None: max(2, rounds // 2))
+
+
+FULL = Settings(
+    warm_sizes=(512, 1024), warm_rounds=7, warm_frames=3,
+    breakdown_size=512, breakdown_rounds=8, breakdown_frames=3,
+    cold_rounds=10,
+    batch_frames=360, batch_size=512,
+    memory_triangles=1_300_000, memory_size=512, memory_runs=3,
+    scaling_counts=(10_000, 30_000, 100_000, 300_000, 1_000_000, 3_000_000),
+    scaling_sides=(128, 256, 512, 1024, 2048), scaling_rounds=4, scaling_frames=2,
+)
+QUICK = dataclasses.replace(
+    FULL,
+    warm_sizes=(512,), warm_rounds=2, warm_frames=2,
+    breakdown_rounds=2, breakdown_frames=2,
+    cold_rounds=4,
+    batch_frames=60,
+    memory_runs=1,
+    scaling_counts=(10_000, 100_000, 1_000_000), scaling_sides=(256, 512, 1024), scaling_rounds=2, scaling_frames=1,
+)
+# Every step once, on tiny inputs.
+SMOKE = Settings(
+    warm_sizes=(64,), warm_rounds=1, warm_frames=1,
+    breakdown_size=64, breakdown_rounds=1, breakdown_frames=1,
+    cold_rounds=1,
+    batch_frames=5, batch_size=64,  # 5 turns of 72°: 90° ones would show the cube the same each time
+    memory_triangles=2_000, memory_size=64, memory_runs=1,
+    scaling_counts=(200, 2_000), scaling_sides=(32, 64), scaling_rounds=1, scaling_frames=1,
+    tiny=True, scaling_size=64, thread_frames=1, thread_seconds=0.1,
+    cold_size=64, cold_fill_caches=False, cold_phase_rounds=1,
+)
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="smaller sizes, fewer rounds (~2 min)")
-    parser.add_argument("--only", help=f"comma-separated sections: {', '.join(SECTIONS)}")
+    modes = parser.add_mutually_exclusive_group()
+    modes.add_argument("--quick", action="store_true", help="smaller sizes, fewer rounds (~2 min)")
+    modes.add_argument(
+        "--smoke", action="store_true",
+        help="every benchmark (these sections and the standalone scripts) once on tiny inputs, in seconds; "
+        "checks that they run, the numbers mean nothing",
+    )
+    parser.add_argument(
+        "--only", help=f"comma-separated sections: {', '.join(SECTIONS)} (with --smoke also: {', '.join(SMOKE_SCRIPTS)})"
+    )
     parser.add_argument("--no-pygfx", action="store_true", help="leave pygfx out of the warm table")
-    parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "results", help="output folder")
+    parser.add_argument(
+        "--out", type=Path, default=None,
+        help="output folder (default: benchmarks/results/; with --smoke a temporary folder, removed afterwards)",
+    )
     args = parser.parse_args(argv)
-    chosen = SECTIONS if not args.only else tuple(s.strip() for s in args.only.split(","))
-    unknown = set(chosen) - set(SECTIONS)
+    begun = time.perf_counter()
+    smoke = args.smoke
+    known = SECTIONS + (tuple(SMOKE_SCRIPTS) if smoke else ())
+    chosen = known if not args.only else tuple(s.strip() for s in args.only.split(","))
+    unknown = set(chosen) - set(known)
     if unknown:
         parser.error(f"unknown sections: {', '.join(sorted(unknown))}")
     os.environ.setdefault("NODEVICE_SELECT", "1")
@@ -42,71 +140,172 @@ def main(argv: list[str] | None = None) -> int:
     from . import report
     from .measure import machine_description
 
+    s = SMOKE if smoke else QUICK if args.quick else FULL
+    # A real run needs the peers (the [bench] extra); a smoke run leaves out those it cannot run.
+    skipped: list[str] = []
+    moderngl = not smoke or _peer_usable("moderngl", skipped)
+    pygfx = not args.no_pygfx and (not smoke or _peer_usable("pygfx", skipped))
+    out = args.out or (Path(tempfile.mkdtemp(prefix="wgpu-shading-bench-smoke-")) if smoke else HERE / "results")
+    ran: list[str] = []
+    failed: list[str] = []
+
     renderer = Renderer()
-    quick = args.quick
     started = time.perf_counter()
+    mode = " --smoke" if smoke else " --quick" if args.quick else ""
     results: dict[str, object] = {
-        "command": "python -m benchmarks" + (" --quick" if quick else "") + (f" --only {args.only}" if args.only else ""),
+        "command": "python -m benchmarks" + mode + (f" --only {args.only}" if args.only else ""),
         "machine": machine_description(),
         "load_average_at_start": os.getloadavg(),
     }
-    print(f"# wgpu-shading performance\n\nmachine: {results['machine']}\n", flush=True)
+    title = " (smoke run: tiny inputs, one round; the numbers mean nothing)" if smoke else ""
+    print(f"# wgpu-shading performance{title}\n\nmachine: {results['machine']}\n", flush=True)
+    labels: dict[str, dict] = {"memory": {}, "scaling": {}}  # table titles: the defaults name the real runs' inputs
+    if smoke:
+        from .scenes import TINY_TORUS_SEGMENTS
+
+        labels = {"memory": {"size": s.memory_size}, "scaling": {"sphere_size": s.scaling_size, "torus": str(2 * TINY_TORUS_SEGMENTS**2)}}
+        results["table_labels"] = labels
+
+    def step(name: str):
+        return _step(name, smoke, ran, failed)
 
     if "warm" in chosen:
-        from .warm import run_warm
+        with step("warm"):
+            from .warm import run_warm
 
-        sizes = (512,) if quick else (512, 1024)
-        rows = run_warm(renderer, sizes, rounds=2 if quick else 7, frames=2 if quick else 3, pygfx=not args.no_pygfx)
-        results["warm"] = rows
-        print(report.warm_table(rows), flush=True)
+            rows = run_warm(
+                renderer, s.warm_sizes, rounds=s.warm_rounds, frames=s.warm_frames, pygfx=pygfx, moderngl=moderngl, tiny=s.tiny
+            )
+            print(report.warm_table(rows), flush=True)
+            results["warm"] = rows
     if "breakdown" in chosen:
-        from .warm import run_breakdown
+        with step("breakdown"):
+            from .warm import run_breakdown
 
-        rows = run_breakdown(renderer, 512, rounds=2 if quick else 8, frames=2 if quick else 3)
-        results["breakdown"] = rows
-        print(report.breakdown_table(rows), flush=True)
+            rows = run_breakdown(
+                renderer, s.breakdown_size, rounds=s.breakdown_rounds, frames=s.breakdown_frames, moderngl=moderngl,
+                tiny=s.tiny, thread_frames=s.thread_frames, thread_seconds=s.thread_seconds,
+            )
+            print(report.breakdown_table(rows), flush=True)
+            results["breakdown"] = rows
     if "cold" in chosen:
-        from .cold import run_cold
+        with step("cold"):
+            from .cold import run_cold
 
-        cold = run_cold(rounds=4 if quick else 10)
-        results["cold"] = cold
-        print(report.cold_table(cold), flush=True)
+            cold = run_cold(
+                rounds=s.cold_rounds, size=s.cold_size, moderngl=moderngl, fill_caches=s.cold_fill_caches,
+                phase_rounds=s.cold_phase_rounds,
+            )
+            print(report.cold_table(cold), flush=True)
+            results["cold"] = cold
     if "batch" in chosen:
-        from .batch import run_batch
+        with step("batch"):
+            from .batch import run_batch
 
-        batch = run_batch(renderer, frames=60 if quick else 360, size=512, passes=2)
-        results["batch"] = batch
-        print(report.batch_table(batch), flush=True)
+            batch = run_batch(
+                renderer, frames=s.batch_frames, size=s.batch_size, passes=2, tiny=s.tiny,
+                thread_frames=s.thread_frames, thread_seconds=s.thread_seconds,
+            )
+            print(report.batch_table(batch), flush=True)
+            results["batch"] = batch
     if "memory" in chosen:
-        from .memory import run_memory
+        with step("memory"):
+            from .memory import run_memory
 
-        memory = run_memory(1_300_000, 512, runs=1 if quick else 3)
-        results["memory"] = memory
-        print(report.memory_table(memory), flush=True)
+            memory = run_memory(s.memory_triangles, s.memory_size, runs=s.memory_runs)
+            print(report.memory_table(memory, **labels["memory"]), flush=True)
+            results["memory"] = memory
     if "scaling" in chosen:
-        from .scaling import pixel_curve, triangle_curve
+        with step("scaling"):
+            from .scaling import pixel_curve, triangle_curve
+            from .scenes import TINY_TORUS_SEGMENTS
 
-        counts = (10_000, 100_000, 1_000_000) if quick else (10_000, 30_000, 100_000, 300_000, 1_000_000, 3_000_000)
-        sides = (256, 512, 1024) if quick else (128, 256, 512, 1024, 2048)
-        rounds, frames = (2, 1) if quick else (4, 2)
-        results["scaling"] = {
-            "triangles": triangle_curve(renderer, counts, rounds=rounds, frames=frames),
-            "pixels": pixel_curve(renderer, sides, rounds=rounds, frames=frames),
-        }
-        print(report.scaling_table(results["scaling"]), flush=True)
+            curve = {"rounds": s.scaling_rounds, "frames": s.scaling_frames, "moderngl": moderngl}
+            scaling = {
+                "triangles": triangle_curve(renderer, s.scaling_counts, size=s.scaling_size, **curve),
+                "pixels": pixel_curve(renderer, s.scaling_sides, segments=TINY_TORUS_SEGMENTS if s.tiny else 72, **curve),
+            }
+            print(report.scaling_table(scaling, **labels["scaling"]), flush=True)
+            results["scaling"] = scaling
+    for name, (script, *script_args) in SMOKE_SCRIPTS.items():
+        if smoke and name in chosen:
+            with step(name):
+                _run_script(script, script_args)
 
     elapsed = time.perf_counter() - started
     results["seconds"] = elapsed
     results["load_average_at_end"] = os.getloadavg()
-    args.out.mkdir(parents=True, exist_ok=True)
-    markdown = report.everything(results)
-    (args.out / "results.md").write_text(markdown)
-    (args.out / "results.json").write_text(json.dumps(_plain(results), indent=1))
-    if "scaling" in results:
-        report.plot_scaling(results["scaling"], args.out)
-    print(f"\n{elapsed / 60:.1f} min; load average {results['load_average_at_start']} → "
-          f"{results['load_average_at_end']}; written to {args.out}", file=sys.stderr)
-    return 0
+    with step("report"):  # results.md, results.json, the scaling plots
+        out.mkdir(parents=True, exist_ok=True)
+        markdown = report.everything(results)
+        (out / "results.md").write_text(markdown)
+        (out / "results.json").write_text(json.dumps(_plain(results), indent=1))
+        if "scaling" in results:
+            report.plot_scaling(results["scaling"], out)
+    if not smoke:
+        print(f"\n{elapsed / 60:.1f} min; load average {results['load_average_at_start']} → "
+              f"{results['load_average_at_end']}; written to {out}", file=sys.stderr)
+        return 0
+    if "scaling" in results and not _importable("matplotlib"):
+        skipped.append("the scaling plots (matplotlib not installed)")
+    if args.out is None:
+        shutil.rmtree(out, ignore_errors=True)
+        where = "results.md and results.json written to a temporary folder, removed"
+    else:
+        where = f"results written to {out}"
+    print(f"smoke: ran {len(ran)} steps in {time.perf_counter() - begun:.1f} s: {', '.join(ran) or 'none'}")
+    print(f"smoke: skipped: {'; '.join(skipped) if skipped else 'nothing'}")
+    print(f"smoke: {'FAILED: ' + ', '.join(failed) if failed else 'all ran'}; {where}", flush=True)
+    return 1 if failed else 0
+
+
+@contextlib.contextmanager
+def _step(name: str, smoke: bool, ran: list[str], failed: list[str]):
+    """One benchmark. In a smoke run a failure is printed and counted, and the others still
+    run (so one run shows everything that rotted); in a real run it stops the run."""
+    start = time.perf_counter()
+    if smoke:
+        print(f"<!-- smoke: {name} -->", flush=True)
+    try:
+        yield
+    except Exception:
+        if not smoke:
+            raise
+        traceback.print_exc()
+        print(f"smoke: {name} FAILED (traceback on stderr)\n", flush=True)
+        failed.append(name)
+    else:
+        ran.append(f"{name} ({time.perf_counter() - start:.1f} s)")
+
+
+def _run_script(script: str, script_args: list[str]) -> None:
+    """A standalone benchmark in its own process, as a person runs it; its tables to stdout."""
+    command = [sys.executable, str(HERE / script), *script_args]
+    print(f"## {script} {' '.join(script_args)}\n", flush=True)
+    result = subprocess.run(command, cwd=HERE.parent, capture_output=True, text=True, timeout=300)
+    print(result.stdout.rstrip() + "\n", flush=True)
+    if result.returncode != 0:
+        raise RuntimeError(f"{script} exited with {result.returncode}:\n{result.stderr.strip()[-2000:]}")
+
+
+def _importable(module: str) -> bool:
+    return importlib.util.find_spec(module) is not None
+
+
+def _peer_usable(name: str, skipped: list[str]) -> bool:
+    """Can the smoke run use this peer? If not, say why in `skipped`."""
+    if not _importable(name):
+        skipped.append(f"the {name} peer (not installed: pip install -e '.[bench]')")
+        return False
+    if name == "moderngl":
+        from .peers import moderngl_context
+
+        try:
+            moderngl_context()  # the one context every moderngl peer of this process uses
+        except Exception as error:  # no EGL / no OpenGL 4.3 on this machine
+            skipped.append(f"the moderngl peer (no headless OpenGL: {str(error).splitlines()[0]})")
+            return False
+    return True
 
 
 def _plain(value: object) -> object:

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from wgpu_shading import Renderer
+from wgpu_shading.assets.mesh_scene import mesh_scene
 from wgpu_shading.scene.turntable import turntable
 
 from .measure import progress, thread_breakdown
@@ -54,14 +55,33 @@ class BatchResult:
         rasterizers = 2  # llvmpipe starts one rasterizer thread per core (2 here)
         naive = serial + raster / rasterizers
         total = serial + raster
+        if total == 0:  # too short a sample for the kernel's 10 ms CPU accounting
+            return float("nan")
         return naive / (total / (os.cpu_count() or 1))
 
 
-def run_batch(renderer: Renderer, frames: int, size: int, *, passes: int) -> BatchResult:
-    scene = bunny_scene(size)
-    label = "bunny 70K"
-    if scene is None:
-        scene, label = torus_scene(size), "torus 10K"
+def run_batch(
+    renderer: Renderer,
+    frames: int,
+    size: int,
+    *,
+    passes: int,
+    tiny: bool = False,
+    thread_frames: int = 5,
+    thread_seconds: float = 1.0,
+) -> BatchResult:
+    """tiny: the smoke run's cube instead of the bunny, in the library and through the CLI
+    (not the torus: turning about its axis, its GIF frames would be identical and merged);
+    thread_frames / thread_seconds: how long the per-thread CPU is sampled."""
+    if tiny:
+        cli_input = "builtin:cube"
+        scene = mesh_scene(cli_input, (size, size), None)  # as the CLI frames it, like the bunny
+        label = f"cube {scene.objects[0].mesh.triangle_count}"
+    else:
+        scene = bunny_scene(size)
+        label, cli_input = "bunny 70K", (str(BUNNY) if BUNNY.exists() else None)
+        if scene is None:
+            scene, label = torus_scene(size), "torus 10K"
     views = turntable(scene, frames)
     progress(f"batch: {frames} views of the {label} at {size}², naive vs render_many")
     naive_frames = [renderer.render(view) for view in views[:6]]
@@ -91,22 +111,22 @@ def run_batch(renderer: Renderer, frames: int, size: int, *, passes: int) -> Bat
             modes[mode]()
             seconds[mode].append(time.perf_counter() - start)
     cycle = iter(views * 100)
-    threads = thread_breakdown(lambda: renderer.render(next(cycle)))
-    cli_seconds, written = _cli_turntable(frames, size)
+    threads = thread_breakdown(lambda: renderer.render(next(cycle)), min_frames=thread_frames, min_seconds=thread_seconds)
+    cli_seconds, written = _cli_turntable(cli_input, label.split()[0], frames, size)
     return BatchResult(label, frames, size, seconds, identical, threads, cli_seconds, written)
 
 
-def _cli_turntable(frames: int, size: int) -> tuple[float | None, int | None]:
+def _cli_turntable(source: str | None, name: str, frames: int, size: int) -> tuple[float | None, int | None]:
     """`wgpu-shading turntable` end to end (a GIF, with its encoding), in a new process."""
-    if not BUNNY.exists():
+    if source is None:
         return None, None
-    progress(f"batch: wgpu-shading turntable bunny -o spin.gif --frames {frames}")
+    progress(f"batch: wgpu-shading turntable {name} -o spin.gif --frames {frames}")
     cli = shutil.which("wgpu-shading", path=str(Path(sys.executable).parent)) or "wgpu-shading"
     with tempfile.TemporaryDirectory() as folder:
         out = Path(folder) / "spin.gif"
         start = time.perf_counter()
         subprocess.run(
-            [cli, "turntable", str(BUNNY), "-o", str(out), "--frames", str(frames), "--size", str(size), "-q"],
+            [cli, "turntable", source, "-o", str(out), "--frames", str(frames), "--size", str(size), "-q"],
             check=True,
             timeout=1800,
         )

@@ -39,6 +39,7 @@ from wgpu_shading import (  # noqa: E402
     load_mesh,
     load_scene,
 )
+from wgpu_shading.assets import load_texture  # noqa: E402
 from wgpu_shading.render.device import default_device, describe_device  # noqa: E402
 from wgpu_shading.render.features import FeatureSet, object_features  # noqa: E402
 from wgpu_shading.render.layout import Layouts  # noqa: E402
@@ -61,7 +62,7 @@ def scenes(size: int) -> dict[str, Scene]:
         lights=(DirectionalLight(direction=(-1.0, -1.0, -1.0)),),
         ambient=(0.2, 0.2, 0.2, 1.0),
     )
-    checker = Texture.from_file(ROOT / "examples" / "textures" / "checker.png")
+    checker = load_texture(ROOT / "examples" / "textures" / "checker.png")
     mixed_lights = (
         DirectionalLight(direction=(-1, -1, -1), diffuse=(0.3, 0.3, 0.3, 1), specular=(0.3, 0.3, 0.3, 1)),
         DirectionalLight(direction=(1, -0.5, -1), diffuse=(0.2, 0.1, 0.1, 1), specular=(0.2, 0.2, 0.2, 1)),

@@ -54,21 +54,31 @@ def _timed(command: list[str], env: dict[str, str]) -> float:
     return elapsed
 
 
-def run_cold(rounds: int) -> ColdResult:
+def run_cold(
+    rounds: int, *, size: int | None = None, moderngl: bool = True, fill_caches: bool = True, phase_rounds: int | None = None
+) -> ColdResult:
+    """size: the image side for the CLI and cold_phases.py (default: the CLI's 512);
+    moderngl False leaves the moderngl script out; fill_caches False skips the untimed
+    first run of each variant; phase_rounds: rounds of the phases without the prebuilt FFI
+    (default max(2, rounds // 2)). The smoke run uses all four to run each step once."""
     folder = Path(tempfile.mkdtemp(prefix="wgpu-shading-cold-"))
     out = str(folder / "t.png")
     env = {**os.environ}
     no_ffi = {**env, "WGPU_SHADING_PREBUILT_FFI": "0"}
+    render = [_cli(), "render", "builtin:torus", "-o", out, "-q"] + (["--size", str(size)] if size else [])
     variants = {
-        "wgpu-shading CLI": ([_cli(), "render", "builtin:torus", "-o", out, "-q"], env),
-        "CLI, prebuilt FFI off (before)": ([_cli(), "render", "builtin:torus", "-o", out, "-q"], no_ffi),
-        "moderngl script": ([sys.executable, str(SCRIPTS / "moderngl_torus.py"), out], env),
+        "wgpu-shading CLI": (render, env),
+        "CLI, prebuilt FFI off (before)": (render, no_ffi),
+        "moderngl script": ([sys.executable, str(SCRIPTS / "moderngl_torus.py"), out] + ([str(size)] if size else []), env),
         "wgpu floor + prebuilt FFI": ([sys.executable, str(SCRIPTS / "wgpu_floor.py"), "--prebuilt-ffi"], env),
         "wgpu floor (plain wgpu-py)": ([sys.executable, str(SCRIPTS / "wgpu_floor.py")], env),
         "python + import numpy": ([sys.executable, "-c", "import numpy"], env),
     }
-    for command, variant_env in variants.values():  # fill disk caches; not timed
-        _timed(command, variant_env)
+    if not moderngl:
+        del variants["moderngl script"]
+    if fill_caches:
+        for command, variant_env in variants.values():  # fill disk caches; not timed
+            _timed(command, variant_env)
     runs: dict[str, list[float]] = {name: [] for name in variants}
     names = list(variants)
     for round_index in range(rounds):
@@ -81,24 +91,21 @@ def run_cold(rounds: int) -> ColdResult:
     runs["CLI, fresh caches (first run ever)"] = []
     for _ in range(max(1, rounds // 4)):
         with tempfile.TemporaryDirectory() as cache:
-            runs["CLI, fresh caches (first run ever)"].append(
-                _timed([_cli(), "render", "builtin:torus", "-o", out, "-q"], {**env, "XDG_CACHE_HOME": cache})
-            )
-    phases = _phases(out, env, rounds)
-    phases_without_ffi = _phases(out, no_ffi, max(2, rounds // 2))
+            runs["CLI, fresh caches (first run ever)"].append(_timed(render, {**env, "XDG_CACHE_HOME": cache}))
+    phases = _phases(out, env, rounds, size)
+    phases_without_ffi = _phases(out, no_ffi, phase_rounds or max(2, rounds // 2), size)
     shutil.rmtree(folder, ignore_errors=True)
     return ColdResult(runs, phases, phases_without_ffi)
 
 
-def _phases(out: str, env: dict[str, str], rounds: int) -> dict[str, float]:
+def _phases(out: str, env: dict[str, str], rounds: int, size: int | None = None) -> dict[str, float]:
     samples: dict[str, list[float]] = {}
     start_samples = []
     for _ in range(rounds):
         # The interpreter's own start-up, before the script's first line.
         start_samples.append(_timed([sys.executable, "-c", "pass"], env))
-        result = subprocess.run(
-            [sys.executable, str(SCRIPTS / "cold_phases.py"), out], env=env, capture_output=True, text=True, timeout=300
-        )
+        command = [sys.executable, str(SCRIPTS / "cold_phases.py"), out] + ([str(size)] if size else [])
+        result = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
         if result.returncode != 0:
             raise RuntimeError(f"cold_phases.py failed: {result.stderr.strip()[-400:]}")
         for name, seconds in json.loads(result.stdout.strip().splitlines()[-1]).items():

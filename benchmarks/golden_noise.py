@@ -3,6 +3,7 @@
     python benchmarks/golden_noise.py                 # both parts, Markdown tables on stdout
     python benchmarks/golden_noise.py --noise         # only part 1
     python benchmarks/golden_noise.py --defects       # only part 2
+    python benchmarks/golden_noise.py --smoke         # does it still run? seconds, numbers mean nothing
 
 Part 1, noise: renders every case of the golden suite (tests/golden) in fresh processes
 under settings that change lavapipe's generated code the way another machine or Mesa
@@ -69,23 +70,40 @@ _ENV_KEYS = ("LP_NUM_THREADS", "LP_NATIVE_VECTOR_WIDTH", "GALLIUM_OVERRIDE_CPU_C
 # --------------------------------------------------------------------------- part 1: noise
 
 
-def render_all(folder: Path) -> None:
-    """(Subprocess) render every case into folder/NAME.npy, and the adapter's name."""
+# --smoke: one noise setting over two cases (one textured), and every defect at its
+# largest amount on one case: every code path once, in seconds.
+SMOKE_CASES = ["gold_torus_phong", "checker_sphere_modulate"]
+
+
+def chosen_cases(names: list[str] | None = None):
+    """The golden cases, or those named (in the order given)."""
+    by_name = {case.name: case for case in cases()}
+    if names is None:
+        return list(by_name.values())
+    unknown = [name for name in names if name not in by_name]
+    if unknown:
+        raise SystemExit(f"unknown golden cases: {', '.join(unknown)} (see tests/golden/cases.toml)")
+    return [by_name[name] for name in names]
+
+
+def render_all(folder: Path, names: list[str] | None = None) -> None:
+    """(Subprocess) render every case (or those named) into folder/NAME.npy, and the adapter's name."""
     from wgpu_shading import Renderer
 
     renderer = Renderer()
     (folder / "adapter.txt").write_text(renderer.device.adapter.info.get("device", "?"))
-    for case in cases():
+    for case in chosen_cases(names):
         np.save(folder / f"{case.name}.npy", renderer.render(case.load()))
 
 
-def noise() -> str:
+def noise(variants: list[tuple[str, dict[str, str]]] = VARIANTS, names: list[str] | None = None) -> str:
     tolerance = Tolerance()
-    all_cases = cases()
+    all_cases = chosen_cases(names)
     rows = []
     textured = {c.name for c in all_cases if "texture" in c.name or "checker" in c.name}
+    only = ["--cases", ",".join(names)] if names is not None else []
     with tempfile.TemporaryDirectory() as tmp:
-        for label, env in VARIANTS:
+        for label, env in variants:
             folder = Path(tmp) / str(len(rows))
             folder.mkdir()
             environment = {k: v for k, v in os.environ.items() if k not in _ENV_KEYS} | env
@@ -93,7 +111,7 @@ def noise() -> str:
             # LP_NATIVE_VECTOR_WIDTH=128 on an AVX2 CPU sometimes aborts inside Mesa 22.3.6
             # ("malloc(): invalid next size"): count such crashes and try again.
             while subprocess.run(
-                [sys.executable, __file__, "--render-to", str(folder)], env=environment,
+                [sys.executable, __file__, "--render-to", str(folder), *only], env=environment,
                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
             ).returncode != 0:
                 crashes += 1
@@ -202,20 +220,23 @@ DEFECTS = [
 DEFECT_CASES = ["gold_torus_phong", "opengl_init_sphere", "light_positional", "checker_sphere_modulate"]
 
 
-def defects() -> str:
+def defects(defect_cases: list[str] = DEFECT_CASES, largest_only: bool = False) -> str:
+    """largest_only: try each defect at its largest amount only (the smoke run)."""
     from wgpu_shading import Renderer
 
     renderer = Renderer()
     tolerance = Tolerance()
-    by_name = {case.name: case for case in cases()}
+    by_name = {case.name: case for case in chosen_cases(defect_cases)}
     lines = [
         "Smallest defects the default tolerance catches (threshold 8/255, 0.1 % of pixels)\n",
-        "| defect | " + " | ".join(DEFECT_CASES) + " |",
-        "|---|" + "---|" * len(DEFECT_CASES),
+        "| defect | " + " | ".join(defect_cases) + " |",
+        "|---|" + "---|" * len(defect_cases),
     ]
     for name, unit, magnitudes, change in DEFECTS:
+        if largest_only:
+            magnitudes = magnitudes[-1:]
         cells = []
-        for case_name in DEFECT_CASES:
+        for case_name in defect_cases:
             case = by_name[case_name]
             scene = case.load()
             expected = read_image(case.reference)
@@ -228,7 +249,7 @@ def defects() -> str:
             cells.append(cell)
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     # Whole defects, caught or not, with their metrics.
-    lines += ["", "| defect | " + " | ".join(DEFECT_CASES) + " |", "|---|" + "---|" * len(DEFECT_CASES)]
+    lines += ["", "| defect | " + " | ".join(defect_cases) + " |", "|---|" + "---|" * len(defect_cases)]
     whole = [
         ("highlight removed (specular 0)", lambda s, img: renderer.render(_materials(s, lambda m: replace(m, specular=(0, 0, 0, m.specular[3]))))),
         ("image shifted 1 px", lambda s, img: np.roll(img, 1, axis=1)),
@@ -236,7 +257,7 @@ def defects() -> str:
     ]
     for name, change in whole:
         cells = []
-        for case_name in DEFECT_CASES:
+        for case_name in defect_cases:
             case = by_name[case_name]
             expected = read_image(case.reference)
             actual = change(case.load(), expected)
@@ -254,17 +275,23 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--noise", action="store_true", help="only part 1")
     parser.add_argument("--defects", action="store_true", help="only part 2")
+    parser.add_argument(
+        "--smoke", action="store_true",
+        help=f"check that it still runs (seconds): one noise setting on {' and '.join(SMOKE_CASES)}, "
+        f"each defect at its largest amount on {SMOKE_CASES[0]}; the numbers mean nothing",
+    )
     parser.add_argument("--render-to", type=Path, help=argparse.SUPPRESS)
+    parser.add_argument("--cases", help=argparse.SUPPRESS)  # with --render-to: only these (comma-separated)
     args = parser.parse_args()
     if args.render_to:
-        render_all(args.render_to)
+        render_all(args.render_to, args.cases.split(",") if args.cases else None)
         return 0
     both = not args.noise and not args.defects
     if args.noise or both:
-        print(noise())
+        print(noise(VARIANTS[:1], SMOKE_CASES) if args.smoke else noise())
         print()
     if args.defects or both:
-        print(defects())
+        print(defects(SMOKE_CASES[:1], largest_only=True) if args.smoke else defects())
     return 0
 
 

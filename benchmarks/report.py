@@ -20,6 +20,18 @@ def _mark(ok: bool) -> str:
     return "met" if ok else "**missed**"
 
 
+def _median(timings: dict, name: str) -> float:
+    """A contender's median ms; NaN when it did not run (a peer left out: no [bench] extra)."""
+    return timings[name].median_ms if name in timings else float("nan")
+
+
+def _count(n: int) -> str:
+    """1,299,600 → 1.3M; 1,980 → 2K."""
+    if n >= 1_000_000:
+        return f"{n / 1e6:.1f}M"
+    return f"{n / 1e3:.0f}K" if n >= 1_000 else str(n)
+
+
 def warm_table(rows) -> str:
     names = list(rows[0].timings)
     lines = [
@@ -32,8 +44,12 @@ def warm_table(rows) -> str:
         cells = [_ms(row.timings[n].median_ms) for n in names]
         pygfx = row.ratio("wgpu-shading", "pygfx") if "pygfx" in row.timings else float("nan")
         lean = row.ratio("wgpu-shading", "pygfx lean") if "pygfx lean" in row.timings else float("nan")
-        moderngl = row.ratio("wgpu-shading", "moderngl")
-        cpu = row.timings["wgpu-shading"].cpu_median_ms / row.timings["moderngl"].cpu_median_ms
+        moderngl = row.ratio("wgpu-shading", "moderngl") if "moderngl" in row.timings else float("nan")
+        cpu = (
+            row.timings["wgpu-shading"].cpu_median_ms / row.timings["moderngl"].cpu_median_ms
+            if "moderngl" in row.timings
+            else float("nan")
+        )
         lines.append(
             f"| {row.scene} | {row.size}² | " + " | ".join(cells)
             + f" | {_ratio(moderngl)} {'✓' if moderngl <= 1.0 else '✗'} | {_ratio(pygfx)} {'✓' if pygfx <= 0.1 else '✗'}"
@@ -50,7 +66,7 @@ def warm_table(rows) -> str:
 def breakdown_table(rows) -> str:
     names = list(rows[0].timings)
     lines = [
-        "## Where our frame goes (512², median ms per frame)",
+        f"## Where our frame goes ({rows[0].size}², median ms per frame)",
         "",
         "floor = clear + copy + readback without any draw; limit = same geometry with trivial shaders; "
         "gouraud / phong = wgpu-shading's per-vertex / per-fragment lighting; seed WGSL = the seed's GLSL "
@@ -64,7 +80,7 @@ def breakdown_table(rows) -> str:
         lines.append(
             f"| {row.scene} | " + " | ".join(_ms(t[n]) for n in names)
             + f" | {_ms(t['limit'] - t['floor'])} | {_ms(t['phong'] - t['limit'])}"
-            + f" | {_ratio(t['phong'] / t['seed WGSL'])} | {_ratio(t['seed WGSL'] / t['moderngl'])} |"
+            + f" | {_ratio(t['phong'] / t['seed WGSL'])} | {_ratio(t['seed WGSL'] / _median(row.timings, 'moderngl'))} |"
         )
     lines += ["", "CPU ms per frame by thread (all threads of the process; moderngl runs its driver on the main thread):", ""]
     roles = sorted({role for row in rows for per in row.threads.values() for role in per})
@@ -80,7 +96,7 @@ def breakdown_table(rows) -> str:
 
 
 def cold_table(cold) -> str:
-    reference = cold.median("moderngl script")
+    reference = cold.median("moderngl script") if "moderngl script" in cold.runs else float("nan")
     lines = [
         "## Cold start: process start to PNG on disk (`wgpu-shading render builtin:torus -o t.png`)",
         "",
@@ -139,16 +155,16 @@ def batch_table(batch) -> str:
     ]
     if batch.cli_seconds is not None:
         lines.append(
-            f"`wgpu-shading turntable bunny -o spin.gif --frames {batch.frames} --size {batch.size}` end to end "
+            f"`wgpu-shading turntable {batch.scene.split()[0]} -o spin.gif --frames {batch.frames} --size {batch.size}` end to end "
             f"(incl. loading the OBJ and GIF encoding): {batch.cli_seconds:.1f} s, {batch.cli_frames_written} frames written, "
             f"{batch.cli_frames_written / batch.cli_seconds:.1f} frames/s."
         )
     return "\n".join(lines) + "\n"
 
 
-def memory_table(rows) -> str:
+def memory_table(rows, size: int = 512) -> str:
     lines = [
-        "## Memory: peak RSS rendering the 1.3M-triangle sphere at 512²",
+        f"## Memory: peak RSS rendering the {_count(rows[0].triangles)}-triangle sphere at {size}²",
         "",
         "| variant | triangles | mesh arrays MiB | baseline MiB | peak − baseline MiB | ÷ mesh arrays (< 3) |",
         "|---|---:|---:|---:|---:|---:|",
@@ -162,15 +178,16 @@ def memory_table(rows) -> str:
     return "\n".join(lines) + "\n"
 
 
-def scaling_table(scaling) -> str:
+def scaling_table(scaling, sphere_size: int = 512, torus: str = "10K") -> str:
     lines = ["## Scaling (median ms per frame)", ""]
-    for key, unit in (("triangles", "triangles (sphere, 512²)"), ("pixels", "pixels (torus 10K)")):
+    for key, unit in (("triangles", f"triangles (sphere, {sphere_size}²)"), ("pixels", f"pixels (torus {torus})")):
         points = scaling[key]
         names = list(points[0].timings)
         lines += [f"| {unit} | " + " | ".join(names) + " | ours ÷ moderngl |", "|---:|" + "---:|" * (len(names) + 1)]
         for point in points:
             t = {n: point.timings[n].median_ms for n in names}
-            lines.append(f"| {point.x:,} | " + " | ".join(_ms(t[n]) for n in names) + f" | {_ratio(t['wgpu-shading'] / t['moderngl'])} |")
+            ratio = t["wgpu-shading"] / _median(point.timings, "moderngl")
+            lines.append(f"| {point.x:,} | " + " | ".join(_ms(t[n]) for n in names) + f" | {_ratio(ratio)} |")
         lines.append("")
     return "\n".join(lines)
 
@@ -190,6 +207,8 @@ def plot_scaling(scaling, folder: Path) -> None:
         points = scaling[key]
         figure, axes = plt.subplots(figsize=(6.4, 4.2), dpi=110)
         for peer, style in (("wgpu-shading", "o-"), ("moderngl", "s--"), ("limit", "^:")):
+            if peer not in points[0].timings:
+                continue
             axes.plot([p.x for p in points], [p.timings[peer].median_ms for p in points], style, label=peer)
         axes.set_xscale("log")
         axes.set_yscale("log")
@@ -213,10 +232,11 @@ def everything(results: dict) -> str:
         parts.append(cold_table(results["cold"]))
     if "batch" in results:
         parts.append(batch_table(results["batch"]))
+    labels = results.get("table_labels", {})  # the smoke run's sizes; the full run's are the defaults
     if "memory" in results:
-        parts.append(memory_table(results["memory"]))
+        parts.append(memory_table(results["memory"], **labels.get("memory", {})))
     if "scaling" in results:
-        parts.append(scaling_table(results["scaling"]))
+        parts.append(scaling_table(results["scaling"], **labels.get("scaling", {})))
     parts.append(
         f"Run time {results['seconds'] / 60:.1f} min; load average (1, 5, 15 min) at start "
         f"{tuple(round(x, 2) for x in results['load_average_at_start'])}, at end "

@@ -104,7 +104,13 @@ def geometry_draw(scene: Scene, name: str) -> GeometryDraw:
     )
 
 
-def torus_scene(size: int) -> Scene:
+# The smoke run's stand-ins (python -m benchmarks --smoke): the same scenes with meshes
+# small enough that every benchmark runs in moments.
+TINY_TORUS_SEGMENTS = 8  # 128 triangles
+TINY_SPHERE_TRIANGLES = 2_000
+
+
+def torus_scene(size: int, segments: int = 72) -> Scene:
     """Seed 000's gold torus scene (examples/gold_torus_phong.toml: Phong shading, one white
     positional light) with the issue's ~10K triangles: 72×72 segments = 10,368 triangles
     instead of the seed's 48×48 = 4,608; same shape and framing."""
@@ -112,7 +118,7 @@ def torus_scene(size: int) -> Scene:
     (obj,) = scene.objects
     from wgpu_shading.assets import load_mesh
 
-    mesh = load_mesh("builtin:torus?major=0.5&minor=0.2&segments=72")
+    mesh = load_mesh(f"builtin:torus?major=0.5&minor=0.2&segments={segments}")
     return replace(scene, objects=(replace(obj, mesh=mesh),), size=(size, size))
 
 
@@ -151,9 +157,16 @@ def _sphere(triangles: int):
     return _SPHERES[triangles]
 
 
-def benchmark_scenes(sizes: tuple[int, ...]) -> list[tuple[str, int, Scene]]:
-    """(label, size, scene) for every scene × size; the bunny only when shared/ exists."""
+def benchmark_scenes(sizes: tuple[int, ...], *, tiny: bool = False) -> list[tuple[str, int, Scene]]:
+    """(label, size, scene) for every scene × size; the bunny only when shared/ exists.
+    tiny: the smoke run's stand-ins instead (a 128-triangle torus, a 2K sphere; no bunny)."""
     result = []
+    if tiny:
+        for size in sizes:
+            torus = torus_scene(size, TINY_TORUS_SEGMENTS)
+            result.append((f"torus {torus.objects[0].mesh.triangle_count}", size, torus))
+            result.append((f"sphere {TINY_SPHERE_TRIANGLES // 1000}K", size, sphere_scene(size, TINY_SPHERE_TRIANGLES)))
+        return result
     for size in sizes:
         result.append(("torus 10K", size, torus_scene(size)))
         bunny = bunny_scene(size)

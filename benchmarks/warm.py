@@ -28,16 +28,28 @@ class WarmRow:
         return self.timings[numerator].median_ms / self.timings[denominator].median_ms
 
 
-def run_warm(renderer: Renderer, sizes: tuple[int, ...], *, rounds: int, frames: int, pygfx: bool = True) -> list[WarmRow]:
+def run_warm(
+    renderer: Renderer,
+    sizes: tuple[int, ...],
+    *,
+    rounds: int,
+    frames: int,
+    pygfx: bool = True,
+    moderngl: bool = True,
+    tiny: bool = False,
+) -> list[WarmRow]:
+    """moderngl / pygfx False leave those peers out (the smoke run, without the [bench]
+    extra); tiny: the smoke run's small stand-in meshes."""
     rows = []
-    for label, size, scene in benchmark_scenes(sizes):
+    for label, size, scene in benchmark_scenes(sizes, tiny=tiny):
         draw = geometry_draw(scene, label)
         progress(f"warm: {label} at {size}² ({draw.triangle_count:,} triangles)")
         peers = [
             WgpuShadingPeer(scene, renderer),
             TrivialLimitPeer(scene, renderer, draw),
-            ModernGLPeer(draw),
         ]
+        if moderngl:
+            peers.append(ModernGLPeer(draw))
         if pygfx:
             peers += [PygfxPeer(draw, lean=False), PygfxPeer(draw, lean=True)]
         # pygfx's default frame is 10-50x slower: fewer of its frames keep the run short.
@@ -59,29 +71,46 @@ class BreakdownRow:
     threads: dict[str, dict[str, float]]  # contender -> thread role -> ms CPU per frame
 
 
-def run_breakdown(renderer: Renderer, size: int, *, rounds: int, frames: int) -> list[BreakdownRow]:
+def run_breakdown(
+    renderer: Renderer,
+    size: int,
+    *,
+    rounds: int,
+    frames: int,
+    moderngl: bool = True,
+    tiny: bool = False,
+    thread_frames: int = 5,
+    thread_seconds: float = 1.0,
+) -> list[BreakdownRow]:
     """Floor (clear + copy + readback), limit (trivial shaders), Gouraud, Phong, the seed's
-    shader ported to WGSL, moderngl; and the CPU of each thread."""
+    shader ported to WGSL, moderngl; and the CPU of each thread (each contender runs at
+    least thread_frames frames and thread_seconds for that)."""
     rows = []
-    for label, _, scene in benchmark_scenes((size,)):
+    for label, _, scene in benchmark_scenes((size,), tiny=tiny):
         progress(f"breakdown: {label} at {size}²")
         draw = geometry_draw(scene, label)
         gouraud = replace(scene, shading=replace(scene.shading, frequency="gouraud"))
         floor = RawWgslPeer(scene, renderer, draw, "floor")
         limit = RawWgslPeer(scene, renderer, draw, "limit")
         seed = RawWgslPeer(scene, renderer, draw, "seed")
-        moderngl = ModernGLPeer(draw)
+        gl = ModernGLPeer(draw) if moderngl else None
         contenders = {
             "floor": floor.render,
             "limit": limit.render,
             "gouraud": lambda: renderer.render(gouraud),
             "phong": lambda: renderer.render(scene),
             "seed WGSL": seed.render,
-            "moderngl": moderngl.render,
         }
+        if gl is not None:
+            contenders["moderngl"] = gl.render
         timings = interleaved(contenders, rounds=rounds, frames=frames)
-        threads = {name: thread_breakdown(contenders[name]) for name in ("phong", "seed WGSL", "moderngl")}
+        threads = {
+            name: thread_breakdown(contenders[name], min_frames=thread_frames, min_seconds=thread_seconds)
+            for name in ("phong", "seed WGSL", "moderngl")
+            if name in contenders
+        }
         rows.append(BreakdownRow(label, size, timings, threads))
-        moderngl.close()
+        if gl is not None:
+            gl.close()
         gc.collect()
     return rows

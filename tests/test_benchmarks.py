@@ -1,11 +1,17 @@
-"""The benchmark peers draw what they claim to (so the comparisons are fair). Nothing timed.
+"""The benchmarks do not rot, and the benchmark peers draw what they claim to (so the
+comparisons are fair).
 
-The wgpu-based peers run everywhere; moderngl and pygfx come with the [bench] extra only,
-so their tests skip without it.
+`python -m benchmarks --smoke` runs every benchmark once on tiny inputs (~10-20 s); the
+tests below check that it ran each one and printed sensible numbers. Nothing is timed
+against a target. The wgpu-based peers run everywhere; moderngl and pygfx come with the
+[bench] extra only, so their tests skip without it (and the smoke run leaves them out).
 """
 
 from __future__ import annotations
 
+import math
+import re
+import subprocess
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -13,7 +19,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # the repository's benchmarks/ package
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))  # the repository's benchmarks/ package
 
 from benchmarks.peers import RawWgslPeer, WgpuShadingPeer  # noqa: E402
 from benchmarks.scenes import geometry_draw, torus_scene  # noqa: E402
@@ -70,3 +77,151 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
     assert image.shape[:2] == (96, 96)
     overlap = covered(image) & covered(renderer.render(small_torus))
     assert overlap.sum() > 0.9 * covered(image).sum()  # the same silhouette, give or take edges
+
+
+# --------------------------------------------------------------------------- python -m benchmarks --smoke
+
+SMOKE_STEPS = ("warm", "breakdown", "cold", "batch", "memory", "scaling", "specialization", "reference", "golden_noise", "report")
+
+
+@pytest.fixture(scope="module")
+def smoke() -> str:
+    """The stdout of one `python -m benchmarks --smoke`, as a person runs it."""
+    result = subprocess.run(
+        [sys.executable, "-m", "benchmarks", "--smoke"], cwd=REPO, capture_output=True, text=True, timeout=600
+    )
+    assert result.returncode == 0, f"smoke run failed:\n{result.stdout[-3000:]}\n{result.stderr[-5000:]}"
+    return result.stdout
+
+
+def _section(output: str, name: str) -> str:
+    """What the smoke run printed for one step (between its marker and the next)."""
+    start = output.index(f"<!-- smoke: {name} -->")
+    end = output.find("<!-- smoke:", start + 1)
+    return output[start : end if end >= 0 else len(output)]
+
+
+def _tables(text: str) -> list[list[dict[str, str]]]:
+    """Every markdown table in text, as rows of {column: cell}."""
+    tables, block = [], []
+    for line in text.splitlines() + [""]:
+        if line.startswith("|"):
+            block.append([cell.strip() for cell in line.strip().strip("|").split("|")])
+            continue
+        if len(block) >= 2:
+            tables.append([dict(zip(block[0], row)) for row in block[2:]])
+        block = []
+    return tables
+
+
+def _number(cell: str) -> float:
+    """The first number in a cell: '1,234.5', '0.39×', '**2.81×**', '12 ms', 'nan×'."""
+    if cell.lstrip("*").startswith("nan"):
+        return math.nan
+    match = re.search(r"-?\d[\d,]*(?:\.\d+)?", cell)
+    assert match, f"no number in {cell!r}"
+    return float(match.group().replace(",", ""))
+
+
+def _positive(cell: str) -> bool:
+    value = _number(cell)
+    return math.isfinite(value) and value > 0
+
+
+def _moderngl_usable() -> bool:
+    try:
+        import moderngl
+
+        moderngl.create_standalone_context(backend="egl", require=430).release()
+    except Exception:
+        return False
+    return True
+
+
+def test_smoke_mode_is_declared_with_no_output_into_docs():
+    from benchmarks.__main__ import SECTIONS, SMOKE, SMOKE_SCRIPTS
+
+    assert set(SECTIONS) | set(SMOKE_SCRIPTS) | {"report"} == set(SMOKE_STEPS)
+    assert all("--output" not in args for args in SMOKE_SCRIPTS.values())  # would rewrite docs/specialization.md
+    assert max(SMOKE.warm_sizes) <= 64 and SMOKE.memory_triangles <= 2_000 and SMOKE.tiny
+
+
+def test_smoke_runs_every_benchmark_and_says_so(smoke):
+    summary = next(line for line in smoke.splitlines() if line.startswith("smoke: ran "))
+    for step in SMOKE_STEPS:
+        assert re.search(rf"\b{step} \(\d+\.\d s\)", summary), f"{step} missing from {summary!r}"
+    seconds = float(re.search(r"in (\d+\.\d) s", summary).group(1))
+    assert seconds < 120, f"the smoke run took {seconds} s: inputs no longer tiny?"
+    assert "smoke: all ran; results.md and results.json written to a temporary folder, removed" in smoke
+    skipped = next(line for line in smoke.splitlines() if line.startswith("smoke: skipped: "))
+    for peer, usable in (("moderngl", _moderngl_usable()), ("pygfx", _importable("pygfx"))):
+        assert (f"the {peer} peer" in skipped) != usable, skipped
+
+
+def _importable(name: str) -> bool:
+    import importlib.util
+
+    return importlib.util.find_spec(name) is not None
+
+
+def test_smoke_warm_and_breakdown_print_medians_and_ratios(smoke):
+    (warm,) = _tables(_section(smoke, "warm"))
+    assert [(row["scene"], row["size"]) for row in warm] == [("torus 128", "64²"), ("sphere 2K", "64²")]
+    for row in warm:
+        assert _positive(row["wgpu-shading"]) and _positive(row["limit"]) and _positive(row["ours ÷ limit"])
+        if "moderngl" in row:
+            assert _positive(row["ours ÷ moderngl (≤ 1.0)"])
+    medians, threads = _tables(_section(smoke, "breakdown"))
+    assert [row["scene"] for row in medians] == ["torus 128", "sphere 2K"]
+    for row in medians:
+        assert all(_positive(row[name]) for name in ("floor", "limit", "gouraud", "phong", "seed WGSL", "phong ÷ seed WGSL"))
+    assert {row["renderer"] for row in threads} >= {"phong", "seed WGSL"}
+    assert all(math.isfinite(_number(row["total"])) for row in threads)
+
+
+def test_smoke_cold_start_times_every_variant_and_phase(smoke):
+    variants, phases = _tables(_section(smoke, "cold"))
+    names = {row["variant"] for row in variants}
+    assert names >= {
+        "wgpu-shading CLI", "CLI, prebuilt FFI off (before)", "wgpu floor + prebuilt FFI",
+        "wgpu floor (plain wgpu-py)", "python + import numpy", "CLI, fresh caches (first run ever)",
+    }
+    assert all(_positive(row["median s"]) for row in variants)
+    steps = {row["phase"]: row for row in phases}
+    assert "PNG write (as the CLI does it)" in steps and "first draw + readback (LLVM JIT of shader variants)" in steps
+    assert _positive(steps["**sum**"]["now"]) and _positive(steps["**sum**"]["prebuilt FFI off (≈ before)"])
+
+
+def test_smoke_batch_renders_and_writes_the_turntable(smoke):
+    text = _section(smoke, "batch")
+    (modes,) = _tables(text)
+    assert len(modes) == 3 and all(_positive(row["frames/s (median pass)"]) for row in modes)
+    assert "frames identical to render(): True" in text
+    assert re.search(r"turntable cube -o spin.gif --frames 5 .*: [\d.]+ s, 5 frames written", text)
+
+
+def test_smoke_memory_and_scaling_print_their_tables(smoke):
+    (memory,) = _tables(_section(smoke, "memory"))
+    assert [row["variant"] for row in memory] == ["default", "LP_NUM_THREADS=0 (no binning queue)"]
+    assert all(row["triangles"] == "1,980" and _positive(row["baseline MiB"]) for row in memory)
+    triangles, pixels = _tables(_section(smoke, "scaling"))
+    assert [row["triangles (sphere, 64²)"] for row in triangles] == ["196", "1,980"]
+    assert [row["pixels (torus 128)"] for row in pixels] == ["1,024", "4,096"]
+    assert all(_positive(row["wgpu-shading"]) and _positive(row["limit"]) for row in triangles + pixels)
+
+
+def test_smoke_runs_the_standalone_benchmarks(smoke):
+    (specialization,) = _tables(_section(smoke, "specialization"))
+    assert len(specialization) == 3
+    assert all(_positive(row["uber / specialized"]) and _positive(row["specialized frame"]) for row in specialization)
+
+    reference = _section(smoke, "reference").splitlines()
+    rows = [line.split() for line in reference if re.match(r"\s+\d+\s+(flat|gouraud|phong)\s", line)]
+    assert [(r[0], r[1]) for r in rows] == [(n, f) for n in ("20", "196") for f in ("flat", "gouraud", "phong")]
+    assert all(float(r[2]) >= 0 and int(r[3]) > 0 for r in rows)
+
+    noise, defects, whole = _tables(_section(smoke, "golden_noise"))
+    assert [row["setting"] for row in noise] == ["run-to-run #1"]
+    assert re.fullmatch(r"\d/2", noise[0]["cases not bit-identical"])
+    assert len(defects) == 6 and all(row["gold_torus_phong"] for row in defects)
+    assert all(row["gold_torus_phong"].startswith("caught") for row in whole)  # shift, swap, no highlight

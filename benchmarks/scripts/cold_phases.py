@@ -1,12 +1,15 @@
 """Where a cold `wgpu-shading render builtin:torus -o OUT.png` spends its time: the CLI's
 own steps, timed one by one in a fresh process. Prints one JSON object of seconds.
 
-    python benchmarks/scripts/cold_phases.py OUT.png
+    python benchmarks/scripts/cold_phases.py OUT.png [SIZE]
+
+SIZE: the image side, as the CLI's --size (default 512, the CLI's default).
 """
 
 import time
 
 start = time.perf_counter()
+import importlib  # noqa: E402  (loaded by the interpreter's start-up already)
 import json  # noqa: E402
 import sys  # noqa: E402
 
@@ -21,18 +24,19 @@ def mark(name):
     last = now
 
 
-import numpy  # noqa: E402,F401
+importlib.import_module("numpy")  # imported for its cost only (a bare import reads as unused)
 
 mark("import numpy")
 from wgpu_shading.assets.mesh_scene import mesh_scene  # noqa: E402
 
 mark("import wgpu_shading (+cli)")
-scene = mesh_scene("builtin:torus", (512, 512), None)
+size = int(sys.argv[2]) if len(sys.argv) > 2 else 512
+scene = mesh_scene("builtin:torus", (size, size), None)
 mark("scene and mesh")
 from wgpu_shading.render._prebuilt_ffi import load_wgpu_native  # noqa: E402
 
 load_wgpu_native()
-import wgpu.backends.wgpu_native  # noqa: E402,F401  (already loaded unless the prebuilt FFI is off)
+importlib.import_module("wgpu.backends.wgpu_native")  # already loaded unless the prebuilt FFI is off
 
 mark("import wgpu + its native backend (cffi)")
 from wgpu_shading.render import device as device_module  # noqa: E402

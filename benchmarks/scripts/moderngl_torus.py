@@ -2,7 +2,9 @@
 `wgpu-shading render builtin:torus -o OUT.png` does: the seed's torus (48×48 segments),
 the seed's GLSL Phong shaders, 512×512 with a depth buffer, read back, written as PNG.
 
-    python benchmarks/scripts/moderngl_torus.py OUT.png
+    python benchmarks/scripts/moderngl_torus.py OUT.png [SIZE]
+
+SIZE: the image side (default 512, the CLI's default).
 """
 
 import math
@@ -15,7 +17,8 @@ import numpy as np
 sys.path.insert(0, __file__.rsplit("/", 1)[0] + "/..")
 from seed_glsl import SEED_FRAGMENT_SHADER, SEED_VERTEX_SHADER  # noqa: E402
 
-size, segments, major, minor = 512, 48, 0.5, 0.2
+size = int(sys.argv[2]) if len(sys.argv) > 2 else 512
+segments, major, minor = 48, 0.5, 0.2
 a, t = np.meshgrid(np.linspace(0, 2 * np.pi, segments + 1), np.linspace(0, 2 * np.pi, segments + 1), indexing="ij")
 normal = np.stack([np.cos(t) * np.cos(a), np.sin(t), -np.cos(t) * np.sin(a)], -1).reshape(-1, 3)
 centre = np.stack([major * np.cos(a), np.zeros_like(a), -major * np.sin(a)], -1).reshape(-1, 3)
