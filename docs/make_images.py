@@ -57,7 +57,7 @@ def golden_failure(renderer: Renderer):
             [
                 ("actual: Blinn-Phong, k = 1", actual[crop]),
                 ("expected: Phong", expected[crop]),
-                ("diff, amplified 10 times", diff_image(actual, expected)[crop]),
+                ("diff, log scale (1/255 → 32, 64/255 → 192)", diff_image(actual, expected)[crop]),
             ]
         ]
     )

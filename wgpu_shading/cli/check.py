@@ -81,7 +81,8 @@ def add_check(commands, gpu: argparse.ArgumentParser) -> None:
     check.add_argument("--output-dir", metavar="DIR", help="where to write the images of a failure (default: next to the reference)")
     check.add_argument(
         "--amplify", type=float, default=DEFAULT_AMPLIFICATION, metavar="K",
-        help=f"the diff image shows |actual − expected| × K (default {DEFAULT_AMPLIFICATION})",
+        help="the diff image shows |actual − expected| × K (linear) instead of the default log scale "
+        "(1/255 → 32, 8/255 → 101, 64/255 → 192, 255/255 → 255)",
     )
     check.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     check.set_defaults(handler=command_check)
