@@ -62,15 +62,12 @@ def command_turntable(args: argparse.Namespace) -> int:
     output = _default_output(args, ".gif")
     check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute
     renderer = Renderer(adapter=args.adapter)
+    from tqdm import tqdm
+
     frames = (frame.color for frame in renderer.render_many(turntable(scene, args.frames, args.degrees)))
-    show_progress = not args.quiet and sys.stderr.isatty()
-
-    def progress(done: int) -> None:
-        print(f"\rframe {done}/{args.frames}", end="", file=sys.stderr, flush=True)
-
-    written = write_animation(output, frames, fps=args.fps, progress=progress if show_progress else None)
-    if show_progress:
-        print(file=sys.stderr)
+    # A bar on a terminal only: quiet with -q, and when stderr is a log or a pipe.
+    with tqdm(total=args.frames, unit="frame", file=sys.stderr, disable=args.quiet or not sys.stderr.isatty()) as bar:
+        written = write_animation(output, frames, fps=args.fps, progress=lambda done: bar.update(done - bar.n))
     if not args.quiet:
         width, height = scene.size
         print(f"wrote {output} ({written} frames, {width}×{height}, {args.fps:g} fps, {args.degrees:g}° turn)")
