@@ -70,15 +70,25 @@ def test_switching_to_orthographic_keeps_the_framing_at_the_target(renderer):
     assert np.sum(perspective_mask != ortho_mask) <= 4  # rounding at the edges only
 
 
+def _eye_in_file_space(scene):
+    """The camera's eye and up in the mesh file's own coordinates (before --up turned it)."""
+    model = scene.objects[0].world_from_model()
+    origin = np.asarray(scene.objects[0].mesh.origin)
+    inverse = np.linalg.inv(model)
+    eye = inverse @ np.append(scene.camera.eye, 1.0)
+    up = inverse[:3, :3] @ np.asarray(scene.camera.up)
+    centre = (inverse @ np.append(scene.camera.target, 1.0))[:3]
+    return eye[:3] + origin - (centre + origin), up
+
+
 def test_bare_mesh_framing_follows_the_up_axis_as_f3d():
-    # +Y up: the camera on +Z (raised a little) looking along -Z; +Z up: on -Y looking along +Y.
-    y_up = mesh_scene("builtin:cube", (64, 64), None).camera
-    z_up = mesh_scene("builtin:cube", (64, 64), None, up=up_direction("+Z")).camera
-    assert y_up.up == pytest.approx((0, 1, 0)) and y_up.eye[2] > 2 * abs(y_up.eye[1]) > 0 and y_up.eye[0] == 0
-    assert z_up.up == pytest.approx((0, 0, 1)) and -z_up.eye[1] > 2 * abs(z_up.eye[2]) > 0
-    assert z_up.eye[2] == pytest.approx(y_up.eye[1]) and -z_up.eye[1] == pytest.approx(y_up.eye[2])
-    minus_y = mesh_scene("builtin:cube", (64, 64), None, up=up_direction("-Y")).camera
-    assert minus_y.eye[2] > 0 and minus_y.up == pytest.approx((0, -1, 0))  # still from +Z, upside down
+    # f3d: +Y up (default) views from +Z looking along -Z; --up +Z views from -Y with +Z up.
+    # Here the mesh is turned instead of the camera: in the file's coordinates, the same view.
+    y_offset, y_up = _eye_in_file_space(mesh_scene("example:gear.ply", (64, 64), None))
+    z_offset, z_up = _eye_in_file_space(mesh_scene("example:gear.ply", (64, 64), None, up="+Z"))
+    assert y_up == pytest.approx((0, 1, 0)) and y_offset[2] > 2 * abs(y_offset[1]) > 0
+    assert z_up == pytest.approx((0, 0, 1)) and -z_offset[1] > 2 * abs(z_offset[2]) > 0
+    assert abs(y_offset[0]) < 1e-9 and abs(z_offset[0]) < 1e-9
 
 
 @pytest.mark.parametrize("text, expected", [("+Z", (0, 0, 1)), ("-x", (-1, 0, 0)), ("Y", (0, 1, 0)), ("0,0,2", (0, 0, 2))])
@@ -126,8 +136,7 @@ def test_moving_a_bare_mesh_camera_keeps_the_mesh_inside_the_depth_range():
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["example:two_lights.toml", "--up", "+Z"], "--up orients a bare mesh"),
-        (["builtin:torus", "--up", "+W"], "expected +X, -X"),
+        (["builtin:torus", "--camera-view-up", "+W"], "expected +X, -X"),
         (["builtin:torus", "--camera-position", "0,0"], "expected 3 numbers"),
         (["builtin:torus", "--camera-position", "0,0,0", "--camera-focal-point", "0,0,0"], "coincide"),
         (["builtin:torus", "--camera-view-angle", "0"], "camera.fov_y"),

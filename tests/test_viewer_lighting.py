@@ -17,7 +17,6 @@ from wgpu_shading.cli.main import build_parser
 from wgpu_shading.cli.viewer_options import parse_light
 from wgpu_shading.errors import SceneError
 from wgpu_shading.scene import Camera
-from wgpu_shading.scene.framing import up_direction
 
 MESHES = ["builtin:torus", "builtin:sphere", "builtin:cube", "builtin:plane", "example:knot.obj", "example:gear.ply"]
 DARK = 32
@@ -32,7 +31,7 @@ def dark_fraction(frame) -> float:
 @pytest.mark.parametrize("up", ["+Y", "+Z"])
 @pytest.mark.parametrize("source", MESHES)
 def test_default_lights_leave_few_dark_pixels(source, up, renderer):
-    scene = mesh_scene(source, (192, 192), None, up=up_direction(up))
+    scene = mesh_scene(source, (192, 192), None, up=up)
     frame = renderer.render_frame(scene, depth=True)
     assert np.isfinite(frame.depth).mean() > 0.05  # the mesh is in view
     assert dark_fraction(frame) < 0.05

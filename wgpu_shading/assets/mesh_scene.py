@@ -2,23 +2,42 @@
 
 from __future__ import annotations
 
-from ..scene import Scene, SceneObject, material
+import numpy as np
+
+from ..scene import Material, Mesh, Scene, SceneObject, material
 from ..scene.framing import framing_camera
 from ..scene.lighting import viewer_lights
-from .meshes import load_mesh
+from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
 
-def mesh_scene(mesh_source: str, size: tuple[int, int], material_name: str | None, up=(0.0, 1.0, 0.0)):
-    """A scene for a bare mesh: framed by the camera from its `up` axis (f3d's --up), lit by
-    a key light and a headlight fill (scene/lighting.py), the file's material or gold."""
-    mesh = load_mesh(mesh_source)
+def mesh_scene(
+    mesh_source: str,
+    size: tuple[int, int],
+    material_name: str | None,
+    *,
+    crease_angle: float = DEFAULT_CREASE_ANGLE,
+    up: str = "+Y",
+):
+    """A scene for a bare mesh: framed by the camera, lit by a key light and a headlight fill
+    as model viewers do (scene/lighting.py; global ambient 0.2), the file's materials or gold.
+    `up` is the file's up axis: the mesh is turned so that it points up on screen, which is
+    f3d's --up view (its camera turned instead: the same picture)."""
+    mesh = load_mesh(mesh_source, crease_angle=crease_angle)
     if material_name:
         chosen = material(material_name)
+    elif any(part.material is not None for part in mesh.parts):
+        chosen = None  # the file's materials, part by part
+    elif mesh.colors is not None:
+        chosen = Material()  # OpenGL's default white-grey: the vertex colors show as they are
     else:
-        chosen = mesh.material or material("gold")
-    camera = framing_camera(mesh, size, up=up)
+        chosen = material("gold")
+    placed = SceneObject(mesh, chosen, up=up)
+    if placed.up != "+Y":  # frame the turned mesh: a mesh with the turn baked in, for framing only
+        world = mesh.world_positions() @ np.array(placed.model_matrix())[:3, :3].T
+        mesh = Mesh.from_arrays(world, mesh.indices, normals=mesh.normals, name=mesh.name)
+    camera = framing_camera(mesh, size)
     return Scene(
-        objects=(SceneObject(mesh, chosen),),
+        objects=(placed,),
         lights=viewer_lights(camera),
         camera=camera,
         size=size,

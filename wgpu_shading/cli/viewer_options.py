@@ -1,7 +1,7 @@
 """What a model viewer's user expects to set from the command line: camera (f3d's flag
 names), lights, background. Each flag maps onto a scene-file key (docs/scene-files.md):
 
-    --up DIR                       bare meshes: the up axis (+Y default, +Z, -X, or X,Y,Z)
+    (--up, the files' up axis, is in arguments.py: it turns the mesh, as f3d's view)
     --camera-position X,Y,Z        [camera] eye
     --camera-focal-point X,Y,Z     [camera] target
     --camera-view-up X,Y,Z         [camera] up (orthogonalised against the view direction)
@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import replace
+
+import numpy as np
 
 from ..errors import SceneError
 from ..scene import LIGHT_TYPES, Scene
@@ -102,8 +104,6 @@ def parse_light(text: str, camera) -> object:
 
 def add_viewer_arguments(parser: argparse.ArgumentParser) -> None:
     camera = parser.add_argument_group("camera (f3d's names; applied to scene files and bare meshes)")
-    camera.add_argument("--up", type=_axis, metavar="DIR",
-                        help="bare meshes: the up axis, +Y (default), -Y, +Z, -Z, +X, -X or X,Y,Z; the camera looks along -Z of it")
     camera.add_argument("--camera-position", type=_vector, metavar="X,Y,Z", help="the eye ([camera] eye)")
     camera.add_argument("--camera-focal-point", type=_vector, metavar="X,Y,Z", help="the point looked at ([camera] target)")
     camera.add_argument("--camera-view-up", type=_axis, metavar="DIR", help="the up vector, +Z or X,Y,Z ([camera] up)")
@@ -128,8 +128,6 @@ def add_viewer_arguments(parser: argparse.ArgumentParser) -> None:
 def apply_viewer_options(scene: Scene, args: argparse.Namespace, bare_mesh: bool) -> Scene:
     """The scene with the camera and light flags applied. A bare mesh's depth range and
     default lights follow its camera wherever the flags moved it."""
-    if getattr(args, "up", None) is not None and not bare_mesh:
-        raise SceneError("--up orients a bare mesh's automatic camera; a scene file sets [camera] up instead")
     camera = scene.camera
     changes: dict = {}
     for flag, key in (("camera_position", "eye"), ("camera_focal_point", "target"), ("camera_view_angle", "fov_y")):
@@ -147,7 +145,11 @@ def apply_viewer_options(scene: Scene, args: argparse.Namespace, bare_mesh: bool
     except SceneError as error:
         raise SceneError(f"camera options: {error}") from None
     if bare_mesh and camera is not scene.camera:
-        center, radius = bounding_sphere(scene.objects[0].mesh)
+        obj = scene.objects[0]
+        center, radius = bounding_sphere(obj.mesh)
+        world_from_model = obj.world_from_model()  # the mesh may be turned (--up)
+        center = world_from_model[:3, :3] @ (center - np.asarray(obj.mesh.origin)) + world_from_model[:3, 3]
+        radius *= float(np.abs(np.linalg.det(world_from_model[:3, :3]))) ** (1.0 / 3.0)
         near, far = depth_range(camera.eye, center, radius)
         camera = replace(camera, near=near, far=far)
     lights = scene.lights

@@ -1,10 +1,10 @@
-"""Framing a bare mesh: a camera that shows all of it, oriented by the scene's up axis.
+"""Framing a bare mesh: a camera that shows all of it.
 
-The up axis follows f3d's `--up`: with +Y up (the default) the camera sits on +Z looking
-along −Z; any other up direction turns that whole view by the rotation taking +Y to it
-(`--up +Z`: the camera sits on −Y looking along +Y, +Z up on screen). Unlike f3d's exact
-front view the camera is raised 19° (direction (0, 0.35, 1) in the up frame), so a shape
-lying flat, such as a torus, is not seen edge-on.
+The camera sits on +Z looking along −Z with +Y up, as f3d's default view; a file with
+another up axis (`--up +Z`) is turned to +Y first (SceneObject.up), which shows what f3d
+shows when it turns its camera instead (from −Y, +Z up on screen). Unlike f3d's exact front
+view the camera is raised 19° (direction (0, 0.35, 1)), so a shape lying flat, such as a
+torus, is not seen edge-on.
 """
 
 from __future__ import annotations
@@ -39,17 +39,6 @@ def up_direction(value: str | Vec3, name: str = "--up") -> Vec3:
     return direction(value, name)
 
 
-def rotation_from_y_up(up: Vec3) -> glm.dmat3:
-    """The rotation taking +Y to `up` (the identity for +Y; a half turn about Z for −Y, so
-    the camera stays on +Z)."""
-    y_axis, target = glm.dvec3(0.0, 1.0, 0.0), glm.normalize(glm.dvec3(*up))
-    axis = glm.cross(y_axis, target)
-    cosine = glm.dot(y_axis, target)
-    if glm.length(axis) < 1e-12:
-        return glm.dmat3(1.0) if cosine > 0 else glm.dmat3(glm.rotate(math.pi, glm.dvec3(0.0, 0.0, 1.0)))
-    return glm.dmat3(glm.rotate(math.atan2(glm.length(axis), cosine), glm.normalize(axis)))
-
-
 def bounding_sphere(mesh: Mesh) -> tuple[np.ndarray, float]:
     """Centre and radius of the mesh's bounding box's sphere (world units)."""
     lower, upper = mesh.bounds()
@@ -63,21 +52,20 @@ def depth_range(eye, center, radius: float) -> tuple[float, float]:
     return max(distance - 1.5 * radius, far * 1e-4), far
 
 
-def framing_camera(mesh: Mesh, size: tuple[int, int], fov_y: float = 45.0, up: Vec3 = (0.0, 1.0, 0.0)) -> Camera:
-    """A camera that frames the whole mesh, looking along −Z of the up frame, a little from above."""
+def framing_camera(mesh: Mesh, size: tuple[int, int], fov_y: float = 45.0) -> Camera:
+    """A camera that frames the whole mesh, looking along −Z, a little from above."""
     center, radius = bounding_sphere(mesh)
     aspect = size[0] / size[1]
     half_fov = math.radians(fov_y) / 2.0
     narrowest = min(half_fov, math.atan(math.tan(half_fov) * aspect))
     distance = radius / math.sin(narrowest) * 1.05
-    rotation = rotation_from_y_up(up)
-    view_from = np.array(rotation * glm.normalize(glm.dvec3(*FRAMING_DIRECTION)))
+    view_from = np.array(glm.normalize(glm.dvec3(*FRAMING_DIRECTION)))
     eye = center + view_from * distance
     near, far = depth_range(eye, center, radius)
     return Camera(
         eye=tuple(float(v) for v in eye),
         target=tuple(float(v) for v in center),
-        up=tuple(np.array(glm.normalize(glm.dvec3(*up)))),
+        up=(0.0, 1.0, 0.0),
         fov_y=fov_y,
         near=near,
         far=far,
