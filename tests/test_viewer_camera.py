@@ -163,3 +163,12 @@ def test_reference_refuses_orthographic_cameras():
 def test_resolution_is_f3ds_name_for_size():
     assert _load(_args("builtin:torus", "--resolution", "300,200")).size == (300, 200)
     assert _load(_args("builtin:torus", "--size", "300x200")).size == (300, 200)
+
+
+def test_camera_direction_keeps_the_distance_and_yields_to_position(tmp_path):
+    base = _load(_args("builtin:torus")).camera
+    distance = np.linalg.norm(np.subtract(base.eye, base.target))
+    looking_down = _load(_args("builtin:torus", "--camera-direction=-Y", "--camera-view-up=-Z")).camera
+    assert np.subtract(looking_down.eye, looking_down.target) == pytest.approx((0.0, distance, 0.0))
+    placed = _load(_args("builtin:torus", "--camera-direction=-Y", "--camera-position", "0,0,7")).camera
+    assert placed.eye == (0.0, 0.0, 7.0)

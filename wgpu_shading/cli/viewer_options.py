@@ -4,6 +4,8 @@ names), lights, background. Each flag maps onto a scene-file key (docs/scene-fil
     (--up, the files' up axis, is in arguments.py: it turns the mesh, as f3d's view)
     --camera-position X,Y,Z        [camera] eye
     --camera-focal-point X,Y,Z     [camera] target
+    --camera-direction DIR         the view direction; eye = target − DIR·(current distance)
+                                   (ignored when --camera-position is given, as in f3d)
     --camera-view-up X,Y,Z         [camera] up (orthogonalised against the view direction)
     --camera-view-angle DEG        [camera] fov_y (vertical)
     --camera-azimuth-angle DEG     [camera] azimuth   } turn the camera about the target,
@@ -106,6 +108,8 @@ def add_viewer_arguments(parser: argparse.ArgumentParser) -> None:
     camera = parser.add_argument_group("camera (f3d's names; applied to scene files and bare meshes)")
     camera.add_argument("--camera-position", type=_vector, metavar="X,Y,Z", help="the eye ([camera] eye)")
     camera.add_argument("--camera-focal-point", type=_vector, metavar="X,Y,Z", help="the point looked at ([camera] target)")
+    camera.add_argument("--camera-direction", type=_axis, metavar="DIR",
+                        help="look along DIR (-Z or X,Y,Z) at the same distance; --camera-position overrides it")
     camera.add_argument("--camera-view-up", type=_axis, metavar="DIR", help="the up vector, +Z or X,Y,Z ([camera] up)")
     camera.add_argument("--camera-view-angle", type=float, metavar="DEG", help="vertical field of view ([camera] fov_y)")
     camera.add_argument("--camera-azimuth-angle", type=float, metavar="DEG", default=0.0,
@@ -133,6 +137,11 @@ def apply_viewer_options(scene: Scene, args: argparse.Namespace, bare_mesh: bool
     for flag, key in (("camera_position", "eye"), ("camera_focal_point", "target"), ("camera_view_angle", "fov_y")):
         if getattr(args, flag, None) is not None:
             changes[key] = getattr(args, flag)
+    if getattr(args, "camera_direction", None) is not None and "eye" not in changes:
+        view = np.asarray(up_direction(args.camera_direction, "--camera-direction"), dtype=np.float64)
+        target = np.asarray(changes.get("target", camera.target), dtype=np.float64)
+        distance = float(np.linalg.norm(np.subtract(camera.eye, camera.target)))
+        changes["eye"] = tuple(float(v) for v in target - view / np.linalg.norm(view) * distance)
     if getattr(args, "camera_view_up", None) is not None:
         changes["up"] = up_direction(args.camera_view_up, "--camera-view-up")
     if getattr(args, "camera_orthographic", False):
