@@ -19,7 +19,7 @@ from wgpu_shading.cli import main
 from wgpu_shading.cli.main import build_parser
 from wgpu_shading.cli.arguments import _load
 from wgpu_shading.errors import SceneError
-from wgpu_shading.scene.framing import up_direction
+from wgpu_shading.scene.framing import parse_direction
 
 SIZE = (160, 120)
 
@@ -92,8 +92,8 @@ def test_bare_mesh_framing_follows_the_up_axis_as_f3d():
 
 
 @pytest.mark.parametrize("text, expected", [("+Z", (0, 0, 1)), ("-x", (-1, 0, 0)), ("Y", (0, 1, 0)), ("0,0,2", (0, 0, 2))])
-def test_up_axis_spellings(text, expected):
-    assert up_direction(text) == pytest.approx(expected)
+def test_direction_spellings(text, expected):
+    assert parse_direction(text) == pytest.approx(expected)
 
 
 def test_azimuth_and_elevation_turn_as_vtk():

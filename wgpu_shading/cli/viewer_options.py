@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import SceneError
 from ..scene import LIGHT_TYPES, Scene
-from ..scene.framing import bounding_sphere, depth_range, up_direction
+from ..scene.framing import bounding_sphere, depth_range, parse_direction
 from ..scene.lighting import headlight, viewer_lights
 
 LIGHT_SYNTAX = (
@@ -62,7 +62,7 @@ def _color(text: str) -> tuple[float, ...]:
 
 def _axis(text: str) -> str:
     try:
-        up_direction(text, "direction")
+        parse_direction(text, "direction")
     except SceneError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
     return text
@@ -138,12 +138,12 @@ def apply_viewer_options(scene: Scene, args: argparse.Namespace, bare_mesh: bool
         if getattr(args, flag, None) is not None:
             changes[key] = getattr(args, flag)
     if getattr(args, "camera_direction", None) is not None and "eye" not in changes:
-        view = np.asarray(up_direction(args.camera_direction, "--camera-direction"), dtype=np.float64)
+        view = np.asarray(parse_direction(args.camera_direction, "--camera-direction"), dtype=np.float64)
         target = np.asarray(changes.get("target", camera.target), dtype=np.float64)
         distance = float(np.linalg.norm(np.subtract(camera.eye, camera.target)))
         changes["eye"] = tuple(float(v) for v in target - view / np.linalg.norm(view) * distance)
     if getattr(args, "camera_view_up", None) is not None:
-        changes["up"] = up_direction(args.camera_view_up, "--camera-view-up")
+        changes["up"] = parse_direction(args.camera_view_up, "--camera-view-up")
     if getattr(args, "camera_orthographic", False):
         changes["projection"] = "orthographic"
     if getattr(args, "camera_ortho_height", None) is not None:

@@ -24,8 +24,9 @@ _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 FRAMING_DIRECTION = (0.0, 0.35, 1.0)
 
 
-def up_direction(value: str | Vec3, name: str = "--up") -> Vec3:
-    """An up axis: '+Y', '-Z', 'X' (f3d's spelling) or a vector 'X,Y,Z' / (x, y, z)."""
+def parse_direction(value: str | Vec3, name: str = "direction") -> Vec3:
+    """A direction as f3d spells it: an axis '+Y', '-Z', 'X', or a vector 'X,Y,Z' / (x, y, z)
+    (not normalized; zero is an error). `name` is the flag or key for the message."""
     if isinstance(value, str):
         text = value.strip().upper()
         sign = -1.0 if text.startswith("-") else 1.0
