@@ -112,9 +112,9 @@ def add_viewer_arguments(parser: argparse.ArgumentParser) -> None:
                         help="look along DIR (-Z or X,Y,Z) at the same distance; --camera-position overrides it")
     camera.add_argument("--camera-view-up", type=_axis, metavar="DIR", help="the up vector, +Z or X,Y,Z ([camera] up)")
     camera.add_argument("--camera-view-angle", type=float, metavar="DEG", help="vertical field of view ([camera] fov_y)")
-    camera.add_argument("--camera-azimuth-angle", type=float, metavar="DEG", default=0.0,
+    camera.add_argument("--camera-azimuth-angle", "--camera-azimuth", type=float, metavar="DEG", default=0.0, dest="camera_azimuth_angle",
                         help="turn the camera about the up vector through the target, after the other options")
-    camera.add_argument("--camera-elevation-angle", type=float, metavar="DEG", default=0.0,
+    camera.add_argument("--camera-elevation-angle", "--camera-elevation", type=float, metavar="DEG", default=0.0, dest="camera_elevation_angle",
                         help="raise the camera about its right axis through the target, after the azimuth")
     camera.add_argument("--camera-orthographic", action="store_true",
                         help="orthographic projection keeping the framing (height = the perspective view's at the target)")
