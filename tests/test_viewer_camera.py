@@ -172,3 +172,9 @@ def test_camera_direction_keeps_the_distance_and_yields_to_position(tmp_path):
     assert np.subtract(looking_down.eye, looking_down.target) == pytest.approx((0.0, distance, 0.0))
     placed = _load(_args("builtin:torus", "--camera-direction=-Y", "--camera-position", "0,0,7")).camera
     assert placed.eye == (0.0, 0.0, 7.0)
+
+
+def test_azimuth_and_elevation_without_the_angle_suffix():
+    short = _load(_args("builtin:torus", "--camera-azimuth", "30", "--camera-elevation", "10")).camera
+    long = _load(_args("builtin:torus", "--camera-azimuth-angle", "30", "--camera-elevation-angle", "10")).camera
+    assert short == long and short != _load(_args("builtin:torus")).camera
