@@ -78,7 +78,10 @@ def _load(args: argparse.Namespace):
 
 
 def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("input", help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB) or builtin:NAME")
+    parser.add_argument(
+        "input",
+        help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB), builtin:NAME, or example:NAME (`wgpu-shading examples`)",
+    )
     parser.add_argument(
         "--size", "--resolution", type=_size, dest="size",
         help="image size, WIDTHxHEIGHT, WIDTH,HEIGHT or SIZE (default: the scene's, or 512)",
