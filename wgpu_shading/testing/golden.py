@@ -105,8 +105,9 @@ def remove_failure_images(reference, output_dir=None) -> None:
 def write_failure_images(
     actual, expected, reference, output_dir=None, amplification: float | None = DEFAULT_AMPLIFICATION, flip: bool = False
 ) -> tuple[Path, ...]:
-    """Write actual, expected (when there is one) and the amplified diff (same sizes only);
-    with flip=True also FLIP's error map as NAME.flip.png."""
+    """Write actual, expected (when there is one) and the diff (same sizes only; log scale
+    unless a linear amplification is given); with flip=True also FLIP's error map as
+    NAME.flip.png."""
     paths = failure_paths(reference, output_dir)
     remove_failure_images(reference, output_dir)  # no stale diff from an earlier run
     written = [write_image(paths["actual"], actual)]

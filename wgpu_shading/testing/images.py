@@ -1,5 +1,5 @@
 """The pixels of a golden-image test: any image to (H, W, 4) uint8, reference PNGs read
-and written, and the amplified difference image a person looks at when a test fails.
+and written, and the difference image (log scale) a person looks at when a test fails.
 
 Pure numpy (imageio for the files, imported when a file is read or written).
 """
