@@ -309,3 +309,16 @@ def test_output_is_opaque_whatever_the_material_alpha(renderer):
     image = renderer.render(head_on([SceneObject(sphere, material("ruby"))], background=(0.2, 0.2, 0.2, 0.0)))
     assert material("ruby").diffuse[3] == 0.55
     assert tuple(pixel(image, 0.0, 0.0)[3:]) == (255,) and tuple(pixel(image, 1.9, 0.9)[3:]) == (0,)
+
+
+def test_scene_file_material_alpha_mode_blends(tmp_path, renderer):
+    from wgpu_shading import load_scene
+
+    (tmp_path / "s.toml").write_text(
+        '[output]\nsize = [16, 16]\nbackground = [0, 0, 0, 0]\n[ambient]\ncolor = [1, 1, 1]\n'
+        '[[objects]]\nmesh = "builtin:plane"\nscale = [4, 4, 4]\n'
+        'material = { ambient = [1, 0, 0, 0.5], diffuse = [0, 0, 0, 0.5], alpha_mode = "blend" }\n'
+    )
+    scene = load_scene(tmp_path / "s.toml")
+    assert scene.objects[0].material.alpha_mode == "blend"
+    np.testing.assert_allclose(renderer.render(scene)[8, 8], [128, 0, 0, 128], atol=1)  # half red over transparent black

@@ -71,18 +71,25 @@ def _components(count: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
             label = jumped
 
 
-def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray, unit: np.ndarray, area: np.ndarray, count: int) -> np.ndarray:
+def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray | None, unit: np.ndarray, area: np.ndarray, count: int) -> np.ndarray:
     """Per label (0..count-1): the normalized sum of the unit normals of the faces of its
-    corners; where the sum cancels, the largest face's normal (the seeds' rule)."""
-    summed = np.stack([np.bincount(labels, weights=unit[corner_faces, k], minlength=count) for k in range(3)], axis=1)
+    corners (corner_faces None: every corner, in order); where the sum cancels, the
+    largest face's normal (the seeds' rule)."""
+    if corner_faces is None:  # np.repeat is much cheaper than a fancy-index gather
+        weights = [np.repeat(unit[:, k], 3) for k in range(3)] + [np.repeat((area > 0).astype(float), 3)]
+    else:
+        weights = [unit[corner_faces, k] for k in range(3)] + [(area[corner_faces] > 0).astype(float)]
+    summed = np.stack([np.bincount(labels, weights=weights[k], minlength=count) for k in range(3)], axis=1)
     length = np.sqrt(np.einsum("ij,ij->i", summed, summed))
-    adjacent = np.bincount(labels, weights=(area[corner_faces] > 0).astype(float), minlength=count)
+    adjacent = np.bincount(labels, weights=weights[3], minlength=count)
     # A sum of k unit vectors shorter than 1e-6·k has cancelled: its direction is noise.
     good = length > 1e-6 * np.maximum(adjacent, 1.0)
     result = np.zeros_like(summed)
     result[good] = summed[good] / length[good, None]
     cancelled = ~good & (adjacent > 0)
     if cancelled.any():  # larger faces overwrite smaller ones
+        if corner_faces is None:
+            corner_faces = np.repeat(np.arange(len(unit)), 3)
         order = np.argsort(area[corner_faces], kind="stable")
         keep = cancelled[labels[order]] & (area[corner_faces[order]] > 0)
         result[labels[order][keep]] = unit[corner_faces[order][keep]]
@@ -109,8 +116,7 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     welded_faces = welded[faces]
     corner_welded = welded_faces.reshape(-1)
     unit, area = face_normals(positions, faces)
-    corner_faces = np.repeat(np.arange(face_count), 3)
-    mean_normal = _summed_normals(corner_welded, corner_faces, unit, area, welded_count)
+    mean_normal = _summed_normals(corner_welded, None, unit, area, welded_count)
     flat = None if flat_faces is None or not np.any(flat_faces) else np.asarray(flat_faces, bool)
     label = corner_welded  # a fan per welded vertex (index into `table`)
     table = mean_normal
@@ -118,19 +124,22 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         # Corners whose face leans more than crease/2 from the vertex's mean normal (or is
         # flat, or has no area) put their vertex under the full per-fan analysis.
         half = math.radians(min(max(crease_angle, 0.0), 180.0)) / 2.0
-        lean = np.einsum("fkj,fj->fk", mean_normal[welded_faces], unit)
-        suspicious = (lean < math.cos(half) - 1e-12) | (area <= 0)[:, None]
+        lean = np.einsum("fkj,fj->fk", mean_normal.astype(np.float32)[welded_faces], unit.astype(np.float32))
+        suspicious = (lean < math.cos(half) - 1e-6) | (area <= 0)[:, None]  # float32: 1e-6
         if flat is not None:
             suspicious |= flat[:, None]
         near_crease = np.zeros(welded_count, bool)
         near_crease[corner_welded[suspicious.reshape(-1)]] = True
         if near_crease.any():
+            corner_faces = np.repeat(np.arange(face_count), 3)
             label = _fan_labels(welded_faces, near_crease, unit, area, crease_angle, flat, corner_faces, welded_count)
             extra = int(label.max()) + 1 - welded_count
             if extra > 0:
                 crease_corners = np.flatnonzero(label >= welded_count)
                 fan_normals = _summed_normals(label[crease_corners] - welded_count, corner_faces[crease_corners], unit, area, extra)
                 table = np.vstack([mean_normal, fan_normals])
+    if label is corner_welded:  # one fan per welded vertex: every given vertex takes its vertex's
+        return None, faces.astype(np.uint32), table[welded]
     flat_corners = faces.reshape(-1)
     # Does every given vertex lie in exactly one fan? Then no vertex needs splitting.
     vertex_fan = np.full(vertex_count, -1, np.int64)
