@@ -36,7 +36,7 @@ import time
 import traceback
 from pathlib import Path
 
-SECTIONS = ("warm", "breakdown", "cold", "batch", "memory", "scaling")
+SECTIONS = ("warm", "breakdown", "cold", "batch", "memory", "scaling", "dataset")
 HERE = Path(__file__).resolve().parent
 # --smoke only: the standalone benchmarks, each with its own smallest arguments. None of
 # them is given an output file (bench_specialization.py --output would rewrite docs/).
@@ -76,6 +76,10 @@ class Settings:
     cold_size: int | None = None  # image side of the cold CLI renders (None: the CLI's 512)
     cold_fill_caches: bool = True  # an untimed first run of each cold variant
     cold_phase_rounds: int | None = None  # rounds of the phases without prebuilt FFI (None: max(2, rounds // 2))
+    # benchmarks/dataset.py: meshes × views to PNG files (4 meshes; the tiny run: 2 builtins)
+    dataset_views: int = 48
+    dataset_sizes: tuple[int, ...] = (256, 512)
+    dataset_passes: int = 3
 
 
 FULL = Settings(
@@ -95,6 +99,7 @@ QUICK = dataclasses.replace(
     batch_frames=60,
     memory_runs=1,
     scaling_counts=(10_000, 100_000, 1_000_000), scaling_sides=(256, 512, 1024), scaling_rounds=2, scaling_frames=1,
+    dataset_views=12, dataset_sizes=(256,), dataset_passes=1,
 )
 # Every step once, on tiny inputs.
 SMOKE = Settings(
@@ -106,6 +111,7 @@ SMOKE = Settings(
     scaling_counts=(200, 2_000), scaling_sides=(32, 64), scaling_rounds=1, scaling_frames=1,
     tiny=True, scaling_size=64, thread_frames=1, thread_seconds=0.1,
     cold_size=64, cold_fill_caches=False, cold_phase_rounds=1,
+    dataset_views=3, dataset_sizes=(32,), dataset_passes=1,
 )
 
 
@@ -228,6 +234,16 @@ def main(argv: list[str] | None = None) -> int:
             }
             print(report.scaling_table(scaling, **labels["scaling"]), flush=True)
             results["scaling"] = scaling
+    if "dataset" in chosen:
+        with step("dataset"):
+            from .dataset import SMOKE_MESHES, default_meshes, run_dataset_benchmark, table
+
+            meshes = list(SMOKE_MESHES) if s.tiny else default_meshes()
+            dataset = run_dataset_benchmark(
+                renderer, meshes, s.dataset_views, s.dataset_sizes, s.dataset_passes, chunk=2 if s.tiny else 16
+            )
+            print("## Dataset rendering (benchmarks/dataset.py)\n\n" + table(dataset) + "\n", flush=True)
+            results["dataset"] = dataset
     for name, (script, *script_args) in SMOKE_SCRIPTS.items():
         if smoke and name in chosen:
             with step(name):

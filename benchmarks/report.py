@@ -237,6 +237,10 @@ def everything(results: dict) -> str:
         parts.append(memory_table(results["memory"], **labels.get("memory", {})))
     if "scaling" in results:
         parts.append(scaling_table(results["scaling"], **labels.get("scaling", {})))
+    if "dataset" in results:
+        from .dataset import table as dataset_table
+
+        parts.append(dataset_table(results["dataset"]))
     parts.append(
         f"Run time {results['seconds'] / 60:.1f} min; load average (1, 5, 15 min) at start "
         f"{tuple(round(x, 2) for x in results['load_average_at_start'])}, at end "

@@ -81,7 +81,10 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 
 # --------------------------------------------------------------------------- python -m benchmarks --smoke
 
-SMOKE_STEPS = ("warm", "breakdown", "cold", "batch", "memory", "scaling", "specialization", "reference", "golden_noise", "loading", "report")
+SMOKE_STEPS = (
+    "warm", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference", "golden_noise",
+    "loading", "report",
+)
 
 
 @pytest.fixture(scope="module")
@@ -225,3 +228,12 @@ def test_smoke_runs_the_standalone_benchmarks(smoke):
     assert re.fullmatch(r"\d/2", noise[0]["cases not bit-identical"])
     assert len(defects) == 6 and all(row["gold_torus_phong"] for row in defects)
     assert all(row["gold_torus_phong"].startswith("caught") for row in whole)  # shift, swap, no highlight
+
+
+def test_smoke_dataset_times_every_mode_and_the_dask_overhead(smoke):
+    (rows,) = _tables(_section(smoke, "dataset"))
+    (row,) = rows
+    assert row["size"] == "32²"
+    for mode in ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers"):
+        assert _positive(row[mode]), mode
+    assert _positive(row["in-process ÷ naive"]) and re.search(r"ms \([+-]?[\d.]+ %\)", row["Dask overhead per frame"])

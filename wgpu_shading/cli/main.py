@@ -6,6 +6,8 @@
     wgpu-shading check SCENE.toml --ref golden.png [--update]   golden-image test (exit 0/1)
     wgpu-shading render SCENE --shading auto --max-error E   cheapest shading within E/255
     wgpu-shading bench accuracy [--quick] [--out DIR]       the accuracy/time study
+    wgpu-shading batch MANIFEST.csv -o DIR  a dataset: one folder per mesh (docs/datasets.md)
+    wgpu-shading batch --meshes 'dir/*.obj' --views 24 --size 256 -o DIR [--workers N]
     wgpu-shading shader SCENE.toml          print the generated WGSL
     wgpu-shading materials                  the material table
     wgpu-shading info                       adapters and versions
@@ -23,7 +25,7 @@ from typing import Sequence
 
 from .. import __version__
 from ..errors import WgpuShadingError
-from . import bench, check, info, render
+from . import batch, bench, check, info, render
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
@@ -46,6 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_render(commands, gpu)
     check.add_check(commands, gpu)
     bench.add_bench(commands, gpu)
+    batch.add_batch(commands, gpu)
     render.add_shader(commands, gpu)
     info.add_info(commands, gpu)
     return parser

@@ -1,0 +1,189 @@
+"""Dataset rendering: frames per second for meshes × views written to PNG files.
+
+    python -m benchmarks.dataset            # 4 meshes × 48 views, 256² and 512², 3 passes (~4 min)
+    python -m benchmarks.dataset --smoke    # 2 tiny meshes × 4 views, 1 pass (what the tests run)
+
+Modes, every one writing the same colour PNGs (zlib level 1) of the same 192 jobs:
+    naive            for each mesh: build its scene; for each view: render, wait, write the PNG
+    in-process       render_dataset(workers=1): chunks, pipelined frames on 2 lavapipe devices,
+                     PNG encoding on 2 threads
+    in-process, 1 device   the same with render_many(parallel=1): what one Dask worker runs
+    dask 1 worker    render_dataset on a warm LocalCluster of 1 process (LP_NUM_THREADS = cores)
+    dask 2 workers   a warm LocalCluster of 2 processes (LP_NUM_THREADS = cores / 2 each)
+
+Dask's clusters are started (and warmed by one small batch: worker start, plugin, pipeline
+compilation) before timing; their start-up is reported separately.
+
+Dask's per-frame overhead is measured within each run, so the load other processes put on the
+machine cancels out: wall time minus the time the worker spent inside its chunks (loading,
+rendering, writing), per frame, for 1 worker, less the same quantity of the in-process run
+(skip checks, cameras.json, report), as a share of the worker's time per frame.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from PIL import Image
+
+from wgpu_shading import Renderer
+from wgpu_shading.dataset import Outputs, mesh_jobs, render_dataset, turntable_views
+from wgpu_shading.dataset.views import base_scene, job_scene
+
+# The model collection beside the repository (../shared/models), also from a worktree deeper down.
+MODELS = next(
+    (parent / "shared" / "models" for parent in Path(__file__).resolve().parents if (parent / "shared" / "models").is_dir()),
+    Path("../shared/models"),
+)
+REAL_MESHES = ("stanford-bunny.obj", "teapot.obj", "suzanne.obj", "cow.obj")
+BUILTIN_MESHES = ("builtin:torus", "builtin:sphere", "builtin:cube", "builtin:torus?segments=96")
+SMOKE_MESHES = ("builtin:torus?segments=16", "builtin:cube")
+MODES = ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers")
+
+
+@dataclass
+class DatasetResult:
+    meshes: list[str]
+    views: int
+    size: int
+    seconds: dict[str, list[float]] = field(default_factory=dict)  # mode → seconds per pass
+    outside: dict[str, list[float]] = field(default_factory=dict)  # mode → wall − time inside chunks, per pass
+    busy: dict[str, list[float]] = field(default_factory=dict)  # mode → time inside chunks, per pass
+    dask_startup: dict[str, float] = field(default_factory=dict)  # workers → seconds to a warm cluster
+
+    @property
+    def frames(self) -> int:
+        return len(self.meshes) * self.views
+
+    def fps(self, mode: str) -> float:
+        return self.frames / statistics.median(self.seconds[mode])
+
+    def dask_overhead_ms(self) -> float:
+        """Milliseconds a frame spends outside the worker's chunks on Dask, beyond in-process."""
+        difference = statistics.median(self.outside["dask 1 worker"]) - statistics.median(self.outside["in-process, 1 device"])
+        return 1000.0 * difference / self.frames
+
+    def dask_overhead_percent(self) -> float:
+        per_frame_busy = 1000.0 * statistics.median(self.busy["dask 1 worker"]) / self.frames
+        return 100.0 * self.dask_overhead_ms() / per_frame_busy
+
+
+def default_meshes() -> list[str]:
+    if all((MODELS / name).exists() for name in REAL_MESHES):
+        return [str(MODELS / name) for name in REAL_MESHES]
+    return list(BUILTIN_MESHES)
+
+
+def naive_loop(renderer: Renderer, jobs, out_dir: Path, level: int) -> None:
+    """What a user writes first: one scene after the other, render, then write the file."""
+    bases: dict = {}
+    for job in jobs:
+        key = job.load_key()
+        if key not in bases:
+            bases[key] = base_scene(job)
+        image = renderer.render(job_scene(bases[key], job))
+        folder = out_dir / job.folder
+        folder.mkdir(parents=True, exist_ok=True)
+        Image.fromarray(image).save(folder / f"{job.name}.png", compress_level=level)
+
+
+def run_dataset_benchmark(
+    renderer: Renderer, meshes: list[str], views: int, sizes: tuple[int, ...], passes: int, *, dask: bool = True, chunk: int = 16
+) -> list[DatasetResult]:
+    from wgpu_shading.dataset.cluster import local_cluster
+
+    results = []
+    scratch = Path(tempfile.mkdtemp(prefix="wgpu-shading-dataset-bench-"))
+    clusters = {}
+    try:
+        if dask:
+            for workers in (1, 2):
+                start = time.perf_counter()
+                cluster = local_cluster(workers)
+                warm = mesh_jobs([meshes[0]], turntable_views(2), Outputs(), {"size": 32})
+                render_dataset(warm, scratch / f"warm{workers}", scheduler=cluster.scheduler_address, progress=False)
+                clusters[workers] = (cluster, time.perf_counter() - start)
+        for size in sizes:
+            jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
+            result = DatasetResult(meshes=[Path(m).name for m in meshes], views=views, size=size)
+            result.dask_startup = {f"{w} worker(s)": round(s, 2) for w, (_, s) in clusters.items()}
+            naive_loop(renderer, jobs[:2], scratch / "warmup", 1)  # compile pipelines first
+            render_dataset(jobs[:2], scratch / "warmup2", progress=False, renderer=renderer)
+            runs = {
+                "naive": lambda out: naive_loop(renderer, jobs, out, 1),
+                "in-process": lambda out: render_dataset(jobs, out, progress=False, renderer=renderer, chunk_size=chunk),
+                "in-process, 1 device": lambda out: render_dataset(jobs, out, progress=False, renderer=renderer, chunk_size=chunk, parallel=1),
+            }
+            for workers, (cluster, _) in clusters.items():
+                runs[f"dask {workers} worker{'s' if workers > 1 else ''}"] = lambda out, c=cluster: render_dataset(
+                    jobs, out, scheduler=c.scheduler_address, progress=False, chunk_size=chunk
+                )
+            for index in range(passes):
+                for mode, run in runs.items():  # alternating, so load changes hit every mode alike
+                    out = scratch / f"{size}-{index}-{mode.replace(' ', '_').replace(',', '')}"
+                    start = time.perf_counter()
+                    outcome = run(out)
+                    wall = time.perf_counter() - start
+                    result.seconds.setdefault(mode, []).append(wall)
+                    if outcome is not None:
+                        result.outside.setdefault(mode, []).append(wall - outcome.busy_seconds)
+                        result.busy.setdefault(mode, []).append(outcome.busy_seconds)
+                    if outcome is not None and outcome.failed:
+                        raise RuntimeError(f"{mode}: {len(outcome.failed)} jobs failed: {next(iter(outcome.failed.values()))}")
+                    shutil.rmtree(out)
+                    print(f"  … {size}² {mode}: {result.seconds[mode][-1]:.2f} s", file=sys.stderr, flush=True)
+            results.append(result)
+    finally:
+        for cluster, _ in clusters.values():
+            cluster.close(timeout=10)
+        shutil.rmtree(scratch, ignore_errors=True)
+    return results
+
+
+def table(results: list[DatasetResult]) -> str:
+    cores = os.cpu_count() or 1
+    lines = [
+        f"frames per second, {results[0].frames} jobs ({len(results[0].meshes)} meshes × {results[0].views} views: "
+        f"{', '.join(results[0].meshes)}), colour PNG at zlib level 1, median of {len(next(iter(results[0].seconds.values())))} passes; "
+        f"{cores} cores",
+        "",
+        "| size | " + " | ".join(MODES) + " | in-process ÷ naive | Dask overhead per frame |",
+        "|---|" + "---|" * (len(MODES) + 2),
+    ]
+    for result in results:
+        cells = [f"{result.fps(mode):.1f}" if mode in result.seconds else "–" for mode in MODES]
+        overhead = (
+            f"{result.dask_overhead_ms():+.2f} ms ({result.dask_overhead_percent():+.1f} %)" if "dask 1 worker" in result.seconds else "–"
+        )
+        lines.append(f"| {result.size}² | " + " | ".join(cells) + f" | {result.fps('in-process') / result.fps('naive'):.2f}× | {overhead} |")
+    if results[0].dask_startup:
+        lines += ["", "Dask start-up to a warm cluster (processes, plugin, first pipeline): "
+                  + ", ".join(f"{k}: {v:.1f} s" for k, v in results[0].dask_startup.items())]
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m benchmarks.dataset", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--smoke", action="store_true", help="tiny: 2 builtin meshes × 4 views at 32², one pass")
+    parser.add_argument("--views", type=int, default=48)
+    parser.add_argument("--passes", type=int, default=3)
+    args = parser.parse_args(argv)
+    renderer = Renderer()
+    if args.smoke:
+        results = run_dataset_benchmark(renderer, list(SMOKE_MESHES), 4, (32,), 1, chunk=2)
+    else:
+        results = run_dataset_benchmark(renderer, default_meshes(), args.views, (256, 512), args.passes)
+    print(table(results))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

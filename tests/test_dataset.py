@@ -1,0 +1,252 @@
+"""Dataset rendering (`wgpu-shading batch`, wgpu_shading.dataset) in one process: the same
+pixels as `wgpu-shading render`, outputs checked against geometry, resumability, failures."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from wgpu_shading.cli import main
+from wgpu_shading.dataset import Outputs, mesh_jobs, read_manifest, render_dataset, sphere_views, turntable_views
+
+ROOT = Path(__file__).resolve().parent.parent
+TORUS = "builtin:torus?segments=24"
+
+
+def pixels(path: Path) -> np.ndarray:
+    return np.array(Image.open(path))
+
+
+def write_lines(path: Path, rows: list[dict]) -> Path:
+    path.write_text("".join(json.dumps(row) + "\n" for row in rows))
+    return path
+
+
+def test_batch_pixels_equal_render_of_the_same_job(tmp_path, capsys):
+    """A manifest row with render's flags gives the PNG `render` writes, pixel for pixel."""
+    manifest = tmp_path / "jobs.csv"
+    manifest.write_text(f"mesh,size,material,frequency\n{TORUS},80x64,silver,gouraud\n{TORUS},80x64,,\n")
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"]) == 0
+    assert main(["render", TORUS, "--size", "80x64", "--material", "silver", "--frequency", "gouraud", "-o", str(tmp_path / "a.png"), "-q"]) == 0
+    assert main(["render", TORUS, "--size", "80x64", "-o", str(tmp_path / "b.png"), "-q"]) == 0
+    folder = tmp_path / "out" / "torus"
+    batch_a, batch_b = pixels(folder / "view_000.png"), pixels(folder / "view_001.png")
+    assert np.array_equal(batch_a, pixels(tmp_path / "a.png"))
+    assert np.array_equal(batch_b, pixels(tmp_path / "b.png"))
+    assert not np.array_equal(batch_a, batch_b)  # the overrides did something
+
+
+def test_camera_keys_equal_render_of_a_scene_file_with_that_camera(tmp_path):
+    """Camera keys of a row = a scene file whose [camera] says the same; depth too (float32)."""
+    scene = (ROOT / "examples" / "gold_torus_phong.toml").read_text()
+    scene = scene.replace("eye = [0.0, 0.0, 1.0]", "eye = [0.6, 0.5, 0.8]").replace("[512, 512]", "[72, 56]")
+    (tmp_path / "moved.toml").write_text(scene)
+    row = {"scene": str(ROOT / "examples" / "gold_torus_phong.toml"), "eye": [0.6, 0.5, 0.8], "size": "72x56"}
+    manifest = write_lines(tmp_path / "jobs.jsonl", [row])
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "--depth", "npy", "-q"]) == 0
+    assert main(["render", str(tmp_path / "moved.toml"), "-o", str(tmp_path / "ref.png"), "--depth", str(tmp_path / "ref.npy"), "-q"]) == 0
+    folder = tmp_path / "out" / "gold_torus_phong"
+    assert np.array_equal(pixels(folder / "view_000.png"), pixels(tmp_path / "ref.png"))
+    assert np.array_equal(np.load(folder / "view_000_depth.npy"), np.load(tmp_path / "ref.npy"))
+
+
+def test_png16_is_the_float_render_rounded_to_16_bits(tmp_path):
+    manifest = write_lines(tmp_path / "jobs.jsonl", [{"mesh": TORUS, "size": 48}])
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "--color", "png16", "-q"]) == 0
+    assert main(["render", TORUS, "--size", "48", "-o", str(tmp_path / "ref.npy"), "-q"]) == 0
+    import png
+
+    width, height, rows, info = png.Reader(filename=str(tmp_path / "out" / "torus" / "view_000.png")).asDirect()
+    assert info["bitdepth"] == 16 and info["alpha"]
+    image = np.vstack([np.asarray(row, np.uint16) for row in rows]).reshape(height, width, 4)
+    expected = np.round(np.clip(np.load(tmp_path / "ref.npy"), 0, 1) * 65535).astype(np.uint16)
+    assert np.array_equal(image, expected)
+
+
+@pytest.fixture(scope="module")
+def sphere_dataset(tmp_path_factory, renderer):
+    """A finely tessellated unit sphere off the origin, from 3 orbit views, every output."""
+    tmp = tmp_path_factory.mktemp("sphere")
+    scene = """
+[output]
+size = [96, 72]
+[camera]
+eye = [0.5, 1.0, 4.0]
+target = [0.5, 0.0, 0.0]
+fov_y = 40.0
+near = 1.0
+far = 8.0
+[[lights]]
+type = "directional"
+direction = [0.0, 0.0, -1.0]
+[[objects]]
+mesh = "builtin:sphere?slices=256&stacks=128"
+translate = [0.5, 0.0, 0.0]
+[[objects]]
+mesh = "builtin:sphere?slices=16&stacks=8"
+translate = [1.2, 0.7, 0.9]
+scale = [0.15, 0.15, 0.15]
+"""
+    (tmp / "spheres.toml").write_text(scene)
+    views = [{"azimuth": 0}, {"azimuth": 100, "elevation": -30}, {"azimuth": 250, "elevation": 60, "distance": 3.0}]
+    rows = [{"scene": "spheres.toml", **view} for view in views]
+    jobs = read_manifest(write_lines(tmp / "jobs.jsonl", rows), Outputs(depth="npy", normals="world", ids=True))
+    result = render_dataset(jobs, tmp / "out", progress=False, renderer=renderer)
+    assert not result.failed and len(result.rendered) == 3
+    jobs_eye = read_manifest(tmp / "jobs.jsonl", Outputs(color="none", normals="eye"))
+    render_dataset(jobs_eye, tmp / "eye", progress=False, renderer=renderer)
+    return tmp
+
+
+def unproject(view: dict, depth: np.ndarray) -> np.ndarray:
+    """World points of every pixel through the documented convention (OpenCV K and pose)."""
+    height, width = depth.shape
+    v, u = np.mgrid[0:height, 0:width].astype(np.float64)
+    z = np.where(np.isfinite(depth), depth, 0.0).astype(np.float64)
+    camera = np.stack([(u - view["cx"]) / view["fx"] * z, (v - view["cy"]) / view["fy"] * z, z, np.ones_like(z)], -1)
+    world_from_camera = np.linalg.inv(np.array(view["world_to_camera_opencv"]))
+    return (camera @ world_from_camera.T)[..., :3]
+
+
+def test_cameras_json_unprojects_depth_onto_the_surface(sphere_dataset):
+    """Each covered pixel, unprojected with cameras.json's K and pose and its depth, lies on
+    the unit sphere (0.01 % of the radius: the tessellation is finer than that); a half-pixel
+    error in cx/cy or a flipped axis would miss by far more at the silhouette."""
+    cameras = json.loads((sphere_dataset / "out" / "spheres" / "cameras.json").read_text())
+    assert len(cameras["views"]) == 3
+    for name, view in cameras["views"].items():
+        depth = np.load(sphere_dataset / "out" / "spheres" / f"{name}_depth.npy")
+        ids = pixels(sphere_dataset / "out" / "spheres" / f"{name}_ids.png")
+        big = ids == 1
+        assert big.sum() > 500
+        radius = np.linalg.norm(unproject(view, depth)[big] - [0.5, 0.0, 0.0], axis=1)
+        assert np.abs(radius - 1.0).max() < 2e-3, name
+        opengl = np.array(view["camera_to_world_opengl"])
+        assert np.allclose(opengl[:3, 3], view["eye"])
+        assert np.allclose(np.diag([1, -1, -1, 1]) @ np.linalg.inv(opengl), view["world_to_camera_opencv"])
+
+
+def test_orbit_keeps_the_target_and_moves_as_documented(sphere_dataset):
+    views = json.loads((sphere_dataset / "out" / "spheres" / "cameras.json").read_text())["views"]
+    target = np.array([0.5, 0.0, 0.0])
+    base = np.array([0.5, 1.0, 4.0])
+    assert np.allclose(views["view_000"]["eye"], base)  # azimuth 0 alone is the scene's camera
+    offset = np.array(views["view_001"]["eye"]) - target
+    distance = np.linalg.norm(base - target)
+    assert math.isclose(np.linalg.norm(offset), distance)
+    assert math.isclose(math.degrees(math.asin(offset[1] / distance)), -30.0, abs_tol=1e-9)
+    # azimuth 100°: from +z (the base camera's side) counter-clockwise seen from +y, towards +x
+    assert math.isclose(math.degrees(math.atan2(offset[0], offset[2])), 100.0, abs_tol=1e-9)
+    assert math.isclose(np.linalg.norm(np.array(views["view_002"]["eye"]) - target), 3.0)
+
+
+def test_normals_and_ids_match_the_geometry(sphere_dataset):
+    out = sphere_dataset / "out" / "spheres"
+    cameras = json.loads((out / "cameras.json").read_text())["views"]
+    for name, view in cameras.items():
+        depth = np.load(out / f"{name}_depth.npy")
+        ids = pixels(out / f"{name}_ids.png")
+        world_normals = np.load(out / f"{name}_normals_world.npy")
+        # ids cover exactly what the colour pass covered; the small sphere is object 2.
+        assert np.array_equal(ids > 0, np.isfinite(depth))
+        assert set(np.unique(ids)) == {0, 1, 2} or name == "view_002" and set(np.unique(ids)) <= {0, 1, 2}
+        big = ids == 1
+        expected = unproject(view, depth)[big] - [0.5, 0.0, 0.0]
+        expected /= np.linalg.norm(expected, axis=1, keepdims=True)
+        assert np.abs(world_normals[big] - expected).max() < 0.02
+        assert not world_normals[ids == 0].any()
+        # eye-space normals: the view rotation (OpenGL eye axes) applied to the world normals
+        eye_normals = np.load(sphere_dataset / "eye" / "spheres" / f"{name}_normals_eye.npy")
+        rotation = np.linalg.inv(np.array(view["camera_to_world_opengl"]))[:3, :3]
+        assert np.abs(eye_normals[big] - world_normals[big] @ rotation.T).max() < 1e-5
+        assert (eye_normals[big][:, 2] > -0.05).all()  # visible surface faces the camera (+z)
+
+
+def test_rerun_skips_finished_jobs_and_redoes_changed_or_missing_ones(tmp_path, renderer):
+    out = tmp_path / "out"
+    jobs = mesh_jobs([TORUS, "builtin:sphere?slices=12&stacks=6"], turntable_views(3), Outputs(depth="png16"), {"size": 40})
+    first = render_dataset(jobs, out, progress=False, renderer=renderer)
+    assert sorted(first.rendered) == sorted(job.id for job in jobs) and not first.skipped
+    stamp = {path: path.stat().st_mtime_ns for path in out.rglob("view_*")}
+    (out / "torus" / "view_002_depth.png").unlink()  # a lost file
+    (out / "sphere" / ".view_001.png.123.wgpu-shading.tmp").write_bytes(b"partial")  # a killed writer
+    changed = mesh_jobs([TORUS, "builtin:sphere?slices=12&stacks=6"], turntable_views(3), Outputs(depth="png16"), {"size": 40})
+    changed[0] = type(changed[0])(**{**changed[0].__dict__, "overrides": {"material": "ruby"}})  # an edited row
+    second = render_dataset(changed, out, progress=False, renderer=renderer)
+    assert sorted(second.rendered) == ["torus/view_000", "torus/view_002"]
+    assert len(second.skipped) == 4 and not second.failed
+    assert not list(out.rglob("*.tmp"))
+    untouched = [path for path in stamp if "torus/view_000" not in str(path) and "torus/view_002" not in str(path)]
+    assert all(path.stat().st_mtime_ns == stamp[path] for path in untouched)
+    report = json.loads((out / "report.json").read_text())
+    assert report["rendered"] == 2 and report["skipped"] == 4 and report["failed"] == {}
+
+
+def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
+    (tmp_path / "broken.obj").write_text("v 0 0 0\nv 1 nope 0\nf 1 2 3\n")
+    rows = [{"mesh": TORUS, "size": 32}, {"mesh": "broken.obj"}, {"mesh": "missing.ply"}, {"mesh": TORUS, "size": 32, "elevation": 95}]
+    manifest = write_lines(tmp_path / "jobs.jsonl", rows)
+    status = main(["batch", str(manifest), "-o", str(tmp_path / "out")])
+    assert status == 1
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert report["rendered"] == 1
+    assert set(report["failed"]) == {"broken/view_000", "missing/view_000", "torus/view_001"}
+    assert "broken.obj" in report["failed"]["broken/view_000"]
+    assert "missing.ply" in report["failed"]["missing/view_000"]
+    assert "elevation" in report["failed"]["torus/view_001"]
+    assert (tmp_path / "out" / "torus" / "view_000.png").is_file()
+    captured = capsys.readouterr()
+    assert "3 job(s) failed" in captured.err and "1 rendered" in captured.out
+
+
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        ("mesh,colour\nbuiltin:torus,red\n", "line 2: unknown column 'colour'"),
+        ("mesh,azimuth\nbuiltin:torus,left\n", "line 2: azimuth: expected a number, got 'left'"),
+        ("name\nx\n", "line 2: expected exactly one of mesh, scene, source"),
+        ("mesh,size\nbuiltin:torus,0\n", "size"),
+    ],
+)
+def test_bad_manifest_rows_are_one_line_errors(tmp_path, capsys, content, message):
+    manifest = tmp_path / "jobs.csv"
+    manifest.write_text(content)
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out")]) == 2
+    error = capsys.readouterr().err
+    assert message in error and "jobs.csv" in error and "Traceback" not in error
+
+
+def test_sphere_views_cover_the_sphere_evenly():
+    views = sphere_views(200)
+    directions = np.array(
+        [
+            [math.cos(math.radians(v["elevation"])) * math.sin(math.radians(v["azimuth"])), math.sin(math.radians(v["elevation"])),
+             math.cos(math.radians(v["elevation"])) * math.cos(math.radians(v["azimuth"]))]
+            for v in views
+        ]
+    )
+    assert np.linalg.norm(directions.mean(axis=0)) < 0.02  # balanced
+    # every direction's nearest neighbour lies at a similar angle (no clumps, no holes)
+    cosines = directions @ directions.T
+    np.fill_diagonal(cosines, -1)
+    nearest = np.degrees(np.arccos(cosines.max(axis=1)))
+    assert nearest.max() < 1.6 * nearest.min() + 2.0 and nearest.max() < 20
+    assert [v["azimuth"] for v in turntable_views(4)] == [0.0, 90.0, 180.0, 270.0]
+
+
+def test_workers_need_the_dask_extra(tmp_path, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "distributed", None)  # as if it were not installed
+    jobs = mesh_jobs([TORUS], turntable_views(1), Outputs(), {"size": 16})
+    from wgpu_shading.errors import WgpuShadingError
+
+    with pytest.raises(WgpuShadingError, match=r"wgpu-shading\[dask\]"):
+        render_dataset(jobs, tmp_path / "out", workers=2, progress=False)
+    assert os.path.isdir(tmp_path / "out")

@@ -1,0 +1,115 @@
+"""Dataset rendering on Dask: a worker killed mid-run, and a separately started cluster."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+distributed = pytest.importorskip("distributed")  # the test extra installs it
+
+from wgpu_shading.cli import main  # noqa: E402
+from wgpu_shading.dataset import Outputs, mesh_jobs, render_dataset, turntable_views  # noqa: E402
+from wgpu_shading.dataset.cluster import local_cluster  # noqa: E402
+
+MESHES = ["builtin:torus?segments=24", "builtin:sphere?slices=24&stacks=12", "builtin:cube"]
+BIN = Path(sys.executable).parent
+
+
+def test_killing_a_worker_mid_run_loses_nothing(tmp_path, renderer):
+    """SIGKILL one of two workers while chunks run: its nanny restarts it (the plugin gives the
+    new process a renderer), the lost chunk runs again; every job ends rendered, every file
+    that existed at the kill is still there, no partial file is left, and the pixels are
+    those of an in-process run."""
+    jobs = mesh_jobs(MESHES, turntable_views(24), Outputs(depth="npy"), {"size": 64})
+    out = tmp_path / "dask"
+    cluster = local_cluster(2, lavapipe_threads=1)
+    try:
+        with distributed.Client(cluster) as client:
+            pids = list(client.run(os.getpid).values())
+            outcome: dict = {}
+            run = threading.Thread(
+                target=lambda: outcome.setdefault(
+                    "result", render_dataset(jobs, out, scheduler=cluster.scheduler_address, chunk_size=4, progress=False)
+                )
+            )
+            run.start()
+            deadline = time.monotonic() + 30
+            while not list(out.glob("*/view_*.json")) and time.monotonic() < deadline:
+                time.sleep(0.005)
+            os.kill(pids[0], signal.SIGKILL)
+            present_at_kill = {path for path in out.glob("*/view_*.json")}
+            run.join(timeout=60)
+            assert not run.is_alive()
+            # The restarted process joined later; the plugin gave it a warm renderer too.
+            client.wait_for_workers(2, timeout=30)
+            has_renderer = client.run(lambda dask_worker: (os.getpid(), bool(getattr(dask_worker, "_wgpu_shading_chunk_renderers", None))))
+            assert pids[0] not in {pid for pid, _ in has_renderer.values()}
+            assert all(ready for _, ready in has_renderer.values()) and len(has_renderer) == 2
+    finally:
+        cluster.close(timeout=10)
+    result = outcome["result"]
+    assert 0 < len(present_at_kill) < len(jobs), "the kill did not land mid-run"
+    assert not result.failed, result.failed
+    assert sorted(result.rendered) == sorted(job.id for job in jobs)
+    assert present_at_kill <= set(out.glob("*/view_*.json"))
+    assert not [p for p in out.rglob("*") if p.name.endswith(".tmp")]
+    reference = render_dataset(jobs, tmp_path / "local", progress=False, renderer=renderer)
+    assert not reference.failed
+    for job in jobs:
+        for file in job.files():
+            a, b = out / file, tmp_path / "local" / file
+            if file.endswith(".png"):
+                assert np.array_equal(np.array(Image.open(a)), np.array(Image.open(b))), file
+            else:
+                assert np.array_equal(np.load(a), np.load(b)), file
+
+
+def test_batch_on_a_separately_started_scheduler(tmp_path):
+    """`dask scheduler` and `dask worker --nthreads 1` as their own processes (a real cluster
+    on 127.0.0.1); `batch --scheduler FILE` renders there; shutting the cluster down ends both."""
+    scheduler_file = tmp_path / "scheduler.json"
+    env = {**os.environ, "LP_NUM_THREADS": "1"}
+    quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL, "start_new_session": True, "env": env}
+    processes = [
+        subprocess.Popen(
+            [str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+             "--scheduler-file", str(scheduler_file)], **quiet
+        )
+    ]
+    try:
+        deadline = time.monotonic() + 30
+        while not scheduler_file.exists() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        address = json.loads(scheduler_file.read_text())["address"]
+        processes.append(
+            subprocess.Popen(
+                [str(BIN / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--host", "127.0.0.1",
+                 "--no-dashboard", "--death-timeout", "10"], **quiet
+            )
+        )
+        with distributed.Client(address, timeout=20) as client:
+            client.wait_for_workers(1, timeout=30)
+        out = tmp_path / "out"
+        status = main(["batch", "--meshes", MESHES[0], "--views", "6", "--size", "40", "--ids", "-o", str(out), "--scheduler", str(scheduler_file), "-q"])
+        assert status == 0
+        assert main(["batch", "--meshes", MESHES[0], "--views", "6", "--size", "40", "--ids", "-o", str(tmp_path / "local"), "-q"]) == 0
+        for name in [f"view_{i:03d}{suffix}" for i in range(6) for suffix in (".png", "_ids.png")]:
+            assert np.array_equal(np.array(Image.open(out / "torus" / name)), np.array(Image.open(tmp_path / "local" / "torus" / name)))
+        with distributed.Client(address, timeout=20) as client:
+            client.shutdown()
+        assert [process.wait(timeout=20) for process in processes] == [0, 0]
+    finally:
+        for process in processes:
+            if process.poll() is None:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()

@@ -1,0 +1,100 @@
+"""`batch`: a manifest, or meshes × views, to a dataset folder (docs/datasets.md)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..errors import SceneError
+from ..scene import FREQUENCIES, REFLECTIONS
+
+def command_batch(args: argparse.Namespace) -> int:
+    from ..dataset import Outputs, mesh_jobs, read_manifest, render_dataset, sphere_views, turntable_views
+
+    if (args.manifest is None) == (not args.meshes):
+        raise SceneError("batch: give a MANIFEST (.csv or .jsonl) or --meshes PATTERN, not both")
+    if args.workers < 1:
+        raise SceneError(f"--workers must be at least 1, got {args.workers}")
+    if args.chunk < 1:
+        raise SceneError(f"--chunk must be at least 1, got {args.chunk}")
+    outputs = Outputs(
+        color=args.color, depth=args.depth, normals=args.normals, ids=args.ids, compress_level=args.compression
+    )
+    defaults = {
+        key: value
+        for key, value in (
+            ("size", args.size),
+            ("material", args.material),
+            ("frequency", args.frequency),
+            ("reflection", args.reflection),
+        )
+        if value is not None
+    }
+    if args.manifest is not None:
+        if args.views is not None or args.layout is not None or args.elevation is not None:
+            raise SceneError("--views, --layout and --elevation go with --meshes; a manifest gives each job's view")
+        jobs = read_manifest(args.manifest, outputs, defaults)
+    else:
+        count = 24 if args.views is None else args.views
+        if args.layout == "sphere":
+            if args.elevation is not None:
+                raise SceneError("--elevation goes with --layout turntable")
+            views = sphere_views(count)
+        else:
+            views = turntable_views(count, args.elevation)
+        jobs = mesh_jobs(args.meshes, views, outputs, defaults)
+    show_progress = not args.quiet and sys.stderr.isatty()
+    result = render_dataset(
+        jobs,
+        args.output,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        chunk_size=args.chunk,
+        progress=show_progress,
+        adapter=args.adapter,
+    )
+    if result.failed:
+        for job_id, error in list(result.failed.items())[:10]:
+            print(f"wgpu-shading: failed {job_id}: {error}", file=sys.stderr)
+        more = len(result.failed) - 10
+        print(
+            f"wgpu-shading: {len(result.failed)} job(s) failed{f' ({more} more not shown)' if more > 0 else ''}; "
+            f"all are listed in {args.output}/report.json",
+            file=sys.stderr,
+        )
+    if not args.quiet:
+        print(f"{result.summary()} → {args.output}")
+    return 1 if result.failed else 0
+
+def add_batch(commands, gpu: argparse.ArgumentParser) -> None:
+    batch = commands.add_parser(
+        "batch",
+        parents=[gpu],
+        help="render many meshes × views to a dataset folder (resumable; Dask for more workers)",
+        description="Render a manifest (CSV or JSON Lines, one job a row) or --meshes × --views into OUTPUT, "
+        "one folder per mesh, with cameras.json and report.json. A rerun skips jobs whose outputs exist "
+        "and match their row. Exit status 1 when some jobs failed (see report.json).",
+    )
+    batch.add_argument("manifest", nargs="?", help="a .csv or .jsonl manifest (see docs/datasets.md)")
+    batch.add_argument("-o", "--output", required=True, help="output folder (created)")
+    batch.add_argument("--meshes", action="append", metavar="PATTERN", help="mesh files (a glob such as 'dir/*.obj', or builtin:NAME); repeatable")
+    batch.add_argument("--views", type=int, help="views per mesh with --meshes (default: 24)")
+    batch.add_argument("--layout", choices=["turntable", "sphere"], help="turntable (default): azimuths around the up axis; sphere: spread evenly over the sphere")
+    batch.add_argument("--elevation", type=float, help="turntable elevation in degrees (default: the framed view's, about 19.3)")
+    batch.add_argument("--size", help="image size, WIDTHxHEIGHT or SIZE (default: the scene's, or 512)")
+    batch.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
+    batch.add_argument("--frequency", choices=FREQUENCIES, help="shading frequency (overrides the scene)")
+    batch.add_argument("--reflection", choices=REFLECTIONS, help="reflection model (overrides the scene)")
+    batch.add_argument("--color", choices=["png", "png16", "none"], default="png", help="colour image: 8-bit PNG (default), 16-bit PNG or none")
+    batch.add_argument("--depth", choices=["none", "npy", "png16"], default="none", help="depth: float32 .npy (eye-space Z, inf = background) or 16-bit PNG (0 = background, 1..65535 = near..far)")
+    batch.add_argument("--normals", choices=["none", "eye", "world"], default="none", help="surface normals as float32 .npy in eye or world space")
+    batch.add_argument("--ids", action="store_true", help="object ids as a 16-bit PNG (0 = background, k = object k-1)")
+    batch.add_argument(
+        "--compression", type=int, default=1, choices=range(10), metavar="0-9",
+        help="PNG zlib level (default 1: a 512² render encodes in ~6 ms instead of ~16 ms at Pillow's 6, files ~20%% larger)",
+    )
+    batch.add_argument("--workers", type=int, default=1, help="1 (default): this process, pipelined; N: a local Dask cluster of N processes")
+    batch.add_argument("--scheduler", metavar="ADDRESS", help="run on an existing Dask cluster: tcp://host:port or a scheduler file")
+    batch.add_argument("--chunk", type=int, default=16, help="views of one mesh per task (default 16)")
+    batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar and no summary")
+    batch.set_defaults(handler=command_batch)

@@ -1,0 +1,138 @@
+"""Dask execution: a LocalCluster of spawned processes, or an existing cluster by address.
+
+Each worker keeps one warm ChunkRenderer, made once by a WorkerPlugin (the scheduler hands
+the plugin to workers that join later, and to a worker the nanny restarts after a crash).
+Only the plugin's settings are pickled; the Renderer (not picklable) is built on the worker.
+A task is a chunk of views of one mesh. A chunk whose worker died (KilledWorker) is retried
+one job per task, so a job that kills its worker fails alone and is named in the report.
+Workers write their files themselves (atomically) and return only small records.
+
+Processes are spawned, never forked: forking after wgpu is set up hangs the child.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import uuid
+from pathlib import Path
+from typing import Iterator
+
+from ..errors import WgpuShadingError
+from .jobs import Job
+
+class DaskMissingError(WgpuShadingError):
+    pass
+
+
+def _distributed():
+    try:
+        import distributed
+    except ImportError:
+        raise DaskMissingError(
+            "--workers above 1 and --scheduler need Dask: install the extra, "
+            "e.g. `.venv/bin/pip install 'wgpu-shading[dask]'` (the distributed package)"
+        ) from None
+    return distributed
+
+
+def local_cluster(workers: int, lavapipe_threads: int | None = None):
+    """A LocalCluster of `workers` spawned single-threaded processes; lavapipe's threads
+    (LP_NUM_THREADS) split between them: cores // workers each unless given."""
+    distributed = _distributed()
+    import dask
+
+    threads = lavapipe_threads if lavapipe_threads is not None else max(1, (os.cpu_count() or 1) // workers)
+    with dask.config.set(
+        {
+            "distributed.worker.multiprocessing-method": "spawn",
+            # A worker's death blames every task it was processing: with one task in flight
+            # per 1-thread worker, only the chunk it was running.
+            "distributed.scheduler.worker-saturation": 1.0,
+            "distributed.scheduler.allowed-failures": 1,
+        }
+    ):
+        return distributed.LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            # No dashboard; the scheduler's small HTTP server (health, metrics) on a free port.
+            scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
+            silence_logs=logging.CRITICAL,
+            host="127.0.0.1",
+            memory_limit=0,
+            env={"LP_NUM_THREADS": str(threads)},
+        )
+
+
+def run_on_dask(
+    work: list[list[Job]],
+    out_dir: Path,
+    *,
+    workers: int = 2,
+    scheduler: str | None = None,
+    adapter: str | None = None,
+    lavapipe_threads: int | None = None,
+) -> Iterator[list[dict]]:
+    """Records of every chunk as they finish (any order)."""
+    distributed = _distributed()
+    cluster = None
+    if scheduler is None:
+        cluster = local_cluster(workers, lavapipe_threads)
+        client = distributed.Client(cluster)
+    else:
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        target = scheduler
+        if not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")) and Path(scheduler).is_file():
+            client = distributed.Client(scheduler_file=scheduler, timeout=30)
+        else:
+            client = distributed.Client(target, timeout=30)
+    try:
+        from .worker import RendererPlugin
+
+        # Workers share the cores: one device each (render_many's second device would
+        # oversubscribe them). Idempotent: a cluster that has it keeps its warm renderers.
+        plugin = RendererPlugin(adapter, parallel=1)
+        client.register_plugin(plugin)
+        yield from _stream(client, work, str(out_dir.resolve()), plugin.name, distributed)
+    finally:
+        client.close(timeout=10)
+        if cluster is not None:
+            cluster.close(timeout=10)
+
+
+def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distributed) -> Iterator[list[dict]]:
+    from .worker import render_chunk_task
+
+    batch = uuid.uuid4().hex[:12]  # keys unique per run: a reused key returns an old result
+    futures = {}
+    for index, chunk in enumerate(work):
+        future = client.submit(render_chunk_task, chunk, out_dir, plugin_name, key=f"wgpu-shading-chunk-{batch}-{index}", pure=False)
+        futures[future] = chunk
+    pending = distributed.as_completed(futures)
+    for future in pending:
+        chunk = futures.pop(future)
+        try:
+            records = future.result()
+        except distributed.KilledWorker as error:
+            future.release()
+            if len(chunk) > 1:  # find the job that kills workers: retry one job per task
+                for job in chunk:
+                    single = client.submit(render_chunk_task, [job], out_dir, plugin_name, key=f"wgpu-shading-job-{batch}-{job.id}", pure=False)
+                    futures[single] = [job]
+                    pending.add(single)
+                continue
+            records = [_failure(job, f"the worker rendering it died repeatedly ({error})") for job in chunk]
+        except Exception as error:  # noqa: BLE001 - a bug in the task itself: report, go on
+            records = [_failure(job, f"{type(error).__name__}: {error}") for job in chunk]
+        future.release()
+        if [record["id"] for record in records] != [job.id for job in chunk]:
+            records = [_failure(job, "internal error: the worker returned results of other jobs") for job in chunk]
+        yield records
+
+
+def _failure(job: Job, message: str) -> dict:
+    from .chunk import failed
+
+    return failed(job, message)

@@ -1,0 +1,162 @@
+"""Running a dataset: skip what is done, render the rest in chunks (in this process, on a
+local Dask cluster, or on an existing one), show progress, write cameras.json per mesh
+folder and report.json for the run."""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterator
+
+from ..errors import SceneError
+from .cameras import CONVENTION
+from .jobs import Job, chunks
+from .writer import atomic_write, finished, remove_stale_temporaries
+
+DEFAULT_CHUNK = 16  # views of one mesh per task: spreads Dask's 2-5 ms a task over many frames
+
+
+@dataclass
+class BatchResult:
+    """What a run did. failed: job id → one-line error (also in OUTPUT/report.json)."""
+
+    total: int
+    rendered: list[str] = field(default_factory=list)
+    skipped: list[str] = field(default_factory=list)
+    failed: dict[str, str] = field(default_factory=dict)
+    seconds: float = 0.0
+    busy_seconds: float = 0.0  # time spent inside chunks (loading, rendering, writing), all workers
+
+    @property
+    def frames_per_second(self) -> float:
+        return len(self.rendered) / self.seconds if self.seconds > 0 else 0.0
+
+    def summary(self) -> str:
+        text = (
+            f"{len(self.rendered)} rendered, {len(self.skipped)} skipped (already done), "
+            f"{len(self.failed)} failed of {self.total} jobs in {self.seconds:.1f} s "
+            f"({self.frames_per_second:.1f} frames/s)"
+        )
+        return text
+
+
+def render_dataset(
+    jobs: list[Job],
+    output: str | Path,
+    *,
+    workers: int = 1,
+    scheduler: str | None = None,
+    chunk_size: int = DEFAULT_CHUNK,
+    progress: bool = True,
+    adapter: str | None = None,
+    lavapipe_threads: int | None = None,
+    renderer=None,
+    parallel: int | None = None,
+) -> BatchResult:
+    """Render every job into `output` (one folder per mesh) and return what happened.
+
+    workers=1 renders in this process with frame pipelining; workers=N>1 starts a Dask
+    LocalCluster of N processes; scheduler="tcp://host:port" (or a scheduler file) uses an
+    existing Dask cluster. Jobs whose outputs exist and match their manifest row are skipped.
+    `renderer`: render in-process on this Renderer (yours, on your device) instead of a new one;
+    `parallel`: its render_many devices (None: 2 on lavapipe). Dask workers use one each.
+    """
+    if not jobs:
+        raise SceneError("batch: no jobs")
+    if workers < 1:
+        raise SceneError(f"--workers must be at least 1, got {workers}")
+    out_dir = Path(output)
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise SceneError(f"output folder {str(out_dir)!r}: {error.strerror or error}") from None
+    start = time.perf_counter()
+    remove_stale_temporaries(out_dir)
+    result = BatchResult(total=len(jobs))
+    todo = []
+    for job in jobs:
+        if finished(out_dir, job) is not None:
+            result.skipped.append(job.id)
+        else:
+            todo.append(job)
+    work = chunks(todo, chunk_size) if todo else []
+    bar = _progress_bar(len(todo), progress)
+    try:
+        for records in _execute(work, out_dir, workers, scheduler, adapter, lavapipe_threads, renderer, parallel):
+            for record in records:
+                result.busy_seconds += record.get("seconds", 0.0)
+                if record["ok"]:
+                    result.rendered.append(record["id"])
+                else:
+                    result.failed[record["id"]] = record["error"]
+            if bar is not None:
+                elapsed = time.perf_counter() - start
+                bar.update(len(records))
+                bar.set_postfix(failed=len(result.failed), fps=f"{len(result.rendered) / max(elapsed, 1e-9):.1f}", refresh=False)
+    finally:
+        if bar is not None:
+            bar.close()
+        result.seconds = time.perf_counter() - start
+        remove_stale_temporaries(out_dir)
+        _write_cameras(out_dir, jobs)
+        _write_report(out_dir, result)
+    return result
+
+
+def _progress_bar(total: int, enabled: bool):
+    if not enabled or total == 0:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit="frame", smoothing=0.1, dynamic_ncols=True)
+
+
+def _execute(work, out_dir: Path, workers: int, scheduler: str | None, adapter, lavapipe_threads, renderer, parallel) -> Iterator[list[dict]]:
+    if not work:
+        return
+    if workers == 1 and scheduler is None:
+        yield from _in_process(work, out_dir, adapter, renderer, parallel)
+        return
+    from .cluster import run_on_dask
+
+    yield from run_on_dask(work, out_dir, workers=workers, scheduler=scheduler, adapter=adapter, lavapipe_threads=lavapipe_threads)
+
+
+def _in_process(work: list[list[Job]], out_dir: Path, adapter, renderer, parallel) -> Iterator[list[dict]]:
+    from .chunk import ChunkRenderer
+
+    chunk_renderer = ChunkRenderer(renderer, adapter=adapter, parallel=parallel)
+    try:
+        for chunk in work:
+            yield chunk_renderer.render(chunk, out_dir)
+    finally:
+        chunk_renderer.close()
+
+
+def _write_cameras(out_dir: Path, jobs: list[Job]) -> None:
+    """cameras.json in each mesh folder: the camera of every finished view of this manifest."""
+    folders: dict[str, dict] = {}
+    for job in jobs:
+        views = folders.setdefault(job.folder, {})
+        record = finished(out_dir, job)
+        if record is not None:
+            views[job.name] = {"id": job.id, "files": record["files"], **record["camera"]}
+    for folder, views in folders.items():
+        if views:
+            data = {"convention": CONVENTION, "views": views}
+            atomic_write(out_dir / folder / "cameras.json", lambda file, data=data: file.write(json.dumps(data, indent=1).encode()))
+
+
+def _write_report(out_dir: Path, result: BatchResult) -> None:
+    report = {
+        "jobs": result.total,
+        "rendered": len(result.rendered),
+        "skipped": len(result.skipped),
+        "failed": result.failed,
+        "seconds": round(result.seconds, 3),
+        "frames_per_second": round(result.frames_per_second, 2),
+    }
+    atomic_write(out_dir / "report.json", lambda file: file.write(json.dumps(report, indent=1).encode()))
+

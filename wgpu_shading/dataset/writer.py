@@ -1,0 +1,123 @@
+"""Writing one view's files: every file atomically (a temporary name in the same folder, then
+os.replace), the job's record (name.json: row digest, files, camera) last, so a record on
+disk means every file it lists is complete. A process killed mid-write leaves only a
+`.NAME.*.tmp` file, which the next run removes (remove_stale_temporaries)."""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from ..render.extra_outputs import ExtraFrame
+from ..render.renderer import Frame
+from .jobs import Job
+
+TEMPORARY_SUFFIX = ".wgpu-shading.tmp"
+
+
+def atomic_write(path: Path, write: Callable[[object], None]) -> None:
+    """Write through `write(file)` to a temporary file beside `path`, then rename it into place."""
+    temporary = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}{TEMPORARY_SUFFIX}")
+    try:
+        with open(temporary, "wb") as file:
+            write(file)
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+
+
+def remove_stale_temporaries(folder: Path) -> int:
+    """Delete temporaries left by killed writers under `folder` (only while no run writes there)."""
+    removed = 0
+    for path in folder.glob(f"*/.*{TEMPORARY_SUFFIX}"):
+        path.unlink(missing_ok=True)
+        removed += 1
+    return removed
+
+
+def _png8(image: np.ndarray, level: int) -> Callable[[object], None]:
+    from PIL import Image
+
+    return lambda file: Image.fromarray(np.ascontiguousarray(image)).save(file, format="png", compress_level=level)
+
+
+def _png16_gray(image: np.ndarray, level: int) -> Callable[[object], None]:
+    from PIL import Image
+
+    return lambda file: Image.fromarray(np.ascontiguousarray(image, dtype=np.uint16)).save(file, format="png", compress_level=level)
+
+
+def _png16_rgba(image: np.ndarray, level: int) -> Callable[[object], None]:
+    # Pillow writes no 16-bit colour PNG; pypng does (pure Python, zlib underneath).
+    import png
+
+    height, width = image.shape[:2]
+    writer = png.Writer(width, height, greyscale=False, alpha=True, bitdepth=16, compression=level)
+    return lambda file: writer.write(file, image.reshape(height, width * 4))
+
+
+def _npy(array: np.ndarray) -> Callable[[object], None]:
+    return lambda file: np.save(file, array)
+
+
+def color16(color: np.ndarray) -> np.ndarray:
+    """A float32 [0, 1] target as 16-bit values (round to nearest)."""
+    return np.round(np.clip(color, 0.0, 1.0) * 65535.0).astype(np.uint16)
+
+
+def depth16(depth: np.ndarray, near: float, far: float) -> np.ndarray:
+    """Eye-space depth as uint16: 0 = background, 1..65535 = near..far linearly."""
+    covered = np.isfinite(depth)
+    scaled = np.round(1.0 + (np.clip(np.where(covered, depth, near), near, far) - near) / (far - near) * 65534.0)
+    return np.where(covered, scaled, 0).astype(np.uint16)
+
+
+def write_view(
+    out_dir: Path, job: Job, frame: Frame | None, extra: ExtraFrame | None, camera: dict
+) -> list[str]:
+    """Every file of `job` from its rendered frame(s), then its record. Returns the files."""
+    outputs, folder = job.outputs, out_dir / job.folder
+    folder.mkdir(parents=True, exist_ok=True)
+    level = outputs.compress_level
+    written = []
+    for file_name in outputs.file_names(job.name):
+        path = folder / file_name
+        if file_name == f"{job.name}.png":
+            assert frame is not None
+            write = _png16_rgba(color16(frame.color), level) if outputs.color == "png16" else _png8(frame.color, level)
+        elif "_depth." in file_name:
+            assert frame is not None and frame.depth is not None
+            if outputs.depth == "npy":
+                write = _npy(frame.depth.astype(np.float32))
+            else:
+                write = _png16_gray(depth16(frame.depth, camera["near"], camera["far"]), level)
+        elif "_normals_" in file_name:
+            assert extra is not None
+            write = _npy(extra.normals)
+        else:
+            assert extra is not None
+            write = _png16_gray(extra.ids, level)
+        atomic_write(path, write)
+        written.append(f"{job.folder}/{file_name}")
+    record = {"id": job.id, "digest": job.digest(), "source": job.source, "files": written, "camera": camera}
+    atomic_write(out_dir / job.record_path(), lambda file: file.write(json.dumps(record, indent=1).encode()))
+    return written
+
+
+def finished(out_dir: Path, job: Job) -> dict | None:
+    """The job's record when its outputs exist and were made from the same manifest row."""
+    try:
+        record = json.loads((out_dir / job.record_path()).read_text())
+    except (OSError, ValueError):
+        return None
+    if record.get("digest") != job.digest() or record.get("files") != job.files():
+        return None
+    if not all((out_dir / file).is_file() for file in record["files"]):
+        return None
+    return record
