@@ -27,9 +27,16 @@ import numpy as np
 
 def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit face normals (zero for zero-area faces) and twice the face areas, float64."""
-    p0, p1, p2 = (positions[faces[:, k]] for k in range(3))
-    cross = np.cross(p1 - p0, p2 - p0)
-    length = np.linalg.norm(cross, axis=1)
+    # Component by component: np.cross on (F, 3) arrays and row gathers cost 4x more.
+    x, y, z = (np.ascontiguousarray(positions[:, k], dtype=np.float64) for k in range(3))
+    i0, i1, i2 = (np.ascontiguousarray(faces[:, k]) for k in range(3))
+    ax, ay, az = x[i1] - x[i0], y[i1] - y[i0], z[i1] - z[i0]
+    bx, by, bz = x[i2] - x[i0], y[i2] - y[i0], z[i2] - z[i0]
+    cross = np.empty((len(faces), 3))
+    cross[:, 0] = ay * bz - az * by
+    cross[:, 1] = az * bx - ax * bz
+    cross[:, 2] = ax * by - ay * bx
+    length = np.sqrt(np.einsum("ij,ij->i", cross, cross))
     scale = np.max(np.abs(positions)) if len(positions) else 1.0
     # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
     degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
