@@ -48,6 +48,12 @@ def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
 def weld_by_position(positions: np.ndarray) -> np.ndarray:
     """(N,) id of each vertex's welded vertex (equal coordinates share an id, 0..M-1)."""
     count = len(positions)
+    # Fast path for meshes that are already welded (scans, most PLY/OBJ): one sort of a
+    # single key. Equal positions give equal keys, so distinct keys prove distinct
+    # positions; equal keys (a duplicate, or a rare coincidence) take the full lexsort.
+    key = np.sort(positions[:, 0] + 0.7548776662466927 * positions[:, 1] + 0.5698402909980532 * positions[:, 2])
+    if not np.any(key[1:] == key[:-1]):
+        return np.arange(count, dtype=np.int64)
     order = np.lexsort((positions[:, 2], positions[:, 1], positions[:, 0]))
     ordered = positions[order]
     new = np.empty(count, bool)
