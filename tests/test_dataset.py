@@ -212,6 +212,7 @@ def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
         ("mesh,azimuth\nbuiltin:torus,left\n", "line 2: azimuth: expected a number, got 'left'"),
         ("name\nx\n", "line 2: expected exactly one of mesh, scene, source"),
         ("mesh,size\nbuiltin:torus,0\n", "size"),
+        ("mesh,name,id\nbuiltin:torus,a,one\nbuiltin:torus,a,two\n", "line 3: folder 'torus' name 'a' is also job 'one'"),
     ],
 )
 def test_bad_manifest_rows_are_one_line_errors(tmp_path, capsys, content, message):
