@@ -190,7 +190,12 @@ def test_rerun_skips_finished_jobs_and_redoes_changed_or_missing_ones(tmp_path, 
 
 def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
     (tmp_path / "broken.obj").write_text("v 0 0 0\nv 1 nope 0\nf 1 2 3\n")
-    rows = [{"mesh": TORUS, "size": 32}, {"mesh": "broken.obj"}, {"mesh": "missing.ply"}, {"mesh": TORUS, "size": 32, "elevation": 95}]
+    rows = [
+        {"mesh": TORUS, "size": 32},
+        {"mesh": "broken.obj"},
+        {"mesh": "missing.ply"},
+        {"mesh": TORUS, "size": 32, "elevation": 95},
+    ]
     manifest = write_lines(tmp_path / "jobs.jsonl", rows)
     status = main(["batch", str(manifest), "-o", str(tmp_path / "out")])
     assert status == 1
@@ -251,3 +256,29 @@ def test_workers_need_the_dask_extra(tmp_path, monkeypatch):
     with pytest.raises(WgpuShadingError, match=r"wgpu-shading\[dask\]"):
         render_dataset(jobs, tmp_path / "out", workers=2, progress=False)
     assert os.path.isdir(tmp_path / "out")
+
+
+def test_one_chunk_renderer_serves_several_threads(tmp_path, renderer):
+    """A Dask worker started with --nthreads 4 runs tasks on threads that share its renderer:
+    they take turns, and every file is what a lone run writes."""
+    import threading
+
+    from wgpu_shading.dataset.chunk import ChunkRenderer
+
+    jobs = mesh_jobs([TORUS, "builtin:cube"], turntable_views(4), Outputs(ids=True), {"size": 40})
+    shared = ChunkRenderer(renderer)
+    records: list = []
+    threads = [
+        threading.Thread(target=lambda part=part: records.extend(shared.render(part, tmp_path / "threads")))
+        for part in (jobs[:4], jobs[4:])
+    ]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    shared.close()
+    assert sorted(r["id"] for r in records if r["ok"]) == sorted(job.id for job in jobs)
+    render_dataset(jobs, tmp_path / "alone", progress=False, renderer=renderer)
+    for job in jobs:
+        for file in job.files():
+            assert np.array_equal(pixels(tmp_path / "threads" / file), pixels(tmp_path / "alone" / file)), file
