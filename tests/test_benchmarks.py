@@ -82,7 +82,8 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 # --------------------------------------------------------------------------- python -m benchmarks --smoke
 
 SMOKE_STEPS = (
-    "warm", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference", "golden_noise", "report",
+    "warm", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference", "golden_noise",
+    "loading", "report",
 )
 
 

@@ -116,9 +116,10 @@ def test_help_for_every_command():
 
 
 INVALID_OBJ = {
-    "nan.obj": ("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "1 vertex has NaN or infinite coordinates (first: vertex 0"),
-    "inf.obj": ("v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n", "NaN or infinite coordinates (first: vertex 1"),
-    "outside.obj": ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "a face refers to a vertex that does not exist"),
+    "nan.obj": ("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "nan.obj:1: 'v' line has a NaN or infinite coordinate"),
+    "inf.obj": ("v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n", "inf.obj:2: 'v' line has a NaN or infinite coordinate"),
+    "zero.obj": ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "zero.obj:4: face index 0 in 'f 0 1 2' (OBJ indices start at 1)"),
+    "outside.obj": ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "outside.obj:4: face 'f 1 2 9' refers to a vertex that does not exist"),
     "empty.obj": ("# nothing\n", "contains no triangles"),
 }
 

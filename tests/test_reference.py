@@ -113,7 +113,7 @@ def test_head_on_directional_light_on_a_facing_plane():
     image = ref.render_reference(scene)
     assert image.covered.all()
     np.testing.assert_allclose(image.color[..., :3], np.broadcast_to(expected_rgb, (10, 12, 3)), atol=TIGHT)
-    np.testing.assert_allclose(image.color[..., 3], 0.7, atol=TIGHT)  # the diffuse alpha
+    np.testing.assert_allclose(image.color[..., 3], 1.0, atol=TIGHT)  # opaque (SPEC §13), whatever the diffuse alpha
     np.testing.assert_allclose(image.depth, 1.0, atol=TIGHT)
     assert (image.object == 0).all() and set(np.unique(image.triangle)) == {0, 1}
 
@@ -282,9 +282,11 @@ def test_texture_modes_with_a_known_texel():
     }
     for mode, rgb in expected.items():
         rgba = ref.combine(ambient_diffuse, specular, Material(texture_mode=mode, **base), texel)
-        np.testing.assert_allclose(rgba[0], [*np.minimum(rgb, 1.0), 0.6 * 0.5], atol=TIGHT, err_msg=mode)
+        np.testing.assert_allclose(rgba[0], [*np.minimum(rgb, 1.0), 1.0], atol=TIGHT, err_msg=mode)  # opaque
+        blended = ref.combine(ambient_diffuse, specular, Material(texture_mode=mode, alpha_mode="blend", **base), texel)
+        assert blended[0, 3] == pytest.approx(0.6 * 0.5)  # blending: diffuse alpha × texel alpha
     untextured = ref.combine(ambient_diffuse, specular, Material(diffuse=(0.8, 0.8, 0.8, 0.6)))
-    np.testing.assert_allclose(untextured[0], [0.75, 0.75, 1.0, 0.6], atol=TIGHT)  # clamped blue
+    np.testing.assert_allclose(untextured[0], [0.75, 0.75, 1.0, 1.0], atol=TIGHT)  # clamped blue, opaque
 
 
 def test_bilinear_sampling_orientation_centres_and_wrap():
@@ -317,7 +319,7 @@ def test_textured_plane_uses_bilinear_texels_in_each_mode():
         image = ref.render_reference(scene)
         a, s = 0.5, 0.2
         rgb = {"modulate": t[:3] * a + s, "modulate_all": t[:3] * (a + s), "blend": 0.5 * t[:3] + 0.5 * (a + s)}[mode]
-        np.testing.assert_allclose(image.color[image.covered], np.tile([*rgb, t[3]], (image.covered.sum(), 1)), atol=TIGHT, err_msg=mode)
+        np.testing.assert_allclose(image.color[image.covered], np.tile([*rgb, 1.0], (image.covered.sum(), 1)), atol=TIGHT, err_msg=mode)
 
 
 # --------------------------------------------------------------------------- rasterization

@@ -100,7 +100,7 @@ def test_every_contract_key_is_read(tmp_path):
 def test_defaults_follow_opengl(tmp_path):
     scene = load_scene(write(tmp_path, '[[objects]]\nmesh = "builtin:cube"\n'))
     assert scene.ambient == (0.2, 0.2, 0.2, 1.0)  # GL_LIGHT_MODEL_AMBIENT
-    m = scene.objects[0].material
+    m = scene.objects[0].surface_material  # no material given: OpenGL's default
     assert (m.ambient, m.diffuse, m.specular, m.shininess) == ((0.2, 0.2, 0.2, 1), (0.8, 0.8, 0.8, 1), (0, 0, 0, 1), 0.0)
     assert scene.shading.frequency == "phong" and scene.shading.local_viewer is True
     assert scene.size == (512, 512)

@@ -17,6 +17,11 @@
 #if TEXTURE
 @group(2) @binding(2) var<storage, read> mesh_uvs: array<f32>;        // u, v per vertex
 #endif
+#if VERTEX_COLORS and TEXTURE
+@group(2) @binding(3) var<storage, read> mesh_colors: array<vec4<f32>>; // r, g, b, a per vertex
+#elif VERTEX_COLORS
+@group(2) @binding(2) var<storage, read> mesh_colors: array<vec4<f32>>;
+#endif
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,
@@ -55,6 +60,11 @@ fn vs_main(@builtin(vertex_index) corner_index: u32) -> Varyings {
     let centroid = (object_uniforms.eye_from_model * vec4<f32>((p0 + p1 + p2) / 3.0, 1.0)).xyz;
     var out: Varyings;
     out.clip_position = frame_uniforms.clip_from_eye * (object_uniforms.eye_from_model * vec4<f32>(corner, 1.0));
+#if VERTEX_COLORS
+    // One color per face, like its normal: the mean of its corners' colors.
+    surface_color = (mesh_colors[mesh_indices[first]] + mesh_colors[mesh_indices[first + 1u]]
+        + mesh_colors[mesh_indices[first + 2u]]) / 3.0;
+#endif
     store_lighting(&out, centroid, normal);
 #if TEXTURE
     out.uv = vec2<f32>(mesh_uvs[2u * vertex], mesh_uvs[2u * vertex + 1u]);

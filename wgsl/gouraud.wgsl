@@ -34,6 +34,9 @@ fn vs_main(vertex: VertexInput) -> Varyings {
     let normal = safe_normalize(object_uniforms.eye_normal_from_model * vertex.normal, FALLBACK_NORMAL);
     var out: Varyings;
     out.clip_position = frame_uniforms.clip_from_eye * eye_position;
+#if VERTEX_COLORS
+    surface_color = vertex.color;
+#endif
     store_lighting(&out, eye_position.xyz, normal);
 #if TEXTURE
     out.uv = vertex.uv;

@@ -17,6 +17,29 @@ const MIN_LENGTH_SQUARED: f32 = 1e-30;
 // interpolated normal passing through zero): face the viewer, in eye space.
 const FALLBACK_NORMAL: vec3<f32> = vec3<f32>(0.0, 0.0, 1.0);
 
+#if VERTEX_COLORS
+// The vertex color at the point being shaded: it multiplies the material's ambient and
+// diffuse (OpenGL's GL_COLOR_MATERIAL with GL_AMBIENT_AND_DIFFUSE; glTF's COLOR_0 times
+// the base color). The entry point sets it before calling shade().
+var<private> surface_color: vec4<f32> = vec4<f32>(1.0);
+#endif
+
+fn material_ambient() -> vec3<f32> {
+#if VERTEX_COLORS
+    return object_uniforms.material.ambient.rgb * surface_color.rgb;
+#else
+    return object_uniforms.material.ambient.rgb;
+#endif
+}
+
+fn material_diffuse() -> vec3<f32> {
+#if VERTEX_COLORS
+    return object_uniforms.material.diffuse.rgb * surface_color.rgb;
+#else
+    return object_uniforms.material.diffuse.rgb;
+#endif
+}
+
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     let length_squared = dot(v, v);
     if (length_squared > MIN_LENGTH_SQUARED) {
@@ -100,8 +123,8 @@ fn light_contribution(
     let material = object_uniforms.material;
     let n_dot_l = dot(normal, to_light);
     var result: LitColor;
-    result.ambient_diffuse = scale * (ambient.rgb * material.ambient.rgb
-        + max(n_dot_l, 0.0) * diffuse.rgb * material.diffuse.rgb);
+    result.ambient_diffuse = scale * (ambient.rgb * material_ambient()
+        + max(n_dot_l, 0.0) * diffuse.rgb * material_diffuse());
 #if SPECULAR
     // f_i: no highlight on the side the light does not reach.
     if (n_dot_l > 0.0) {
@@ -126,9 +149,13 @@ fn attenuation_factor(coefficients: vec3<f32>, distance: f32) -> f32 {
 
 // Every light at one surface point. `normal` and `to_viewer` are unit vectors.
 fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> LitColor {
-    let material = object_uniforms.material;
     var lit: LitColor;
-    lit.ambient_diffuse = frame_uniforms.global_ambient.rgb * material.ambient.rgb;
+#if UNLIT
+    // KHR_materials_unlit: the surface color as it is.
+    lit.ambient_diffuse = material_diffuse();
+#else
+    let material = object_uniforms.material;
+    lit.ambient_diffuse = frame_uniforms.global_ambient.rgb * material_ambient();
 #if EMISSION
     lit.ambient_diffuse += material.emission.rgb;
 #endif
@@ -173,6 +200,7 @@ fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> Li
         lit = add_lit(lit, light_contribution(scale, light.ambient, light.diffuse, light.specular,
                                               normal, to_light, to_viewer));
     }
+#endif
 #endif
     return lit;
 }

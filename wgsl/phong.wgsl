@@ -17,6 +17,9 @@ struct Varyings {
 #if TEXTURE
     @location(2) uv: vec2<f32>,
 #endif
+#if VERTEX_COLORS
+    @location(3) color: vec4<f32>,
+#endif
 }
 
 @vertex
@@ -29,6 +32,9 @@ fn vs_main(vertex: VertexInput) -> Varyings {
     out.eye_normal = object_uniforms.eye_normal_from_model * vertex.normal;
 #if TEXTURE
     out.uv = vertex.uv;
+#endif
+#if VERTEX_COLORS
+    out.color = vertex.color;
 #endif
     return out;
 }
@@ -47,6 +53,9 @@ fn fs_main(
     if (!front_facing) {
         normal = -normal;
     }
+#endif
+#if VERTEX_COLORS
+    surface_color = in.color;
 #endif
     let lit = shade(in.eye_position, normal, view_direction(in.eye_position, normal));
 #if TEXTURE

@@ -58,6 +58,10 @@ struct Material {
 #if EMISSION
     emission: vec4<f32>,
 #endif
+#if ALPHA_MASK
+    // alphaMode MASK: fragments whose alpha is below this are discarded.
+    alpha_cutoff: f32,
+#endif
 }
 
 // Group 0: one per frame, shared by every object.

@@ -7,4 +7,7 @@ struct VertexInput {
 #if TEXTURE
     @location(2) uv: vec2<f32>,
 #endif
+#if VERTEX_COLORS
+    @location(3) color: vec4<f32>,
+#endif
 }

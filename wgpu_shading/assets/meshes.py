@@ -1,98 +1,272 @@
-"""Mesh files read through trimesh (OBJ/MTL, PLY, STL, OFF, glTF/GLB) into Mesh objects."""
+"""Mesh files (OBJ/MTL, PLY, STL, OFF, glTF/GLB) into one Mesh with one part per material.
+
+OBJ is read by obj.py (trimesh's OBJ reader mis-resolves relative indices and drops
+smoothing groups); PLY, STL and OFF by trimesh; glTF by trimesh plus its JSON (gltf.py).
+Every format ends as "pieces" (vertex arrays with their parts), whose normals follow
+SPEC §12: the file's normals win; glTF primitives without NORMAL are flat; otherwise
+vertices are welded by position and split at the crease angle (scene/normals.py).
+"""
 
 from __future__ import annotations
 
 import os
+import warnings
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import MeshError
 from ..scene.builtins import BUILTIN_PREFIX, builtin
-from ..scene.mesh import Mesh, vertex_normals
-from .file_materials import material_from_trimesh
+from ..scene.material import Material
+from ..scene.mesh import Mesh, MeshPart, face_normals
+from ..scene.normals import crease_normals
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
+DEFAULT_CREASE_ANGLE = 60.0  # degrees (SPEC §12)
 
 
-def load_mesh(source: str | os.PathLike[str]) -> Mesh:
-    """A built-in (`builtin:torus`) or a mesh file (OBJ, PLY, STL, OFF, GLB/glTF)."""
+@dataclass
+class _Piece:
+    """One vertex set of a file: an OBJ, a glTF primitive instance, a PLY."""
+
+    positions: np.ndarray
+    faces: np.ndarray
+    normals: np.ndarray | None = None
+    uvs: np.ndarray | None = None
+    colors: np.ndarray | None = None  # (n, 4) float in [0, 1]
+    flat: np.ndarray | None = None  # (f,) bool: faces that are always flat
+    all_flat: bool = False
+    parts: list = field(default_factory=list)  # (first face, count, material, name)
+
+
+def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE) -> Mesh:
+    """A built-in (`builtin:torus`) or a mesh file (OBJ, PLY, STL, OFF, GLB/glTF).
+
+    crease_angle (degrees, 0..180): where the file has no normals, edges sharper than this
+    are creases (SPEC §12); 180 is the plain average of the welded faces, 0 is flat."""
     text = str(source)
     if text.startswith(BUILTIN_PREFIX):
         return builtin(text)
+    if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
+        raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
     path = Path(text)
     if not path.exists():
         raise MeshError(f"mesh file {text!r} not found")
     if path.is_dir():
         raise MeshError(f"mesh file {text!r} is a directory")
-    if path.suffix.lower() not in MESH_SUFFIXES:
+    suffix = path.suffix.lower()
+    if suffix not in MESH_SUFFIXES:
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")
+    if suffix == ".obj":
+        from .obj import read_obj
+
+        data = read_obj(path)
+        pieces = [_Piece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
+    elif suffix in (".glb", ".gltf"):
+        pieces = _gltf_pieces(path)
+    else:
+        pieces = [_trimesh_piece(path)]
+    pieces = [p for p in pieces if len(p.faces)]
+    if not pieces:
+        raise MeshError(f"mesh file {text!r} contains no triangles")
+    return _assemble(pieces, path.name, float(crease_angle))
+
+
+# --------------------------------------------------------------------------- trimesh formats
+
+
+def _load_trimesh(path: Path, **options):
     import trimesh  # lazy: trimesh costs ~0.3 s to import
 
     try:
-        loaded = trimesh.load(str(path), process=False)
+        return trimesh.load(str(path), process=False, **options)
     except IndexError as error:  # trimesh indexes vertices with the file's face indices
-        raise MeshError(f"mesh file {text!r}: a face refers to a vertex that does not exist ({error})") from None
+        raise MeshError(f"mesh file {str(path)!r}: a face refers to a vertex that does not exist ({error})") from None
     except Exception as error:  # trimesh raises many exception types for malformed files
-        raise MeshError(f"mesh file {text!r}: cannot be read ({type(error).__name__}: {error})") from None
-    parts = _triangle_parts(loaded)
-    if not parts:
-        raise MeshError(f"mesh file {text!r} contains no triangles")
-    return _merge(parts, name=path.name)
+        raise MeshError(f"mesh file {str(path)!r}: cannot be read ({type(error).__name__}: {error})") from None
 
 
-def _triangle_parts(loaded: object) -> list:
+def _file_normals(geometry) -> np.ndarray | None:
+    """Normals the file gave (trimesh caches them only then); never trimesh's computed ones,
+    which take minutes on big meshes without scipy."""
+    normals = geometry._cache.cache.get("vertex_normals")
+    if normals is not None and np.shape(normals) == np.shape(geometry.vertices):
+        return np.asarray(normals, dtype=np.float64)
+    return None
+
+
+def _trimesh_piece(path: Path) -> _Piece:
     import trimesh
 
+    loaded = _load_trimesh(path)
     if isinstance(loaded, trimesh.Scene):
-        # dump() applies the scene graph's transforms; keeps per-part normals and visuals.
-        parts = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
-    elif isinstance(loaded, trimesh.Trimesh):
-        parts = [loaded]
-    else:
-        parts = []
-    return [p for p in parts if len(p.faces) and len(p.vertices)]
+        geometries = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
+        if len(geometries) != 1:
+            raise MeshError(f"mesh file {str(path)!r}: expected one mesh, found {len(geometries)}")
+        loaded = geometries[0]
+    if isinstance(loaded, trimesh.PointCloud):
+        raw = loaded.metadata.get("_ply_raw", {}) if isinstance(loaded.metadata, dict) else {}
+        if "tristrips" in raw:
+            raise MeshError(f"mesh file {str(path)!r}: the PLY has triangle strips (element 'tristrips'), not faces; only 'face' elements are supported")
+        raise MeshError(f"mesh file {str(path)!r}: a point cloud ({len(loaded.vertices)} vertices, no faces); nothing to shade")
+    if not isinstance(loaded, trimesh.Trimesh):
+        raise MeshError(f"mesh file {str(path)!r}: contains no triangles (found {type(loaded).__name__})")
+    positions = np.asarray(loaded.vertices, dtype=np.float64)
+    faces = np.asarray(loaded.faces, dtype=np.int64)
+    visual = loaded.visual
+    uvs = getattr(visual, "uv", None)
+    uvs = np.asarray(uvs, dtype=np.float64) if uvs is not None and len(uvs) == len(positions) else None
+    colors, face_colors = None, None
+    kind = getattr(visual, "kind", None)
+    if isinstance(visual, trimesh.visual.ColorVisuals):
+        if kind == "vertex":
+            colors = np.asarray(visual.vertex_colors)
+        elif kind == "face":
+            face_colors = np.asarray(visual.face_colors)  # no scipy: expanded below, never averaged
+    else:  # TextureVisuals keep PLY colors as attributes
+        vertex_attribute = getattr(visual, "vertex_attributes", {}).get("color")
+        face_attribute = loaded.face_attributes.get("color") if hasattr(loaded, "face_attributes") else None
+        if vertex_attribute is not None and len(vertex_attribute) == len(positions):
+            colors = np.asarray(vertex_attribute)
+        elif face_attribute is not None and len(face_attribute) == len(faces):
+            face_colors = np.asarray(face_attribute)
+    normals = _file_normals(loaded)
+    if face_colors is not None:  # one color per face: every corner its own vertex
+        corners = faces.reshape(-1)
+        positions, uvs = positions[corners], None if uvs is None else uvs[corners]
+        normals = None if normals is None else normals[corners]
+        colors = np.repeat(face_colors, 3, axis=0)
+        faces = np.arange(len(corners)).reshape(-1, 3)
+    if colors is not None:
+        colors = _unit_colors(colors)
+    return _Piece(positions, faces, normals, uvs, colors, parts=[(0, len(faces), None, path.name)])
 
 
-def _merge(parts: list, name: str) -> Mesh:
-    positions, indices, normals, uvs = [], [], [], []
-    offset = 0
-    have_uvs = all(getattr(p.visual, "uv", None) is not None and len(p.visual.uv) == len(p.vertices) for p in parts)
-    for part in parts:
-        vertices = np.asarray(part.vertices, dtype=np.float64)
-        faces = np.asarray(part.faces, dtype=np.int64)
-        file_normals = part._cache.cache.get("vertex_normals")  # present only when the file had normals
-        positions.append(vertices)
-        indices.append(faces + offset)
-        if file_normals is not None and np.shape(file_normals) == vertices.shape:
-            normals.append(np.asarray(file_normals, dtype=np.float64))
-        else:
-            normals.append(None)
-        if have_uvs:
-            uvs.append(np.asarray(part.visual.uv, dtype=np.float64))
-        offset += len(vertices)
-    all_positions = np.concatenate(positions)
-    all_indices = np.concatenate(indices)
-    if all(n is None for n in normals):
-        merged_normals = None
-    else:
-        computed = vertex_normals(all_positions, all_indices.astype(np.uint32))
-        merged_normals = np.concatenate(
-            [n if n is not None else computed[start : start + len(p)] for n, p, start in _with_starts(normals, positions)]
+def _unit_colors(colors: np.ndarray) -> np.ndarray:
+    colors = np.asarray(colors)
+    scale = 255.0 if colors.dtype.kind in "iu" else 1.0
+    colors = colors.astype(np.float64) / scale
+    if colors.shape[1] == 3:
+        colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
+    return colors[:, :4]
+
+
+# --------------------------------------------------------------------------- glTF
+
+
+def _gltf_pieces(path: Path) -> list[_Piece]:
+    import trimesh
+
+    from .gltf import check_extensions, gltf_material, primitive_table, read_gltf_json
+
+    document = read_gltf_json(path)
+    check_extensions(document, path)
+    scene = _load_trimesh(path, force="scene")
+    rows = primitive_table(document)
+    names = list(scene.geometry)
+    if len(rows) != len(names):
+        raise MeshError(f"mesh file {str(path)!r}: {len(rows)} glTF primitives but {len(names)} geometries were read")
+    row_of = dict(zip(names, rows))
+    materials: dict[str, Material | None] = {}
+    pieces = []
+    # The graph's node set has no order: draw instances in the file's primitive order.
+    position = {name: index for index, name in enumerate(names)}
+    instances = sorted(((scene.graph[node][1], str(node)) for node in scene.graph.nodes_geometry), key=lambda i: (position[i[0]], i[1]))
+    for geometry_name, node in instances:
+        world_from_node, _ = scene.graph[node]
+        geometry = scene.geometry[geometry_name]
+        if not isinstance(geometry, trimesh.Trimesh) or not len(geometry.faces):
+            continue
+        row = row_of[geometry_name]
+        visual = geometry.visual
+        trimesh_material = getattr(visual, "material", None)
+        if geometry_name not in materials:
+            materials[geometry_name] = gltf_material(document, row, trimesh_material, path.name)
+        matrix = np.asarray(world_from_node, dtype=np.float64)
+        linear = matrix[:3, :3]
+        positions = np.asarray(geometry.vertices, dtype=np.float64) @ linear.T + matrix[:3, 3]
+        faces = np.asarray(geometry.faces, dtype=np.int64)
+        normals = _file_normals(geometry) if row["has_normal"] else None
+        if normals is not None:
+            normals = normals @ np.linalg.inv(linear)  # the inverse transpose, applied to rows
+        if np.linalg.det(linear) < 0:
+            faces = faces[:, ::-1]  # a mirroring node keeps the outside outside
+        uvs = getattr(visual, "uv", None)
+        uvs = np.asarray(uvs, dtype=np.float64) if uvs is not None and len(uvs) == len(positions) else None
+        colors = None
+        if row["has_color"]:
+            raw = getattr(visual, "vertex_attributes", {}).get("color")
+            if raw is None and isinstance(visual, trimesh.visual.ColorVisuals) and visual.kind == "vertex":
+                raw = visual.vertex_colors
+            if raw is not None and len(raw) == len(positions):
+                colors = _unit_colors(np.asarray(raw))
+        pieces.append(
+            _Piece(positions, faces, normals, uvs, colors, all_flat=not row["has_normal"],
+                   parts=[(0, len(faces), materials[geometry_name], geometry_name)])
         )
-    material = material_from_trimesh(parts[0], name)
-    return Mesh.from_arrays(
-        all_positions,
-        all_indices,
-        normals=merged_normals,
-        uvs=np.concatenate(uvs) if have_uvs else None,
-        name=name,
-        material=material,
+    return pieces
+
+
+# --------------------------------------------------------------------------- assembly
+
+
+def _piece_normals(piece: _Piece, crease_angle: float) -> _Piece:
+    """The piece with normals: the file's, flat, or welded and creased."""
+    if piece.normals is not None:
+        return piece
+    if piece.all_flat:  # every corner its own vertex, with its face's normal
+        corners = piece.faces.reshape(-1)
+        unit, _ = face_normals(piece.positions, piece.faces)
+        return replace(
+            piece,
+            positions=piece.positions[corners],
+            faces=np.arange(len(corners)).reshape(-1, 3),
+            normals=np.repeat(unit, 3, axis=0),
+            uvs=None if piece.uvs is None else piece.uvs[corners],
+            colors=None if piece.colors is None else piece.colors[corners],
+        )
+    source, faces, normals = crease_normals(piece.positions, piece.faces, crease_angle, piece.flat)
+    if source is None:
+        return replace(piece, normals=normals)
+    return replace(
+        piece,
+        positions=piece.positions[source],
+        faces=faces.astype(np.int64),
+        normals=normals,
+        uvs=None if piece.uvs is None else piece.uvs[source],
+        colors=None if piece.colors is None else piece.colors[source],
     )
 
 
-def _with_starts(normals: list, positions: list):
-    start = 0
-    for n, p in zip(normals, positions):
-        yield n, p, start
-        start += len(p)
+def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
+    pieces = [_piece_normals(piece, crease_angle) for piece in pieces]
+    any_uvs = any(p.uvs is not None for p in pieces)
+    any_colors = any(p.colors is not None for p in pieces)
+    positions, faces, normals, uvs, colors, parts = [], [], [], [], [], []
+    vertex_offset = face_offset = 0
+    for piece in pieces:
+        count = len(piece.positions)
+        positions.append(piece.positions)
+        faces.append(piece.faces + vertex_offset)
+        normals.append(piece.normals)
+        if any_uvs:
+            uvs.append(piece.uvs if piece.uvs is not None else np.zeros((count, 2)))
+        if any_colors:
+            colors.append(piece.colors if piece.colors is not None else np.ones((count, 4)))
+        for first, length, material, part_name in piece.parts:
+            if material is not None and material.texture is not None and piece.uvs is None:
+                warnings.warn(f"{name}: part {part_name!r} has a texture but no texture coordinates; drawn untextured", stacklevel=3)
+                material = replace(material, texture=None)
+            parts.append(MeshPart(face_offset + first, length, material, part_name))
+        vertex_offset += count
+        face_offset += len(piece.faces)
+    return Mesh.from_arrays(
+        np.concatenate(positions),
+        np.concatenate(faces),
+        normals=np.concatenate(normals),
+        uvs=np.concatenate(uvs) if any_uvs else None,
+        colors=np.concatenate(colors) if any_colors else None,
+        parts=tuple(parts),
+        name=name,
+    )

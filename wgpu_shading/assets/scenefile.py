@@ -9,7 +9,9 @@ Extensions beyond SPEC §11 (additions only, nothing renamed):
   material = { texture = "t.png" }                 no colors given: the seed's material-less
                                                    case, ambient = diffuse = specular = 1
   mesh = "builtin:sphere?slices=20&stacks=20"      parameters of built-in meshes
-An object without `material` uses its mesh file's own material (OBJ/MTL), else OpenGL's default.
+An object without `material` uses its mesh file's own materials, part by part (OBJ/MTL,
+glTF), else OpenGL's default. `crease_angle` (degrees) and `up` ("+Y", "+Z", ...) on an
+object: SPEC §12.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from typing import Any, Mapping
 from ..errors import MeshError, SceneError
 from ..scene import BUILTIN_PREFIX
 from ..scene.materials import material as named_material
-from .meshes import load_mesh
+from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 from .textures import load_texture
 from ..scene import (
     LIGHT_TYPES,
@@ -47,7 +49,7 @@ _LIGHT_KEYS = {
     "positional": {"type", "position", "ambient", "diffuse", "specular", "attenuation"},
     "spot": {"type", "position", "direction", "ambient", "diffuse", "specular", "attenuation", "cutoff", "exponent"},
 }
-_OBJECT_KEYS = {"mesh", "material", "translate", "rotate", "scale"}
+_OBJECT_KEYS = {"mesh", "material", "translate", "rotate", "scale", "crease_angle", "up"}
 _MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode"}
 _COLOR_KEYS = ("ambient", "diffuse", "specular")
 
@@ -123,7 +125,7 @@ def _light(table: Mapping[str, Any], index: int):
         raise SceneError(f"{where}: {error}") from None
 
 
-def _object(table: Mapping[str, Any], index: int, base: Path) -> SceneObject:
+def _object(table: Mapping[str, Any], index: int, base: Path, crease_angle: float | None = None) -> SceneObject:
     where = f"[[objects]] #{index + 1}"
     _check_keys(table, _OBJECT_KEYS, where)
     if "mesh" not in table:
@@ -132,8 +134,11 @@ def _object(table: Mapping[str, Any], index: int, base: Path) -> SceneObject:
     if not isinstance(mesh_text, str):
         raise SceneError(f"{where}.mesh: expected a string, got {mesh_text!r}")
     source = mesh_text if mesh_text.startswith(BUILTIN_PREFIX) else str(_resolve(mesh_text, base))
+    crease = table.get("crease_angle", DEFAULT_CREASE_ANGLE) if crease_angle is None else crease_angle
+    if isinstance(crease, bool) or not isinstance(crease, (int, float)) or not 0 <= crease <= 180:
+        raise SceneError(f"{where}.crease_angle: expected degrees between 0 and 180, got {crease!r}")
     try:
-        mesh = load_mesh(source)
+        mesh = load_mesh(source, crease_angle=float(crease))
     except MeshError as error:
         raise SceneError(f"{where}.mesh: {error}") from None
     if "material" in table:
@@ -143,16 +148,17 @@ def _object(table: Mapping[str, Any], index: int, base: Path) -> SceneObject:
             message = str(error)
             raise SceneError(message if message.startswith(where) else f"{where}.material: {message}") from None
     else:
-        material = mesh.material or Material()
-    transform = {key: table[key] for key in ("translate", "rotate", "scale") if key in table}
+        material = None  # the file's own materials, part by part
+    transform = {key: table[key] for key in ("translate", "rotate", "scale", "up") if key in table}
     try:
         return SceneObject(mesh=mesh, material=material, **transform)
     except SceneError as error:
         raise SceneError(f"{where}: {error}") from None
 
 
-def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".") -> Scene:
-    """A Scene from an already-parsed TOML document (paths relative to `base`)."""
+def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".", *, crease_angle: float | None = None) -> Scene:
+    """A Scene from an already-parsed TOML document (paths relative to `base`).
+    crease_angle, when given, replaces every object's (the CLI's --crease-angle)."""
     base_path = Path(base)
     _check_keys(document, _TOP_LEVEL, "scene")
     output = _table(document, "output")
@@ -160,7 +166,7 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".")
     camera = _table(document, "camera")
     ambient = _table(document, "ambient")
     lights = [_light(table, i) for i, table in enumerate(_array_of_tables(document, "lights"))]
-    objects = [_object(table, i, base_path) for i, table in enumerate(_array_of_tables(document, "objects"))]
+    objects = [_object(table, i, base_path, crease_angle) for i, table in enumerate(_array_of_tables(document, "objects"))]
     defaults = Scene()
     return Scene(
         objects=tuple(objects),
@@ -173,7 +179,7 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".")
     )
 
 
-def load_scene(path: str | os.PathLike[str]) -> Scene:
+def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = None) -> Scene:
     """Read a scene file. Errors name the file and the offending key."""
     path = Path(path)
     try:
@@ -187,6 +193,6 @@ def load_scene(path: str | os.PathLike[str]) -> Scene:
     except tomllib.TOMLDecodeError as error:
         raise SceneError(f"{path}: invalid TOML: {error}") from None
     try:
-        return parse_scene(document, path.parent)
+        return parse_scene(document, path.parent, crease_angle=crease_angle)
     except SceneError as error:
         raise SceneError(f"{path}: {error}") from None

@@ -30,6 +30,7 @@ def _size(text: str) -> tuple[int, int]:
 def _load(args: argparse.Namespace):
     """The scene named on the command line, with the command-line overrides applied."""
     from ..assets.mesh_scene import mesh_scene
+    from ..assets.meshes import DEFAULT_CREASE_ANGLE
     from ..assets.scenefile import load_scene
     from ..scene import material
 
@@ -37,14 +38,22 @@ def _load(args: argparse.Namespace):
     if args.size is not None:
         args.size = image_size(args.size, "--size")  # before anything divides by it
     if source.lower().endswith(".toml"):
-        scene = load_scene(source)
+        scene = load_scene(source, crease_angle=args.crease_angle)
+        if args.up:
+            scene = replace(scene, objects=tuple(replace(o, up=args.up) for o in scene.objects))
         if args.size:
             scene = replace(scene, size=args.size)
         if args.material:
             chosen = material(args.material)
             scene = replace(scene, objects=tuple(replace(o, material=chosen) for o in scene.objects))
     else:
-        scene = mesh_scene(source, args.size or (512, 512), args.material)
+        scene = mesh_scene(
+            source,
+            args.size or (512, 512),
+            args.material,
+            crease_angle=DEFAULT_CREASE_ANGLE if args.crease_angle is None else args.crease_angle,
+            up=args.up or "+Y",
+        )
     shading = scene.shading
     overrides = {
         key: value
@@ -75,6 +84,13 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
     parser.add_argument("--infinite-viewer", action="store_true", help="OpenGL's default viewer: V = (0, 0, 1)")
     parser.add_argument("--two-sided", action="store_true", help="light back faces with the flipped normal")
+    parser.add_argument(
+        "--crease-angle", type=_degrees, metavar="DEG",
+        help="mesh files without normals: edges sharper than this are creases (default 60; 180 smooth, 0 flat)",
+    )
+    parser.add_argument(
+        "--up", type=_up, metavar="AXIS", help="the mesh files' up axis: +Y (default), -Y, +Z, -Z, +X, -X (like f3d)"
+    )
 
 
 # --------------------------------------------------------------------------- commands
@@ -92,6 +108,26 @@ def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False
     if float_target and path.suffix.lower() != ".npy":
         raise SceneError(f"output {str(path)!r}: --float writes exact float32 values to .npy, not {path.suffix!r}")
 
+
+
+def _degrees(text: str) -> float:
+    """A crease angle, 0..180 degrees."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected degrees between 0 and 180, got {text!r}") from None
+    if not 0.0 <= value <= 180.0:
+        raise argparse.ArgumentTypeError(f"expected degrees between 0 and 180, got {text!r}")
+    return value
+
+
+def _up(text: str) -> str:
+    from ..scene.objects import up_axis
+
+    try:
+        return up_axis(text, "--up")
+    except SceneError as error:
+        raise argparse.ArgumentTypeError(str(error).removeprefix("--up: ")) from None
 
 
 def _fraction(text: str) -> float:

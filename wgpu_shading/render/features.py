@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..errors import SceneError
-from ..scene import DirectionalLight, PositionalLight, Scene, SceneObject, SpotLight
+from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight
 
 
 @dataclass(frozen=True)
@@ -26,6 +26,9 @@ class FeatureSet:
     texture_mode: str | None = None  # None | modulate | modulate_all | blend
     two_sided: bool = False
     local_viewer: bool = True
+    vertex_colors: bool = False  # the mesh has colors: they multiply ambient and diffuse
+    alpha_mode: str = "opaque"  # opaque (alpha 1) | mask (discard below the cutoff) | blend
+    unlit: bool = False  # KHR_materials_unlit: the surface color, no lighting
 
     @property
     def light_count(self) -> int:
@@ -51,6 +54,10 @@ class FeatureSet:
             "TEXTURE_BLEND": self.texture_mode == "blend",
             "TWO_SIDED": self.two_sided,
             "LOCAL_VIEWER": self.local_viewer,
+            "VERTEX_COLORS": self.vertex_colors,
+            "ALPHA_MASK": self.alpha_mode == "mask",
+            "ALPHA_BLEND": self.alpha_mode == "blend",
+            "UNLIT": self.unlit,
         }
 
     def describe(self) -> str:
@@ -74,6 +81,12 @@ class FeatureSet:
             f"two_sided={self.two_sided}",
             f"viewer={'local' if self.local_viewer else 'infinite'}",
         ]
+        if self.vertex_colors:
+            parts.append("vertex_colors=True")
+        if self.alpha_mode != "opaque":
+            parts.append(f"alpha={self.alpha_mode}")
+        if self.unlit:
+            parts.append("unlit=True")
         return " ".join(parts)
 
     def scene_part(self) -> "FeatureSet":
@@ -92,11 +105,11 @@ def _has_attenuation(light: PositionalLight | SpotLight) -> bool:
     return tuple(light.attenuation) != (1.0, 0.0, 0.0)
 
 
-def object_features(scene: Scene, obj: SceneObject, index: int = 0) -> FeatureSet:
-    """The feature set for drawing `obj` in `scene`."""
+def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Material | None = None) -> FeatureSet:
+    """The feature set for drawing `obj` (or one part of it, drawn with `material`) in `scene`."""
     lights = scene.lights
     point_like = [light for light in lights if isinstance(light, (PositionalLight, SpotLight))]
-    material = obj.material
+    material = obj.surface_material if material is None else material
     texture_mode = None
     if material.texture is not None:
         if obj.mesh.uvs is None:
@@ -112,9 +125,12 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0) -> FeatureSe
         positional_lights=sum(isinstance(light, PositionalLight) for light in lights),
         spot_lights=sum(isinstance(light, SpotLight) for light in lights),
         attenuation=any(_has_attenuation(light) for light in point_like),
-        specular=material.has_specular and any(max(light.specular[:3]) > 0.0 for light in lights),
-        emission=material.has_emission,
+        specular=not material.unlit and material.has_specular and any(max(light.specular[:3]) > 0.0 for light in lights),
+        emission=material.has_emission and not material.unlit,
         texture_mode=texture_mode,
         two_sided=scene.shading.two_sided,
         local_viewer=scene.shading.local_viewer,
+        vertex_colors=obj.mesh.colors is not None,
+        alpha_mode=material.alpha_mode,
+        unlit=material.unlit,
     )

@@ -49,6 +49,8 @@ def bind_group_entries(features: FeatureSet) -> list[tuple[tuple, ...]]:
         mesh_group = [(0, wgpu.ShaderStage.VERTEX, "buffer", "storage"), (1, wgpu.ShaderStage.VERTEX, "buffer", "storage")]
         if features.texture_mode is not None:
             mesh_group.append((2, wgpu.ShaderStage.VERTEX, "buffer", "storage"))
+        if features.vertex_colors:
+            mesh_group.append((len(mesh_group), wgpu.ShaderStage.VERTEX, "buffer", "storage"))
         groups.append(tuple(mesh_group))
     return groups
 
@@ -76,7 +78,20 @@ def vertex_buffer_layouts(features: FeatureSet) -> list[dict]:
         layouts.append(
             {"array_stride": 8, "attributes": [{"format": wgpu.VertexFormat.float32x2, "offset": 0, "shader_location": 2}]}
         )
+    if features.vertex_colors:
+        layouts.append(
+            {"array_stride": 16, "attributes": [{"format": wgpu.VertexFormat.float32x4, "offset": 0, "shader_location": 3}]}
+        )
     return layouts
+
+
+# alphaMode BLEND: "over" compositing (premultiplied by the source alpha), and the
+# destination alpha accumulates coverage, so a translucent part over the background
+# keeps the background's alpha where nothing opaque is behind it.
+_BLEND_OVER = {
+    "color": {"src_factor": wgpu.BlendFactor.src_alpha, "dst_factor": wgpu.BlendFactor.one_minus_src_alpha, "operation": wgpu.BlendOperation.add},
+    "alpha": {"src_factor": wgpu.BlendFactor.one, "dst_factor": wgpu.BlendFactor.one_minus_src_alpha, "operation": wgpu.BlendOperation.add},
+}
 
 
 class PipelineCache:
@@ -124,11 +139,20 @@ class PipelineCache:
             },
             depth_stencil={
                 "format": DEPTH_FORMAT,
-                "depth_write_enabled": True,
+                # Blended parts are drawn after the opaque ones, back to front, and do not
+                # hide each other (they still hide behind opaque parts).
+                "depth_write_enabled": features.alpha_mode != "blend",
                 "depth_compare": wgpu.CompareFunction.greater,  # reversed Z
             },
             multisample={"count": 1},
-            fragment={"module": module, "entry_point": "fs_main", "targets": [{"format": COLOR_FORMATS[color_format]}]},
+            fragment={
+                "module": module,
+                "entry_point": "fs_main",
+                "targets": [
+                    {"format": COLOR_FORMATS[color_format]}
+                    | ({"blend": _BLEND_OVER} if features.alpha_mode == "blend" else {})
+                ],
+            },
         )
         return PipelineEntry(
             features=features,

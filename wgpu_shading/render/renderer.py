@@ -32,6 +32,7 @@ from .resources import (
     padded_row_bytes,
     read_buffer,
     upload_mesh,
+    upload_colors,
     upload_texture,
     upload_uvs,
 )
@@ -54,11 +55,16 @@ class Frame:
 
 @dataclass
 class _Draw:
+    """One draw call: one part of one object (a range of its triangles) with its material."""
+
     entry: PipelineEntry
-    object_index: int
+    draw_index: int  # which object-uniform buffer it uses
     gpu_mesh: GpuMesh
     object_data: np.ndarray
     texture: GpuTexture | None
+    sampler: object
+    first_triangle: int
+    triangle_count: int
 
 
 
@@ -84,6 +90,14 @@ class Renderer:
             mag_filter=wgpu.FilterMode.linear,
             min_filter=wgpu.FilterMode.linear,
             mipmap_filter=wgpu.MipmapFilterMode.linear,
+        )
+        # glTF samplers with NEAREST filters (pixel art, palettes, labels).
+        self._nearest_sampler = self._device.create_sampler(
+            address_mode_u=wgpu.AddressMode.repeat,
+            address_mode_v=wgpu.AddressMode.repeat,
+            mag_filter=wgpu.FilterMode.nearest,
+            min_filter=wgpu.FilterMode.nearest,
+            mipmap_filter=wgpu.MipmapFilterMode.nearest,
         )
 
     @property
@@ -134,7 +148,7 @@ class Renderer:
         return helpers[:count]
 
     def features(self, scene: Scene) -> list[FeatureSet]:
-        """The feature set of each object (what `wgpu-shading shader` prints)."""
+        """The feature set of each object's first part (what `wgpu-shading shader` prints)."""
         return [object_features(scene, obj, index) for index, obj in enumerate(scene.objects)]
 
     # ------------------------------------------------------------------ resources
@@ -165,12 +179,14 @@ class Renderer:
     def _new_target(self, width: int, height: int, color_format: str) -> Target:
         return new_target(self._device, width, height, color_format)
 
-    def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False) -> GpuMesh:
+    def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False, with_colors: bool = False) -> GpuMesh:
         gpu_mesh = self._meshes.get(mesh)
         if gpu_mesh is None:
             gpu_mesh = self._meshes[mesh] = upload_mesh(self._device, mesh, self._mesh_usage)
         if with_uvs:
             upload_uvs(self._device, gpu_mesh, mesh, self._mesh_usage)
+        if with_colors:
+            upload_colors(self._device, gpu_mesh, mesh, self._mesh_usage)
         return gpu_mesh
 
     def _gpu_texture(self, texture: Texture) -> GpuTexture:
@@ -209,22 +225,41 @@ class Renderer:
     # ------------------------------------------------------------------ frame
 
     def _prepare(self, scene: Scene, color_format: str, eye_from_world: glm.dmat4) -> list[_Draw]:
-        draws = []
+        """One draw per (object, part): opaque and masked parts first, in scene order, then
+        blended parts back to front (by the eye-space depth of each part's centre), so
+        that what lies behind a translucent part is already drawn (SPEC §12)."""
+        opaque: list[_Draw] = []
+        blended: list[tuple[float, _Draw]] = []
         for index, obj in enumerate(scene.objects):
-            features = object_features(scene, obj, index)
             model_view = eye_from_world * obj.model_matrix()  # double precision, once per object
-            entry = self._pipelines.get(features, color_format, is_mirrored(model_view))
-            texture = self._gpu_texture(obj.material.texture) if features.texture_mode else None
-            draws.append(
-                _Draw(
+            mirrored = is_mirrored(model_view)
+            materials = obj.part_materials()
+            for part, material in zip(obj.mesh.parts, materials):
+                if part.count == 0:
+                    continue
+                features = object_features(scene, obj, index, material)
+                entry = self._pipelines.get(features, color_format, mirrored)
+                texture = self._gpu_texture(material.texture) if features.texture_mode else None
+                draw = _Draw(
                     entry=entry,
-                    object_index=index,
-                    gpu_mesh=self._gpu_mesh(obj.mesh, with_uvs=features.texture_mode is not None),
-                    object_data=object_uniforms(model_view, obj.material, entry.object_dtype),
+                    draw_index=len(opaque) + len(blended),
+                    gpu_mesh=self._gpu_mesh(
+                        obj.mesh, with_uvs=features.texture_mode is not None, with_colors=features.vertex_colors
+                    ),
+                    object_data=object_uniforms(model_view, material, entry.object_dtype),
                     texture=texture,
+                    sampler=self._nearest_sampler if texture is not None and material.texture.nearest else self._sampler,
+                    first_triangle=part.first,
+                    triangle_count=part.count,
                 )
-            )
-        return draws
+                if features.alpha_mode == "blend":
+                    centre = obj.mesh.part_centre(part)
+                    depth = (model_view * glm.dvec4(*centre, 1.0)).z  # eye looks along −z: far is very negative
+                    blended.append((depth, draw))
+                else:
+                    opaque.append(draw)
+        blended.sort(key=lambda item: item[0])
+        return opaque + [draw for _, draw in blended]
 
     def _submit(self, scene: Scene, target: Target, *, read_depth: bool) -> None:
         device = self._device
@@ -258,27 +293,33 @@ class Renderer:
             layouts = entry.bind_group_layouts
             render_pass.set_pipeline(entry.pipeline)
             render_pass.set_bind_group(0, self._bind_group(self._bind_groups, layouts[0], (frame_buffer,)))
-            object_buffer = self._uniform_buffer("object", draw.object_index, draw.object_data)
+            object_buffer = self._uniform_buffer("object", draw.draw_index, draw.object_data)
             if draw.texture is None:
                 object_group = self._bind_group(self._bind_groups, layouts[1], (object_buffer,))
             else:
                 object_group = self._bind_group(
-                    draw.texture.object_groups, layouts[1], (object_buffer, draw.texture.view, self._sampler)
+                    draw.texture.object_groups, layouts[1], (object_buffer, draw.texture.view, draw.sampler)
                 )
             render_pass.set_bind_group(1, object_group)
+            first_corner, corner_count = 3 * draw.first_triangle, 3 * draw.triangle_count
             if entry.features.frequency == "flat":
                 storage: tuple = (gpu_mesh.positions, gpu_mesh.indices)
                 if draw.texture is not None:
                     storage += (gpu_mesh.uvs,)
+                if entry.features.vertex_colors:
+                    storage += (gpu_mesh.colors,)
                 render_pass.set_bind_group(2, self._bind_group(gpu_mesh.storage_groups, layouts[2], storage))
-                render_pass.draw(3 * gpu_mesh.triangle_count)
+                # vertex_index counts from first_vertex: corner k of the whole mesh
+                render_pass.draw(corner_count, 1, first_corner, 0)
             else:
                 render_pass.set_vertex_buffer(0, gpu_mesh.positions)
                 render_pass.set_vertex_buffer(1, gpu_mesh.normals)
                 if draw.texture is not None:
                     render_pass.set_vertex_buffer(2, gpu_mesh.uvs)
+                if entry.features.vertex_colors:
+                    render_pass.set_vertex_buffer(2 + (draw.texture is not None), gpu_mesh.colors)
                 render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
-                render_pass.draw_indexed(3 * gpu_mesh.triangle_count)
+                render_pass.draw_indexed(corner_count, 1, first_corner, 0, 0)
         render_pass.end()
         size = (target.width, target.height, 1)
         encoder.copy_texture_to_buffer(

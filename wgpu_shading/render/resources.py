@@ -23,6 +23,7 @@ class GpuMesh:
     indices: object
     uvs: object | None
     triangle_count: int
+    colors: object | None = None
     storage_groups: dict = field(default_factory=dict)  # flat shading's vertex-pulling bind groups
 
 
@@ -138,6 +139,13 @@ def upload_uvs(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
     if gpu_mesh.uvs is None and mesh.uvs is not None:
         usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
         gpu_mesh.uvs = device.create_buffer_with_data(data=mesh.uvs, usage=usage)
+
+
+def upload_colors(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
+    """Vertex colors (float32 RGBA), once a draw needs them."""
+    if gpu_mesh.colors is None and mesh.colors is not None:
+        usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
+        gpu_mesh.colors = device.create_buffer_with_data(data=mesh.colors, usage=usage)
 
 
 def upload_texture(device, texture: Texture) -> GpuTexture:

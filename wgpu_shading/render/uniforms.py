@@ -103,6 +103,8 @@ def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtyp
     fields["shininess"] = material.shininess
     if "emission" in fields.dtype.names:
         fields["emission"] = material.emission
+    if "alpha_cutoff" in fields.dtype.names:
+        fields["alpha_cutoff"] = material.alpha_cutoff
     return data
 
 

@@ -16,8 +16,11 @@ class Texture:
 
     pixels: np.ndarray
     name: str = ""
+    nearest: bool = False  # nearest-neighbour sampling (glTF NEAREST filters), else linear + mipmaps
 
     def __post_init__(self) -> None:
+        if not isinstance(self.nearest, bool):
+            raise SceneError(f"texture {self.name!r}.nearest: expected true or false, got {self.nearest!r}")
         pixels = np.asarray(self.pixels)
         if pixels.ndim == 2:
             pixels = np.repeat(pixels[:, :, None], 3, axis=2)
@@ -43,9 +46,19 @@ class Texture:
         _set(self, pixels=pixels)
 
 
+ALPHA_MODES = ("opaque", "mask", "blend")
+
+
 @dataclass(frozen=True)
 class Material:
-    """OpenGL material; the defaults are OpenGL's (grey diffuse, no specular)."""
+    """OpenGL material; the defaults are OpenGL's (grey diffuse, no specular).
+
+    Alpha (SPEC §13): the colors' alphas are kept (the uniform layout contract) but make
+    nothing translucent unless `alpha_mode` asks: "opaque" (default) writes alpha 1,
+    "mask" discards fragments whose alpha (diffuse × texel) is below `alpha_cutoff`,
+    "blend" blends over what is behind (glTF's alphaMode). `unlit`: the diffuse color
+    (× texture × vertex color) as is, no lighting (KHR_materials_unlit).
+    """
 
     ambient: Color = (0.2, 0.2, 0.2, 1.0)
     diffuse: Color = (0.8, 0.8, 0.8, 1.0)
@@ -55,6 +68,9 @@ class Material:
     texture: Texture | None = None
     texture_mode: TextureMode = "modulate"
     name: str = ""
+    alpha_mode: str = "opaque"
+    alpha_cutoff: float = 0.5
+    unlit: bool = False
 
     def __post_init__(self) -> None:
         prefix = f"material {self.name!r}" if self.name else "material"
@@ -66,7 +82,11 @@ class Material:
             emission=color(self.emission, f"{prefix}.emission"),
             shininess=number(self.shininess, f"{prefix}.shininess", 0.0, MAX_EXPONENT),
             texture_mode=choice(self.texture_mode, f"{prefix}.texture_mode", TEXTURE_MODES),
+            alpha_mode=choice(self.alpha_mode, f"{prefix}.alpha_mode", ALPHA_MODES),
+            alpha_cutoff=number(self.alpha_cutoff, f"{prefix}.alpha_cutoff", 0.0, 1.0),
         )
+        if not isinstance(self.unlit, bool):
+            raise SceneError(f"{prefix}.unlit: expected true or false, got {self.unlit!r}")
         if self.texture is not None and not isinstance(self.texture, Texture):
             raise SceneError(f"{prefix}.texture: expected a Texture, got {type(self.texture).__name__}")
 

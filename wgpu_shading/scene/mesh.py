@@ -6,7 +6,11 @@ origin would lose its detail in float32 absolute coordinates; the origin is adde
 in float64 on the CPU as part of the model matrix (see SceneObject.world_from_model).
 
 Vertex normals come from the file when it has them, else they are the normalized sum
-of the adjacent faces' unit normals (the seeds' definition).
+of the adjacent faces' unit normals (the seeds' definition), optionally after welding by
+position and splitting at creases (SPEC §12, see normals.py).
+
+A mesh from a file may have several parts (OBJ `usemtl`, glTF primitives): each part is a
+contiguous range of triangles with its own material, drawn with its own draw call.
 """
 
 from __future__ import annotations
@@ -17,9 +21,21 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import MeshError
+from .normals import crease_normals, face_normals
 
 if TYPE_CHECKING:  # pragma: no cover
     from .material import Material
+
+
+@dataclass(frozen=True)
+class MeshPart:
+    """Triangles first .. first + count - 1 of a mesh, with the material the file gave them
+    (None: the file said nothing; the object's or OpenGL's default material is used)."""
+
+    first: int
+    count: int
+    material: "Material | None" = None
+    name: str = ""
 
 
 @dataclass(frozen=True, eq=False)
@@ -31,7 +47,10 @@ class Mesh:
     indices:   (F, 3) uint32, counter-clockwise front faces
     uvs:       (N, 2) float32 or None (v = 0 at the bottom of the image)
     origin:    float64 offset added back to `positions`
-    material:  the file's own material (OBJ/MTL, glTF), if any
+    colors:    (N, 4) float32 vertex colors in [0, 1] or None (they multiply the material's
+               ambient and diffuse, like GL_COLOR_MATERIAL with GL_AMBIENT_AND_DIFFUSE)
+    parts:     the triangle ranges and their file materials; one part covering every
+               triangle when the file has one material (or none)
     """
 
     positions: np.ndarray = field(repr=False)
@@ -40,12 +59,23 @@ class Mesh:
     uvs: np.ndarray | None = field(default=None, repr=False)
     origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
     name: str = ""
-    material: "Material | None" = field(default=None, repr=False)
+    colors: np.ndarray | None = field(default=None, repr=False)
+    parts: tuple[MeshPart, ...] = field(default=(), repr=False)
 
     def __post_init__(self) -> None:
-        for array in (self.positions, self.normals, self.indices, self.uvs):
+        for array in (self.positions, self.normals, self.indices, self.uvs, self.colors):
             if array is not None:
                 array.setflags(write=False)  # shared with GPU caches: must not change under them
+        parts = tuple(self.parts) or (MeshPart(0, len(self.indices)),)
+        if sum(part.count for part in parts) != len(self.indices):
+            raise MeshError(f"{self.name}: parts cover {sum(p.count for p in parts)} of {len(self.indices)} triangles")
+        object.__setattr__(self, "parts", parts)
+
+    @property
+    def material(self) -> "Material | None":
+        """The file's material when the whole mesh has one (None for several or none)."""
+        materials = {id(part.material) for part in self.parts}
+        return self.parts[0].material if len(materials) == 1 else None
 
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, {self.vertex_count} vertices, {self.triangle_count} triangles)"
@@ -65,7 +95,14 @@ class Mesh:
     @property
     def nbytes(self) -> int:
         """Size of the mesh's own arrays in bytes."""
-        return sum(a.nbytes for a in (self.positions, self.normals, self.indices, self.uvs) if a is not None)
+        arrays = (self.positions, self.normals, self.indices, self.uvs, self.colors)
+        return sum(a.nbytes for a in arrays if a is not None)
+
+    def part_centre(self, part: MeshPart) -> tuple[float, float, float]:
+        """Centre of a part's bounding box in model space (float64)."""
+        corners = self.positions[self.indices[part.first : part.first + part.count].reshape(-1)]
+        centre = (corners.min(axis=0).astype(np.float64) + corners.max(axis=0)) / 2.0 + self.origin
+        return (float(centre[0]), float(centre[1]), float(centre[2]))
 
     def world_positions(self) -> np.ndarray:
         """Positions in model space as float64 (origin added back)."""
@@ -88,8 +125,17 @@ class Mesh:
         *,
         name: str = "mesh",
         material: "Material | None" = None,
+        colors: np.ndarray | None = None,
+        parts: tuple[MeshPart, ...] = (),
+        crease_angle: float | None = None,
+        flat_faces: np.ndarray | None = None,
     ) -> "Mesh":
-        """Validate and convert user arrays; computes normals when none are given."""
+        """Validate and convert user arrays; computes normals when none are given.
+
+        Without normals: crease_angle=None gives the seeds' normalized sum per given vertex;
+        a number (degrees) welds vertices by position and splits at edges sharper than it
+        (normals.crease_normals; vertices may be split, so the vertex count can change).
+        flat_faces (F,) bool marks faces that are always flat (OBJ `s off`)."""
         positions = np.asarray(positions, dtype=np.float64)
         faces = np.asarray(indices)
         if positions.ndim != 2 or positions.shape[1] != 3:
@@ -120,7 +166,22 @@ class Mesh:
                 f"{name}: index {culprit} is out of range; the mesh has {len(positions)} vertices (valid: 0..{len(positions) - 1})"
             )
         faces = np.ascontiguousarray(faces, dtype=np.uint32)
-        if normals is None:
+        if colors is not None:
+            colors = np.asarray(colors)
+            if colors.dtype.kind in "iu":
+                colors = colors.astype(np.float32) / 255.0
+            if colors.ndim != 2 or len(colors) != len(positions) or colors.shape[1] not in (3, 4):
+                raise MeshError(f"{name}: colors must have shape ({len(positions)}, 3 or 4), got {colors.shape}")
+            if colors.shape[1] == 3:
+                colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
+            colors = np.ascontiguousarray(np.clip(np.nan_to_num(colors, nan=1.0), 0.0, 1.0), dtype=np.float32)
+        if normals is None and crease_angle is not None:
+            source, faces, unit_normals = crease_normals(positions, faces, crease_angle, flat_faces)
+            if source is not None:
+                positions = positions[source]
+                uvs = None if uvs is None else np.asarray(uvs)[source]
+                colors = None if colors is None else colors[source]
+        elif normals is None:
             unit_normals = vertex_normals(positions, faces)
         else:
             unit_normals = _validated_normals(np.asarray(normals, dtype=np.float64), positions, faces, name)
@@ -142,24 +203,12 @@ class Mesh:
             uvs=uvs,
             origin=tuple(float(v) for v in origin),
             name=name,
-            material=material,
+            colors=colors,
+            parts=tuple(parts) or (MeshPart(0, len(faces), material, name),),
         )
 
 
 # --------------------------------------------------------------------------- normals
-
-
-def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit face normals (zero for zero-area faces) and twice the face areas, float64."""
-    p0, p1, p2 = (positions[faces[:, k]] for k in range(3))
-    cross = np.cross(p1 - p0, p2 - p0)
-    length = np.linalg.norm(cross, axis=1)
-    scale = np.max(np.abs(positions)) if len(positions) else 1.0
-    # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
-    degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
-    unit = np.zeros_like(cross)
-    np.divide(cross, length[:, None], out=unit, where=~degenerate[:, None])
-    return unit, np.where(degenerate, 0.0, length)
 
 
 def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:

@@ -33,21 +33,51 @@ from .values import (
 _AXES_ZYX = (glm.dvec3(0.0, 0.0, 1.0), glm.dvec3(0.0, 1.0, 0.0), glm.dvec3(1.0, 0.0, 0.0))
 
 
+# The rotation that takes a file's up axis to +Y (the renderer's up): f3d's `--up` rule,
+# the smallest rotation between the two (180° about X for -Y).
+UP_AXES = ("+Y", "-Y", "+Z", "-Z", "+X", "-X")
+_UP_ROTATIONS = {
+    "+Y": None,
+    "-Y": (180.0, (1.0, 0.0, 0.0)),
+    "+Z": (-90.0, (1.0, 0.0, 0.0)),
+    "-Z": (90.0, (1.0, 0.0, 0.0)),
+    "+X": (90.0, (0.0, 0.0, 1.0)),
+    "-X": (-90.0, (0.0, 0.0, 1.0)),
+}
+
+
+def up_axis(value: object, where: str = "up") -> str:
+    """'+Z', 'z', '-x' ... → the canonical '+Z' form; an error names the valid ones."""
+    text = str(value).strip().upper() if isinstance(value, str) else ""
+    if text and text[0] not in "+-":
+        text = "+" + text
+    if text not in _UP_ROTATIONS:
+        raise SceneError(f"{where}: expected one of {', '.join(UP_AXES)}, got {value!r}")
+    return text
+
+
 @dataclass(frozen=True)
 class SceneObject:
-    """A mesh placed in the world: model = translate · rotate · scale."""
+    """A mesh placed in the world: model = translate · rotate · scale · up.
+
+    material: one material for every part of the mesh, or None for the file's own
+    materials, part by part (OpenGL's default material where a part has none).
+    up: the file's up axis ("+Y" default, "+Z" for most CAD and scan data); the object is
+    turned so that it points along the world's +Y."""
 
     mesh: "Mesh"
-    material: Material = field(default_factory=Material)
+    material: Material | None = None
     translate: Vec3 = (0.0, 0.0, 0.0)
     rotate: Vec3 = (0.0, 0.0, 0.0)  # degrees about X, then Y, then Z
     scale: Vec3 = (1.0, 1.0, 1.0)
+    up: str = "+Y"
 
     def __post_init__(self) -> None:
         if not isinstance(self.mesh, Mesh):
             raise SceneError(f"object.mesh: expected a Mesh, got {type(self.mesh).__name__}")
-        if not isinstance(self.material, Material):
+        if self.material is not None and not isinstance(self.material, Material):
             raise SceneError(f"object.material: expected a Material, got {type(self.material).__name__}")
+        _set(self, up=up_axis(self.up, "object.up"))
         scale = vec3(self.scale, "object.scale")
         if min(abs(s) for s in scale) == 0.0:
             raise SceneError(f"object.scale: components must be non-zero (the object would be flat), got {list(scale)}")
@@ -70,11 +100,28 @@ class SceneObject:
             if degrees:  # skip exact zeros so unrotated objects stay bit-exact
                 model = glm.rotate(model, math.radians(degrees), axis)
         model = glm.scale(model, glm.dvec3(*self.scale))
+        up_rotation = _UP_ROTATIONS[self.up]
+        if up_rotation is not None:
+            model = glm.rotate(model, math.radians(up_rotation[0]), glm.dvec3(*up_rotation[1]))
         return glm.translate(model, glm.dvec3(*self.mesh.origin))
+
+    def part_materials(self) -> tuple[Material, ...]:
+        """The material each part of the mesh is drawn with (see `material`)."""
+        if self.material is not None:
+            return (self.material,) * len(self.mesh.parts)
+        return tuple(part.material or _DEFAULT_MATERIAL for part in self.mesh.parts)
+
+    @property
+    def surface_material(self) -> Material:
+        """The material of the first part: the one material of a single-material object."""
+        return self.part_materials()[0]
 
     def world_from_model(self) -> np.ndarray:
         """The model matrix as a float64 4x4 numpy array (column vectors)."""
         return np.array(self.model_matrix())
+
+
+_DEFAULT_MATERIAL = Material()
 
 
 # --------------------------------------------------------------------------- shading, scene

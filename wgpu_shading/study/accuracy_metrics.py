@@ -114,8 +114,8 @@ def analytic_truth(scene: Scene, obj: SceneObject | None = None) -> Truth:
     of radius 1) tessellates, and find the pixel where its specular term peaks."""
     obj = obj or scene.objects[0]
     center, radius = sphere_in_world(obj)
-    image = render_analytic_sphere(scene, center, radius, obj.material)
-    return Truth(image=image, interior=image.covered & (image.edge_margin >= SILHOUETTE_BAND), peak=specular_peak(scene, center, radius, obj.material, image))
+    image = render_analytic_sphere(scene, center, radius, obj.surface_material)
+    return Truth(image=image, interior=image.covered & (image.edge_margin >= SILHOUETTE_BAND), peak=specular_peak(scene, center, radius, obj.surface_material, image))
 
 
 def specular_peak(scene: Scene, center, radius: float, material: Material, image: ReferenceImage) -> tuple[int, int]:

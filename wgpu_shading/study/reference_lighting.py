@@ -180,7 +180,9 @@ def combine(
     """Texture combine (SPEC §5) and the final clamp: (N, 4) RGBA.
 
     `texel` is the sampled RGBA in [0, 1] (N, 4), or None for an untextured material; the
-    mode is material.texture_mode. Alpha is the material's diffuse alpha (× texel alpha).
+    mode is material.texture_mode. Alpha (SPEC §13) is 1 unless the material blends: then
+    the diffuse alpha (× texel alpha). (A masked fragment below the cutoff is discarded on
+    the GPU; the reference shows it opaque.)
     """
     alpha = np.full(len(ambient_diffuse), float(material.diffuse[3]))
     if texel is None:
@@ -197,6 +199,8 @@ def combine(
         else:
             raise ValueError(f"unknown texture mode {mode!r}")
         alpha = alpha * texel[:, 3]
+    if material.alpha_mode != "blend":
+        alpha = np.ones(len(ambient_diffuse))
     return np.concatenate([np.clip(rgb, 0.0, 1.0), alpha[:, None]], axis=1)
 
 

@@ -67,7 +67,7 @@ def _texel_footprint(obj: SceneObject, prepared: _PreparedObject, faces: np.ndar
     """Texels per pixel step at each pixel: how far (u·W, v·H) moves when the ray moves to a
     neighbouring pixel centre, staying on the same triangle's plane (as the GPU's quad
     derivatives do, helper pixels included)."""
-    height, width = obj.material.texture.pixels.shape[:2]
+    height, width = obj.surface_material.texture.pixels.shape[:2]
     texture_scale = np.array([width, height], dtype=np.float64)
     corners = prepared.eye_positions[faces]
     uvs = obj.mesh.uvs.astype(np.float64)[faces] * texture_scale
@@ -96,7 +96,7 @@ def _shade_pixels(
 ) -> np.ndarray:
     """RGBA of the pixels where `obj` is visible: triangle index, barycentrics (N, 3) and facing."""
     shading = scene.shading
-    material = obj.material
+    material = obj.surface_material
     faces = prepared.faces[triangles]
     back = shading.two_sided & ~front_facing  # back faces are lit with -N only when two-sided
     flip = np.where(back, -1.0, 1.0)[:, None]
@@ -207,7 +207,7 @@ class RasterizedScene:
         footprint = np.zeros(height * width)
         for index, (obj, geometry) in enumerate(zip(self.scene.objects, self._prepared)):
             mine = self._object_index == index
-            if mine.any() and obj.material.texture is not None:
+            if mine.any() and obj.surface_material.texture is not None:
                 faces = geometry.faces[self._local_triangle[mine]]
                 footprint[self._pixels[mine]] = _texel_footprint(obj, geometry, faces, self._pixels[mine], self.scene)
         return footprint.reshape(height, width)

@@ -1,0 +1,154 @@
+"""glTF 2.0 (.gltf/.glb) through trimesh, plus what trimesh drops, read from the file's JSON.
+
+trimesh builds one geometry per primitive (meshes, then primitives, in file order; modes
+other than points/lines/triangles/strips skipped) and keeps that order in scene.geometry,
+so the JSON's primitive table pairs with it one to one. From the JSON come: whether a
+primitive has NORMAL (without it glTF says flat shading), COLOR_0, alphaMode/alphaCutoff,
+KHR_materials_unlit, KHR_materials_specular, sampler filters and Draco compression.
+Instances come from the scene graph, each with its node's world transform.
+
+Material mapping (glTF 2.0 spec, appendix B, onto OpenGL's model; docs/real-world-files.md):
+  base = baseColorFactor (× the texture, sampled per pixel)
+  ambient  = base                      (SPEC §12: base color → diffuse and ambient)
+  diffuse  = base · (1 − metallic)     (c_diff)
+  specular = f0 = mix(f0_dielectric, base, metallic), f0_dielectric = 0.04 (ior 1.5),
+             or min(0.04 · specularColorFactor, 1) · specularFactor (KHR_materials_specular)
+  shininess = clamp((2/α² − 2) / 4, 1, 512), α = roughness²: the Blinn-Phong exponent of
+             the same lobe width (Walter et al. 2007), /4 for Phong's R·V (VTK's rule)
+Metallic and roughness textures count with their mean value (one material per part).
+"""
+
+from __future__ import annotations
+
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MeshError
+from ..scene.material import Material, Texture
+
+_KEPT_MODES = {0, 1, 4, 5}
+_NEAREST = 9728  # GL_NEAREST (and 9984/9986 NEAREST_MIPMAP_* count as nearest too)
+
+
+def read_gltf_json(path: Path) -> dict:
+    raw = path.read_bytes()
+    try:
+        if raw[:4] == b"glTF":
+            length, _ = struct.unpack_from("<II", raw, 12)
+            return json.loads(raw[20 : 20 + length])
+        return json.loads(raw)
+    except (ValueError, struct.error) as error:
+        raise MeshError(f"mesh file {str(path)!r}: not a valid glTF file ({error})") from None
+
+
+def check_extensions(document: dict, path: Path) -> None:
+    """Draco needs DracoPy (the `draco` extra); without it trimesh returns all-zero
+    geometry, which renders as a black image: an error instead."""
+    used = set(document.get("extensionsUsed", [])) | set(document.get("extensionsRequired", []))
+    if "KHR_draco_mesh_compression" in used:
+        try:
+            import DracoPy  # noqa: F401
+        except ImportError:
+            raise MeshError(
+                f"mesh file {str(path)!r} uses Draco mesh compression (KHR_draco_mesh_compression); "
+                "install the 'draco' extra to decode it: pip install 'wgpu-shading[draco]'"
+            ) from None
+    unsupported = set(document.get("extensionsRequired", [])) - {
+        "KHR_draco_mesh_compression", "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",
+    }
+    if unsupported:
+        raise MeshError(f"mesh file {str(path)!r} requires glTF extension(s) this renderer cannot decode: {', '.join(sorted(unsupported))}")
+
+
+def primitive_table(document: dict) -> list[dict]:
+    """One row per primitive trimesh turns into a geometry, in trimesh's order."""
+    rows = []
+    materials = document.get("materials", [])
+    for mesh in document.get("meshes", []):
+        for primitive in mesh.get("primitives", []):
+            if primitive.get("mode", 4) not in _KEPT_MODES:
+                continue
+            attributes = primitive.get("attributes", {})
+            index = primitive.get("material")
+            rows.append(
+                {
+                    "has_normal": "NORMAL" in attributes,
+                    "has_color": "COLOR_0" in attributes,
+                    "material": materials[index] if index is not None and index < len(materials) else None,
+                }
+            )
+    return rows
+
+
+def _nearest(document: dict, texture_info: dict | None) -> bool:
+    if not texture_info:
+        return False
+    textures = document.get("textures", [])
+    texture = textures[texture_info.get("index", 0)] if texture_info.get("index", 0) < len(textures) else {}
+    samplers = document.get("samplers", [])
+    sampler = samplers[texture["sampler"]] if "sampler" in texture and texture["sampler"] < len(samplers) else {}
+    return sampler.get("magFilter") == _NEAREST
+
+
+def _mean_channel(image, channel: int) -> float:
+    if image is None:
+        return 1.0
+    pixels = np.asarray(image.convert("RGBA"), dtype=np.float64)
+    return float(pixels[:, :, channel].mean() / 255.0)
+
+
+def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Material | None:
+    """The classic material of one primitive (see the module docstring); None when the
+    primitive has no material (the object's or the command's default applies)."""
+    material = row["material"]
+    if material is None:
+        return None
+    pbr = material.get("pbrMetallicRoughness", {})
+    base = np.array(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
+    metallic = float(pbr.get("metallicFactor", 1.0))
+    roughness = float(pbr.get("roughnessFactor", 1.0))
+    image = getattr(trimesh_material, "metallicRoughnessTexture", None)
+    if image is not None:  # glTF: roughness in G, metalness in B
+        metallic *= _mean_channel(image, 2)
+        roughness *= _mean_channel(image, 1)
+    extensions = material.get("extensions", {})
+    specular_extension = extensions.get("KHR_materials_specular")
+    if specular_extension is not None:
+        color = np.array(specular_extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
+        dielectric = np.minimum(0.04 * color, 1.0) * float(specular_extension.get("specularFactor", 1.0))
+    else:
+        dielectric = np.full(3, 0.04)
+    diffuse = base[:3] * (1.0 - metallic)
+    specular = dielectric * (1.0 - metallic) + base[:3] * metallic
+    alpha = max(roughness, 0.03) ** 2
+    shininess = float(np.clip((2.0 / alpha**2 - 2.0) / 4.0, 1.0, 512.0))
+    emission = np.array(material.get("emissiveFactor", [0.0, 0.0, 0.0]), dtype=np.float64)
+    if "KHR_materials_emissive_strength" in extensions:
+        emission = emission * float(extensions["KHR_materials_emissive_strength"].get("emissiveStrength", 1.0))
+    emissive_image = getattr(trimesh_material, "emissiveTexture", None)
+    if emissive_image is not None and emission.any():
+        emission = emission * np.array([_mean_channel(emissive_image, k) for k in range(3)])
+    texture = None
+    image = getattr(trimesh_material, "baseColorTexture", None)
+    if image is not None:
+        nearest = _nearest(document, pbr.get("baseColorTexture"))
+        texture = Texture(np.asarray(image.convert("RGBA")), name=f"{name}:{material.get('name', '')}", nearest=nearest)
+    alpha_mode = str(material.get("alphaMode", "OPAQUE")).lower()
+    opacity = float(np.clip(base[3], 0.0, 1.0))
+    unlit = "KHR_materials_unlit" in extensions
+    return Material(
+        ambient=tuple(base[:3]) + (opacity,),
+        diffuse=tuple((base[:3] if unlit else diffuse)) + (opacity,),
+        specular=tuple(specular) + (opacity,),
+        emission=tuple(np.clip(emission, 0.0, None)) + (1.0,),
+        shininess=shininess,
+        texture=texture,
+        name=str(material.get("name", "")),
+        alpha_mode=alpha_mode if alpha_mode in ("opaque", "mask", "blend") else "opaque",
+        alpha_cutoff=float(np.clip(material.get("alphaCutoff", 0.5), 0.0, 1.0)),
+        unlit=unlit,
+    )
+

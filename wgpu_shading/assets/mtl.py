@@ -1,0 +1,133 @@
+"""MTL material libraries → classic Materials (the conventions are in docs/real-world-files.md).
+
+- Ka, Kd, Ks, Ke, Ns map one to one onto OpenGL's ambient, diffuse, specular, emission,
+  shininess (Ka absent: OpenGL's default 0.2 ambient; Kd absent: 0.8, or 1 under a map_Kd).
+- `Ns 0` (or absent) with a non-zero Ks: no highlight. x^0 = 1 would light every lit
+  point with Ks (a white blow-out); Blender's importer maps Ns 0 to roughness 1 (matte)
+  and f3d ignores Ks, so the file's author saw no highlight. `illum 0` / `illum 1` (no
+  specular by the MTL definition) also drop Ks.
+- `d` (dissolve) is the alpha; without `d`, `Tr` (transparency) gives alpha 1 − Tr.
+  Alpha below 1 makes the material blend (SPEC §13).
+- `map_Kd`: options (-s, -o, -bm, ...) are skipped and the rest of the line is the file
+  name, spaces included. A missing image is a warning naming it; the part is untextured.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+from ..errors import MeshError
+from ..scene.material import Material
+from .textures import load_texture
+
+# map_* options and how many values follow each (-o/-s/-t take 1 to 3 numbers).
+_OPTION_VALUES = {"-blendu": 1, "-blendv": 1, "-cc": 1, "-clamp": 1, "-texres": 1, "-bm": 1, "-boost": 1,
+                  "-imfchan": 1, "-type": 1, "-mm": 2, "-o": 3, "-s": 3, "-t": 3}
+
+
+def _map_file(tokens: list[str]) -> str:
+    index = 0
+    while index < len(tokens) and tokens[index].lower() in _OPTION_VALUES:
+        count = _OPTION_VALUES[tokens[index].lower()]
+        index += 1
+        taken = 0
+        while taken < count and index < len(tokens):
+            try:
+                float(tokens[index])
+            except ValueError:
+                if count == 1:  # -blendu on, -imfchan r, -type sphere
+                    index += 1
+                break
+            index += 1
+            taken += 1
+    return " ".join(tokens[index:])
+
+
+def _numbers(tokens: list[str], where: str, count: int) -> tuple[float, ...]:
+    try:
+        values = [float(t) for t in tokens]
+    except ValueError:
+        raise MeshError(f"{where}: expected numbers, got {' '.join(tokens)!r}") from None
+    if not values:
+        raise MeshError(f"{where}: expected {count} number(s)")
+    if len(values) == 1 and count == 3:
+        values *= 3
+    return tuple(values[:count])
+
+
+def _material(name: str, fields: dict, base: Path, where: str) -> Material:
+    texture = None
+    if "map_kd" in fields:
+        file_name = fields["map_kd"]
+        image_path = base / file_name.replace("\\", "/")
+        if image_path.exists():
+            texture = load_texture(image_path)
+        else:
+            warnings.warn(f"{where}: material {name!r}: texture {file_name!r} not found (looked for {image_path}); drawn untextured", stacklevel=2)
+    dissolve = fields.get("d")
+    if dissolve is None and "tr" in fields:
+        dissolve = 1.0 - fields["tr"]
+    alpha = min(max(dissolve, 0.0), 1.0) if dissolve is not None else 1.0
+    diffuse = fields.get("kd", (1.0, 1.0, 1.0) if texture is not None else (0.8, 0.8, 0.8))
+    ambient = fields.get("ka", (0.2, 0.2, 0.2))
+    specular = fields.get("ks", (0.0, 0.0, 0.0))
+    shininess = fields.get("ns", 0.0)
+    if shininess <= 0.0 or fields.get("illum", 2) in (0, 1):
+        specular = (0.0, 0.0, 0.0)  # Ns 0 (or illum 0/1): no highlight, see the module docstring
+    return Material(
+        ambient=tuple(max(c, 0.0) for c in ambient) + (alpha,),
+        diffuse=tuple(max(c, 0.0) for c in diffuse) + (alpha,),
+        specular=tuple(max(c, 0.0) for c in specular) + (alpha,),
+        emission=tuple(max(c, 0.0) for c in fields.get("ke", (0.0, 0.0, 0.0))) + (1.0,),
+        shininess=min(max(shininess, 0.0), 1e6),
+        texture=texture,
+        name=name,
+        alpha_mode="blend" if alpha < 1.0 else "opaque",
+    )
+
+
+def read_mtl(path: Path) -> dict[str, Material]:
+    materials: dict[str, Material] = {}
+    current: str | None = None
+    fields: dict = {}
+    text = path.read_text(encoding="utf-8", errors="replace")
+    start_line = 0
+
+    def finish() -> None:
+        if current is not None:
+            materials[current] = _material(current, fields, path.parent, f"{path}:{start_line}")
+
+    for number, raw in enumerate(text.splitlines(), start=1):
+        tokens = raw.split()
+        if not tokens or tokens[0].startswith("#"):
+            continue
+        key = tokens[0].lower()
+        where = f"{path}:{number}"
+        if key == "newmtl":
+            finish()
+            current, fields, start_line = " ".join(tokens[1:]), {}, number
+        elif key in ("ka", "kd", "ks", "ke"):
+            if len(tokens) > 1 and tokens[1].lower() in ("spectral", "xyz"):
+                continue  # rare CIE/spectral forms: keep the defaults
+            fields[key] = _numbers(tokens[1:], where, 3)
+        elif key in ("ns", "d", "tr"):
+            fields[key] = _numbers(tokens[1:], where, 1)[0]
+        elif key == "illum":
+            fields[key] = int(_numbers(tokens[1:], where, 1)[0])
+        elif key == "map_kd":
+            fields[key] = _map_file(tokens[1:])
+    finish()
+    return materials
+
+
+def read_mtl_files(libraries: list[str], base: Path, obj_name: str) -> dict[str, Material]:
+    """Every `mtllib` of an OBJ (a missing library is a warning: parts get no material)."""
+    materials: dict[str, Material] = {}
+    for library in libraries:
+        path = base / library
+        if not path.exists():
+            warnings.warn(f"{obj_name}: material library {library!r} not found (looked for {path}); parts drawn without it", stacklevel=2)
+            continue
+        materials.update(read_mtl(path))
+    return materials
