@@ -282,3 +282,21 @@ def test_one_chunk_renderer_serves_several_threads(tmp_path, renderer):
     for job in jobs:
         for file in job.files():
             assert np.array_equal(pixels(tmp_path / "threads" / file), pixels(tmp_path / "alone" / file)), file
+
+
+def test_ids_number_the_parts_of_a_multi_part_mesh(tmp_path, renderer):
+    """An OBJ with two materials (usemtl) is one object of two parts: ids 1 and 2, named in
+    cameras.json, each where its part lies (left square left of the image centre)."""
+    (tmp_path / "two.obj").write_text(
+        "v -1 -1 0\nv 0 -1 0\nv 0 1 0\nv -1 1 0\nv 0 -1 0.2\nv 1 -1 0.2\nv 1 1 0.2\nv 0 1 0.2\n"
+        "usemtl left\nf 1 2 3\nf 1 3 4\nusemtl right\nf 5 6 7\nf 5 7 8\n"
+    )
+    jobs = mesh_jobs([str(tmp_path / "two.obj")], turntable_views(1), Outputs(ids=True, depth="npy"), {"size": 48})
+    assert not render_dataset(jobs, tmp_path / "out", progress=False, renderer=renderer).failed
+    view = json.loads((tmp_path / "out" / "two" / "cameras.json").read_text())["views"]["view_000"]
+    assert [(entry["id"], entry["object"], entry["part"], entry["part_name"]) for entry in view["ids"]] == [(1, 0, 0, "left"), (2, 0, 1, "right")]
+    ids = pixels(tmp_path / "out" / "two" / "view_000_ids.png")
+    assert np.array_equal(ids > 0, np.isfinite(np.load(tmp_path / "out" / "two" / "view_000_depth.npy")))
+    columns = np.arange(48)[None, :].repeat(48, axis=0)
+    assert columns[ids == 1].max() <= view["cx"] + 1 < columns[ids == 2].min() + 2
+    assert (ids == 1).sum() > 200 and (ids == 2).sum() > 200

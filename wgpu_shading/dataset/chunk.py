@@ -19,7 +19,7 @@ from typing import Iterable
 
 from ..errors import WgpuShadingError
 from ..render.renderer import Renderer
-from .cameras import camera_record
+from .cameras import camera_record, id_legend
 from .jobs import Job
 from .views import base_scene, job_scene
 from .writer import write_view
@@ -135,6 +135,8 @@ class ChunkRenderer:
         try:
             for (job, scene), frame, extra in zip(items, frames, extras):
                 camera = camera_record(scene)
+                if ids:
+                    camera["ids"] = id_legend(scene)
                 writes.append((job, self._encoders.submit(write_view, out_dir, job, frame, extra, camera)))
                 done += 1
                 while len(writes) > MAX_PENDING_WRITES:
