@@ -51,7 +51,7 @@ _LIGHT_KEYS = {
     "spot": {"type", "position", "direction", "ambient", "diffuse", "specular", "attenuation", "cutoff", "exponent"},
 }
 _OBJECT_KEYS = {"mesh", "material", "translate", "rotate", "scale", "crease_angle", "up"}
-_MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode"}
+_MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode", "alpha_mode", "alpha_cutoff"}
 _COLOR_KEYS = ("ambient", "diffuse", "specular")
 
 
@@ -99,7 +99,7 @@ def _material(value: Any, base: Path, where: str) -> Material:
     elif "texture" in value and not any(key in value for key in _COLOR_KEYS):
         # The seed's material-less texture example: lighting terms are not scaled by a material.
         fields.update(ambient=(1.0, 1.0, 1.0, 1.0), diffuse=(1.0, 1.0, 1.0, 1.0), specular=(1.0, 1.0, 1.0, 1.0))
-    for key in ("ambient", "diffuse", "specular", "emission", "shininess", "texture_mode"):
+    for key in ("ambient", "diffuse", "specular", "emission", "shininess", "texture_mode", "alpha_mode", "alpha_cutoff"):
         if key in value:
             fields[key] = value[key]
     if "texture" in value:

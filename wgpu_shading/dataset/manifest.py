@@ -70,6 +70,7 @@ def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Output
     names_per_folder: dict[str, int] = {}
     folder_of_source: dict[str, str] = {}
     ids: set[str] = set()
+    outputs_of: dict[tuple[str, str], str] = {}  # (folder, name) → the job id that writes there
     for where, raw in rows:
         row = {key: value for key, value in {**defaults, **raw}.items() if value not in ("", None)}
         unknown = sorted(set(row) - KNOWN_KEYS)
@@ -90,6 +91,9 @@ def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Output
         if job_id in ids:
             raise SceneError(f"{where}: job id {job_id!r} appears twice (two rows would write the same files)")
         ids.add(job_id)
+        if (folder, name) in outputs_of:
+            raise SceneError(f"{where}: folder {folder!r} name {name!r} is also job {outputs_of[folder, name]!r}'s (both would write the same files)")
+        outputs_of[folder, name] = job_id
         jobs.append(
             Job(
                 id=job_id,
