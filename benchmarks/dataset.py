@@ -164,6 +164,21 @@ def table(results: list[DatasetResult]) -> str:
             f"{result.dask_overhead_ms():+.2f} ms ({result.dask_overhead_percent():+.1f} %)" if "dask 1 worker" in result.seconds else "–"
         )
         lines.append(f"| {result.size}² | " + " | ".join(cells) + f" | {result.fps('in-process') / result.fps('naive'):.2f}× | {overhead} |")
+    lines += [
+        "",
+        "milliseconds per frame inside chunks (loading, rendering, writing; summed over workers) / outside them",
+        "(planning, skip checks, cameras.json, report; on Dask also submitting, scheduling, collecting), median pass:",
+        "",
+        "| size | " + " | ".join(mode for mode in MODES if mode != "naive") + " |",
+        "|---|" + "---|" * (len(MODES) - 1),
+    ]
+    for result in results:
+        cells = [
+            f"{1000 * statistics.median(result.busy[mode]) / result.frames:.2f} / {1000 * statistics.median(result.outside[mode]) / result.frames:.2f}"
+            if mode in result.busy else "–"
+            for mode in MODES if mode != "naive"
+        ]
+        lines.append(f"| {result.size}² | " + " | ".join(cells) + " |")
     if results[0].dask_startup:
         lines += ["", "Dask start-up to a warm cluster (processes, plugin, first pipeline): "
                   + ", ".join(f"{k}: {v:.1f} s" for k, v in results[0].dask_startup.items())]

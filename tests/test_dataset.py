@@ -190,7 +190,12 @@ def test_rerun_skips_finished_jobs_and_redoes_changed_or_missing_ones(tmp_path, 
 
 def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
     (tmp_path / "broken.obj").write_text("v 0 0 0\nv 1 nope 0\nf 1 2 3\n")
-    rows = [{"mesh": TORUS, "size": 32}, {"mesh": "broken.obj"}, {"mesh": "missing.ply"}, {"mesh": TORUS, "size": 32, "elevation": 95}]
+    rows = [
+        {"mesh": TORUS, "size": 32},
+        {"mesh": "broken.obj"},
+        {"mesh": "missing.ply"},
+        {"mesh": TORUS, "size": 32, "elevation": 95},
+    ]
     manifest = write_lines(tmp_path / "jobs.jsonl", rows)
     status = main(["batch", str(manifest), "-o", str(tmp_path / "out")])
     assert status == 1
@@ -212,6 +217,7 @@ def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
         ("mesh,azimuth\nbuiltin:torus,left\n", "line 2: azimuth: expected a number, got 'left'"),
         ("name\nx\n", "line 2: expected exactly one of mesh, scene, source"),
         ("mesh,size\nbuiltin:torus,0\n", "size"),
+        ("mesh,name,id\nbuiltin:torus,a,one\nbuiltin:torus,a,two\n", "line 3: folder 'torus' name 'a' is also job 'one'"),
     ],
 )
 def test_bad_manifest_rows_are_one_line_errors(tmp_path, capsys, content, message):
@@ -250,3 +256,47 @@ def test_workers_need_the_dask_extra(tmp_path, monkeypatch):
     with pytest.raises(WgpuShadingError, match=r"wgpu-shading\[dask\]"):
         render_dataset(jobs, tmp_path / "out", workers=2, progress=False)
     assert os.path.isdir(tmp_path / "out")
+
+
+def test_one_chunk_renderer_serves_several_threads(tmp_path, renderer):
+    """A Dask worker started with --nthreads 4 runs tasks on threads that share its renderer:
+    they take turns, and every file is what a lone run writes."""
+    import threading
+
+    from wgpu_shading.dataset.chunk import ChunkRenderer
+
+    jobs = mesh_jobs([TORUS, "builtin:cube"], turntable_views(4), Outputs(ids=True), {"size": 40})
+    shared = ChunkRenderer(renderer)
+    records: list = []
+    threads = [
+        threading.Thread(target=lambda part=part: records.extend(shared.render(part, tmp_path / "threads")))
+        for part in (jobs[:4], jobs[4:])
+    ]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    shared.close()
+    assert sorted(r["id"] for r in records if r["ok"]) == sorted(job.id for job in jobs)
+    render_dataset(jobs, tmp_path / "alone", progress=False, renderer=renderer)
+    for job in jobs:
+        for file in job.files():
+            assert np.array_equal(pixels(tmp_path / "threads" / file), pixels(tmp_path / "alone" / file)), file
+
+
+def test_ids_number_the_parts_of_a_multi_part_mesh(tmp_path, renderer):
+    """An OBJ with two materials (usemtl) is one object of two parts: ids 1 and 2, named in
+    cameras.json, each where its part lies (left square left of the image centre)."""
+    (tmp_path / "two.obj").write_text(
+        "v -1 -1 0\nv 0 -1 0\nv 0 1 0\nv -1 1 0\nv 0 -1 0.2\nv 1 -1 0.2\nv 1 1 0.2\nv 0 1 0.2\n"
+        "usemtl left\nf 1 2 3\nf 1 3 4\nusemtl right\nf 5 6 7\nf 5 7 8\n"
+    )
+    jobs = mesh_jobs([str(tmp_path / "two.obj")], turntable_views(1), Outputs(ids=True, depth="npy"), {"size": 48})
+    assert not render_dataset(jobs, tmp_path / "out", progress=False, renderer=renderer).failed
+    view = json.loads((tmp_path / "out" / "two" / "cameras.json").read_text())["views"]["view_000"]
+    assert [(entry["id"], entry["object"], entry["part"], entry["part_name"]) for entry in view["ids"]] == [(1, 0, 0, "left"), (2, 0, 1, "right")]
+    ids = pixels(tmp_path / "out" / "two" / "view_000_ids.png")
+    assert np.array_equal(ids > 0, np.isfinite(np.load(tmp_path / "out" / "two" / "view_000_depth.npy")))
+    columns = np.arange(48)[None, :].repeat(48, axis=0)
+    assert columns[ids == 1].max() <= view["cx"] + 1 < columns[ids == 2].min() + 2
+    assert (ids == 1).sum() > 200 and (ids == 2).sum() > 200

@@ -15,6 +15,8 @@ def command_batch(args: argparse.Namespace) -> int:
         raise SceneError("batch: give a MANIFEST (.csv or .jsonl) or --meshes PATTERN, not both")
     if args.workers < 1:
         raise SceneError(f"--workers must be at least 1, got {args.workers}")
+    if args.workers != 1 and args.scheduler:
+        raise SceneError("--workers starts a local cluster, --scheduler uses an existing one: give one of them")
     if args.chunk < 1:
         raise SceneError(f"--chunk must be at least 1, got {args.chunk}")
     outputs = Outputs(

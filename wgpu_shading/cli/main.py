@@ -10,6 +10,7 @@
     wgpu-shading batch --meshes 'dir/*.obj' --views 24 --size 256 -o DIR [--workers N]
     wgpu-shading shader SCENE.toml          print the generated WGSL
     wgpu-shading materials                  the material table
+    wgpu-shading examples                   the example scenes and sample meshes (example:NAME)
     wgpu-shading info                       adapters and versions
 
 Errors a user can cause (missing file, bad key, bad value, no adapter) print one line on

@@ -59,5 +59,19 @@ CONVENTION = {
     "*_depth.png: uint16, 0 = background, 1..65535 = near..far linearly in Z",
     "normals": "*_normals_eye.npy: OpenGL eye space (x right, y up, z toward the camera); "
     "*_normals_world.npy: world space; float32 unit vectors, 0 = background",
-    "ids": "*_ids.png: uint16, 0 = background, k = the scene's object k-1",
+    "ids": "*_ids.png: uint16, 0 = background, k = the entry with id k of the view's 'ids' list "
+    "(an object, or one part of a multi-part mesh)",
 }
+
+
+def id_legend(scene: Scene) -> list[dict]:
+    """What each value of an ids mask is: object index, part index within its mesh, names."""
+    from ..render.extra_outputs import segments
+
+    legend = []
+    for segment, (obj, part) in enumerate(segments(scene), 1):
+        object_index = next(i for i, candidate in enumerate(scene.objects) if candidate is obj)
+        legend.append(
+            {"id": segment, "object": object_index, "part": obj.mesh.parts.index(part), "mesh": obj.mesh.name, "part_name": part.name}
+        )
+    return legend
