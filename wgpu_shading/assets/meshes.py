@@ -21,6 +21,7 @@ from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.material import Material
 from ..scene.mesh import Mesh, MeshPart, face_normals
 from ..scene.normals import crease_normals
+from .examples import resolve_example
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 DEFAULT_CREASE_ANGLE = 60.0  # degrees (SPEC §12)
@@ -41,11 +42,12 @@ class _Piece:
 
 
 def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE) -> Mesh:
-    """A built-in (`builtin:torus`) or a mesh file (OBJ, PLY, STL, OFF, GLB/glTF).
+    """A built-in (`builtin:torus`), a shipped sample (`example:knot.obj`) or a mesh file
+    (OBJ, PLY, STL, OFF, GLB/glTF).
 
     crease_angle (degrees, 0..180): where the file has no normals, edges sharper than this
     are creases (SPEC §12); 180 is the plain average of the welded faces, 0 is flat."""
-    text = str(source)
+    text = resolve_example(str(source))
     if text.startswith(BUILTIN_PREFIX):
         return builtin(text)
     if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):

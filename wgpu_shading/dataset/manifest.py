@@ -27,6 +27,7 @@ from ..scene import image_size
 from .jobs import CAMERA_KEYS, ORBIT_KEYS, OVERRIDE_KEYS, Job, Outputs
 
 SOURCE_KEYS = ("mesh", "scene", "source")
+_NAMED_SOURCES = ("builtin:", "example:")  # built-in meshes and the shipped examples
 KNOWN_KEYS = set(SOURCE_KEYS) | {"id", "folder", "name", "size"} | set(CAMERA_KEYS) | set(ORBIT_KEYS) | set(OVERRIDE_KEYS)
 _BOOL_KEYS = ("infinite_viewer", "two_sided")
 _VECTOR_KEYS = ("eye", "target", "up")
@@ -119,7 +120,7 @@ def mesh_jobs(
     from views.turntable_views / views.sphere_views): one folder per mesh."""
     sources: list[str] = []
     for pattern in patterns:
-        if pattern.startswith("builtin:"):
+        if pattern.startswith(_NAMED_SOURCES):  # not files: the loaders resolve them
             sources.append(pattern)
             continue
         matches = sorted(glob.glob(pattern, recursive=True))
@@ -131,7 +132,7 @@ def mesh_jobs(
 
 
 def _resolve(source: str, base: Path) -> str:
-    if source.startswith("builtin:"):
+    if source.startswith(_NAMED_SOURCES):
         return source
     path = Path(source).expanduser()
     return str(path if path.is_absolute() else (base / path).resolve())
@@ -139,7 +140,7 @@ def _resolve(source: str, base: Path) -> str:
 
 def _folder_for(source: str, taken: dict[str, str]) -> str:
     """The mesh's stem; a second mesh with the same stem gets a short hash of its path."""
-    stem = Path(source.split("?")[0].replace("builtin:", "")).stem or "mesh"
+    stem = Path(source.split("?")[0].replace("builtin:", "").replace("example:", "")).stem or "mesh"
     if stem in taken.values():
         stem = f"{stem}-{hashlib.sha1(source.encode()).hexdigest()[:6]}"
     return stem

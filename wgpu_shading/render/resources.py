@@ -47,6 +47,12 @@ class Target:
     depth_readback: object
     color_row_bytes: int
     depth_row_bytes: int
+    # MSAA (samples > 1): the multisampled attachments drawn into; `color` is then their
+    # resolve target (what is read back) and `depth` the single-sample depth of a second,
+    # depth-only-use pass, drawn when depth is read (multisampled depth cannot be copied).
+    samples: int = 1
+    msaa_color_view: object = None
+    msaa_depth_view: object = None
 
 
 def padded_row_bytes(width: int, bytes_per_pixel: int) -> int:
@@ -85,9 +91,9 @@ def mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
 
 
 
-def new_target(device, width: int, height: int, color_format: str) -> Target:
+def new_target(device, width: int, height: int, color_format: str, samples: int = 1) -> Target:
     """Fresh color and depth textures with their readback buffers (render_many keeps one
-    set per frame in flight)."""
+    set per frame in flight); with samples > 1 also the multisampled attachments."""
     color = device.create_texture(
         size=(width, height, 1),
         format=COLOR_FORMATS[color_format],
@@ -101,6 +107,13 @@ def new_target(device, width: int, height: int, color_format: str) -> Target:
     color_row_bytes = padded_row_bytes(width, BYTES_PER_PIXEL[color_format])
     depth_row_bytes = padded_row_bytes(width, 4)
     readback_usage = wgpu.BufferUsage.MAP_READ | wgpu.BufferUsage.COPY_DST
+    msaa = {}
+    if samples > 1:
+        for name, texture_format in (("msaa_color_view", COLOR_FORMATS[color_format]), ("msaa_depth_view", DEPTH_FORMAT)):
+            msaa[name] = device.create_texture(
+                size=(width, height, 1), format=texture_format, sample_count=samples,
+                usage=wgpu.TextureUsage.RENDER_ATTACHMENT,
+            ).create_view()
     return Target(
         width=width,
         height=height,
@@ -113,6 +126,8 @@ def new_target(device, width: int, height: int, color_format: str) -> Target:
         depth_readback=device.create_buffer(size=depth_row_bytes * height, usage=readback_usage),
         color_row_bytes=color_row_bytes,
         depth_row_bytes=depth_row_bytes,
+        samples=samples,
+        **msaa,
     )
 
 

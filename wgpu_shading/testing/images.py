@@ -13,7 +13,20 @@ import numpy as np
 
 from .tolerance import GoldenError
 
-DEFAULT_AMPLIFICATION = 10
+# None: the logarithmic scale below (the default); a number K: linear, |difference| × K.
+DEFAULT_AMPLIFICATION: float | None = None
+# Log scale: a difference of d/255 is drawn as 255·log2(1 + d)/8, so 1/255 → 32, 2 → 51,
+# 8 → 101, 64 → 192, 255 → 255. A ×10 linear scale saturated at 26/255, so a one-pixel
+# edge shift and a missing highlight looked alike; here every step stays visible and
+# nothing saturates before the largest possible difference.
+LOG_SCALE_TEXT = "log scale: drawn = 255·log2(1 + d)/8 for a difference of d/255 (1 → 32, 8 → 101, 64 → 192, 255 → 255)"
+
+
+def diff_scale_text(amplification: float | None = DEFAULT_AMPLIFICATION) -> str:
+    """How the diff image maps a difference to brightness, for reports and the PNG itself."""
+    if amplification is None:
+        return LOG_SCALE_TEXT
+    return f"linear scale: drawn = d × {amplification:g} for a difference of d/255, clipped at 255"
 
 
 def as_rgba8(image, what: str = "image") -> np.ndarray:
@@ -60,25 +73,35 @@ def read_image(path: str | os.PathLike[str]) -> np.ndarray:
     return as_rgba8(image, f"reference {str(path)!r}")
 
 
-def write_image(path: str | os.PathLike[str], image) -> Path:
-    """Write an image as an 8-bit RGBA PNG, creating the folder."""
-    import imageio.v3 as iio
+def write_image(path: str | os.PathLike[str], image, note: str | None = None) -> Path:
+    """Write an image as an 8-bit RGBA PNG, creating the folder; `note` goes into the PNG's
+    text chunk "Comment" (a diff image states its scale there)."""
+    from PIL import Image
+    from PIL.PngImagePlugin import PngInfo
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    iio.imwrite(path, as_rgba8(image), extension=".png")
+    info = PngInfo()
+    if note:
+        info.add_text("Comment", note)
+    Image.fromarray(as_rgba8(image)).save(path, format="PNG", pnginfo=info)
     return path
 
 
-def diff_image(actual, expected, amplification: float = DEFAULT_AMPLIFICATION) -> np.ndarray:
-    """The amplified difference as an opaque RGB(A) image: each color channel is
-    |actual − expected| × amplification (clipped to 255), so black means identical and the
-    hue says which channel differs; an alpha difference shows in all three (gray/white)."""
+def diff_image(actual, expected, amplification: float | None = DEFAULT_AMPLIFICATION) -> np.ndarray:
+    """The difference as an opaque RGB(A) image: each color channel is |actual − expected|
+    on the log scale (amplification None, the default: `LOG_SCALE_TEXT`) or × amplification
+    (clipped to 255), so black means identical and the hue says which channel differs; an
+    alpha difference shows in all three (gray/white)."""
     a = as_rgba8(actual, "actual").astype(np.int16)
     e = as_rgba8(expected, "expected").astype(np.int16)
     if a.shape != e.shape:
         raise GoldenError(f"diff image: sizes differ ({size_text(a)} vs {size_text(e)})")
     delta = np.abs(a - e)
     rgb = np.maximum(delta[:, :, :3], delta[:, :, 3:4])
-    amplified = np.clip(np.round(rgb * float(amplification)), 0, 255).astype(np.uint8)
+    if amplification is None:
+        scaled = 255.0 * np.log2(1.0 + rgb) / 8.0
+    else:
+        scaled = rgb * float(amplification)
+    amplified = np.clip(np.round(scaled), 0, 255).astype(np.uint8)
     return np.concatenate([amplified, np.full(amplified.shape[:2] + (1,), 255, np.uint8)], axis=2)

@@ -176,7 +176,7 @@ class GoldenChecker:
             tolerance,
             update=update,
             output_dir=output_dir,
-            amplification=amplification or DEFAULT_AMPLIFICATION,
+            amplification=amplification if amplification is not None else DEFAULT_AMPLIFICATION,
         )
         if result.status in ("created", "updated"):
             self._config.stash[_STASH_WRITTEN].append(f"{result.status} {reference}")
@@ -186,6 +186,8 @@ class GoldenChecker:
             comparison = result.comparison
             lines = [f"golden image mismatch: {reference}", comparison.message, f"tolerance: {tolerance.describe()}"]
             lines.append("images: " + ", ".join(str(p) for p in result.written))
+            if result.diff_scale:
+                lines.append(f"diff image: {result.diff_scale}")
             lines.append("if the change is intended, rerun with --update-golden and review the new reference")
             pytest.fail("\n".join(lines), pytrace=False)
         return result
