@@ -82,7 +82,7 @@ def add_batch(commands, gpu: argparse.ArgumentParser) -> None:
     batch.add_argument("--meshes", action="append", metavar="PATTERN", help="mesh files (a glob such as 'dir/*.obj', or builtin:NAME); repeatable")
     batch.add_argument("--views", type=int, help="views per mesh with --meshes (default: 24)")
     batch.add_argument("--layout", choices=["turntable", "sphere"], help="turntable (default): azimuths around the up axis; sphere: spread evenly over the sphere")
-    batch.add_argument("--elevation", type=float, help="turntable elevation in degrees (default: the framed view's, about 19.3)")
+    batch.add_argument("--elevation", type=float, help="turntable: turn every view up by DEG, as render's --camera-elevation (default 0: the framed view, 19.3° above the horizon)")
     batch.add_argument("--size", help="image size, WIDTHxHEIGHT or SIZE (default: the scene's, or 512)")
     batch.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
     batch.add_argument("--frequency", choices=FREQUENCIES, help="shading frequency (overrides the scene)")
