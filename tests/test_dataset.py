@@ -74,11 +74,7 @@ def test_png16_is_the_float_render_rounded_to_16_bits(tmp_path):
     assert np.array_equal(image, expected)
 
 
-@pytest.fixture(scope="module")
-def sphere_dataset(tmp_path_factory, renderer):
-    """A finely tessellated unit sphere off the origin, from 3 orbit views, every output."""
-    tmp = tmp_path_factory.mktemp("sphere")
-    scene = """
+SPHERES = """
 [output]
 size = [96, 72]
 [camera]
@@ -98,6 +94,13 @@ mesh = "builtin:sphere?slices=16&stacks=8"
 translate = [1.2, 0.7, 0.9]
 scale = [0.15, 0.15, 0.15]
 """
+
+
+@pytest.fixture(scope="module")
+def sphere_dataset(tmp_path_factory, renderer):
+    """A finely tessellated unit sphere off the origin, from 3 orbit views, every output."""
+    tmp = tmp_path_factory.mktemp("sphere")
+    scene = SPHERES
     (tmp / "spheres.toml").write_text(scene)
     views = [{"azimuth": 0}, {"azimuth": 100, "elevation": -30}, {"azimuth": 250, "elevation": 60, "distance": 3.0}]
     rows = [{"scene": "spheres.toml", **view} for view in views]
@@ -308,3 +311,24 @@ def test_ids_number_the_parts_of_a_multi_part_mesh(tmp_path, renderer):
     columns = np.arange(48)[None, :].repeat(48, axis=0)
     assert columns[ids == 1].max() <= view["cx"] + 1 < columns[ids == 2].min() + 2
     assert (ids == 1).sum() > 200 and (ids == 2).sum() > 200
+
+
+def test_orthographic_cameras_unproject_with_pixels_per_unit(tmp_path, renderer):
+    """projection = orthographic in a row: cameras.json has no K but pixels_per_unit, and
+    depth pixels unprojected with it land on the sphere."""
+    (tmp_path / "spheres.toml").write_text(SPHERES)
+    rows = [{"scene": "spheres.toml", "projection": "orthographic", "azimuth": 40, "elevation": 20}]
+    jobs = read_manifest(write_lines(tmp_path / "jobs.jsonl", rows), Outputs(depth="npy", ids=True))
+    assert not render_dataset(jobs, tmp_path / "out", progress=False, renderer=renderer).failed
+    view = json.loads((tmp_path / "out" / "spheres" / "cameras.json").read_text())["views"]["view_000"]
+    assert view["projection"] == "orthographic" and view["K"] is None
+    depth = np.load(tmp_path / "out" / "spheres" / "view_000_depth.npy")
+    big = pixels(tmp_path / "out" / "spheres" / "view_000_ids.png") == 1
+    height, width = depth.shape
+    v, u = np.mgrid[0:height, 0:width].astype(np.float64)
+    scale = view["pixels_per_unit"]
+    z = np.where(big, depth, 0.0)
+    camera = np.stack([(u - view["cx"]) / scale, (v - view["cy"]) / scale, z, np.ones_like(z)], -1)
+    world = (camera @ np.linalg.inv(np.array(view["world_to_camera_opencv"])).T)[..., :3]
+    radius = np.linalg.norm(world[big] - [0.5, 0.0, 0.0], axis=1)
+    assert big.sum() > 300 and np.abs(radius - 1.0).max() < 2e-3
