@@ -45,6 +45,7 @@ SMOKE_SCRIPTS = {
     "reference": ("bench_reference.py", "--size", "32", "--triangles", "20", "200", "--repeat", "1"),
     "golden_noise": ("golden_noise.py", "--smoke"),
     "loading": ("bench_loading.py", "--smoke"),
+    "antialiasing": ("bench_antialiasing.py", "--smoke"),
 }
 
 

@@ -136,6 +136,18 @@ def sphere_scene(size: int, triangles: int = 1_300_000) -> Scene:
     return replace(scene, objects=(replace(obj, mesh=mesh),))
 
 
+def _one_light(scene: Scene) -> Scene:
+    """The scene lit by one white positional light up, right and in front (the CLI's bare-mesh
+    light before it got a key light plus headlight): the peers (moderngl, pygfx) implement
+    exactly one positional light, and the numbers in docs/performance.md were measured so."""
+    from wgpu_shading import PositionalLight
+    from wgpu_shading.scene.framing import bounding_sphere
+
+    center, radius = bounding_sphere(scene.objects[0].mesh)
+    position = center + np.array([5.0, 2.0, 2.0]) * radius * 1.5
+    return replace(scene, lights=(PositionalLight(position=tuple(float(v) for v in position)),))
+
+
 _MESH_SCENES: dict[tuple[str, int], Scene] = {}
 _SPHERES: dict[int, object] = {}
 
@@ -145,7 +157,7 @@ def _cached_mesh_scene(source: str, size: int) -> Scene:
     if key not in _MESH_SCENES:
         same_mesh = next((s for (src, _), s in _MESH_SCENES.items() if src == source), None)
         if same_mesh is None:
-            _MESH_SCENES[key] = mesh_scene(source, (size, size), None)
+            _MESH_SCENES[key] = _one_light(mesh_scene(source, (size, size), None))
         else:
             _MESH_SCENES[key] = replace(same_mesh, size=(size, size))
     return _MESH_SCENES[key]

@@ -161,7 +161,7 @@ def test_update_markdown_replaces_only_the_generated_blocks(tmp_path):
 
 def test_missing_matplotlib_gives_a_clear_error(monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib now fails
-    with pytest.raises(acc.AccuracyError, match=r"pip install 'wgpu-shading\[plots\]'"):
+    with pytest.raises(acc.AccuracyError, match=r"\[plots\] extra into this environment: .* -m pip install 'matplotlib"):
         acc.require_matplotlib()
 
 

@@ -113,3 +113,15 @@ def test_batch_on_a_separately_started_scheduler(tmp_path):
             if process.poll() is None:
                 os.killpg(process.pid, signal.SIGKILL)
                 process.wait()
+
+
+def test_batch_workers_2_starts_a_local_cluster_with_the_same_pixels(tmp_path, renderer):
+    out = tmp_path / "dask"
+    assert main(["batch", "--meshes", MESHES[1], "--views", "4", "--size", "32", "--depth", "png16", "--workers", "2", "-o", str(out), "-q"]) == 0
+    jobs = mesh_jobs([MESHES[1]], turntable_views(4), Outputs(depth="png16"), {"size": 32})
+    assert not render_dataset(jobs, tmp_path / "local", progress=False, renderer=renderer).failed
+    for job in jobs:
+        for file in job.files():
+            assert np.array_equal(np.array(Image.open(out / file)), np.array(Image.open(tmp_path / "local" / file))), file
+    report = json.loads((out / "report.json").read_text())
+    assert report["rendered"] == 4 and report["failed"] == {}

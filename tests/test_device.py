@@ -25,6 +25,16 @@ def test_no_lavapipe_says_how_to_install_it(monkeypatch):
     assert "apt-get install mesa-vulkan-drivers" in message and "SwiftShader" in message
 
 
+def test_unmatched_adapter_suggests_installing_lavapipe_only_when_it_is_missing(monkeypatch):
+    monkeypatch.setattr(device_module, "list_adapters", lambda selector=None: [FakeAdapter("llvmpipe", "Vulkan", "CPU")])
+    with pytest.raises(DeviceError) as error:
+        device_module.select_adapter("nvidia")
+    assert "apt-get" not in str(error.value) and "llvmpipe" in str(error.value)
+    monkeypatch.setattr(device_module, "list_adapters", lambda selector=None: [FakeAdapter("SwiftShader", "Vulkan", "CPU")])
+    with pytest.raises(DeviceError, match="apt-get install mesa-vulkan-drivers"):
+        device_module.select_adapter("nvidia")
+
+
 def test_gpu_selector_prefers_a_discrete_gpu(monkeypatch):
     adapters = [
         FakeAdapter("llvmpipe", "Vulkan", "CPU"),

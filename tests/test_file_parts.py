@@ -263,7 +263,7 @@ def test_draco_without_the_extra_is_an_error_naming_it(monkeypatch):
     from wgpu_shading import MeshError
 
     monkeypatch.setitem(sys.modules, "DracoPy", None)  # `import DracoPy` raises ImportError
-    with pytest.raises(MeshError, match=r"Draco mesh compression \(KHR_draco_mesh_compression\); install the 'draco' extra"):
+    with pytest.raises(MeshError, match=r"Draco mesh compression \(KHR_draco_mesh_compression\); to decode it, install the \[draco\] extra into this environment: .* -m pip install 'DracoPy"):
         load_mesh(REAL / "BoxTextured_draco.glb")
 
 
@@ -309,3 +309,34 @@ def test_output_is_opaque_whatever_the_material_alpha(renderer):
     image = renderer.render(head_on([SceneObject(sphere, material("ruby"))], background=(0.2, 0.2, 0.2, 0.0)))
     assert material("ruby").diffuse[3] == 0.55
     assert tuple(pixel(image, 0.0, 0.0)[3:]) == (255,) and tuple(pixel(image, 1.9, 0.9)[3:]) == (0,)
+
+
+def test_scene_file_material_alpha_mode_blends(tmp_path, renderer):
+    from wgpu_shading import load_scene
+
+    (tmp_path / "s.toml").write_text(
+        '[output]\nsize = [16, 16]\nbackground = [0, 0, 0, 0]\n[ambient]\ncolor = [1, 1, 1]\n'
+        '[[objects]]\nmesh = "builtin:plane"\nscale = [4, 4, 4]\n'
+        'material = { ambient = [1, 0, 0, 0.5], diffuse = [0, 0, 0, 0.5], alpha_mode = "blend" }\n'
+    )
+    scene = load_scene(tmp_path / "s.toml")
+    assert scene.objects[0].material.alpha_mode == "blend"
+    np.testing.assert_allclose(renderer.render(scene)[8, 8], [128, 0, 0, 128], atol=1)  # half red over transparent black
+
+
+def test_point_clouds_and_triangle_strips_are_errors_naming_what_was_found(tmp_path, capsys):
+    from wgpu_shading import MeshError
+    from wgpu_shading.cli import main
+
+    header = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    vertices = "0 0 0\n1 0 0\n0 1 0\n1 1 0\n"
+    (tmp_path / "points.ply").write_text(header + "end_header\n" + vertices)
+    (tmp_path / "strips.ply").write_text(header + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" + vertices + "4 0 1 2 3\n")
+    with pytest.raises(MeshError, match=r"points.ply': a point cloud \(4 vertices, no faces\)"):
+        load_mesh(tmp_path / "points.ply")
+    with pytest.raises(MeshError, match=r"the PLY has triangle strips \(element 'tristrips'\), not faces"):
+        load_mesh(tmp_path / "strips.ply")
+    (tmp_path / "m.obj").write_text("mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    assert main(["render", str(tmp_path / "m.obj"), "--size", "8", "-q", "-o", str(tmp_path / "m.png")]) == 0
+    err = capsys.readouterr().err
+    assert err == f"wgpu-shading: warning: {tmp_path / 'm.obj'}: material library 'gone.mtl' not found (looked for {tmp_path / 'gone.mtl'}); parts drawn without it\n"

@@ -97,7 +97,7 @@ def test_update_then_pass_then_fail_with_diff_images_then_update(pytester, monke
         ]
     )
     diff = next(out.rglob("square.diff.png"))
-    assert iio.imread(diff)[20, 30].tolist() == [255, 0, 0, 255]  # 80 × 10, clipped
+    assert iio.imread(diff)[20, 30].tolist() == [202, 0, 0, 255]  # 80/255 on the log scale: 255·log2(81)/8
     assert iio.imread(reference)[20, 30, 0] == 200  # a failure never touches the reference
 
     result = run(pytester, "--update-golden")

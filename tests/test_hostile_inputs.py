@@ -116,7 +116,7 @@ MESH_CASES = [
     ("face_out_of_range.stl", lambda: b"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex nan 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid\n", ["face_out_of_range.stl", "NaN or infinite"]),
     ("tiny.obj", lambda: b"v 0 0 0\nv 1e-20 0 0\nv 0 1e-20 0\nf 1 2 3\n", ["tiny.obj", "1.41e-20 units across"]),
     ("huge.obj", lambda: b"v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n", ["huge.obj"]),
-    ("far.obj", lambda: b"v 1e15 0 0\nv 1e15 1 0\nv 1e15 0 1\nf 1 2 3\n", ["mesh", "far.obj", "automatic camera and light"]),
+    ("far.obj", lambda: b"v 1e15 0 0\nv 1e15 1 0\nv 1e15 0 1\nf 1 2 3\n", ["mesh", "far.obj", "automatic camera and lights"]),
 ]
 
 

@@ -50,3 +50,21 @@ class MeshError(WgpuShadingError, ValueError):
 
 class DeviceError(WgpuShadingError, RuntimeError):
     """No usable wgpu adapter or device."""
+
+
+def install_hint(extra: str) -> str:
+    """How to install an optional extra into the Python environment running now (the venv
+    that `./run` made, in a clone): its packages, installed by this very interpreter, so the
+    command cannot land in another environment (or ask PyPI for a wgpu-shading it lacks)."""
+    import shlex
+    import sys
+    from importlib import metadata
+
+    try:
+        requirements = metadata.requires("wgpu-shading") or []
+    except metadata.PackageNotFoundError:  # pragma: no cover - running from a plain source tree
+        requirements = []
+    marker = f'extra == "{extra}"'
+    packages = [r.split(";")[0].strip() for r in requirements if marker in r.replace("'", '"')]
+    names = " ".join(shlex.quote(p) for p in packages) or shlex.quote(f"wgpu-shading[{extra}]")
+    return f"install the [{extra}] extra into this environment: {shlex.quote(sys.executable)} -m pip install {names}"

@@ -9,7 +9,7 @@ struct ExtraUniforms {
     eye_from_model: mat4x4<f32>,
     // Inverse transpose of the model(-view) matrix's 3x3 part: model normal → output space.
     output_normal_from_model: mat3x3<f32>,
-    // 1 + the object's index in the scene (0 is left for the background).
+    // 1 + the index of the (object, part) in extra_outputs.segments (0 is left for the background).
     object_id: f32,
 }
 

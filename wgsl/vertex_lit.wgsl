@@ -2,16 +2,47 @@
 // declares its own Varyings (interpolated for Gouraud, flat for flat shading) with the same
 // lit-color fields; these two functions fill and read them.
 
+#if CLAMP_VERTEX_COLORS
+// [shading] clamp_vertex_colors: OpenGL fixed-function clamps each vertex's color to [0, 1]
+// before interpolation. Its default (GL_SINGLE_COLOR) clamps the whole sum; the `modulate`
+// texture mode is GL_SEPARATE_SPECULAR_COLOR, which clamps the primary (ambient + diffuse
+// + emission) and secondary (specular) colors apart. The fragment's final clamp stays.
+fn clamped_vertex_color(lit: LitColor) -> LitColor {
+    var out: LitColor;
+#if SPECULAR
+#if TEXTURE_MODULATE
+    out.ambient_diffuse = clamp(lit.ambient_diffuse, vec3<f32>(0.0), vec3<f32>(1.0));
+    out.specular = clamp(lit.specular, vec3<f32>(0.0), vec3<f32>(1.0));
+#else
+    out.ambient_diffuse = clamp(lit.ambient_diffuse + lit.specular, vec3<f32>(0.0), vec3<f32>(1.0));
+    out.specular = vec3<f32>(0.0);
+#endif
+#else
+    out.ambient_diffuse = clamp(lit.ambient_diffuse, vec3<f32>(0.0), vec3<f32>(1.0));
+#endif
+    return out;
+}
+#endif
+
+// The color one vertex (or face) passes on: unclamped like the seeds' GLSL, or clamped.
+fn vertex_color(eye_position: vec3<f32>, normal: vec3<f32>) -> LitColor {
+#if CLAMP_VERTEX_COLORS
+    return clamped_vertex_color(shade(eye_position, normal, view_direction(eye_position, normal)));
+#else
+    return shade(eye_position, normal, view_direction(eye_position, normal));
+#endif
+}
+
 // Lights one point and stores the colors: the front color, and with two-sided lighting a
 // back color lit with -N (OpenGL computes both per vertex and picks one per fragment).
 fn store_lighting(out: ptr<function, Varyings>, eye_position: vec3<f32>, normal: vec3<f32>) {
-    let front = shade(eye_position, normal, view_direction(eye_position, normal));
+    let front = vertex_color(eye_position, normal);
     (*out).front_ambient_diffuse = front.ambient_diffuse;
 #if SPECULAR
     (*out).front_specular = front.specular;
 #endif
 #if TWO_SIDED
-    let back = shade(eye_position, -normal, view_direction(eye_position, -normal));
+    let back = vertex_color(eye_position, -normal);
     (*out).back_ambient_diffuse = back.ambient_diffuse;
 #if SPECULAR
     (*out).back_specular = back.specular;

@@ -28,9 +28,10 @@ def check_animation_path(path: Path) -> None:
         try:
             import imageio_ffmpeg  # noqa: F401
         except ImportError:
+            from ..errors import install_hint
+
             raise SceneError(
-                f"output {str(path)!r}: writing MP4 needs imageio-ffmpeg "
-                "(pip install 'wgpu-shading[video]'), or write a .gif"
+                f"output {str(path)!r}: writing MP4 needs imageio-ffmpeg ({install_hint('video')}), or write a .gif"
             ) from None
 
 

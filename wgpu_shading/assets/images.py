@@ -11,16 +11,91 @@ import numpy as np
 from ..errors import SceneError
 
 IMAGE_SUFFIXES = (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
+DEPTH_SUFFIXES = (".npy", ".png", ".tif", ".tiff")
+STDOUT = "-"  # `-o -`: the PNG goes to standard output
 
 
-def output_path(path: os.PathLike[str] | str, suffixes: Sequence[str]) -> Path:
-    """A file to write: one of `suffixes`, in a folder that exists (checked before any work)."""
+def output_path(path: os.PathLike[str] | str, suffixes: Sequence[str], what: str = "output") -> Path:
+    """A file to write: one of `suffixes`, in a folder that exists and can be written
+    (checked before any work, so a typo does not cost a render and an OS error is a sentence)."""
     path = Path(path)
     if path.suffix.lower() not in suffixes:
-        raise SceneError(f"output {str(path)!r}: unsupported format; use one of {', '.join(suffixes)}")
+        raise SceneError(f"{what} {str(path)!r}: unsupported format; use one of {', '.join(suffixes)}")
     if not path.parent.exists():
-        raise SceneError(f"output {str(path)!r}: folder {str(path.parent)!r} does not exist")
+        raise SceneError(f"{what} {str(path)!r}: folder {str(path.parent)!r} does not exist")
+    check_writable(path, what)
     return path
+
+
+def check_writable(path: Path, what: str = "output") -> None:
+    """Raise a one-line SceneError unless `path` can be written. The only reliable test is
+    to try (permissions, read-only mounts, /proc, ...): an existing file is opened for
+    appending (nothing changes), a new one is created and removed again."""
+    if path.is_dir():
+        raise SceneError(f"{what} {str(path)!r} is a folder, not a file")
+    existed = path.exists()
+    try:
+        with open(path, "ab"):
+            pass
+    except OSError as error:
+        raise SceneError(f"{what} {str(path)!r} cannot be written: {error.strerror or error}") from None
+    if not existed:
+        path.unlink(missing_ok=True)
+
+
+def check_folder_writable(folder: Path, what: str) -> None:
+    """Raise a one-line SceneError unless files can be created in `folder` (tried, not guessed)."""
+    import tempfile
+
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as error:
+        raise SceneError(f"{what} {str(folder)!r}: files cannot be written there: {error.strerror or error}") from None
+
+
+def png_bytes(image: np.ndarray) -> bytes:
+    """An 8-bit RGBA (or RGB) image as PNG file contents (for `-o -` and Jupyter)."""
+    import io
+
+    from PIL import Image
+
+    if image.dtype != np.uint8:  # a float32 render: [0, 1] to 8 bits, as the 8-bit target rounds
+        image = np.round(np.clip(image, 0.0, 1.0) * 255.0).astype(np.uint8)
+    buffer = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(image)).save(buffer, format="PNG")
+    return buffer.getvalue()
+
+
+def write_depth(path: Path, depth: np.ndarray, near: float, far: float) -> str:
+    """Eye-space depth (distance along the view axis, inf where nothing was drawn) by suffix;
+    returns how the values are stored, for the user.
+
+    .npy   float32 distances, inf = background
+    .tiff  the same float32 values as a 32-bit float TIFF
+    .png   16-bit grey, linear in distance: 0 = the near plane, 65535 = the far plane and the
+           background; near and far are also written into the PNG's text chunks
+    """
+    suffix = path.suffix.lower()
+    distances = depth.astype(np.float32)
+    if suffix == ".npy":
+        np.save(path, distances)
+        return "float32 eye-space distance, inf = background"
+    from PIL import Image
+
+    if suffix in (".tif", ".tiff"):
+        Image.fromarray(np.ascontiguousarray(distances)).save(path)  # float32 → mode F
+        return "32-bit float eye-space distance, inf = background"
+    from PIL.PngImagePlugin import PngInfo
+
+    scaled = np.where(np.isfinite(depth), (depth - near) / (far - near), 1.0)
+    levels = np.round(np.clip(scaled, 0.0, 1.0) * 65535.0).astype(np.uint16)
+    info = PngInfo()
+    info.add_text("near", repr(float(near)))
+    info.add_text("far", repr(float(far)))
+    info.add_text("mapping", "value / 65535 = (eye distance - near) / (far - near); background = 65535")
+    Image.fromarray(np.ascontiguousarray(levels)).save(path, pnginfo=info)
+    return f"16-bit, linear: 0 = near plane ({near:g}), 65535 = far plane ({far:g}) and background"
 
 
 def write_image(path: Path, image: np.ndarray) -> None:

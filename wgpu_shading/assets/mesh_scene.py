@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import MeshError, SceneError
-from ..scene import Material, Mesh, PositionalLight, Scene, SceneObject, material
+from ..scene import Material, Mesh, Scene, SceneObject, material
 from ..scene.framing import framing_camera
+from ..scene.lighting import viewer_lights
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
 
@@ -18,9 +19,10 @@ def mesh_scene(
     crease_angle: float = DEFAULT_CREASE_ANGLE,
     up: str = "+Y",
 ):
-    """A scene for a bare mesh: framed by the camera, lit like the seeds' demo (a white light
-    up, right and in front, global ambient 0.2), the file's materials or gold. `up` is the
-    file's up axis: the mesh is turned so that it points up on screen (like f3d's --up)."""
+    """A scene for a bare mesh: framed by the camera, lit by a key light and a headlight fill
+    as model viewers do (scene/lighting.py; global ambient 0.2), the file's materials or gold.
+    `up` is the file's up axis: the mesh is turned so that it points up on screen, which is
+    f3d's --up view (its camera turned instead: the same picture)."""
     mesh = load_mesh(mesh_source, crease_angle=crease_angle)
     if material_name:
         chosen = material(material_name)
@@ -34,20 +36,19 @@ def mesh_scene(
     if placed.up != "+Y":  # frame the turned mesh: a mesh with the turn baked in, for framing only
         world = mesh.world_positions() @ np.array(placed.model_matrix())[:3, :3].T
         mesh = Mesh.from_arrays(world, mesh.indices, normals=mesh.normals, name=mesh.name)
-    lower, upper = mesh.bounds()
-    center = (lower + upper) / 2.0
-    radius = max(float(np.linalg.norm(upper - lower)) / 2.0, 1e-12)
-    light_position = center + np.array([5.0, 2.0, 2.0]) * radius * 1.5
     try:
+        camera = framing_camera(mesh, size)
         return Scene(
             objects=(placed,),
-            lights=(PositionalLight(position=tuple(light_position)),),
-            camera=framing_camera(mesh, size),
+            lights=viewer_lights(camera),
+            camera=camera,
             size=size,
         )
     except SceneError as error:
-        # The camera and the light are ours, derived from the mesh: the mesh is the culprit.
+        # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.
+        lower, upper = mesh.bounds()
+        center, radius = (lower + upper) / 2.0, float(np.linalg.norm(upper - lower)) / 2.0
         raise MeshError(
             f"mesh {str(mesh_source)!r} ({mesh.vertex_count} vertices around {center.tolist()}, radius {radius:.3g}): "
-            f"the automatic camera and light cannot be placed for it ({error})"
+            f"the automatic camera and lights cannot be placed for it ({error})"
         ) from None

@@ -21,6 +21,7 @@ from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.material import Material
 from ..scene.mesh import Mesh, MeshPart, face_normals
 from ..scene.normals import crease_normals
+from .examples import resolve_example
 from .mesh_checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
@@ -42,11 +43,12 @@ class _Piece:
 
 
 def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE) -> Mesh:
-    """A built-in (`builtin:torus`) or a mesh file (OBJ, PLY, STL, OFF, GLB/glTF).
+    """A built-in (`builtin:torus`), a shipped sample (`example:knot.obj`) or a mesh file
+    (OBJ, PLY, STL, OFF, GLB/glTF).
 
     crease_angle (degrees, 0..180): where the file has no normals, edges sharper than this
     are creases (SPEC §12); 180 is the plain average of the welded faces, 0 is flat."""
-    text = str(source)
+    text = resolve_example(str(source))
     if text.startswith(BUILTIN_PREFIX):
         return builtin(text)
     if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
@@ -300,12 +302,15 @@ def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
             parts.append(MeshPart(face_offset + first, length, material, part_name))
         vertex_offset += count
         face_offset += len(piece.faces)
+    def joined(arrays: list) -> np.ndarray:  # one piece (a PLY, an STL): no copy
+        return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
+
     return Mesh.from_arrays(
-        np.concatenate(positions),
-        np.concatenate(faces),
-        normals=np.concatenate(normals),
-        uvs=np.concatenate(uvs) if any_uvs else None,
-        colors=np.concatenate(colors) if any_colors else None,
+        joined(positions),
+        joined(faces),
+        normals=joined(normals),
+        uvs=joined(uvs) if any_uvs else None,
+        colors=joined(colors) if any_colors else None,
         parts=tuple(parts),
         name=name,
     )

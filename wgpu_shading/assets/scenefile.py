@@ -25,6 +25,7 @@ from typing import Any, Mapping
 from ..errors import MeshError, SceneError, shown
 from ..scene import BUILTIN_PREFIX
 from ..scene.materials import material as named_material
+from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 from .textures import load_texture
 from ..scene import (
@@ -39,9 +40,9 @@ from ..scene import (
 
 _TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
 _SECTIONS = {
-    "output": {"size", "background"},
-    "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided"},
-    "camera": {"eye", "target", "up", "fov_y", "near", "far"},
+    "output": {"size", "background", "samples", "transparent"},
+    "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided", "clamp_vertex_colors"},
+    "camera": {"eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height", "azimuth", "elevation"},
     "ambient": {"color"},
 }
 _LIGHT_KEYS = {
@@ -50,7 +51,7 @@ _LIGHT_KEYS = {
     "spot": {"type", "position", "direction", "ambient", "diffuse", "specular", "attenuation", "cutoff", "exponent"},
 }
 _OBJECT_KEYS = {"mesh", "material", "translate", "rotate", "scale", "crease_angle", "up"}
-_MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode"}
+_MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode", "alpha_mode", "alpha_cutoff"}
 _COLOR_KEYS = ("ambient", "diffuse", "specular")
 
 
@@ -104,13 +105,17 @@ def _material(value: Any, base: Path, where: str) -> Material:
     elif "texture" in value and not any(key in value for key in _COLOR_KEYS):
         # The seed's material-less texture example: lighting terms are not scaled by a material.
         fields.update(ambient=(1.0, 1.0, 1.0, 1.0), diffuse=(1.0, 1.0, 1.0, 1.0), specular=(1.0, 1.0, 1.0, 1.0))
-    for key in ("ambient", "diffuse", "specular", "emission", "shininess", "texture_mode"):
+    for key in ("ambient", "diffuse", "specular", "emission", "shininess", "texture_mode", "alpha_mode", "alpha_cutoff"):
         if key in value:
             fields[key] = value[key]
     if "texture" in value:
         if not isinstance(value["texture"], str):
             raise SceneError(f"{where}.material.texture: expected a path to an image, got {shown(value['texture'])}")
-        fields["texture"] = load_texture(_resolve(value["texture"], base))
+        texture_path = _resolve(value["texture"], base)
+        try:
+            fields["texture"] = load_texture(texture_path)
+        except SceneError as error:
+            raise SceneError(f"{error}{models_hint(texture_path) if not texture_path.exists() else ''}") from None
     try:
         return Material(**fields)
     except SceneError as error:
@@ -139,14 +144,15 @@ def _object(table: Mapping[str, Any], index: int, base: Path, crease_angle: floa
     mesh_text = table["mesh"]
     if not isinstance(mesh_text, str):
         raise SceneError(f"{where}.mesh: expected a string, got {shown(mesh_text)}")
-    source = mesh_text if mesh_text.startswith(BUILTIN_PREFIX) else str(_resolve(mesh_text, base))
+    source = mesh_text if mesh_text.startswith((BUILTIN_PREFIX, EXAMPLE_PREFIX)) else str(_resolve(mesh_text, base))
     crease = table.get("crease_angle", DEFAULT_CREASE_ANGLE) if crease_angle is None else crease_angle
     if isinstance(crease, bool) or not isinstance(crease, (int, float)) or not 0 <= crease <= 180:
         raise SceneError(f"{where}.crease_angle: expected degrees between 0 and 180, got {crease!r}")
     try:
         mesh = load_mesh(source, crease_angle=float(crease))
     except MeshError as error:
-        raise SceneError(f"{where}.mesh: {error}") from None
+        hint = models_hint(Path(source)) if not Path(source).exists() else ""
+        raise SceneError(f"{where}.mesh: {error}{hint}") from None
     if "material" in table:
         try:
             material = _material(table["material"], base, where)
@@ -160,6 +166,32 @@ def _object(table: Mapping[str, Any], index: int, base: Path, crease_angle: floa
         return SceneObject(mesh=mesh, material=material, **transform)
     except SceneError as error:
         raise SceneError(f"{where}: {error}") from None
+
+
+def _background(output: Mapping[str, Any], default) -> Any:
+    """[output] background, with alpha 0 when `transparent = true` (SPEC §13)."""
+    background = output.get("background", default)
+    transparent = output.get("transparent", False)
+    if not isinstance(transparent, bool):
+        raise SceneError(f"output.transparent: expected true or false, got {transparent!r}")
+    if not transparent:
+        return background
+    if not isinstance(background, (list, tuple)) or len(background) not in (3, 4):
+        return background  # Scene reports what is wrong with it
+    return (*background[:3], 0.0)
+
+
+def _camera(table: Mapping[str, Any]) -> Camera:
+    """[camera]: azimuth and elevation (degrees) turn the camera about its target after the
+    other keys placed it, as f3d's --camera-azimuth-angle/--camera-elevation-angle do."""
+    keys = {key: value for key, value in table.items() if key not in ("azimuth", "elevation")}
+    turns = {}
+    for key in ("azimuth", "elevation"):
+        value = table.get(key, 0.0)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise SceneError(f"camera.{key}: expected a number of degrees, got {value!r}")
+        turns[key] = float(value)
+    return Camera(**keys).orbited(**turns)
 
 
 def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".", *, crease_angle: float | None = None) -> Scene:
@@ -179,19 +211,20 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".",
     return Scene(
         objects=tuple(objects),
         lights=tuple(lights),
-        camera=Camera(**camera),
+        camera=_camera(camera),
         shading=Shading(**shading),
         ambient=ambient.get("color", defaults.ambient),
         size=image_size(output.get("size", defaults.size)),
-        background=output.get("background", defaults.background),
+        background=_background(output, defaults.background),
+        samples=output.get("samples", defaults.samples),
     )
 
 
 def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = None) -> Scene:
-    """Read a scene file. Errors name the file and the offending key."""
+    """Read a scene file (or `example:NAME.toml`). Errors name the file and the offending key."""
     if not isinstance(path, (str, os.PathLike)):
         raise SceneError(f"load_scene: expected a path to a scene file, got {type(path).__name__}")
-    path = Path(path)
+    path = Path(resolve_example(str(path)))
     try:
         with open(path, "rb") as file:
             data = file.read(MAX_SCENE_FILE_BYTES + 1)

@@ -11,11 +11,12 @@ from typing import Sequence
 from ..assets.images import output_path
 from ..errors import SceneError
 from ..scene import FREQUENCIES, REFLECTIONS, image_size
+from .viewer_options import add_viewer_arguments, apply_viewer_options
 
 
 def _size(text: str) -> tuple[int, int]:
-    """'512' or '640x480'."""
-    parts = text.lower().replace("×", "x").split("x")
+    """'512', '640x480' or f3d's '640,480'."""
+    parts = text.lower().replace("×", "x").replace(",", "x").split("x")
     try:
         numbers = [int(p) for p in parts]
     except ValueError:
@@ -54,6 +55,7 @@ def _load(args: argparse.Namespace):
             crease_angle=DEFAULT_CREASE_ANGLE if args.crease_angle is None else args.crease_angle,
             up=args.up or "+Y",
         )
+    scene = apply_viewer_options(scene, args, bare_mesh=not source.lower().endswith(".toml"))
     shading = scene.shading
     overrides = {
         key: value
@@ -68,14 +70,22 @@ def _load(args: argparse.Namespace):
         overrides["local_viewer"] = False
     if args.two_sided:
         overrides["two_sided"] = True
+    if getattr(args, "clamp_vertex_colors", False):
+        overrides["clamp_vertex_colors"] = True
     if overrides:
         scene = replace(scene, shading=replace(shading, **overrides))
     return scene
 
 
 def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("input", help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB) or builtin:NAME")
-    parser.add_argument("--size", type=_size, help="image size, WIDTHxHEIGHT or SIZE (default: the scene's, or 512)")
+    parser.add_argument(
+        "input",
+        help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB), builtin:NAME, or example:NAME (`wgpu-shading examples`)",
+    )
+    parser.add_argument(
+        "--size", "--resolution", type=_size, dest="size",
+        help="image size, WIDTHxHEIGHT, WIDTH,HEIGHT or SIZE (default: the scene's, or 512)",
+    )
     parser.add_argument("--frequency", choices=FREQUENCIES, help="shading frequency (overrides the scene)")
     parser.add_argument("--reflection", choices=REFLECTIONS, help="reflection model (overrides the scene)")
     parser.add_argument(
@@ -91,6 +101,11 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--up", type=_up, metavar="AXIS", help="the mesh files' up axis: +Y (default), -Y, +Z, -Z, +X, -X (like f3d)"
     )
+    parser.add_argument(
+        "--clamp-vertex-colors", action="store_true",
+        help="flat/Gouraud: clamp each vertex's color before interpolation, as OpenGL fixed-function does",
+    )
+    add_viewer_arguments(parser)
 
 
 # --------------------------------------------------------------------------- commands
@@ -100,7 +115,7 @@ def _default_output(args: argparse.Namespace, suffix: str) -> Path:
     """-o, or the input's name with `suffix` in the current folder (builtin:torus → torus.png)."""
     if args.output:
         return Path(args.output)
-    return Path(Path(args.input.split("?")[0].replace("builtin:", "")).stem + suffix)
+    return Path(Path(args.input.split("?")[0].replace("builtin:", "").replace("example:", "")).stem + suffix)
 
 
 def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:

@@ -29,8 +29,22 @@ def command_bench_accuracy(args: argparse.Namespace) -> int:
     config = with_changes(config, **changes)
     if args.markdown is not None and not Path(args.markdown).parent.is_dir():
         raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
-    if not args.no_plot:
-        require_matplotlib()  # before the sweep, not after minutes of work
+    from ..assets.images import check_folder_writable, check_writable
+
+    if args.markdown is not None:
+        check_writable(Path(args.markdown), "--markdown")
+    # --out is created if missing: its nearest existing ancestor must take new files.
+    existing = Path(args.out).absolute()
+    while not existing.exists():
+        existing = existing.parent
+    check_folder_writable(existing, "--out")
+    plot = not args.no_plot
+    if plot:
+        try:
+            require_matplotlib()  # before the sweep, not after minutes of work
+        except AccuracyError as error:  # everything but the plot needs only the core packages
+            plot = False
+            print(f"wgpu-shading: note: {error}; writing everything else", file=sys.stderr)
     command = "wgpu-shading bench accuracy" + "".join(
         f" {flag}" for flag, on in (("--quick", args.quick), ("--no-same-mesh", args.no_same_mesh), ("--no-plot", args.no_plot)) if on
     )
@@ -45,7 +59,7 @@ def command_bench_accuracy(args: argparse.Namespace) -> int:
         shape = f"{len(config.sizes)} size(s) × {len(config.triangles)} tessellations × {len(config.variants)} shading variants"
         print(f"accuracy/time study: {points} points ({shape})", file=sys.stderr)
     study = run_study(config, Renderer(adapter=args.adapter), progress=not args.quiet, command=command)
-    written = write_study(study, args.out, markdown=args.markdown, plot=not args.no_plot)
+    written = write_study(study, args.out, markdown=args.markdown, plot=plot)
     if not args.quiet:
         from ..study.accuracy import headline
 

@@ -23,6 +23,12 @@ def command_check(args: argparse.Namespace) -> int:
         raise GoldenError(f"--output-dir {args.output_dir!r} is not an existing folder")
     if args.update and not reference.parent.exists():
         raise GoldenError(f"--ref {args.ref!r}: folder {str(reference.parent)!r} does not exist")
+    from ..assets.images import check_folder_writable
+
+    # Where this run may write (the reference with --update, the failure images), before rendering.
+    failure_folder = Path(args.output_dir) if args.output_dir is not None else reference.parent
+    if failure_folder.is_dir():
+        check_folder_writable(failure_folder, "--output-dir" if args.output_dir is not None else "--ref folder")
     tolerance = Tolerance(
         threshold=args.threshold,
         max_fraction=args.max_fraction,
@@ -75,7 +81,8 @@ def add_check(commands, gpu: argparse.ArgumentParser) -> None:
     check.add_argument("--output-dir", metavar="DIR", help="where to write the images of a failure (default: next to the reference)")
     check.add_argument(
         "--amplify", type=float, default=DEFAULT_AMPLIFICATION, metavar="K",
-        help=f"the diff image shows |actual − expected| × K (default {DEFAULT_AMPLIFICATION})",
+        help="the diff image shows |actual − expected| × K (linear) instead of the default log scale "
+        "(1/255 → 32, 8/255 → 101, 64/255 → 192, 255/255 → 255)",
     )
     check.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     check.set_defaults(handler=command_check)

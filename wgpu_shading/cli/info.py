@@ -20,6 +20,15 @@ def command_materials(args: argparse.Namespace) -> int:
     return 0
 
 
+def command_examples(args: argparse.Namespace) -> int:
+    from ..assets.examples import example_names, examples_folder
+
+    print(f"example scenes and sample meshes (in {examples_folder()}); use them as example:NAME")
+    for name in example_names():
+        print(f"  example:{name}")
+    return 0
+
+
 def command_info(args: argparse.Namespace) -> int:
     import platform
 
@@ -47,6 +56,12 @@ def command_info(args: argparse.Namespace) -> int:
 def add_info(commands, gpu: argparse.ArgumentParser) -> None:
     materials = commands.add_parser("materials", help="list the material table", description="List the built-in material table.")
     materials.set_defaults(handler=command_materials)
+
+    examples = commands.add_parser(
+        "examples", help="list the example scenes and sample meshes (example:NAME)",
+        description="List the example scenes and sample meshes that ship with wgpu-shading.",
+    )
+    examples.set_defaults(handler=command_examples)
 
     info = commands.add_parser("info", parents=[gpu], help="show the adapter and versions", description="Show adapters, the one in use, and versions.")
     info.set_defaults(handler=command_info)

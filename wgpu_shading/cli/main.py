@@ -10,6 +10,7 @@
     wgpu-shading batch --meshes 'dir/*.obj' --views 24 --size 256 -o DIR [--workers N]
     wgpu-shading shader SCENE.toml          print the generated WGSL
     wgpu-shading materials                  the material table
+    wgpu-shading examples                   the example scenes and sample meshes (example:NAME)
     wgpu-shading info                       adapters and versions
 
 Errors a user can cause (missing file, bad key, bad value, no adapter) print one line on
@@ -21,6 +22,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 from typing import Sequence
 
 from .. import __version__
@@ -62,11 +64,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"wgpu-shading: warning: {message}", file=sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return args.handler(args)
+        with warnings.catch_warnings():
+            # A file's problems that do not stop the render (a missing texture or .mtl):
+            # one line each, like errors, instead of Python's two lines with source code.
+            warnings.simplefilter("always", UserWarning)
+            warnings.showwarning = _one_line_warning
+            return args.handler(args)
     except WgpuShadingError as error:
         print(f"wgpu-shading: error: {error}", file=sys.stderr)
         return EXIT_USAGE

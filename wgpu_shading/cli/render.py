@@ -12,24 +12,41 @@ from .arguments import _add_scene_arguments, _check_output, _default_output, _er
 
 
 def command_render(args: argparse.Namespace) -> int:
-    from ..assets.images import write_image
+    from pathlib import Path
+
+    from ..assets.images import DEPTH_SUFFIXES, STDOUT, output_path, png_bytes, write_depth, write_image
     from ..render.renderer import Renderer
 
+    to_stdout = args.output == STDOUT
+    # Every output is checked before the scene is even loaded: a typo costs nothing.
+    output = None if to_stdout else _default_output(args, ".png")
+    float_target = args.float or (output is not None and output.suffix.lower() == ".npy")
+    if to_stdout and args.float:
+        raise SceneError("-o - writes an 8-bit PNG to standard output; --float needs a .npy file")
+    if output is not None:
+        _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
+    depth_path = None if args.depth is None else output_path(Path(args.depth), DEPTH_SUFFIXES, "--depth")
     scene = _load(args)
-    output = _default_output(args, ".png")
-    float_target = args.float or output.suffix.lower() == ".npy"
-    _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
     renderer = Renderer(adapter=args.adapter)
     scene = _auto_shading(args, scene, renderer)
-    frame = renderer.render_frame(scene, float32=float_target, depth=args.depth is not None)
-    write_image(output, frame.color)
-    if args.depth is not None:
-        import numpy as np
-
-        np.save(args.depth, frame.depth.astype(np.float32))
+    frame = renderer.render_frame(scene, float32=float_target, depth=depth_path is not None)
+    if to_stdout:
+        sys.stdout.buffer.write(png_bytes(frame.color))
+        sys.stdout.buffer.flush()
+    else:
+        write_image(output, frame.color)
+    report = sys.stderr if to_stdout else sys.stdout  # standard output carries the PNG
+    if depth_path is not None:
+        stored = write_depth(depth_path, frame.depth, scene.camera.near, scene.camera.far)
+        if not args.quiet:
+            print(f"wrote {depth_path} (depth: {stored})", file=report)
     if not args.quiet:
         width, height = scene.size
-        print(f"wrote {output} ({width}×{height}, {scene.shading.frequency} shading, {scene.shading.reflection} reflection)")
+        print(
+            f"wrote {'standard output' if to_stdout else output} ({width}×{height}, "
+            f"{scene.shading.frequency} shading, {scene.shading.reflection} reflection)",
+            file=report,
+        )
     return 0
 
 
@@ -48,15 +65,12 @@ def command_turntable(args: argparse.Namespace) -> int:
     output = _default_output(args, ".gif")
     check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute
     renderer = Renderer(adapter=args.adapter)
+    from tqdm import tqdm
+
     frames = (frame.color for frame in renderer.render_many(turntable(scene, args.frames, args.degrees)))
-    show_progress = not args.quiet and sys.stderr.isatty()
-
-    def progress(done: int) -> None:
-        print(f"\rframe {done}/{args.frames}", end="", file=sys.stderr, flush=True)
-
-    written = write_animation(output, frames, fps=args.fps, progress=progress if show_progress else None)
-    if show_progress:
-        print(file=sys.stderr)
+    # A bar on a terminal only: quiet with -q, and when stderr is a log or a pipe.
+    with tqdm(total=args.frames, unit="frame", file=sys.stderr, disable=args.quiet or not sys.stderr.isatty()) as bar:
+        written = write_animation(output, frames, fps=args.fps, progress=lambda done: bar.update(done - bar.n))
     if not args.quiet:
         width, height = scene.size
         print(f"wrote {output} ({written} frames, {width}×{height}, {args.fps:g} fps, {args.degrees:g}° turn)")
@@ -105,9 +119,16 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
         "render", parents=[gpu], help="render a scene or a mesh to an image", description="Render a scene file or a mesh to an image."
     )
     _add_scene_arguments(render)
-    render.add_argument("-o", "--output", help="output image: .png (8-bit), .npy (float32), .jpg, .tif (default: INPUT.png)")
+    render.add_argument(
+        "-o", "--output",
+        help="output image: .png (8-bit), .npy (float32), .jpg, .tif, or - for PNG on standard output (default: INPUT.png)",
+    )
     render.add_argument("--float", action="store_true", help="render to a float32 target and save it as .npy (implied by -o x.npy)")
-    render.add_argument("--depth", metavar="DEPTH.npy", help="also save eye-space depth (inf = background) as .npy")
+    render.add_argument(
+        "--depth", metavar="DEPTH",
+        help="also save eye-space depth: .npy or .tiff (float32, inf = background) or .png "
+        "(16-bit, 0 = near plane, 65535 = far plane and background, linear)",
+    )
     render.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     render.add_argument(
         "--shading", choices=["auto"],

@@ -9,6 +9,7 @@ with ok=False and its error; the other jobs of the chunk go on.
 from __future__ import annotations
 
 import os
+import threading
 import time
 from collections import OrderedDict
 from collections import deque
@@ -18,7 +19,7 @@ from typing import Iterable
 
 from ..errors import WgpuShadingError
 from ..render.renderer import Renderer
-from .cameras import camera_record
+from .cameras import camera_record, id_legend
 from .jobs import Job
 from .views import base_scene, job_scene
 from .writer import write_view
@@ -43,6 +44,8 @@ def failed(job: Job, error: BaseException | str) -> dict:
 
 class ChunkRenderer:
     """One per process (or Dask worker): a warm Renderer, the extra-outputs pass, encoders.
+    Calls of render() from several threads (a Dask worker with --nthreads above 1) take
+    turns: a Renderer is used by one thread at a time.
 
     parallel: devices render_many spreads frames over (None: its default, 2 on lavapipe;
     1 when several workers already share the cores)."""
@@ -52,6 +55,7 @@ class ChunkRenderer:
         self.renderer = renderer if renderer is not None else Renderer(adapter=adapter)
         self.parallel = parallel
         self._kept: OrderedDict[tuple, object] = OrderedDict()  # load_key → base scene, newest last
+        self._lock = threading.Lock()
         self._extra = None
         self._encoders = ThreadPoolExecutor(max_workers=encoder_threads, thread_name_prefix="wgpu-shading-encode")
 
@@ -84,6 +88,10 @@ class ChunkRenderer:
     def render(self, jobs: list[Job], out_dir: str | Path) -> list[dict]:
         """Render and write `jobs`; one record per job, in order. Each record's `seconds` is
         its share of the chunk's time (loading, rendering, writing)."""
+        with self._lock:
+            return self._render(jobs, out_dir)
+
+    def _render(self, jobs: list[Job], out_dir: str | Path) -> list[dict]:
         start = time.perf_counter()
         out_dir = Path(out_dir)
         records: dict[str, dict] = {}
@@ -98,7 +106,10 @@ class ChunkRenderer:
                 base = bases[key]
                 if isinstance(base, BaseException):
                     raise base
-                ready.append((job, job_scene(base, job)))
+                scene = job_scene(base, job)
+                # Checked here, so a size the adapter cannot render fails this job only.
+                self.renderer._check_size(scene.size, "float32" if job.outputs.color == "png16" else "rgba8")
+                ready.append((job, scene))
             except Exception as error:  # noqa: BLE001
                 records[job.id] = failed(job, error)
         # Jobs with the same outputs share one pipelined stream of frames.
@@ -124,6 +135,8 @@ class ChunkRenderer:
         try:
             for (job, scene), frame, extra in zip(items, frames, extras):
                 camera = camera_record(scene)
+                if ids:
+                    camera["ids"] = id_legend(scene)
                 writes.append((job, self._encoders.submit(write_view, out_dir, job, frame, extra, camera)))
                 done += 1
                 while len(writes) > MAX_PENDING_WRITES:

@@ -5,8 +5,10 @@ Columns / keys (all but the first optional):
                                  are relative to the manifest's folder
     id, folder, name             job id (default FOLDER/NAME), output folder (default: the
                                  mesh's stem) and file stem (default view_000, view_001, ... per folder)
-    azimuth, elevation, distance the view as an orbit around the camera target (views.py)
-    eye, target, up, fov_y, near, far   camera keys as in a scene file ("1 2 3" in CSV)
+    azimuth, elevation, distance the view: render's --camera-azimuth/--camera-elevation turns
+                                 of the scene's camera, then the eye's distance (views.py)
+    eye, target, up, fov_y, near, far, projection, ortho_height
+                                 camera keys as in a scene file ("1 2 3" in CSV)
     size                         512 or 640x480
     material, frequency, reflection, blinn_exponent_scale, infinite_viewer, two_sided
                                  the `render` flags of the same names, per job
@@ -27,10 +29,11 @@ from ..scene import image_size
 from .jobs import CAMERA_KEYS, ORBIT_KEYS, OVERRIDE_KEYS, Job, Outputs
 
 SOURCE_KEYS = ("mesh", "scene", "source")
+_NAMED_SOURCES = ("builtin:", "example:")  # built-in meshes and the shipped examples
 KNOWN_KEYS = set(SOURCE_KEYS) | {"id", "folder", "name", "size"} | set(CAMERA_KEYS) | set(ORBIT_KEYS) | set(OVERRIDE_KEYS)
 _BOOL_KEYS = ("infinite_viewer", "two_sided")
 _VECTOR_KEYS = ("eye", "target", "up")
-_NUMBER_KEYS = ("fov_y", "near", "far", "blinn_exponent_scale") + ORBIT_KEYS
+_NUMBER_KEYS = ("fov_y", "near", "far", "ortho_height", "blinn_exponent_scale") + ORBIT_KEYS
 
 
 def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: dict[str, Any] | None = None) -> list[Job]:
@@ -69,6 +72,7 @@ def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Output
     names_per_folder: dict[str, int] = {}
     folder_of_source: dict[str, str] = {}
     ids: set[str] = set()
+    outputs_of: dict[tuple[str, str], str] = {}  # (folder, name) → the job id that writes there
     for where, raw in rows:
         row = {key: value for key, value in {**defaults, **raw}.items() if value not in ("", None)}
         unknown = sorted(set(row) - KNOWN_KEYS)
@@ -89,6 +93,9 @@ def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Output
         if job_id in ids:
             raise SceneError(f"{where}: job id {job_id!r} appears twice (two rows would write the same files)")
         ids.add(job_id)
+        if (folder, name) in outputs_of:
+            raise SceneError(f"{where}: folder {folder!r} name {name!r} is also job {outputs_of[folder, name]!r}'s (both would write the same files)")
+        outputs_of[folder, name] = job_id
         jobs.append(
             Job(
                 id=job_id,
@@ -115,7 +122,7 @@ def mesh_jobs(
     from views.turntable_views / views.sphere_views): one folder per mesh."""
     sources: list[str] = []
     for pattern in patterns:
-        if pattern.startswith("builtin:"):
+        if pattern.startswith(_NAMED_SOURCES):  # not files: the loaders resolve them
             sources.append(pattern)
             continue
         matches = sorted(glob.glob(pattern, recursive=True))
@@ -127,7 +134,7 @@ def mesh_jobs(
 
 
 def _resolve(source: str, base: Path) -> str:
-    if source.startswith("builtin:"):
+    if source.startswith(_NAMED_SOURCES):
         return source
     path = Path(source).expanduser()
     return str(path if path.is_absolute() else (base / path).resolve())
@@ -135,7 +142,7 @@ def _resolve(source: str, base: Path) -> str:
 
 def _folder_for(source: str, taken: dict[str, str]) -> str:
     """The mesh's stem; a second mesh with the same stem gets a short hash of its path."""
-    stem = Path(source.split("?")[0].replace("builtin:", "")).stem or "mesh"
+    stem = Path(source.split("?")[0].replace("builtin:", "").replace("example:", "")).stem or "mesh"
     if stem in taken.values():
         stem = f"{stem}-{hashlib.sha1(source.encode()).hexdigest()[:6]}"
     return stem

@@ -85,6 +85,12 @@ def select_adapter(adapter: str | None = None):
         seen = "; ".join(a.summary for a in adapters) or "none"
         if selector.lower() in _SOFTWARE_NAMES:
             raise DeviceError(f"no lavapipe (llvmpipe Vulkan) adapter found (adapters seen: {seen}); {INSTALL_HINT}")
+        if any(_matches(a, DEFAULT_ADAPTER) for a in adapters):
+            # lavapipe is there: installing it would not help; say what can be chosen.
+            raise DeviceError(
+                f"no adapter matches {selector!r} (adapters seen: {seen}); choose one by part of its name, "
+                f"'gpu' for hardware, or leave --adapter / {ADAPTER_ENVIRONMENT_VARIABLE} unset for lavapipe"
+            )
         raise DeviceError(f"no adapter matches {selector!r} (adapters seen: {seen}); {INSTALL_HINT}")
     return candidates[0]
 

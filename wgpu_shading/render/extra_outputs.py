@@ -1,7 +1,9 @@
 """Extra per-pixel outputs for datasets: surface normals (eye or world space) and object ids.
 
 A second, small render pass (wgsl/extra_outputs.wgsl) into one rgba32float target: normal
-in xyz, 1 + object index in w (0 = background). It shares the Renderer's device and mesh
+in xyz, the segment id in w (1 + the index of the object's part in `segments`; 0 = background).
+Every part is drawn opaque: alpha masks and blending of the colour pass do not apply (ids and
+normals are of the nearest surface). It shares the Renderer's device and mesh
 uploads, and uses the same float32 matrices as the lit pass, so its coverage and depth
 order are those of the colour image. Frames are pipelined like render_many: the next
 frame is submitted before the previous one is read back.
@@ -18,7 +20,8 @@ import wgpu
 from pyglm import glm
 
 from ..errors import SceneError
-from ..scene import Scene
+from ..scene import Scene, SceneObject
+from ..scene.mesh import MeshPart
 from .layout import layouts_for
 from .pipelines import DEPTH_FORMAT
 from .resources import padded_row_bytes, read_buffer
@@ -32,10 +35,16 @@ NORMAL_SPACES = ("eye", "world")
 _FORMAT = wgpu.TextureFormat.rgba32float
 
 
+def segments(scene: Scene) -> list[tuple[SceneObject, MeshPart]]:
+    """What the ids number: every part of every object, in scene order (objects in order,
+    each mesh's parts in file order; a mesh without parts is one part). Id k is entry k-1."""
+    return [(obj, part) for obj in scene.objects for part in obj.mesh.parts if part.count > 0]
+
+
 @dataclass(frozen=True)
 class ExtraFrame:
     """normals: (height, width, 3) float32 unit vectors, 0 where nothing was drawn.
-    ids: (height, width) uint16, 0 = background, k = the scene's object k-1."""
+    ids: (height, width) uint16, 0 = background, k = segments(scene)[k-1] (object and part)."""
 
     normals: np.ndarray
     ids: np.ndarray
@@ -79,7 +88,7 @@ class ExtraOutputs:
             multisample={"count": 1},
             fragment={"module": module, "entry_point": "fs_main", "targets": [{"format": _FORMAT}]},
         )
-        self._uniforms: dict[int, tuple[object, object]] = {}  # object index → (buffer, bind group)
+        self._uniforms: dict[int, tuple[object, object]] = {}  # segment id → (buffer, bind group)
         self._free: dict[tuple[int, int], list[_Target]] = {}
 
     def render(self, scene: Scene, space: str = "eye") -> ExtraFrame:
@@ -137,7 +146,7 @@ class ExtraOutputs:
             },
         )
         render_pass.set_pipeline(self._pipeline)
-        for index, obj in enumerate(scene.objects):
+        for segment, (obj, part) in enumerate(segments(scene), 1):
             model = obj.model_matrix()
             model_view = eye_from_world * model
             normal_from_model = glm.inverseTranspose(glm.dmat3(model_view if space == "eye" else model))
@@ -145,13 +154,13 @@ class ExtraOutputs:
             data["clip_from_eye"] = clip
             data["eye_from_model"] = np.array(model_view).T
             data["output_normal_from_model"][:, :3] = np.array(normal_from_model).T
-            data["object_id"] = index + 1
-            render_pass.set_bind_group(0, self._object_uniforms(index, data))
+            data["object_id"] = segment
+            render_pass.set_bind_group(0, self._object_uniforms(segment, data))
             gpu_mesh = self._renderer._gpu_mesh(obj.mesh)
             render_pass.set_vertex_buffer(0, gpu_mesh.positions)
             render_pass.set_vertex_buffer(1, gpu_mesh.normals)
             render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
-            render_pass.draw_indexed(3 * gpu_mesh.triangle_count)
+            render_pass.draw_indexed(3 * part.count, 1, 3 * part.first, 0, 0)
         render_pass.end()
         encoder.copy_texture_to_buffer(
             {"texture": target.color},

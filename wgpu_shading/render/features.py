@@ -26,6 +26,7 @@ class FeatureSet:
     texture_mode: str | None = None  # None | modulate | modulate_all | blend
     two_sided: bool = False
     local_viewer: bool = True
+    clamp_vertex_colors: bool = False  # flat/Gouraud: OpenGL's per-vertex clamp (SPEC §13)
     vertex_colors: bool = False  # the mesh has colors: they multiply ambient and diffuse
     alpha_mode: str = "opaque"  # opaque (alpha 1) | mask (discard below the cutoff) | blend
     unlit: bool = False  # KHR_materials_unlit: the surface color, no lighting
@@ -54,6 +55,7 @@ class FeatureSet:
             "TEXTURE_BLEND": self.texture_mode == "blend",
             "TWO_SIDED": self.two_sided,
             "LOCAL_VIEWER": self.local_viewer,
+            "CLAMP_VERTEX_COLORS": self.clamp_vertex_colors,
             "VERTEX_COLORS": self.vertex_colors,
             "ALPHA_MASK": self.alpha_mode == "mask",
             "ALPHA_BLEND": self.alpha_mode == "blend",
@@ -81,6 +83,8 @@ class FeatureSet:
             f"two_sided={self.two_sided}",
             f"viewer={'local' if self.local_viewer else 'infinite'}",
         ]
+        if self.clamp_vertex_colors:
+            parts.append("clamp_vertex_colors=True")
         if self.vertex_colors:
             parts.append("vertex_colors=True")
         if self.alpha_mode != "opaque":
@@ -130,6 +134,8 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         texture_mode=texture_mode,
         two_sided=scene.shading.two_sided,
         local_viewer=scene.shading.local_viewer,
+        # Phong shading has no vertex colors: leaving the flag out keeps one pipeline for both.
+        clamp_vertex_colors=scene.shading.clamp_vertex_colors and scene.shading.frequency != "phong",
         vertex_colors=obj.mesh.colors is not None,
         alpha_mode=material.alpha_mode,
         unlit=material.unlit,

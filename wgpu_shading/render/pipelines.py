@@ -115,14 +115,14 @@ class PipelineCache:
             )
         return self._group_layouts[entries]
 
-    def get(self, features: FeatureSet, color_format: str = "rgba8", mirrored: bool = False) -> PipelineEntry:
-        key = (features, color_format, mirrored)
+    def get(self, features: FeatureSet, color_format: str = "rgba8", mirrored: bool = False, samples: int = 1) -> PipelineEntry:
+        key = (features, color_format, mirrored, samples)
         entry = self._pipelines.get(key)
         if entry is None:
-            entry = self._pipelines.put(key, self._create(features, color_format, mirrored))
+            entry = self._pipelines.put(key, self._create(features, color_format, mirrored, samples))
         return entry
 
-    def _create(self, features: FeatureSet, color_format: str, mirrored: bool) -> PipelineEntry:
+    def _create(self, features: FeatureSet, color_format: str, mirrored: bool, samples: int) -> PipelineEntry:
         source = generate_wgsl(features)
         layouts: Layouts = layouts_for(source)
         group_layouts = tuple(self.group_layout(entries) for entries in bind_group_entries(features))
@@ -146,7 +146,7 @@ class PipelineCache:
                 "depth_write_enabled": features.alpha_mode != "blend",
                 "depth_compare": wgpu.CompareFunction.greater,  # reversed Z
             },
-            multisample={"count": 1},
+            multisample={"count": samples},
             fragment={
                 "module": module,
                 "entry_point": "fs_main",

@@ -53,24 +53,24 @@ def render_many(
         raise ValueError(f"parallel must be at least 1, got {parallel}")
     workers = [renderer, *renderer._helper_renderers(parallel - 1)]
     color_format = "float32" if float32 else "rgba8"
-    free_targets: dict[tuple[int, tuple[int, int]], list] = {}
+    free_targets: dict[tuple[int, tuple[int, int], int], list] = {}
     pending: deque = deque()  # (worker, scene, target) submitted but not yet read, oldest first
 
     def read_oldest() -> "Frame":
         worker, scene, target = pending.popleft()
         with worker._lock, worker._device_errors():
             frame = worker._read(target, scene, read_depth=depth)
-        free_targets[(id(worker), scene.size)].append(target)
+        free_targets[(id(worker), scene.size, scene.samples)].append(target)
         return frame
 
     for index, scene in enumerate(scenes):
         check_scene_argument(scene, f"render_many: scene {index}")
         worker = workers[index % len(workers)]
-        worker._check_size(scene.size, color_format)
+        worker._check_size(scene.size, color_format, scene.samples)
         if len(pending) >= in_flight * len(workers):
             yield read_oldest()
-        slots = free_targets.setdefault((id(worker), scene.size), [])
-        target = slots.pop() if slots else worker._new_target(scene.size[0], scene.size[1], color_format)
+        slots = free_targets.setdefault((id(worker), scene.size, scene.samples), [])
+        target = slots.pop() if slots else worker._new_target(scene.size[0], scene.size[1], color_format, scene.samples)
         # Under the worker's lock: another thread's render_frame on the same renderer must
         # not rewrite the uniform buffers between this frame's writes and its submit.
         with worker._lock, worker._device_errors():

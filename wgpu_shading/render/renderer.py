@@ -43,6 +43,8 @@ from .features import FeatureSet, object_features
 from .pipelines import PipelineCache, PipelineEntry
 from .pipelining import render_many
 from .resources import (
+    cached_bind_group,
+    check_target_size,
     BYTES_PER_PIXEL,
     GpuMesh,
     GpuTexture,
@@ -69,6 +71,12 @@ class Frame:
 
     color: np.ndarray
     depth: np.ndarray | None = None
+
+    def _repr_png_(self) -> bytes:
+        """Jupyter (and IPython's display) shows a Frame as its color image."""
+        from ..assets.images import png_bytes
+
+        return png_bytes(self.color)
 
 
 
@@ -149,7 +157,7 @@ class Renderer:
         check_scene_argument(scene, "render")
         color_format = "float32" if float32 else "rgba8"
         with self._lock, self._device_errors():
-            target = self._target(scene.size, color_format)
+            target = self._target(scene.size, color_format, scene.samples)
             self._submit(scene, target, read_depth=depth)
             return self._read(target, scene, read_depth=depth)
 
@@ -192,31 +200,20 @@ class Renderer:
 
     # ------------------------------------------------------------------ resources
 
-    def _check_size(self, size: tuple[int, int], color_format: str) -> None:
-        width, height = size
-        limit = self._device.limits["max-texture-dimension-2d"]
-        if width > limit or height > limit:
-            raise SceneError(f"output.size {width}×{height} exceeds this adapter's limit of {limit} pixels per side")
-        readback_bytes = padded_row_bytes(width, BYTES_PER_PIXEL[color_format]) * height
-        if readback_bytes > self._device.limits["max-buffer-size"]:
-            raise SceneError(
-                f"output.size {width}×{height} with the {color_format} target needs a "
-                f"{readback_bytes / 2**30:.1f} GiB readback buffer; this adapter allows "
-                f"{self._device.limits['max-buffer-size'] / 2**30:.1f} GiB (use a smaller size"
-                + (" or the 8-bit target)" if color_format != "rgba8" else ")")
-            )
+    def _check_size(self, size: tuple[int, int], color_format: str, samples: int = 1) -> None:
+        check_target_size(self._device, size, color_format, samples)
 
-    def _target(self, size: tuple[int, int], color_format: str) -> Target:
+    def _target(self, size: tuple[int, int], color_format: str, samples: int = 1) -> Target:
         width, height = size
-        key = (width, height, color_format)
+        key = (width, height, color_format, samples)
         target = self._targets.get(key)
         if target is None:
-            self._check_size(size, color_format)
-            target = self._targets.put(key, self._new_target(width, height, color_format))
+            self._check_size(size, color_format, samples)
+            target = self._targets.put(key, self._new_target(width, height, color_format, samples))
         return target
 
-    def _new_target(self, width: int, height: int, color_format: str) -> Target:
-        return new_target(self._device, width, height, color_format)
+    def _new_target(self, width: int, height: int, color_format: str, samples: int = 1) -> Target:
+        return new_target(self._device, width, height, color_format, samples)
 
     def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False, with_colors: bool = False) -> GpuMesh:
         gpu_mesh = self._meshes.get(mesh)
@@ -247,25 +244,12 @@ class Renderer:
         return buffer
 
     def _bind_group(self, cache: LruCache, layout, resources: tuple) -> object:
-        """A bind group, cached in `cache`: the LRU cache of whoever owns the resources (the
-        renderer for uniform buffers, a GpuMesh for its buffers, a GpuTexture for its view).
-        The key holds the bound objects themselves (identity-hashed), not their id()s: an
-        evicted buffer's id may be reused by a new one, which must not find the old group."""
-        key = (layout,) + tuple(resources)
-        group = cache.get(key)
-        if group is None:
-            entries = []
-            for binding, resource in enumerate(resources):
-                if isinstance(resource, wgpu.GPUBuffer):
-                    resource = {"buffer": resource, "offset": 0, "size": resource.size}
-                entries.append({"binding": binding, "resource": resource})
-            group = self._device.create_bind_group(layout=layout, entries=entries)
-            cache.put(key, group)
-        return group
+        """A bind group, cached in `cache` (see resources.cached_bind_group)."""
+        return cached_bind_group(self._device, cache, layout, resources)
 
     # ------------------------------------------------------------------ frame
 
-    def _prepare(self, scene: Scene, color_format: str, eye_from_world: glm.dmat4) -> list[_Draw]:
+    def _prepare(self, scene: Scene, color_format: str, eye_from_world: glm.dmat4, samples: int = 1) -> list[_Draw]:
         """One draw per (object, part): opaque and masked parts first, in scene order, then
         blended parts back to front (by the eye-space depth of each part's centre), so
         that what lies behind a translucent part is already drawn (SPEC §12)."""
@@ -279,7 +263,7 @@ class Renderer:
                 if part.count == 0:
                     continue
                 features = object_features(scene, obj, index, material)
-                entry = self._pipelines.get(features, color_format, mirrored)
+                entry = self._pipelines.get(features, color_format, mirrored, samples)
                 texture = self._gpu_texture(material.texture) if features.texture_mode else None
                 draw = _Draw(
                     entry=entry,
@@ -305,19 +289,50 @@ class Renderer:
     def _submit(self, scene: Scene, target: Target, *, read_depth: bool) -> None:
         device = self._device
         eye_from_world = scene.camera.view_matrix()  # once per frame
-        draws = self._prepare(scene, target.color_format, eye_from_world)
         encoder = device.create_command_encoder()
+        if target.samples > 1 and read_depth:
+            # Multisampled depth cannot be copied out: a single-sample pass first writes the
+            # depth that is read (pixel centres, as without MSAA); the MSAA pass then
+            # overwrites the color with its resolved, antialiased image.
+            single = self._prepare(scene, target.color_format, eye_from_world, 1)
+            self._encode_pass(encoder, scene, single, eye_from_world, target.color_view, None, target.depth_view)
+        if target.samples > 1:
+            draws = self._prepare(scene, target.color_format, eye_from_world, target.samples)
+            self._encode_pass(
+                encoder, scene, draws, eye_from_world, target.msaa_color_view, target.color_view, target.msaa_depth_view
+            )
+        else:
+            draws = self._prepare(scene, target.color_format, eye_from_world)
+            self._encode_pass(encoder, scene, draws, eye_from_world, target.color_view, None, target.depth_view)
+        size = (target.width, target.height, 1)
+        encoder.copy_texture_to_buffer(
+            {"texture": target.color},
+            {"buffer": target.color_readback, "bytes_per_row": target.color_row_bytes, "rows_per_image": target.height},
+            size,
+        )
+        if read_depth:
+            encoder.copy_texture_to_buffer(
+                {"texture": target.depth, "aspect": wgpu.TextureAspect.depth_only},
+                {"buffer": target.depth_readback, "bytes_per_row": target.depth_row_bytes, "rows_per_image": target.height},
+                size,
+            )
+        device.queue.submit([encoder.finish()])
+
+    def _encode_pass(self, encoder, scene: Scene, draws: list[_Draw], eye_from_world, color_view, resolve_view, depth_view) -> None:
+        """One render pass drawing `draws`; with `resolve_view`, the multisampled color is
+        averaged into it at the end of the pass."""
+        color_attachment = {
+            "view": color_view,
+            "clear_value": scene.background,
+            "load_op": wgpu.LoadOp.clear,
+            "store_op": wgpu.StoreOp.store,
+        }
+        if resolve_view is not None:
+            color_attachment["resolve_target"] = resolve_view
         render_pass = encoder.begin_render_pass(
-            color_attachments=[
-                {
-                    "view": target.color_view,
-                    "clear_value": scene.background,
-                    "load_op": wgpu.LoadOp.clear,
-                    "store_op": wgpu.StoreOp.store,
-                }
-            ],
+            color_attachments=[color_attachment],
             depth_stencil_attachment={
-                "view": target.depth_view,
+                "view": depth_view,
                 "depth_clear_value": 0.0,  # reversed Z: 0 is the far plane
                 "depth_load_op": wgpu.LoadOp.clear,
                 "depth_store_op": wgpu.StoreOp.store,
@@ -326,7 +341,7 @@ class Renderer:
         if draws:
             # Every object shares the frame uniforms; their layout depends only on scene-level features.
             frame_data = frame_uniforms(scene, draws[0].entry.frame_dtype, eye_from_world)
-            uniform_limit = device.limits["max-uniform-buffer-binding-size"]
+            uniform_limit = self._device.limits["max-uniform-buffer-binding-size"]
             if frame_data.nbytes > uniform_limit:
                 render_pass.end()
                 raise SceneError(
@@ -369,19 +384,6 @@ class Renderer:
                 render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
                 render_pass.draw_indexed(corner_count, 1, first_corner, 0, 0)
         render_pass.end()
-        size = (target.width, target.height, 1)
-        encoder.copy_texture_to_buffer(
-            {"texture": target.color},
-            {"buffer": target.color_readback, "bytes_per_row": target.color_row_bytes, "rows_per_image": target.height},
-            size,
-        )
-        if read_depth:
-            encoder.copy_texture_to_buffer(
-                {"texture": target.depth, "aspect": wgpu.TextureAspect.depth_only},
-                {"buffer": target.depth_readback, "bytes_per_row": target.depth_row_bytes, "rows_per_image": target.height},
-                size,
-            )
-        device.queue.submit([encoder.finish()])
 
     def _read(self, target: Target, scene: Scene, *, read_depth: bool) -> Frame:
         color = read_buffer(

@@ -57,6 +57,12 @@ class Target:
     depth_readback: object
     color_row_bytes: int
     depth_row_bytes: int
+    # MSAA (samples > 1): the multisampled attachments drawn into; `color` is then their
+    # resolve target (what is read back) and `depth` the single-sample depth of a second,
+    # depth-only-use pass, drawn when depth is read (multisampled depth cannot be copied).
+    samples: int = 1
+    msaa_color_view: object = None
+    msaa_depth_view: object = None
 
 
 def padded_row_bytes(width: int, bytes_per_pixel: int) -> int:
@@ -95,9 +101,9 @@ def mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
 
 
 
-def new_target(device, width: int, height: int, color_format: str) -> Target:
+def new_target(device, width: int, height: int, color_format: str, samples: int = 1) -> Target:
     """Fresh color and depth textures with their readback buffers (render_many keeps one
-    set per frame in flight)."""
+    set per frame in flight); with samples > 1 also the multisampled attachments."""
     color = device.create_texture(
         size=(width, height, 1),
         format=COLOR_FORMATS[color_format],
@@ -111,6 +117,13 @@ def new_target(device, width: int, height: int, color_format: str) -> Target:
     color_row_bytes = padded_row_bytes(width, BYTES_PER_PIXEL[color_format])
     depth_row_bytes = padded_row_bytes(width, 4)
     readback_usage = wgpu.BufferUsage.MAP_READ | wgpu.BufferUsage.COPY_DST
+    msaa = {}
+    if samples > 1:
+        for name, texture_format in (("msaa_color_view", COLOR_FORMATS[color_format]), ("msaa_depth_view", DEPTH_FORMAT)):
+            msaa[name] = device.create_texture(
+                size=(width, height, 1), format=texture_format, sample_count=samples,
+                usage=wgpu.TextureUsage.RENDER_ATTACHMENT,
+            ).create_view()
     return Target(
         width=width,
         height=height,
@@ -123,6 +136,8 @@ def new_target(device, width: int, height: int, color_format: str) -> Target:
         depth_readback=device.create_buffer(size=depth_row_bytes * height, usage=readback_usage),
         color_row_bytes=color_row_bytes,
         depth_row_bytes=depth_row_bytes,
+        samples=samples,
+        **msaa,
     )
 
 
@@ -192,3 +207,43 @@ def read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels
     finally:
         buffer.unmap()
     return image
+
+
+def check_target_size(device, size: tuple[int, int], color_format: str, samples: int = 1) -> None:
+    """A clear error for an output the adapter cannot render or read back."""
+    if samples > 1 and color_format != "rgba8":
+        # WebGPU cannot resolve (average) multisampled rgba32float targets.
+        raise SceneError(
+            f"output.samples {samples}: antialiasing needs the 8-bit target; the float32 "
+            "target (.npy, --float) is single-sample only (use samples = 1)"
+        )
+    width, height = size
+    limit = device.limits["max-texture-dimension-2d"]
+    if width > limit or height > limit:
+        raise SceneError(f"output.size {width}×{height} exceeds this adapter's limit of {limit} pixels per side")
+    readback_bytes = padded_row_bytes(width, BYTES_PER_PIXEL[color_format]) * height
+    if readback_bytes > device.limits["max-buffer-size"]:
+        raise SceneError(
+            f"output.size {width}×{height} with the {color_format} target needs a "
+            f"{readback_bytes / 2**30:.1f} GiB readback buffer; this adapter allows "
+            f"{device.limits['max-buffer-size'] / 2**30:.1f} GiB (use a smaller size"
+            + (" or the 8-bit target)" if color_format != "rgba8" else ")")
+        )
+
+
+def cached_bind_group(device, cache: LruCache, layout, resources: tuple) -> object:
+    """A bind group, cached in `cache`: the LRU cache of whoever owns the resources (the
+    renderer for uniform buffers, a GpuMesh for its buffers, a GpuTexture for its view).
+    The key holds the bound objects themselves (identity-hashed), not their id()s: an
+    evicted buffer's id may be reused by a new one, which must not find the old group."""
+    key = (layout,) + tuple(resources)
+    group = cache.get(key)
+    if group is None:
+        entries = []
+        for binding, resource in enumerate(resources):
+            if isinstance(resource, wgpu.GPUBuffer):
+                resource = {"buffer": resource, "offset": 0, "size": resource.size}
+            entries.append({"binding": binding, "resource": resource})
+        group = device.create_bind_group(layout=layout, entries=entries)
+        cache.put(key, group)
+    return group

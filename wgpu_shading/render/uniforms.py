@@ -19,17 +19,31 @@ from ..scene import Camera, DirectionalLight, Material, Scene, SceneObject, Spot
 
 
 def clip_from_eye(camera: Camera, aspect: float) -> np.ndarray:
-    """Perspective projection with reversed Z: depth 1 at the near plane, 0 at the far plane.
+    """The projection with reversed Z: depth 1 at the near plane, 0 at the far plane.
 
-    Paired with a float32 depth buffer and the `greater` test, reversed Z spreads float
-    precision evenly over distance, so near/far ratios of 1e-7 do not z-fight. It is the
-    right-handed zero-to-one (Vulkan) perspective with near and far swapped, built in
-    double precision: pyglm's perspective functions exist in single precision only, and
-    rounding their tan() and quotients in float32 moved triangle edges by a pixel against
-    the float64 reference (tests/test_gpu_vs_reference.py, the hard-case meshes).
+    Perspective: paired with a float32 depth buffer and the `greater` test, reversed Z
+    spreads float precision evenly over distance, so near/far ratios of 1e-7 do not
+    z-fight. It is the right-handed zero-to-one (Vulkan) perspective with near and far
+    swapped, built in double precision: pyglm's perspective functions exist in single
+    precision only, and rounding their tan() and quotients in float32 moved triangle edges
+    by a pixel against the float64 reference (tests/test_gpu_vs_reference.py).
+
+    Orthographic: glOrtho's box, `camera.view_height()` tall and as wide as the aspect
+    asks, centred on the view axis; depth falls linearly from 1 at near to 0 at far (the
+    same reversed convention, so the depth test and clear value do not change).
     """
-    focal = 1.0 / math.tan(math.radians(camera.fov_y) / 2.0)
     near, far = camera.near, camera.far
+    if camera.orthographic:
+        half_height = camera.view_height() / 2.0
+        return np.array(
+            glm.dmat4(
+                glm.dvec4(1.0 / (half_height * aspect), 0.0, 0.0, 0.0),  # columns
+                glm.dvec4(0.0, 1.0 / half_height, 0.0, 0.0),
+                glm.dvec4(0.0, 0.0, 1.0 / (far - near), 0.0),
+                glm.dvec4(0.0, 0.0, far / (far - near), 1.0),
+            )
+        )
+    focal = 1.0 / math.tan(math.radians(camera.fov_y) / 2.0)
     return np.array(
         glm.dmat4(
             glm.dvec4(focal / aspect, 0.0, 0.0, 0.0),  # columns
@@ -44,8 +58,11 @@ def linear_depth(depth: np.ndarray, camera: Camera) -> np.ndarray:
     """Eye-space distance along the view axis from reversed-Z depth; inf where nothing was drawn."""
     near, far = camera.near, camera.far
     depth = depth.astype(np.float64)
-    with np.errstate(divide="ignore"):
-        distance = near * far / (depth * (far - near) + near)
+    if camera.orthographic:
+        distance = far - depth * (far - near)
+    else:
+        with np.errstate(divide="ignore"):
+            distance = near * far / (depth * (far - near) + near)
     return np.where(depth > 0.0, distance, np.inf)
 
 

@@ -1,15 +1,17 @@
-"""The camera: gluLookAt + gluPerspective, validated."""
+"""The camera: gluLookAt + gluPerspective (or glOrtho), validated."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from pyglm import glm
 
 from ..errors import SceneError
-from .values import Vec3, _set, direction, number, vec3
+from .values import MAX_COORDINATE, Vec3, _set, choice, direction, number, vec3
+
+PROJECTIONS: tuple[str, ...] = ("perspective", "orthographic")
 
 # The projection matrix goes to the GPU in float32: its terms focal, near/(far-near) and
 # near·far/(far-near) must be normal float32 numbers (not denormal, not infinite), and
@@ -21,7 +23,10 @@ MAX_FAR_OVER_NEAR = 1e30
 
 @dataclass(frozen=True)
 class Camera:
-    """A perspective camera (gluLookAt + gluPerspective)."""
+    """A camera at `eye` looking at `target` (gluLookAt), with a perspective projection
+    (gluPerspective: `fov_y`) or an orthographic one (glOrtho: `ortho_height` world units
+    from the bottom to the top of the image; None = the perspective view's height at the
+    target's distance, so switching projection keeps the framing)."""
 
     eye: Vec3 = (0.0, 0.0, 3.0)
     target: Vec3 = (0.0, 0.0, 0.0)
@@ -29,6 +34,8 @@ class Camera:
     fov_y: float = 45.0  # degrees, vertical
     near: float = 0.1
     far: float = 100.0
+    projection: str = "perspective"  # perspective | orthographic
+    ortho_height: float | None = None
 
     def __post_init__(self) -> None:
         eye = vec3(self.eye, "camera.eye")
@@ -57,7 +64,45 @@ class Camera:
             raise SceneError(f"camera: eye {list(eye)} and target {list(target)} coincide; the view direction is undefined")
         if glm.length(glm.cross(forward / distance, glm.normalize(glm.dvec3(*up)))) < 1e-9:
             raise SceneError(f"camera.up {list(up)} is parallel to the view direction; pick an up vector that is not")
-        _set(self, eye=eye, target=target, up=up, fov_y=fov_y, near=near, far=far)
+        projection = choice(self.projection, "camera.projection", PROJECTIONS)
+        ortho_height = self.ortho_height
+        if ortho_height is not None:
+            ortho_height = number(ortho_height, "camera.ortho_height", 0.0, MAX_COORDINATE, low_open=True)
+            if projection != "orthographic":  # would be silently ignored
+                raise SceneError(
+                    f"camera.ortho_height ({ortho_height:g}) needs projection = \"orthographic\" (projection is {projection!r})"
+                )
+        _set(self, eye=eye, target=target, up=up, fov_y=fov_y, near=near, far=far,
+             projection=projection, ortho_height=ortho_height)
+
+    @property
+    def orthographic(self) -> bool:
+        return self.projection == "orthographic"
+
+    def view_height(self) -> float:
+        """World units from the bottom to the top of the image at the target's distance:
+        `ortho_height` if set, else the perspective view's (2·distance·tan(fov_y/2))."""
+        if self.ortho_height is not None:
+            return self.ortho_height
+        distance = glm.length(glm.dvec3(*self.target) - glm.dvec3(*self.eye))
+        return 2.0 * distance * math.tan(math.radians(self.fov_y) / 2.0)
+
+    def orbited(self, azimuth: float = 0.0, elevation: float = 0.0) -> "Camera":
+        """The camera moved around its target (VTK's/f3d's Azimuth then Elevation, degrees):
+        azimuth turns the eye about the up vector (positive: to the viewer's right, seen from
+        above), elevation about the camera's right axis (positive: up); the up vector turns
+        with it, so elevation past 90 degrees does not degenerate."""
+        if not azimuth and not elevation:
+            return self
+        eye, target, up = glm.dvec3(*self.eye), glm.dvec3(*self.target), glm.dvec3(*self.up)
+        offset = eye - target
+        if azimuth:
+            offset = glm.dmat3(glm.rotate(math.radians(azimuth), glm.normalize(up))) * offset
+        if elevation:
+            right = glm.normalize(glm.cross(-offset, up))  # view direction × up
+            turn = glm.dmat3(glm.rotate(math.radians(elevation), -right))
+            offset, up = turn * offset, turn * up
+        return replace(self, eye=tuple(target + offset), up=tuple(up))
 
     def view_matrix(self) -> glm.dmat4:
         """The view matrix (gluLookAt, right-handed), in double precision: camera-relative

@@ -27,9 +27,16 @@ import numpy as np
 
 def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit face normals (zero for zero-area faces) and twice the face areas, float64."""
-    p0, p1, p2 = (positions[faces[:, k]] for k in range(3))
-    cross = np.cross(p1 - p0, p2 - p0)
-    length = np.linalg.norm(cross, axis=1)
+    # Component by component: np.cross on (F, 3) arrays and row gathers cost 4x more.
+    x, y, z = (np.ascontiguousarray(positions[:, k], dtype=np.float64) for k in range(3))
+    i0, i1, i2 = (np.ascontiguousarray(faces[:, k]) for k in range(3))
+    ax, ay, az = x[i1] - x[i0], y[i1] - y[i0], z[i1] - z[i0]
+    bx, by, bz = x[i2] - x[i0], y[i2] - y[i0], z[i2] - z[i0]
+    cross = np.empty((len(faces), 3))
+    cross[:, 0] = ay * bz - az * by
+    cross[:, 1] = az * bx - ax * bz
+    cross[:, 2] = ax * by - ay * bx
+    length = np.sqrt(np.einsum("ij,ij->i", cross, cross))
     scale = np.max(np.abs(positions)) if len(positions) else 1.0
     # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
     degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
@@ -41,6 +48,12 @@ def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
 def weld_by_position(positions: np.ndarray) -> np.ndarray:
     """(N,) id of each vertex's welded vertex (equal coordinates share an id, 0..M-1)."""
     count = len(positions)
+    # Fast path for meshes that are already welded (scans, most PLY/OBJ): one sort of a
+    # single key. Equal positions give equal keys, so distinct keys prove distinct
+    # positions; equal keys (a duplicate, or a rare coincidence) take the full lexsort.
+    key = np.sort(positions[:, 0] + 0.7548776662466927 * positions[:, 1] + 0.5698402909980532 * positions[:, 2])
+    if not np.any(key[1:] == key[:-1]):
+        return np.arange(count, dtype=np.int64)
     order = np.lexsort((positions[:, 2], positions[:, 1], positions[:, 0]))
     ordered = positions[order]
     new = np.empty(count, bool)
@@ -71,18 +84,37 @@ def _components(count: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
             label = jumped
 
 
-def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray, unit: np.ndarray, area: np.ndarray, count: int) -> np.ndarray:
+def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray | None, unit: np.ndarray, area: np.ndarray, count: int,
+                    spread: list | None = None) -> np.ndarray:
     """Per label (0..count-1): the normalized sum of the unit normals of the faces of its
-    corners; where the sum cancels, the largest face's normal (the seeds' rule)."""
-    summed = np.stack([np.bincount(labels, weights=unit[corner_faces, k], minlength=count) for k in range(3)], axis=1)
+    corners (corner_faces None: every corner, in order); where the sum cancels, the
+    largest face's normal (the seeds' rule)."""
+    if corner_faces is None:
+        # Corner k of every face at once: 9 bincounts over F values are 2x faster than 3
+        # over 3F repeated weights (no (3F,) temporaries).
+        columns = [np.ascontiguousarray(unit[:, j]) for j in range(3)]
+        has_area = (area > 0).astype(float)
+        summed = np.zeros((count, 3))
+        adjacent = np.zeros(count)
+        for k in range(3):
+            corner_labels = np.ascontiguousarray(labels.reshape(-1, 3)[:, k])
+            for j in range(3):
+                summed[:, j] += np.bincount(corner_labels, weights=columns[j], minlength=count)
+            adjacent += np.bincount(corner_labels, weights=has_area, minlength=count)
+    else:
+        summed = np.stack([np.bincount(labels, weights=unit[corner_faces, k], minlength=count) for k in range(3)], axis=1)
+        adjacent = np.bincount(labels, weights=(area[corner_faces] > 0).astype(float), minlength=count)
     length = np.sqrt(np.einsum("ij,ij->i", summed, summed))
-    adjacent = np.bincount(labels, weights=(area[corner_faces] > 0).astype(float), minlength=count)
+    if spread is not None:  # k − |sum|: how far the k unit normals are from all being equal
+        spread.append(adjacent - length)
     # A sum of k unit vectors shorter than 1e-6·k has cancelled: its direction is noise.
     good = length > 1e-6 * np.maximum(adjacent, 1.0)
     result = np.zeros_like(summed)
     result[good] = summed[good] / length[good, None]
     cancelled = ~good & (adjacent > 0)
     if cancelled.any():  # larger faces overwrite smaller ones
+        if corner_faces is None:
+            corner_faces = np.repeat(np.arange(len(unit)), 3)
         order = np.argsort(area[corner_faces], kind="stable")
         keep = cancelled[labels[order]] & (area[corner_faces[order]] > 0)
         result[labels[order][keep]] = unit[corner_faces[order][keep]]
@@ -109,8 +141,8 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     welded_faces = welded[faces]
     corner_welded = welded_faces.reshape(-1)
     unit, area = face_normals(positions, faces)
-    corner_faces = np.repeat(np.arange(face_count), 3)
-    mean_normal = _summed_normals(corner_welded, corner_faces, unit, area, welded_count)
+    spread: list = []
+    mean_normal = _summed_normals(corner_welded, None, unit, area, welded_count, spread)
     flat = None if flat_faces is None or not np.any(flat_faces) else np.asarray(flat_faces, bool)
     label = corner_welded  # a fan per welded vertex (index into `table`)
     table = mean_normal
@@ -118,19 +150,31 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         # Corners whose face leans more than crease/2 from the vertex's mean normal (or is
         # flat, or has no area) put their vertex under the full per-fan analysis.
         half = math.radians(min(max(crease_angle, 0.0), 180.0)) / 2.0
-        lean = np.einsum("fkj,fj->fk", mean_normal[welded_faces], unit)
-        suspicious = (lean < math.cos(half) - 1e-12) | (area <= 0)[:, None]
-        if flat is not None:
-            suspicious |= flat[:, None]
+        # Cheap exact pre-test: with k unit normals of sum S around a vertex, each one's
+        # cosine to the mean is at least |S| − (k − 1); so k − |S| <= 1 − cos(half) clears
+        # the vertex without looking at its corners (every vertex of a smooth scan).
+        maybe = spread[0] > (1.0 - math.cos(half)) - 1e-9
         near_crease = np.zeros(welded_count, bool)
-        near_crease[corner_welded[suspicious.reshape(-1)]] = True
+        if maybe.any():
+            corners = np.flatnonzero(maybe[corner_welded])  # only their corners: the exact test
+            corner_vertex = corner_welded[corners]
+            lean = np.einsum("ij,ij->i", mean_normal[corner_vertex], unit[corners // 3])
+            near_crease[corner_vertex[lean < math.cos(half) - 1e-9]] = True
+        degenerate = np.flatnonzero(area <= 0)
+        if len(degenerate):
+            near_crease[welded_faces[degenerate].reshape(-1)] = True
+        if flat is not None:
+            near_crease[welded_faces[flat].reshape(-1)] = True
         if near_crease.any():
+            corner_faces = np.repeat(np.arange(face_count), 3)
             label = _fan_labels(welded_faces, near_crease, unit, area, crease_angle, flat, corner_faces, welded_count)
             extra = int(label.max()) + 1 - welded_count
             if extra > 0:
                 crease_corners = np.flatnonzero(label >= welded_count)
                 fan_normals = _summed_normals(label[crease_corners] - welded_count, corner_faces[crease_corners], unit, area, extra)
                 table = np.vstack([mean_normal, fan_normals])
+    if label is corner_welded:  # one fan per welded vertex: every given vertex takes its vertex's
+        return None, faces.astype(np.uint32), table[welded]
     flat_corners = faces.reshape(-1)
     # Does every given vertex lie in exactly one fan? Then no vertex needs splitting.
     vertex_fan = np.full(vertex_count, -1, np.int64)

@@ -35,6 +35,7 @@ from .values import (
 # Eye-space coordinates of every object stay within this: squared distances and lengths
 # computed in float32 by the shaders (up to 3·(2e18)²) then stay below float32's 3.4e38.
 MAX_EYE_COORDINATE = 1e18
+SAMPLE_COUNTS = (1, 4)  # what every WebGPU adapter supports for render targets
 
 # Euler XYZ about fixed axes is R = Rz · Ry · Rx: applied to the matrix in the order Z, Y, X.
 _AXES_ZYX = (glm.dvec3(0.0, 0.0, 1.0), glm.dvec3(0.0, 1.0, 0.0), glm.dvec3(1.0, 0.0, 0.0))
@@ -148,9 +149,12 @@ class Shading:
     blinn_exponent_scale: float = 1.0  # k_blinn: Blinn-Phong exponent = shininess × this
     local_viewer: bool = True
     two_sided: bool = False
+    # Flat/Gouraud: clamp each vertex's (face's) color to [0, 1] before interpolation, as
+    # OpenGL fixed-function does; default False is the seeds' GLSL (clamp per fragment only).
+    clamp_vertex_colors: bool = False
 
     def __post_init__(self) -> None:
-        for key in ("local_viewer", "two_sided"):
+        for key in ("local_viewer", "two_sided", "clamp_vertex_colors"):
             if not isinstance(getattr(self, key), bool):
                 raise SceneError(f"shading.{key}: expected true or false, got {getattr(self, key)!r}")
         _set(
@@ -173,8 +177,12 @@ class Scene:
     ambient: Color = (0.2, 0.2, 0.2, 1.0)  # global ambient (GL_LIGHT_MODEL_AMBIENT)
     size: tuple[int, int] = (512, 512)  # width, height
     background: Color = (0.0, 0.0, 0.0, 1.0)
+    # Antialiasing: MSAA samples per pixel, 1 (off: pixel-comparable with the GL references) or 4.
+    samples: int = 1
 
     def __post_init__(self) -> None:
+        if self.samples not in SAMPLE_COUNTS or isinstance(self.samples, bool):
+            raise SceneError(f"output.samples: expected 1 (no antialiasing) or 4 (MSAA), got {shown(self.samples)}")
         for key in ("objects", "lights"):
             value = getattr(self, key)
             if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):

@@ -22,9 +22,9 @@ def require_matplotlib():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        raise AccuracyError(
-            "the Pareto plot needs matplotlib: pip install 'wgpu-shading[plots]' (or pass --no-plot)"
-        ) from None
+        from ..errors import install_hint
+
+        raise AccuracyError(f"the Pareto plot needs matplotlib; {install_hint('plots')} (or pass --no-plot)") from None
     return plt
 
 

@@ -9,35 +9,31 @@ import time
 
 
 class Progress:
-    """A one-line progress report on a stream: overwritten in place on a terminal, one line
-    per update (at most every few seconds) elsewhere."""
+    """The sweep's progress bar (tqdm: elapsed, estimated time left, the current block) on a
+    terminal; silent when the stream is not one (a log, CI, a pipe), so files stay clean.
+    `advance(amount, what)` adds work done, in the same units as `total`."""
 
-    def __init__(self, total: float, stream=None, every: float = 5.0):
+    def __init__(self, total: float, stream=None):
+        from tqdm import tqdm
+
         self.total = max(total, 1e-9)
-        self.done = 0.0
         self.stream = stream if stream is not None else sys.stderr
         self.start = time.perf_counter()
-        self.every = every
-        self._last = -math.inf
-        self._tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self._bar = tqdm(
+            total=self.total, file=self.stream, disable=not tty, leave=True, dynamic_ncols=True,
+            bar_format="{percentage:3.0f}%|{bar}| {elapsed} elapsed, ~{remaining} left{postfix}",
+        )
+
+    @property
+    def done(self) -> float:
+        return float(self._bar.n)
 
     def advance(self, amount: float, what: str) -> None:
-        self.done = min(self.done + amount, self.total)
-        now = time.perf_counter()
-        if not self._tty and now - self._last < self.every and self.done < self.total:
-            return
-        self._last = now
-        elapsed = now - self.start
-        fraction = self.done / self.total
-        left = elapsed * (1.0 - fraction) / fraction if fraction > 0 else float("nan")
-        line = f"[{fraction:4.0%}] {_duration(elapsed)} elapsed, ~{_duration(left)} left: {what}"
-        if self._tty:
-            self.stream.write("\r\033[K" + line[:150])
-            if self.done >= self.total:
-                self.stream.write("\n")
-        else:
-            self.stream.write(line + "\n")
-        self.stream.flush()
+        self._bar.set_postfix_str(what, refresh=False)
+        self._bar.update(min(amount, self.total - self._bar.n))
+        if self._bar.n >= self.total:
+            self._bar.close()
 
 
 def _duration(seconds: float) -> str:

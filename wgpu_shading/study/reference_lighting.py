@@ -174,6 +174,15 @@ def shade(
     return ambient_diffuse, specular
 
 
+def clamp_vertex_colors(ambient_diffuse: np.ndarray, specular: np.ndarray, texture_mode: str | None):
+    """[shading] clamp_vertex_colors: OpenGL fixed-function's clamp of each vertex's color,
+    before interpolation. The whole sum (GL_SINGLE_COLOR), or with the `modulate` texture
+    mode (GL_SEPARATE_SPECULAR_COLOR) the primary and secondary colors apart."""
+    if texture_mode == "modulate":
+        return np.clip(ambient_diffuse, 0.0, 1.0), np.clip(specular, 0.0, 1.0)
+    return np.clip(ambient_diffuse + specular, 0.0, 1.0), np.zeros_like(specular)
+
+
 def combine(
     ambient_diffuse: np.ndarray, specular: np.ndarray, material: Material, texel: np.ndarray | None = None
 ) -> np.ndarray:

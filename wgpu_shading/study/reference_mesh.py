@@ -12,7 +12,7 @@ import numpy as np
 
 from ..scene import Scene, SceneObject, Shading
 from .reference_image import ReferenceImage
-from .reference_lighting import FALLBACK_NORMAL, _dot, combine, safe_normalize, sample_texture_bilinear, shade, view_vectors
+from .reference_lighting import FALLBACK_NORMAL, _dot, clamp_vertex_colors, combine, safe_normalize, sample_texture_bilinear, shade, view_vectors
 from .reference_raster import _edge_margins, _rasterize, _screen_triangles, _signed_area_fixed
 from .reference_transforms import _transform_points, model_matrix, normal_matrix, pixel_rays, view_matrix
 
@@ -104,19 +104,27 @@ def _shade_pixels(
     def shade_with(points, normals):
         return shade(points, normals, view_vectors(points, normals, shading.local_viewer), scene, material)
 
+    def vertex_color(points, normals):  # what the vertex stage passes on (flat, Gouraud)
+        parts = shade_with(points, normals)
+        if shading.clamp_vertex_colors:
+            texture_mode = material.texture_mode if material.texture is not None else None
+            parts = clamp_vertex_colors(*parts, texture_mode)
+        return parts
+
     if shading.frequency == "flat":
         # One evaluation per triangle: face normal from the stored positions, at the centroid.
         p = prepared.model_positions[faces]
         face_normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) @ prepared.normal_matrix.T
         normals = safe_normalize(face_normal, FALLBACK_NORMAL) * flip
         centroids = prepared.eye_positions[faces].mean(axis=1)
-        ambient_diffuse, specular = shade_with(centroids, normals)
+        ambient_diffuse, specular = vertex_color(centroids, normals)
     elif shading.frequency == "gouraud":
-        # Light each vertex (front with N, back with -N), then interpolate both parts unclamped.
+        # Light each vertex (front with N, back with -N), then interpolate both parts
+        # (unclamped like the seeds, or clamped per vertex like OpenGL: clamp_vertex_colors).
         vertex_normals = safe_normalize(prepared.eye_normals, FALLBACK_NORMAL)
         used = np.unique(faces)
-        front = shade_with(prepared.eye_positions[used], vertex_normals[used])
-        back_parts = shade_with(prepared.eye_positions[used], -vertex_normals[used]) if shading.two_sided else front
+        front = vertex_color(prepared.eye_positions[used], vertex_normals[used])
+        back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used]) if shading.two_sided else front
         slot = np.searchsorted(used, faces)  # (N, 3) rows of `used`
         parts = []
         for k in range(2):

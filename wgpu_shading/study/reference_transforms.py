@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from ..errors import SceneError
 from ..scene import Camera, SceneObject
 
 # --------------------------------------------------------------------------- transforms
@@ -72,6 +73,8 @@ def sphere_in_world(obj: SceneObject, radius: float = 1.0) -> tuple[np.ndarray, 
 
 def pixel_rays(camera: Camera, size: tuple[int, int]) -> np.ndarray:
     """(H, W, 3) eye-space directions through the pixel centres, z = -1."""
+    if camera.orthographic:  # every path of the reference starts from these rays
+        raise SceneError("the float64 reference renders perspective cameras only; camera.projection is 'orthographic'")
     width, height = size
     tan_half = math.tan(math.radians(camera.fov_y) / 2.0)
     aspect = width / height

@@ -133,7 +133,7 @@ def compare(actual, expected, tolerance: Tolerance | None = None) -> Comparison:
 
 def flip_mean(actual, expected) -> float:
     """Mean NVIDIA FLIP error (LDR, sRGB inputs, default 67 pixels per degree) of the RGB
-    channels; 0 = identical, 1 = maximal. Needs `pip install flip-evaluator`."""
+    channels; 0 = identical, 1 = maximal. Needs the [flip] extra (flip-evaluator)."""
     return float(_flip(actual, expected)[1])
 
 
@@ -147,9 +147,9 @@ def _flip(actual, expected):
     try:
         import flip_evaluator
     except ImportError:
-        raise GoldenError(
-            "the FLIP metric needs the optional package flip-evaluator: pip install 'wgpu-shading[flip]'"
-        ) from None
+        from ..errors import install_hint
+
+        raise GoldenError(f"the FLIP metric needs the optional package flip-evaluator; {install_hint('flip')}") from None
     a = as_rgba8(actual, "actual image")[:, :, :3].astype(np.float32) / 255.0
     e = as_rgba8(expected, "expected image")[:, :, :3].astype(np.float32) / 255.0
     if a.shape != e.shape:

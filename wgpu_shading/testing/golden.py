@@ -37,7 +37,16 @@ from typing import Sequence
 
 from .comparison import Comparison, compare, flip_error_map, flip_mean
 from .diagnosis import CHANNELS
-from .images import DEFAULT_AMPLIFICATION, as_rgba8, diff_image, read_image, read_reference, write_image
+from .images import (
+    DEFAULT_AMPLIFICATION,
+    as_rgba8,
+    diff_image,
+    diff_scale_text,
+    read_image,
+    read_reference,
+    with_scale_legend,
+    write_image,
+)
 from .tolerance import GoldenError, Tolerance
 
 
@@ -57,6 +66,7 @@ class CheckResult:
     reference: Path
     comparison: Comparison | None = None
     written: tuple[Path, ...] = ()
+    diff_scale: str = ""  # how the written diff image maps differences to brightness
 
     @property
     def passed(self) -> bool:
@@ -80,6 +90,8 @@ class CheckResult:
             lines += [f"  looks like: {note}" for note in self.comparison.diagnosis]
             if self.written:
                 lines.append("  wrote " + ", ".join(str(p) for p in self.written))
+            if self.diff_scale:
+                lines.append(f"  diff image: {self.diff_scale}")
         return "\n".join(lines)
 
 
@@ -102,17 +114,24 @@ def remove_failure_images(reference, output_dir=None) -> None:
 
 
 def write_failure_images(
-    actual, expected, reference, output_dir=None, amplification: float = DEFAULT_AMPLIFICATION, flip: bool = False
+    actual, expected, reference, output_dir=None, amplification: float | None = DEFAULT_AMPLIFICATION, flip: bool = False
 ) -> tuple[Path, ...]:
-    """Write actual, expected (when there is one) and the amplified diff (same sizes only);
-    with flip=True also FLIP's error map as NAME.flip.png."""
+    """Write actual, expected (when there is one) and the diff (same sizes only; log scale
+    unless a linear amplification is given); with flip=True also FLIP's error map as
+    NAME.flip.png."""
     paths = failure_paths(reference, output_dir)
     remove_failure_images(reference, output_dir)  # no stale diff from an earlier run
     written = [write_image(paths["actual"], actual)]
     if expected is not None:
         written.append(write_image(paths["expected"], expected))
         if as_rgba8(actual).shape == as_rgba8(expected).shape:
-            written.append(write_image(paths["diff"], diff_image(actual, expected, amplification)))
+            written.append(
+                write_image(
+                    paths["diff"],
+                    with_scale_legend(diff_image(actual, expected, amplification), amplification),
+                    note=diff_scale_text(amplification),
+                )
+            )
             if flip:
                 flip_path = paths["diff"].with_name(paths["diff"].name.replace(".diff.png", ".flip.png"))
                 written.append(write_image(flip_path, flip_error_map(actual, expected)))
@@ -126,7 +145,7 @@ def check_image(
     *,
     update: bool = False,
     output_dir: str | os.PathLike[str] | None = None,
-    amplification: float = DEFAULT_AMPLIFICATION,
+    amplification: float | None = DEFAULT_AMPLIFICATION,
 ) -> CheckResult:
     """Compare an image with a reference PNG.
 
@@ -171,7 +190,8 @@ def check_image(
     written = write_failure_images(
         actual, expected, reference, output_dir, amplification, flip=comparison.flip_mean is not None
     )
-    return CheckResult("failed", reference, comparison, written=written)
+    scale = diff_scale_text(amplification) if any(p.name.endswith(".diff.png") for p in written) else ""
+    return CheckResult("failed", reference, comparison, written=written, diff_scale=scale)
 
 
 __all__: Sequence[str] = (

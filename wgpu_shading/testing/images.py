@@ -1,5 +1,5 @@
 """The pixels of a golden-image test: any image to (H, W, 4) uint8, reference PNGs read
-and written, and the amplified difference image a person looks at when a test fails.
+and written, and the difference image (log scale) a person looks at when a test fails.
 
 Pure numpy (imageio for the files, imported when a file is read or written).
 """
@@ -13,7 +13,20 @@ import numpy as np
 
 from .tolerance import GoldenError
 
-DEFAULT_AMPLIFICATION = 10
+# None: the logarithmic scale below (the default); a number K: linear, |difference| × K.
+DEFAULT_AMPLIFICATION: float | None = None
+# Log scale: a difference of d/255 is drawn as 255·log2(1 + d)/8, so 1/255 → 32, 2 → 51,
+# 8 → 101, 64 → 192, 255 → 255. A ×10 linear scale saturated at 26/255, so a one-pixel
+# edge shift and a missing highlight looked alike; here every step stays visible and
+# nothing saturates before the largest possible difference.
+LOG_SCALE_TEXT = "log scale: drawn = 255·log2(1 + d)/8 for a difference of d/255 (1 → 32, 8 → 101, 64 → 192, 255 → 255)"
+
+
+def diff_scale_text(amplification: float | None = DEFAULT_AMPLIFICATION) -> str:
+    """How the diff image maps a difference to brightness, for reports and the PNG itself."""
+    if amplification is None:
+        return LOG_SCALE_TEXT
+    return f"linear scale: drawn = d × {amplification:g} for a difference of d/255, clipped at 255"
 
 
 def as_rgba8(image, what: str = "image") -> np.ndarray:
@@ -79,25 +92,76 @@ def read_image(path: str | os.PathLike[str]) -> np.ndarray:
     return read_reference(path)[0]
 
 
-def write_image(path: str | os.PathLike[str], image) -> Path:
-    """Write an image as an 8-bit RGBA PNG, creating the folder."""
-    import imageio.v3 as iio
+def write_image(path: str | os.PathLike[str], image, note: str | None = None) -> Path:
+    """Write an image as an 8-bit RGBA PNG, creating the folder; `note` goes into the PNG's
+    text chunk "Comment" (a diff image states its scale there)."""
+    from PIL import Image
+    from PIL.PngImagePlugin import PngInfo
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    iio.imwrite(path, as_rgba8(image), extension=".png")
+    info = PngInfo()
+    if note:
+        info.add_text("Comment", note)
+    Image.fromarray(as_rgba8(image)).save(path, format="PNG", pnginfo=info)
     return path
 
 
-def diff_image(actual, expected, amplification: float = DEFAULT_AMPLIFICATION) -> np.ndarray:
-    """The amplified difference as an opaque RGB(A) image: each color channel is
-    |actual − expected| × amplification (clipped to 255), so black means identical and the
-    hue says which channel differs; an alpha difference shows in all three (gray/white)."""
+def diff_image(actual, expected, amplification: float | None = DEFAULT_AMPLIFICATION) -> np.ndarray:
+    """The difference as an opaque RGB(A) image: each color channel is |actual − expected|
+    on the log scale (amplification None, the default: `LOG_SCALE_TEXT`) or × amplification
+    (clipped to 255), so black means identical and the hue says which channel differs; an
+    alpha difference shows in all three (gray/white)."""
     a = as_rgba8(actual, "actual").astype(np.int16)
     e = as_rgba8(expected, "expected").astype(np.int16)
     if a.shape != e.shape:
         raise GoldenError(f"diff image: sizes differ ({size_text(a)} vs {size_text(e)})")
     delta = np.abs(a - e)
     rgb = np.maximum(delta[:, :, :3], delta[:, :, 3:4])
-    amplified = np.clip(np.round(rgb * float(amplification)), 0, 255).astype(np.uint8)
+    if amplification is None:
+        scaled = 255.0 * np.log2(1.0 + rgb) / 8.0
+    else:
+        scaled = rgb * float(amplification)
+    amplified = np.clip(np.round(scaled), 0, 255).astype(np.uint8)
     return np.concatenate([amplified, np.full(amplified.shape[:2] + (1,), 255, np.uint8)], axis=2)
+
+
+LEGEND_HEIGHT = 34  # pixels added below a written diff image for its scale
+_LEGEND_TICKS = (1, 8, 64, 255)
+
+
+def with_scale_legend(diff: np.ndarray, amplification: float | None = DEFAULT_AMPLIFICATION) -> np.ndarray:
+    """The diff image with its scale drawn below it (the file a person opens says how to read
+    it): a ramp of how the diff draws differences, ticks at 1, 8, 64 and 255 (in 1/255) and a
+    caption. The diff's own pixels keep their rows and columns. Images narrower than 160
+    pixels are returned as they are (no room for labels); the PNG's text says the scale."""
+    height, width = diff.shape[:2]
+    if width < 160:
+        return diff
+    from PIL import Image, ImageDraw
+
+    def drawn(d):  # the brightness the diff gives a difference of d/255
+        return 255.0 * np.log2(1.0 + d) / 8.0 if amplification is None else d * float(amplification)
+
+    def column(d):  # where the legend puts d: evenly on the log scale, or linearly
+        fraction = np.log2(1.0 + d) / 8.0 if amplification is None else d / 255.0
+        return int(round(fraction * (width - 1)))
+
+    positions = np.linspace(0.0, 1.0, width)
+    differences = 2.0 ** (positions * 8.0) - 1.0 if amplification is None else positions * 255.0
+    ramp = np.clip(np.round(drawn(differences)), 0, 255).astype(np.uint8)
+    legend = np.zeros((LEGEND_HEIGHT, width, 4), np.uint8)
+    legend[..., 3] = 255
+    legend[:8, :, :3] = ramp[None, :, None]
+    canvas = Image.fromarray(legend)
+    draw = ImageDraw.Draw(canvas)
+    white = (255, 255, 255, 255)
+    for tick in _LEGEND_TICKS:
+        x = column(tick)
+        draw.line([(x, 8), (x, 10)], fill=white)
+        text = str(tick)
+        text_width = draw.textlength(text)
+        draw.text((min(max(x - text_width / 2, 0), width - text_width - 1), 11), text, fill=white)
+    caption = "difference in 1/255, " + ("log scale" if amplification is None else f"linear ×{amplification:g}")
+    draw.text((2, 22), caption, fill=white)
+    return np.concatenate([as_rgba8(diff), np.asarray(canvas)], axis=0)

@@ -9,7 +9,7 @@ Paths are relative to the test file's folder. The fixture renders scenes with th
 session-wide `golden_renderer` fixture (override it in a conftest.py to hand in your own
 Renderer), compares with the reference PNG and fails with a message that says how many
 pixels differ, by how much, where, and what the difference looks like; the actual,
-expected and amplified diff images are written to --golden-output (default: a `golden`
+expected and (log-scaled) diff images are written to --golden-output (default: a `golden`
 folder in pytest's temporary directory) and named in the message.
 
 Options:
@@ -186,7 +186,7 @@ class GoldenChecker:
             tolerance,
             update=update,
             output_dir=output_dir,
-            amplification=amplification or DEFAULT_AMPLIFICATION,
+            amplification=amplification if amplification is not None else DEFAULT_AMPLIFICATION,
         )
         if result.status in ("created", "updated"):
             self._config.stash[_STASH_WRITTEN].append(f"{result.status} {reference}")
@@ -196,6 +196,8 @@ class GoldenChecker:
             comparison = result.comparison
             lines = [f"golden image mismatch: {reference}", comparison.message, f"tolerance: {tolerance.describe()}"]
             lines.append("images: " + ", ".join(str(p) for p in result.written))
+            if result.diff_scale:
+                lines.append(f"diff image: {result.diff_scale}")
             lines.append("if the change is intended, rerun with --update-golden and review the new reference")
             pytest.fail("\n".join(lines), pytrace=False)
         return result
