@@ -262,3 +262,10 @@ def test_inf_that_slips_past_validation_never_reaches_a_shader(renderer):
     scene = Scene(objects=(SceneObject(builtin("builtin:cube"), material),), lights=(PositionalLight(),), size=(8, 8))
     with pytest.raises(SceneError, match=r"objects\[0\]: a value derived from it .* is not finite in float32"):
         Renderer(device=renderer.device).render(scene)
+
+
+def test_a_nul_character_in_an_argument_is_a_clear_error(tmp_path, capsys):
+    code, err = _run(capsys, "render", "scene\x00.toml", "-o", str(tmp_path / "o.png"))
+    assert code == 2 and err.strip() == "wgpu-shading: error: input 'scene\\x00.toml' contains a NUL character"
+    code, err = _run(capsys, "render", "builtin:cube", "-o", "o\x00.png")
+    assert code == 2 and "--output 'o\\x00.png' contains a NUL character" in err

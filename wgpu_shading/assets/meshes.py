@@ -53,6 +53,8 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         return builtin(text)
     if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
         raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
+    if "\x00" in text:
+        raise MeshError(f"mesh file {text!r}: a path cannot contain a NUL character")
     path = Path(text)
     if not path.exists():
         raise MeshError(f"mesh file {text!r} not found")

@@ -233,7 +233,7 @@ def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = Non
         text = data.decode("utf-8")
     except FileNotFoundError:
         raise SceneError(f"scene file {str(path)!r} not found") from None
-    except (OSError, UnicodeDecodeError) as error:
+    except (OSError, UnicodeDecodeError, ValueError) as error:  # ValueError: a NUL in the path
         raise SceneError(f"scene file {str(path)!r} cannot be read: {error}") from None
     try:
         document = tomllib.loads(text)

@@ -30,8 +30,8 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
             data = file.read(MAX_TEXTURE_FILE_BYTES + 1)
     except FileNotFoundError:
         raise SceneError(f"{where}: file not found") from None
-    except OSError as error:
-        raise SceneError(f"{where}: cannot be read ({error.strerror or error})") from None
+    except (OSError, ValueError) as error:  # ValueError: a NUL in the path
+        raise SceneError(f"{where}: cannot be read ({getattr(error, 'strerror', None) or error})") from None
     if len(data) > MAX_TEXTURE_FILE_BYTES:
         raise SceneError(f"{where}: the file is larger than {MAX_TEXTURE_FILE_BYTES >> 20} MiB")
     try:

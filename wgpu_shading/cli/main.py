@@ -68,9 +68,19 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     print(f"wgpu-shading: warning: {message}", file=sys.stderr)
 
 
+def _option_name(destination: str) -> str:
+    return "input" if destination in ("input", "manifest") else "--" + destination.replace("_", "-")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    for name, value in vars(args).items():
+        # No file name or value holds a NUL character; os calls would raise ValueError deep inside.
+        for text in value if isinstance(value, list) else [value]:
+            if isinstance(text, str) and "\x00" in text:
+                print(f"wgpu-shading: error: {_option_name(name)} {shorten(repr(text), 80)} contains a NUL character", file=sys.stderr)
+                return EXIT_USAGE
     try:
         with warnings.catch_warnings():
             # A file's problems that do not stop the render (a missing texture or .mtl):
