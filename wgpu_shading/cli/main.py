@@ -20,6 +20,7 @@ stderr and exit with status 2; no traceback.
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 import warnings
@@ -63,6 +64,11 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    # trimesh logs file problems it works around (e.g. a PLY's missing texture image) with
+    # tracebacks through Python's last-resort handler; the CLI reports files its own way.
+    trimesh_log = logging.getLogger("trimesh")
+    if not trimesh_log.handlers:
+        trimesh_log.addHandler(logging.NullHandler())
     try:
         with warnings.catch_warnings():
             # A file's problems that do not stop the render (a missing texture or .mtl):
