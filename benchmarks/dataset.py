@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import shutil
 import statistics
 import sys
@@ -57,6 +58,7 @@ class DatasetResult:
     seconds: dict[str, list[float]] = field(default_factory=dict)  # mode → seconds per pass
     outside: dict[str, list[float]] = field(default_factory=dict)  # mode → wall − time inside chunks, per pass
     busy: dict[str, list[float]] = field(default_factory=dict)  # mode → time inside chunks, per pass
+    cpu: dict[str, list[float]] = field(default_factory=dict)  # mode → CPU seconds (this process + workers), per pass
     dask_startup: dict[str, float] = field(default_factory=dict)  # workers → seconds to a warm cluster
 
     @property
@@ -65,6 +67,9 @@ class DatasetResult:
 
     def fps(self, mode: str) -> float:
         return self.frames / statistics.median(self.seconds[mode])
+
+    def cpu_ms_per_frame(self, mode: str) -> float:
+        return 1000.0 * statistics.median(self.cpu[mode]) / self.frames
 
     def dask_overhead_ms(self) -> float:
         """Milliseconds a frame spends outside the worker's chunks on Dask, beyond in-process."""
@@ -103,6 +108,9 @@ def run_dataset_benchmark(
     results = []
     scratch = Path(tempfile.mkdtemp(prefix="wgpu-shading-dataset-bench-"))
     clusters = {}
+    cluster_clients: list = []
+    if dask:
+        from distributed import Client
     try:
         if dask:
             for workers in (1, 2):
@@ -111,6 +119,7 @@ def run_dataset_benchmark(
                 warm = mesh_jobs([meshes[0]], turntable_views(2), Outputs(), {"size": 32})
                 render_dataset(warm, scratch / f"warm{workers}", scheduler=cluster.scheduler_address, progress=False)
                 clusters[workers] = (cluster, time.perf_counter() - start)
+                cluster_clients.append(Client(cluster))
         for size in sizes:
             jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
             result = DatasetResult(meshes=[Path(m).name for m in meshes], views=views, size=size)
@@ -129,9 +138,15 @@ def run_dataset_benchmark(
             for index in range(passes):
                 for mode, run in runs.items():  # alternating, so load changes hit every mode alike
                     out = scratch / f"{size}-{index}-{mode.replace(' ', '_').replace(',', '')}"
+                    # Frames per CPU-second is throughput per busy core, which the load other
+                    # processes put on a shared machine changes much less than frames/s.
+                    workers_before = _workers_cpu(cluster_clients)
+                    own_before = _own_cpu()
                     start = time.perf_counter()
                     outcome = run(out)
                     wall = time.perf_counter() - start
+                    own = _own_cpu() - own_before
+                    result.cpu.setdefault(mode, []).append(own + _workers_cpu(cluster_clients) - workers_before)
                     result.seconds.setdefault(mode, []).append(wall)
                     if outcome is not None:
                         result.outside.setdefault(mode, []).append(wall - outcome.busy_seconds)
@@ -142,10 +157,23 @@ def run_dataset_benchmark(
                     print(f"  … {size}² {mode}: {result.seconds[mode][-1]:.2f} s", file=sys.stderr, flush=True)
             results.append(result)
     finally:
+        for client in cluster_clients:
+            client.close()
         for cluster, _ in clusters.values():
             cluster.close(timeout=10)
         shutil.rmtree(scratch, ignore_errors=True)
     return results
+
+
+def _workers_cpu(clients: list) -> float:
+    """CPU time (user + system, every thread) of every Dask worker process."""
+    return sum(sum(client.run(time.process_time).values()) for client in clients)
+
+
+def _own_cpu() -> float:
+    """CPU time of this process, every thread (the LocalClusters' schedulers run here too)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
 
 
 def table(results: list[DatasetResult]) -> str:
@@ -177,6 +205,20 @@ def table(results: list[DatasetResult]) -> str:
             f"{1000 * statistics.median(result.busy[mode]) / result.frames:.2f} / {1000 * statistics.median(result.outside[mode]) / result.frames:.2f}"
             if mode in result.busy else "–"
             for mode in MODES if mode != "naive"
+        ]
+        lines.append(f"| {result.size}² | " + " | ".join(cells) + " |")
+    lines += [
+        "",
+        "CPU per frame (user + system, every thread of this process and of the Dask workers) and frames per "
+        "CPU-second, i.e. throughput per fully busy core, median pass:",
+        "",
+        "| size | " + " | ".join(MODES) + " |",
+        "|---|" + "---|" * len(MODES),
+    ]
+    for result in results:
+        cells = [
+            f"{result.cpu_ms_per_frame(mode):.1f} ms, {1000 / result.cpu_ms_per_frame(mode):.0f}/s" if mode in result.cpu else "–"
+            for mode in MODES
         ]
         lines.append(f"| {result.size}² | " + " | ".join(cells) + " |")
     if results[0].dask_startup:

@@ -231,10 +231,11 @@ def test_smoke_runs_the_standalone_benchmarks(smoke):
 
 
 def test_smoke_dataset_times_every_mode_and_the_dask_overhead(smoke):
-    fps, inside_outside = _tables(_section(smoke, "dataset"))
+    fps, inside_outside, cpu = _tables(_section(smoke, "dataset"))
     (row,) = fps
     assert row["size"] == "32²"
     for mode in ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers"):
         assert _positive(row[mode]), mode
     assert _positive(row["in-process ÷ naive"]) and re.search(r"ms \([+-]?[\d.]+ %\)", row["Dask overhead per frame"])
     assert all(_positive(cell) for cell in list(inside_outside[0].values())[1:])
+    assert all(_positive(cell) for cell in list(cpu[0].values())[1:])

@@ -29,17 +29,22 @@ def write_lines(path: Path, rows: list[dict]) -> Path:
 
 
 def test_batch_pixels_equal_render_of_the_same_job(tmp_path, capsys):
-    """A manifest row with render's flags gives the PNG `render` writes, pixel for pixel."""
+    """A manifest row with render's flags gives the PNG `render` writes, pixel for pixel:
+    overrides, the default view, and a view turned with --camera-azimuth/--camera-elevation
+    (the bare mesh's depth range and viewer lights follow the camera in both)."""
     manifest = tmp_path / "jobs.csv"
-    manifest.write_text(f"mesh,size,material,frequency\n{TORUS},80x64,silver,gouraud\n{TORUS},80x64,,\n")
+    manifest.write_text(
+        f"mesh,size,material,frequency,azimuth,elevation\n{TORUS},80x64,silver,gouraud,,\n{TORUS},80x64,,,,\n{TORUS},80x64,,,130,-55\n"
+    )
     assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"]) == 0
     assert main(["render", TORUS, "--size", "80x64", "--material", "silver", "--frequency", "gouraud", "-o", str(tmp_path / "a.png"), "-q"]) == 0
     assert main(["render", TORUS, "--size", "80x64", "-o", str(tmp_path / "b.png"), "-q"]) == 0
+    assert main(["render", TORUS, "--size", "80x64", "--camera-azimuth", "130", "--camera-elevation", "-55", "-o", str(tmp_path / "c.png"), "-q"]) == 0
     folder = tmp_path / "out" / "torus"
-    batch_a, batch_b = pixels(folder / "view_000.png"), pixels(folder / "view_001.png")
-    assert np.array_equal(batch_a, pixels(tmp_path / "a.png"))
-    assert np.array_equal(batch_b, pixels(tmp_path / "b.png"))
-    assert not np.array_equal(batch_a, batch_b)  # the overrides did something
+    batch = [pixels(folder / f"view_00{i}.png") for i in range(3)]
+    for image, reference in zip(batch, "abc"):
+        assert np.array_equal(image, pixels(tmp_path / f"{reference}.png")), reference
+    assert not np.array_equal(batch[0], batch[1]) and not np.array_equal(batch[1], batch[2])  # each row did something
 
 
 def test_camera_keys_equal_render_of_a_scene_file_with_that_camera(tmp_path):
@@ -69,11 +74,7 @@ def test_png16_is_the_float_render_rounded_to_16_bits(tmp_path):
     assert np.array_equal(image, expected)
 
 
-@pytest.fixture(scope="module")
-def sphere_dataset(tmp_path_factory, renderer):
-    """A finely tessellated unit sphere off the origin, from 3 orbit views, every output."""
-    tmp = tmp_path_factory.mktemp("sphere")
-    scene = """
+SPHERES = """
 [output]
 size = [96, 72]
 [camera]
@@ -93,6 +94,13 @@ mesh = "builtin:sphere?slices=16&stacks=8"
 translate = [1.2, 0.7, 0.9]
 scale = [0.15, 0.15, 0.15]
 """
+
+
+@pytest.fixture(scope="module")
+def sphere_dataset(tmp_path_factory, renderer):
+    """A finely tessellated unit sphere off the origin, from 3 orbit views, every output."""
+    tmp = tmp_path_factory.mktemp("sphere")
+    scene = SPHERES
     (tmp / "spheres.toml").write_text(scene)
     views = [{"azimuth": 0}, {"azimuth": 100, "elevation": -30}, {"azimuth": 250, "elevation": 60, "distance": 3.0}]
     rows = [{"scene": "spheres.toml", **view} for view in views]
@@ -140,7 +148,9 @@ def test_orbit_keeps_the_target_and_moves_as_documented(sphere_dataset):
     offset = np.array(views["view_001"]["eye"]) - target
     distance = np.linalg.norm(base - target)
     assert math.isclose(np.linalg.norm(offset), distance)
-    assert math.isclose(math.degrees(math.asin(offset[1] / distance)), -30.0, abs_tol=1e-9)
+    # elevation −30 turns the camera down from the scene's 14.04° above the horizon
+    base_elevation = math.degrees(math.asin(1.0 / distance))
+    assert math.isclose(math.degrees(math.asin(offset[1] / distance)), base_elevation - 30.0, abs_tol=1e-9)
     # azimuth 100°: from +z (the base camera's side) counter-clockwise seen from +y, towards +x
     assert math.isclose(math.degrees(math.atan2(offset[0], offset[2])), 100.0, abs_tol=1e-9)
     assert math.isclose(np.linalg.norm(np.array(views["view_002"]["eye"]) - target), 3.0)
@@ -194,7 +204,7 @@ def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
         {"mesh": TORUS, "size": 32},
         {"mesh": "broken.obj"},
         {"mesh": "missing.ply"},
-        {"mesh": TORUS, "size": 32, "elevation": 95},
+        {"mesh": TORUS, "size": 32, "distance": -1},
     ]
     manifest = write_lines(tmp_path / "jobs.jsonl", rows)
     status = main(["batch", str(manifest), "-o", str(tmp_path / "out")])
@@ -204,7 +214,7 @@ def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
     assert set(report["failed"]) == {"broken/view_000", "missing/view_000", "torus/view_001"}
     assert "broken.obj" in report["failed"]["broken/view_000"]
     assert "missing.ply" in report["failed"]["missing/view_000"]
-    assert "elevation" in report["failed"]["torus/view_001"]
+    assert "distance: expected a positive number" in report["failed"]["torus/view_001"]
     assert (tmp_path / "out" / "torus" / "view_000.png").is_file()
     captured = capsys.readouterr()
     assert "3 job(s) failed" in captured.err and "1 rendered" in captured.out
@@ -228,15 +238,16 @@ def test_bad_manifest_rows_are_one_line_errors(tmp_path, capsys, content, messag
     assert message in error and "jobs.csv" in error and "Traceback" not in error
 
 
-def test_sphere_views_cover_the_sphere_evenly():
-    views = sphere_views(200)
-    directions = np.array(
-        [
-            [math.cos(math.radians(v["elevation"])) * math.sin(math.radians(v["azimuth"])), math.sin(math.radians(v["elevation"])),
-             math.cos(math.radians(v["elevation"])) * math.cos(math.radians(v["azimuth"]))]
-            for v in views
-        ]
-    )
+def test_sphere_views_cover_the_sphere_evenly(renderer):
+    """The framed camera of a bare mesh, turned by each view, looks from directions spread
+    evenly over the sphere."""
+    from wgpu_shading.dataset.views import base_scene, job_scene
+
+    jobs = mesh_jobs([TORUS], sphere_views(200), Outputs(), {"size": 16})
+    base = base_scene(jobs[0])
+    target = np.array(base.camera.target)
+    directions = np.array([np.subtract(job_scene(base, job).camera.eye, target) for job in jobs])
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
     assert np.linalg.norm(directions.mean(axis=0)) < 0.02  # balanced
     # every direction's nearest neighbour lies at a similar angle (no clumps, no holes)
     cosines = directions @ directions.T
@@ -253,7 +264,7 @@ def test_workers_need_the_dask_extra(tmp_path, monkeypatch):
     jobs = mesh_jobs([TORUS], turntable_views(1), Outputs(), {"size": 16})
     from wgpu_shading.errors import WgpuShadingError
 
-    with pytest.raises(WgpuShadingError, match=r"wgpu-shading\[dask\]"):
+    with pytest.raises(WgpuShadingError, match=r"\[dask\] extra into this environment: .* -m pip install 'distributed"):
         render_dataset(jobs, tmp_path / "out", workers=2, progress=False)
     assert os.path.isdir(tmp_path / "out")
 
@@ -300,3 +311,24 @@ def test_ids_number_the_parts_of_a_multi_part_mesh(tmp_path, renderer):
     columns = np.arange(48)[None, :].repeat(48, axis=0)
     assert columns[ids == 1].max() <= view["cx"] + 1 < columns[ids == 2].min() + 2
     assert (ids == 1).sum() > 200 and (ids == 2).sum() > 200
+
+
+def test_orthographic_cameras_unproject_with_pixels_per_unit(tmp_path, renderer):
+    """projection = orthographic in a row: cameras.json has no K but pixels_per_unit, and
+    depth pixels unprojected with it land on the sphere."""
+    (tmp_path / "spheres.toml").write_text(SPHERES)
+    rows = [{"scene": "spheres.toml", "projection": "orthographic", "azimuth": 40, "elevation": 20}]
+    jobs = read_manifest(write_lines(tmp_path / "jobs.jsonl", rows), Outputs(depth="npy", ids=True))
+    assert not render_dataset(jobs, tmp_path / "out", progress=False, renderer=renderer).failed
+    view = json.loads((tmp_path / "out" / "spheres" / "cameras.json").read_text())["views"]["view_000"]
+    assert view["projection"] == "orthographic" and view["K"] is None
+    depth = np.load(tmp_path / "out" / "spheres" / "view_000_depth.npy")
+    big = pixels(tmp_path / "out" / "spheres" / "view_000_ids.png") == 1
+    height, width = depth.shape
+    v, u = np.mgrid[0:height, 0:width].astype(np.float64)
+    scale = view["pixels_per_unit"]
+    z = np.where(big, depth, 0.0)
+    camera = np.stack([(u - view["cx"]) / scale, (v - view["cy"]) / scale, z, np.ones_like(z)], -1)
+    world = (camera @ np.linalg.inv(np.array(view["world_to_camera_opencv"])).T)[..., :3]
+    radius = np.linalg.norm(world[big] - [0.5, 0.0, 0.0], axis=1)
+    assert big.sum() > 300 and np.abs(radius - 1.0).max() < 2e-3

@@ -82,7 +82,7 @@ def add_batch(commands, gpu: argparse.ArgumentParser) -> None:
     batch.add_argument("--meshes", action="append", metavar="PATTERN", help="mesh files (a glob such as 'dir/*.obj', or builtin:NAME); repeatable")
     batch.add_argument("--views", type=int, help="views per mesh with --meshes (default: 24)")
     batch.add_argument("--layout", choices=["turntable", "sphere"], help="turntable (default): azimuths around the up axis; sphere: spread evenly over the sphere")
-    batch.add_argument("--elevation", type=float, help="turntable elevation in degrees (default: the framed view's, about 19.3)")
+    batch.add_argument("--elevation", type=float, help="turntable: turn every view up by DEG, as render's --camera-elevation (default 0: the framed view, 19.3° above the horizon)")
     batch.add_argument("--size", help="image size, WIDTHxHEIGHT or SIZE (default: the scene's, or 512)")
     batch.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
     batch.add_argument("--frequency", choices=FREQUENCIES, help="shading frequency (overrides the scene)")
@@ -90,7 +90,7 @@ def add_batch(commands, gpu: argparse.ArgumentParser) -> None:
     batch.add_argument("--color", choices=["png", "png16", "none"], default="png", help="colour image: 8-bit PNG (default), 16-bit PNG or none")
     batch.add_argument("--depth", choices=["none", "npy", "png16"], default="none", help="depth: float32 .npy (eye-space Z, inf = background) or 16-bit PNG (0 = background, 1..65535 = near..far)")
     batch.add_argument("--normals", choices=["none", "eye", "world"], default="none", help="surface normals as float32 .npy in eye or world space")
-    batch.add_argument("--ids", action="store_true", help="object ids as a 16-bit PNG (0 = background, k = object k-1)")
+    batch.add_argument("--ids", action="store_true", help="segmentation mask as a 16-bit PNG: 0 = background, k = the k-th (object, part) in scene order (legend in cameras.json)")
     batch.add_argument(
         "--compression", type=int, default=1, choices=range(10), metavar="0-9",
         help="PNG zlib level (default 1: a 512² render encodes in ~6 ms instead of ~16 ms at Pillow's 6, files ~20%% larger)",

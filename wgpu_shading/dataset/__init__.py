@@ -12,7 +12,7 @@ Dask (the `dask` extra) is imported only for workers > 1 or a scheduler address.
 from .jobs import Job, Outputs, chunks
 from .manifest import mesh_jobs, read_manifest
 from .run import BatchResult, render_dataset
-from .views import orbited, sphere_views, turntable_views
+from .views import sphere_views, turntable_views
 
 __all__ = [
     "BatchResult",
@@ -20,7 +20,6 @@ __all__ = [
     "Outputs",
     "chunks",
     "mesh_jobs",
-    "orbited",
     "read_manifest",
     "render_dataset",
     "sphere_views",

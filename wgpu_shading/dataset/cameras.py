@@ -28,8 +28,18 @@ def camera_record(scene: Scene) -> dict:
     """The JSON-ready camera of one rendered view."""
     camera = scene.camera
     width, height = scene.size
-    focal = (height / 2.0) / math.tan(math.radians(camera.fov_y) / 2.0)
     eye_from_world = camera.eye_from_world()
+    if camera.orthographic:
+        # No pinhole: u = s·X + cx, v = s·Y + cy in the OpenCV camera frame, s pixels per unit.
+        scale = height / camera.view_height()
+        projection = {"projection": "orthographic", "pixels_per_unit": scale, "ortho_height": camera.view_height(), "K": None}
+        focal = None
+    else:
+        focal = (height / 2.0) / math.tan(math.radians(camera.fov_y) / 2.0)
+        projection = {
+            "projection": "perspective",
+            "K": [[focal, 0.0, width / 2.0 - 0.5], [0.0, focal, height / 2.0 - 0.5], [0.0, 0.0, 1.0]],
+        }
     return {
         "width": width,
         "height": height,
@@ -37,7 +47,7 @@ def camera_record(scene: Scene) -> dict:
         "fy": focal,
         "cx": width / 2.0 - 0.5,
         "cy": height / 2.0 - 0.5,
-        "K": [[focal, 0.0, width / 2.0 - 0.5], [0.0, focal, height / 2.0 - 0.5], [0.0, 0.0, 1.0]],
+        **projection,
         "fov_y_degrees": camera.fov_y,
         "near": camera.near,
         "far": camera.far,
@@ -51,7 +61,8 @@ def camera_record(scene: Scene) -> dict:
 
 CONVENTION = {
     "pixels": "u = column, v = row from the top; OpenCV pixel centres at integer coordinates",
-    "K": "OpenCV intrinsics: u = fx*X/Z + cx, v = fy*Y/Z + cy in the OpenCV camera frame",
+    "K": "OpenCV intrinsics: u = fx*X/Z + cx, v = fy*Y/Z + cy in the OpenCV camera frame "
+    "(projection 'orthographic': K, fx, fy are null and u = s*X + cx, v = s*Y + cy, s = pixels_per_unit)",
     "world_to_camera_opencv": "X_cv = M @ [X_world, 1]; camera x right, y down, z forward",
     "camera_to_world_opengl": "camera pose in OpenGL axes (x right, y up, looking down -z); "
     "world_to_camera_opencv = diag(1,-1,-1,1) @ inverse(camera_to_world_opengl)",

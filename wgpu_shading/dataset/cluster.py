@@ -29,10 +29,9 @@ def _distributed():
     try:
         import distributed
     except ImportError:
-        raise DaskMissingError(
-            "--workers above 1 and --scheduler need Dask: install the extra, "
-            "e.g. `.venv/bin/pip install 'wgpu-shading[dask]'` (the distributed package)"
-        ) from None
+        from ..errors import install_hint
+
+        raise DaskMissingError(f"--workers above 1 and --scheduler need Dask; {install_hint('dask')}") from None
     return distributed
 
 
@@ -50,6 +49,12 @@ def local_cluster(workers: int, lavapipe_threads: int | None = None):
             # per 1-thread worker, only the chunk it was running.
             "distributed.scheduler.worker-saturation": 1.0,
             "distributed.scheduler.allowed-failures": 1,
+            # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's
+            # adaptive mmap threshold: every frame-sized array is then mmapped and page-faulted
+            # afresh. Measured: 25 % more CPU per 256² frame (5.2 → 4.1 ms in a worker).
+            "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+            # The statistical profiler samples the task thread every 10 ms; nobody reads it here.
+            "distributed.worker.profile.enabled": False,
         }
     ):
         return distributed.LocalCluster(

@@ -22,7 +22,7 @@ NORMAL_SPACES = ("none", "eye", "world")
 # Scene overrides a job may carry: the same names and meaning as `wgpu-shading render`'s flags.
 OVERRIDE_KEYS = ("material", "frequency", "reflection", "blinn_exponent_scale", "infinite_viewer", "two_sided")
 # Camera keys of a job (the scene file's [camera] names), and the orbit around the target.
-CAMERA_KEYS = ("eye", "target", "up", "fov_y", "near", "far")
+CAMERA_KEYS = ("eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height")
 ORBIT_KEYS = ("azimuth", "elevation", "distance")
 
 

@@ -5,8 +5,10 @@ Columns / keys (all but the first optional):
                                  are relative to the manifest's folder
     id, folder, name             job id (default FOLDER/NAME), output folder (default: the
                                  mesh's stem) and file stem (default view_000, view_001, ... per folder)
-    azimuth, elevation, distance the view as an orbit around the camera target (views.py)
-    eye, target, up, fov_y, near, far   camera keys as in a scene file ("1 2 3" in CSV)
+    azimuth, elevation, distance the view: render's --camera-azimuth/--camera-elevation turns
+                                 of the scene's camera, then the eye's distance (views.py)
+    eye, target, up, fov_y, near, far, projection, ortho_height
+                                 camera keys as in a scene file ("1 2 3" in CSV)
     size                         512 or 640x480
     material, frequency, reflection, blinn_exponent_scale, infinite_viewer, two_sided
                                  the `render` flags of the same names, per job
@@ -31,7 +33,7 @@ _NAMED_SOURCES = ("builtin:", "example:")  # built-in meshes and the shipped exa
 KNOWN_KEYS = set(SOURCE_KEYS) | {"id", "folder", "name", "size"} | set(CAMERA_KEYS) | set(ORBIT_KEYS) | set(OVERRIDE_KEYS)
 _BOOL_KEYS = ("infinite_viewer", "two_sided")
 _VECTOR_KEYS = ("eye", "target", "up")
-_NUMBER_KEYS = ("fov_y", "near", "far", "blinn_exponent_scale") + ORBIT_KEYS
+_NUMBER_KEYS = ("fov_y", "near", "far", "ortho_height", "blinn_exponent_scale") + ORBIT_KEYS
 
 
 def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: dict[str, Any] | None = None) -> list[Job]:

@@ -1,13 +1,15 @@
 """From a job to the Scene it renders: the base scene (what `wgpu-shading render` would draw
-for the same file and flags), then the job's camera or orbit.
+for the same file and flags), then the job's camera and orbit, exactly as `render`'s camera
+flags move it, so a job's pixels are those of the matching `render` command.
 
-Orbit: the camera moves on a sphere around its target. The pole is the base camera's up
-vector; azimuth 0 is the side the base camera looks from, positive azimuth turns the camera
-counter-clockwise seen from above (from +up); elevation is the angle above the plane through
-the target perpendicular to up (a bare mesh's default view has elevation atan(0.35) ≈ 19.3°);
-distance is from the target (default: the base camera's). The scene's lights move with the
-camera as one rig, so every view is lit like the base view (the object seems to turn, as in
-`wgpu-shading turntable`). Explicit camera keys (eye, target, ...) move only the camera.
+Orbit (the `render` flags --camera-azimuth and --camera-elevation, f3d's and VTK's meaning):
+azimuth turns the camera about its up vector through the target (positive: to the viewer's
+right, seen from above), then elevation about its right axis (positive: up; the up vector
+turns with it). Both are relative to the scene's camera: a bare mesh is framed from 19.3°
+above the horizon (FRAMING_ELEVATION), so elevation −19.3 looks at it level. distance (no
+`render` flag) then moves the eye along its line of sight to that distance from the target.
+For a bare mesh the depth range and the viewer lights (key light + headlight) follow the
+moved camera, as in `render`; a scene file keeps its lights where the file put them.
 """
 
 from __future__ import annotations
@@ -16,18 +18,24 @@ import math
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
 from pyglm import glm
 
 from ..errors import SceneError
-from ..scene import DirectionalLight, PositionalLight, Scene, SpotLight, material
+from ..scene import Camera, Scene, material
+from ..scene.framing import FRAMING_DIRECTION, bounding_sphere, depth_range
+from ..scene.lighting import viewer_lights
 from .jobs import Job
 
 DEFAULT_SIZE = (512, 512)  # what `wgpu-shading render MESH` uses
 
 
+FRAMING_ELEVATION = math.degrees(math.atan2(FRAMING_DIRECTION[1], FRAMING_DIRECTION[2]))  # ≈ 19.29°
+
+
 def turntable_views(count: int, elevation: float | None = None) -> list[dict[str, float]]:
-    """`count` azimuths 360°/count apart (the first is the base view's side), at the base
-    view's elevation unless given."""
+    """`count` azimuths 360°/count apart (the first is the scene's own view), at the scene's
+    elevation or turned by `elevation` degrees (render's --camera-elevation)."""
     if count < 1:
         raise SceneError(f"views: expected at least 1, got {count}")
     views = [{"azimuth": 360.0 * i / count} for i in range(count)]
@@ -37,17 +45,22 @@ def turntable_views(count: int, elevation: float | None = None) -> list[dict[str
     return views
 
 
-def sphere_views(count: int) -> list[dict[str, float]]:
+def sphere_views(count: int, base_elevation: float = FRAMING_ELEVATION) -> list[dict[str, float]]:
     """`count` directions spread evenly over the sphere (a Fibonacci lattice: equal-area
-    bands in elevation, azimuth stepped by the golden angle); never exactly at a pole."""
+    bands in elevation, azimuth stepped by the golden angle; never exactly at a pole), as
+    turns of a camera `base_elevation` degrees above the horizon (a bare mesh's framing)."""
     if count < 1:
         raise SceneError(f"views: expected at least 1, got {count}")
     golden_angle = 180.0 * (3.0 - math.sqrt(5.0))
     views = []
     for i in range(count):
-        height = 1.0 - (2 * i + 1) / count  # sin(elevation), strictly inside (-1, 1)
-        views.append({"azimuth": (golden_angle * i) % 360.0, "elevation": math.degrees(math.asin(height))})
+        height = 1.0 - (2 * i + 1) / count  # sin(elevation above the horizon), inside (-1, 1)
+        views.append({"azimuth": (golden_angle * i) % 360.0, "elevation": math.degrees(math.asin(height)) - base_elevation})
     return views
+
+
+def is_bare_mesh(job: Job) -> bool:
+    return not job.source.lower().endswith(".toml")
 
 
 def base_scene(job: Job) -> Scene:
@@ -57,7 +70,7 @@ def base_scene(job: Job) -> Scene:
     from ..assets.scenefile import load_scene
 
     chosen = job.overrides.get("material")
-    if job.source.lower().endswith(".toml"):
+    if not is_bare_mesh(job):
         scene = load_scene(job.source)
         if job.size is not None:
             scene = replace(scene, size=job.size)
@@ -69,7 +82,9 @@ def base_scene(job: Job) -> Scene:
 
 
 def job_scene(base: Scene, job: Job) -> Scene:
-    """The base scene with the job's shading overrides, camera and orbit."""
+    """The base scene with the job's shading overrides, camera and orbit (as render applies
+    its flags: camera keys, then azimuth and elevation, then the bare mesh's depth range
+    and lights for the moved camera)."""
     overrides: dict[str, Any] = {
         key: job.overrides[key] for key in ("frequency", "reflection", "blinn_exponent_scale") if key in job.overrides
     }
@@ -78,69 +93,31 @@ def job_scene(base: Scene, job: Job) -> Scene:
     if job.overrides.get("two_sided"):
         overrides["two_sided"] = True
     scene = replace(base, shading=replace(base.shading, **overrides)) if overrides else base
+    camera = scene.camera
     if job.camera:
-        scene = replace(scene, camera=replace(scene.camera, **job.camera))
+        camera = replace(camera, **job.camera)
     if job.orbit:
-        scene = orbited(scene, **job.orbit)
-    return scene
+        camera = camera.orbited(job.orbit.get("azimuth", 0.0), job.orbit.get("elevation", 0.0))
+        if "distance" in job.orbit:
+            camera = at_distance(camera, job.orbit["distance"])
+    if camera is scene.camera:
+        return scene
+    if not is_bare_mesh(job):
+        return replace(scene, camera=camera)
+    obj = scene.objects[0]
+    center, radius = bounding_sphere(obj.mesh)
+    world_from_model = obj.world_from_model()  # the mesh may be turned (--up)
+    center = world_from_model[:3, :3] @ (center - np.asarray(obj.mesh.origin)) + world_from_model[:3, 3]
+    radius *= float(np.abs(np.linalg.det(world_from_model[:3, :3]))) ** (1.0 / 3.0)
+    near, far = depth_range(camera.eye, center, radius)
+    camera = replace(camera, near=job.camera.get("near", near), far=job.camera.get("far", far))
+    return replace(scene, camera=camera, lights=viewer_lights(camera))
 
 
-def orbit_of(scene: Scene) -> tuple[float, float]:
-    """(elevation in degrees, distance) of the scene's camera in the orbit convention."""
-    camera = scene.camera
-    up = glm.normalize(glm.dvec3(*camera.up))
-    offset = glm.dvec3(*camera.eye) - glm.dvec3(*camera.target)
-    distance = glm.length(offset)
-    return math.degrees(math.asin(max(-1.0, min(1.0, glm.dot(offset, up) / distance)))), distance
-
-
-def orbited(scene: Scene, azimuth: float = 0.0, elevation: float | None = None, distance: float | None = None) -> Scene:
-    """The scene seen from the orbit position (see the module doc); lights move with the camera."""
-    camera = scene.camera
-    if azimuth % 360.0 == 0.0 and elevation is None and distance is None:
-        return scene  # the base view itself: exactly the camera `render` uses, no rounding
-    base_elevation, base_distance = orbit_of(scene)
-    elevation = base_elevation if elevation is None else elevation
-    distance = base_distance if distance is None else distance
-    if not -90.0 < elevation < 90.0:
-        raise SceneError(f"elevation: expected strictly between -90 and 90 degrees, got {elevation:g}")
-    if not distance > 0.0:
+def at_distance(camera: Camera, distance: float) -> Camera:
+    """The camera moved along its line of sight to `distance` from its target."""
+    if not (distance > 0.0 and math.isfinite(distance)):
         raise SceneError(f"distance: expected a positive number, got {distance:g}")
-    up = glm.normalize(glm.dvec3(*camera.up))
     target = glm.dvec3(*camera.target)
     offset = glm.dvec3(*camera.eye) - target
-    horizontal = offset - glm.dot(offset, up) * up
-    if glm.length(horizontal) < 1e-9 * glm.length(offset):  # looking straight down the pole
-        horizontal = glm.cross(up, glm.dvec3(1.0, 0.0, 0.0))
-        if glm.length(horizontal) < 1e-9:
-            horizontal = glm.cross(up, glm.dvec3(0.0, 0.0, 1.0))
-    front = glm.normalize(horizontal)
-    side = glm.cross(up, front)
-    a, e = math.radians(azimuth), math.radians(elevation)
-    direction = math.cos(e) * (math.cos(a) * front + math.sin(a) * side) + math.sin(e) * up
-    eye = target + distance * direction
-    # Near and far keep their distances from the target (the framing of a bare mesh).
-    near = max(camera.near + distance - base_distance, distance * 1e-3)
-    far = camera.far + distance - base_distance
-    new_camera = replace(camera, eye=tuple(eye), near=near, far=max(far, near * 1.001))
-    # The rig's motion: world → old eye space → new world (lights keep their place in the view).
-    motion = glm.inverse(new_camera.view_matrix()) * camera.view_matrix()
-    rotation = glm.dmat3(motion)
-
-    def point(p) -> tuple[float, float, float]:
-        return tuple(glm.dvec3(motion * glm.dvec4(glm.dvec3(*p), 1.0)))
-
-    def turned(d) -> tuple[float, float, float]:
-        return tuple(rotation * glm.dvec3(*d))
-
-    lights = []
-    for light in scene.lights:
-        if isinstance(light, DirectionalLight):
-            lights.append(replace(light, direction=turned(light.direction)))
-        elif isinstance(light, SpotLight):
-            lights.append(replace(light, position=point(light.position), direction=turned(light.direction)))
-        elif isinstance(light, PositionalLight):
-            lights.append(replace(light, position=point(light.position)))
-        else:  # pragma: no cover - Scene validates its lights
-            raise SceneError(f"cannot move a {type(light).__name__}")
-    return replace(scene, camera=new_camera, lights=tuple(lights))
+    return replace(camera, eye=tuple(target + offset * (distance / glm.length(offset))))
