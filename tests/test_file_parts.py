@@ -263,7 +263,7 @@ def test_draco_without_the_extra_is_an_error_naming_it(monkeypatch):
     from wgpu_shading import MeshError
 
     monkeypatch.setitem(sys.modules, "DracoPy", None)  # `import DracoPy` raises ImportError
-    with pytest.raises(MeshError, match=r"Draco mesh compression \(KHR_draco_mesh_compression\); install the 'draco' extra"):
+    with pytest.raises(MeshError, match=r"Draco mesh compression \(KHR_draco_mesh_compression\); to decode it, install the \[draco\] extra into this environment: .* -m pip install 'DracoPy"):
         load_mesh(REAL / "BoxTextured_draco.glb")
 
 

@@ -191,3 +191,16 @@ def test_real_gltf_without_normal_attribute_is_flat():
     mesh = load_mesh(REAL / "cube.glb")  # exported by trimesh without NORMAL
     assert mesh.vertex_count == 3 * mesh.triangle_count == 36
     np.testing.assert_allclose(np.abs(mesh.normals).max(axis=1), 1.0, atol=1e-6)  # face normals of a cube
+
+
+def test_crease_angle_0_is_flat():
+    import trimesh
+
+    sphere = trimesh.creation.icosphere(2)
+    positions, faces = np.asarray(sphere.vertices), np.asarray(sphere.faces)
+    source, new_faces, normals = crease_normals(positions, faces, 0.0)
+    p = positions[source]
+    a, b, c = (p[new_faces[:, k]] for k in range(3))
+    face = np.cross(b - a, c - a)
+    expected = np.repeat(face / np.linalg.norm(face, axis=1)[:, None], 3, axis=0)
+    np.testing.assert_allclose(normals[new_faces].reshape(-1, 3), expected, atol=1e-12)

@@ -178,3 +178,9 @@ def test_azimuth_and_elevation_without_the_angle_suffix():
     short = _load(_args("builtin:torus", "--camera-azimuth", "30", "--camera-elevation", "10")).camera
     long = _load(_args("builtin:torus", "--camera-azimuth-angle", "30", "--camera-elevation-angle", "10")).camera
     assert short == long and short != _load(_args("builtin:torus")).camera
+
+
+def test_ortho_height_without_orthographic_projection_is_an_error():
+    with pytest.raises(SceneError, match='camera.ortho_height .* needs projection = "orthographic"'):
+        parse_scene({"camera": {"ortho_height": 2.0}})
+    assert parse_scene({"camera": {"ortho_height": 2.0, "projection": "orthographic"}}).camera.view_height() == 2.0

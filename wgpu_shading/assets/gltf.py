@@ -52,9 +52,11 @@ def check_extensions(document: dict, path: Path) -> None:
         try:
             import DracoPy  # noqa: F401
         except ImportError:
+            from ..errors import install_hint
+
             raise MeshError(
                 f"mesh file {str(path)!r} uses Draco mesh compression (KHR_draco_mesh_compression); "
-                "install the 'draco' extra to decode it: pip install 'wgpu-shading[draco]'"
+                f"to decode it, {install_hint('draco')}"
             ) from None
     unsupported = set(document.get("extensionsRequired", [])) - {
         "KHR_draco_mesh_compression", "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",

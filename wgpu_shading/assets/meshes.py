@@ -263,12 +263,15 @@ def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
             parts.append(MeshPart(face_offset + first, length, material, part_name))
         vertex_offset += count
         face_offset += len(piece.faces)
+    def joined(arrays: list) -> np.ndarray:  # one piece (a PLY, an STL): no copy
+        return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
+
     return Mesh.from_arrays(
-        np.concatenate(positions),
-        np.concatenate(faces),
-        normals=np.concatenate(normals),
-        uvs=np.concatenate(uvs) if any_uvs else None,
-        colors=np.concatenate(colors) if any_colors else None,
+        joined(positions),
+        joined(faces),
+        normals=joined(normals),
+        uvs=joined(uvs) if any_uvs else None,
+        colors=joined(colors) if any_colors else None,
         parts=tuple(parts),
         name=name,
     )

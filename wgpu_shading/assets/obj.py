@@ -15,7 +15,7 @@ Materials come from mtl.py.
 
 from __future__ import annotations
 
-import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -50,150 +50,187 @@ class ObjData:
     parts: list[tuple[int, int, Material | None, str]]  # first face, count, material, name
 
 
-def _line_of(lines: list[str], prefix: str, ordinal: int) -> int:
-    """1-based line number of the ordinal-th (0-based) line starting with prefix."""
-    seen = -1
-    for number, line in enumerate(lines, start=1):
-        if line.startswith(prefix):
-            seen += 1
-            if seen == ordinal:
-                return number
-    return 0
+def _numbers(text: str, dtype) -> np.ndarray | None:
+    """Whitespace-separated numbers parsed in C; None when some token is not a number."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)  # "could not be read to its end"
+        try:
+            return np.fromstring(text, dtype=dtype, sep=" ")
+        except (ValueError, DeprecationWarning):
+            return None
 
 
-def _floats(lines: list[str], prefix: str, width: int, path: str, all_lines: list[str]) -> np.ndarray:
-    """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array."""
-    body = [line[len(prefix) :] for line in lines]
-    try:
-        values = np.array(" ".join(body).split(), dtype=np.float64)
-    except ValueError:
-        values = None
+def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
+    """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array; `numbers`
+    are their 1-based line numbers (for errors)."""
+    values = _numbers(" ".join(lines).replace(prefix.strip(), " "), np.float64)
     if values is not None and values.size == width * len(lines):
         array = values.reshape(-1, width)
     elif values is not None and prefix == "v " and values.size == 6 * len(lines):
         array = values.reshape(-1, 6)  # x y z r g b
     else:  # mixed widths (vt u v w, v x y z w) or a bad number: line by line
         rows = []
-        for ordinal, text in enumerate(body):
+        for ordinal, line in enumerate(lines):
+            text = line.strip()[len(prefix.strip()) :]
             try:
-                numbers = [float(token) for token in text.split()]
+                row = [float(token) for token in text.split()]
             except ValueError:
-                number = _line_of(all_lines, prefix, ordinal)
-                raise MeshError(f"{path}:{number}: cannot read {prefix.strip()!r} line {text.strip()!r} (expected numbers)") from None
-            if len(numbers) < width:
-                number = _line_of(all_lines, prefix, ordinal)
-                raise MeshError(f"{path}:{number}: {prefix.strip()!r} line has {len(numbers)} numbers, expected {width}")
-            rows.append(numbers[:6] if prefix == "v " and len(numbers) >= 6 else numbers[:width])
+                raise MeshError(f"{path}:{numbers[ordinal]}: cannot read {prefix.strip()!r} line {line.strip()!r} (expected numbers)") from None
+            if len(row) < width:
+                raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has {len(row)} numbers, expected {width}")
+            rows.append(row[:6] if prefix == "v " and len(row) >= 6 else row[:width])
         if prefix == "v " and any(len(r) == 6 for r in rows):
             rows = [r if len(r) == 6 else r[:3] + [1.0, 1.0, 1.0] for r in rows]
         array = np.array(rows, dtype=np.float64).reshape(len(rows), -1)
     bad = ~np.isfinite(array[:, :width]).all(axis=1)
     if bad.any():
         ordinal = int(np.flatnonzero(bad)[0])
-        number = _line_of(all_lines, prefix, ordinal)
-        raise MeshError(f"{path}:{number}: {prefix.strip()!r} line has a NaN or infinite coordinate: {body[ordinal].strip()!r}")
+        raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has a NaN or infinite coordinate: {lines[ordinal].strip()[len(prefix.strip()):].strip()!r}")
     return array
 
 
-_SLASHES = re.compile(r"/")
 
 
 def _run_corners(run: _Run, path: str) -> tuple[np.ndarray, np.ndarray]:
     """Triangle corners of a run: (T, 3, 3) int64 zero-based (v, vt, vn) with −1 for absent,
     and the run-relative polygon index of each triangle."""
     lines = run.lines
-    first_tokens = lines[0].split()
+    first_tokens = lines[0].split()[1:]
     corners = len(first_tokens)
-    per_corner = first_tokens[0].count("/") + 1
+    per_corner = first_tokens[0].count("/") + 1 if first_tokens else 1
     text = " ".join(lines)
     values = None
-    if corners == 3 and "//" not in text:
-        try:
-            values = np.array(_SLASHES.sub(" ", text).split(), dtype=np.int64)
-        except ValueError:
+    if corners >= 3 and "//" not in text:
+        values = _numbers(text.replace("f", " ").replace("/", " "), np.int64)
+        if values is not None and values.size != corners * per_corner * len(lines):
             values = None
-        if values is not None and values.size != 3 * per_corner * len(lines):
-            values = None
-    if values is not None:
-        raw = np.zeros((len(lines), 3, 3), np.int64)
-        raw[:, :, :per_corner] = values.reshape(len(lines), 3, per_corner)
-        polygon = np.arange(len(lines))
+    if values is not None:  # every line the same polygon and format: fan-triangulate at once
+        polygons = np.zeros((len(lines), corners, 3), np.int64)
+        polygons[:, :, :per_corner] = values.reshape(len(lines), corners, per_corner)
+        if corners == 3:
+            raw = polygons
+        else:
+            raw = np.stack([polygons[:, [0, k, k + 1]] for k in range(1, corners - 1)], axis=1).reshape(-1, 3, 3)
+        polygon = np.repeat(np.arange(len(lines)), corners - 2)
     else:  # polygons, `a//c`, or mixed formats: line by line, fan-triangulated
         triangles, polygon_of = [], []
         for ordinal, line in enumerate(lines):
-            tokens = line.split()
+            tokens = line.split()[1:]
             try:
                 parsed = [[int(x) if x else 0 for x in (token.split("/") + ["", ""])[:3]] for token in tokens]
             except ValueError:
-                raise MeshError(f"{path}:{_face_line(run, ordinal)}: cannot read face 'f {line.strip()}' (expected vertex indices)") from None
+                raise MeshError(f"{path}:{_face_line(run, ordinal)}: cannot read face {line.strip()!r} (expected vertex indices)") from None
             if len(parsed) < 3:
-                raise MeshError(f"{path}:{_face_line(run, ordinal)}: a face needs at least 3 vertices, got 'f {line.strip()}'")
+                raise MeshError(f"{path}:{_face_line(run, ordinal)}: a face needs at least 3 vertices, got {line.strip()!r}")
             for k in range(1, len(parsed) - 1):
                 triangles.append([parsed[0], parsed[k], parsed[k + 1]])
                 polygon_of.append(ordinal)
         raw = np.array(triangles, np.int64).reshape(-1, 3, 3)
         polygon = np.array(polygon_of, np.int64)
     counts = np.array([run.vertex_count, run.uv_count, run.normal_count])
+    fast = _resolve_positive(raw, counts)
+    if fast is not None:
+        return fast, polygon
     zero = raw[:, :, 0] == 0
     if zero.any():
         ordinal = int(polygon[np.flatnonzero(zero.any(axis=1))[0]])
-        raise MeshError(f"{path}:{_face_line(run, ordinal)}: face index 0 in 'f {lines[ordinal].strip()}' (OBJ indices start at 1)")
+        raise MeshError(f"{path}:{_face_line(run, ordinal)}: face index 0 in {lines[ordinal].strip()!r} (OBJ indices start at 1)")
     # Positive indices count from 1; negative ones back from the last v/vt/vn declared so far.
     resolved = np.where(raw > 0, raw - 1, np.where(raw < 0, counts + raw, -1))
     out_of_range = ((raw != 0) & ((resolved < 0) | (resolved >= counts))).any(axis=(1, 2))
     if out_of_range.any():
         ordinal = int(polygon[np.flatnonzero(out_of_range)[0]])
         raise MeshError(
-            f"{path}:{_face_line(run, ordinal)}: face 'f {lines[ordinal].strip()}' refers to a vertex that does not exist "
+            f"{path}:{_face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a vertex that does not exist "
             f"({run.vertex_count} v, {run.uv_count} vt, {run.normal_count} vn declared before it)"
         )
     return resolved, polygon
+
+
+def _resolve_positive(raw: np.ndarray, counts: np.ndarray) -> np.ndarray | None:
+    """The common case without full-size masks: every given index positive and in range
+    (an absent vt/vn column is all 0). None when anything else is there."""
+    resolved = np.empty_like(raw)
+    for column in range(3):
+        values = raw[:, :, column]
+        low, high = int(values.min()), int(values.max())
+        if column > 0 and low == high == 0:
+            resolved[:, :, column] = -1
+        elif low > 0 and high <= counts[column]:
+            np.subtract(values, 1, out=resolved[:, :, column])
+        else:
+            return None
+    return resolved
 
 
 def _face_line(run: _Run, ordinal: int) -> int:
     return run.first_line + ordinal  # runs hold consecutive face lines only
 
 
+def _slices(lines: list[str], indices: np.ndarray) -> list[str]:
+    """lines[i] for each i, taken as list slices of consecutive runs (fast for blocks)."""
+    if not len(indices):
+        return []
+    breaks = np.flatnonzero(np.diff(indices) != 1) + 1
+    starts = np.concatenate([[0], breaks])
+    ends = np.concatenate([breaks, [len(indices)]])
+    out: list[str] = []
+    for a, b in zip(starts.tolist(), ends.tolist()):
+        out.extend(lines[indices[a] : indices[b - 1] + 1])
+    return out
+
+
 def read_obj(path: Path) -> ObjData:
-    text = path.read_text(encoding="utf-8", errors="replace")
-    all_lines = text.splitlines()
+    data = path.read_bytes()
+    lines = data.decode("utf-8", errors="replace").split("\n")
     name = str(path)
-    v_lines: list[str] = []
-    vt_lines: list[str] = []
-    vn_lines: list[str] = []
-    runs: list[_Run] = []
-    run: _Run | None = None
+    # Classify every line by its first two bytes, in numpy (a Python loop over millions of
+    # lines would cost more than the rest of the reading).
+    raw = np.frombuffer(data + b"\0\0", np.uint8)
+    starts = np.concatenate([[0], np.flatnonzero(raw[: len(data)] == 10) + 1])
+    first, second = raw[starts], raw[starts + 1]
+    blank = (second == 32) | (second == 9)
+    is_v = (first == ord("v")) & blank
+    is_vt = (first == ord("v")) & (second == ord("t"))
+    is_vn = (first == ord("v")) & (second == ord("n"))
+    is_f = (first == ord("f")) & blank
+    v_count, vt_count, vn_count = np.cumsum(is_v), np.cumsum(is_vt), np.cumsum(is_vn)
+    # The few state lines, in order: usemtl, s, mtllib.
+    state_lines = np.flatnonzero((first == ord("u")) | (first == ord("s")) | (first == ord("m")))
+    libraries: list[str] = []
+    changes: list[tuple[int, str | None, bool]] = []  # (line index, material, flat) from there on
     material: str | None = None
     flat = False
-    libraries: list[str] = []
-    for number, line in enumerate(all_lines, start=1):
-        head = line[:2]
-        if head == "f ":
-            if run is None:
-                run = _Run(material, flat, len(v_lines), len(vt_lines), len(vn_lines), number)
-                runs.append(run)
-            run.lines.append(line[2:])
-            continue
-        run = None  # any other line ends a run of faces
-        if head == "v ":
-            v_lines.append(line)
-        elif head == "vt":
-            vt_lines.append(line)
-        elif head == "vn":
-            vn_lines.append(line)
-        elif line.startswith("usemtl"):
+    for index in state_lines.tolist():
+        line = lines[index].strip()
+        if line.startswith("usemtl"):
             material = line[6:].strip() or None
-        elif head == "s ":
+        elif line.startswith("s ") or line.startswith("s\t"):
             flat = line[2:].strip().lower() in ("off", "0")
         elif line.startswith("mtllib"):
             libraries.append(line[6:].strip())
-        elif line.startswith("f\t"):
-            raise MeshError(f"{name}:{number}: faces separated by tabs are not supported; use spaces")
-    if not runs or not v_lines:
+            continue
+        else:
+            continue
+        changes.append((index, material, flat))
+    face_lines = np.flatnonzero(is_f)
+    v_lines = np.flatnonzero(is_v)
+    if not len(face_lines) or not len(v_lines):
         raise MeshError(f"mesh file {name!r} contains no triangles ({len(v_lines)} vertices, no faces)")
-    v = _floats(v_lines, "v ", 3, name, all_lines)
-    vt = _floats(vt_lines, "vt", 2, name, all_lines) if vt_lines else np.zeros((0, 2))
-    vn = _floats(vn_lines, "vn", 3, name, all_lines) if vn_lines else np.zeros((0, 3))
+    # Runs: blocks of consecutive face lines (the counts and the state are fixed within one).
+    change_at = np.array([c[0] for c in changes], np.int64)
+    breaks = np.flatnonzero(np.diff(face_lines) != 1) + 1
+    runs = []
+    for a, b in zip(np.concatenate([[0], breaks]).tolist(), np.concatenate([breaks, [len(face_lines)]]).tolist()):
+        first_index = int(face_lines[a])
+        state = int(np.searchsorted(change_at, first_index)) - 1
+        run_material, run_flat = (changes[state][1], changes[state][2]) if state >= 0 else (None, False)
+        runs.append(_Run(run_material, run_flat, int(v_count[first_index]), int(vt_count[first_index]),
+                         int(vn_count[first_index]), first_index + 1, lines[first_index : int(face_lines[b - 1]) + 1]))
+    v = _floats(_slices(lines, v_lines), "v ", 3, name, v_lines + 1)
+    vt_lines, vn_lines = np.flatnonzero(is_vt), np.flatnonzero(is_vn)
+    vt = _floats(_slices(lines, vt_lines), "vt", 2, name, vt_lines + 1) if len(vt_lines) else np.zeros((0, 2))
+    vn = _floats(_slices(lines, vn_lines), "vn", 3, name, vn_lines + 1) if len(vn_lines) else np.zeros((0, 3))
     corner_list, flat_list, material_list = [], [], []
     for current in runs:
         corners, _ = _run_corners(current, name)
@@ -212,10 +249,17 @@ def read_obj(path: Path) -> ObjData:
         columns.append(corners[:, :, 1].reshape(-1))
     if has_normal:
         columns.append(corners[:, :, 2].reshape(-1))
-    if len(columns) == 1:
-        vertex_ids, faces = np.arange(len(v)), corners[:, :, 0]
-        combos = vertex_ids[:, None]
+    same = all(np.array_equal(columns[0], column) for column in columns[1:])
+    if same and len(v) >= max((len(vt) if has_uv else 0), (len(vn) if has_normal else 0)):
+        # One index per corner for every attribute (exporters that write per-vertex uvs and
+        # normals): the vertices are the v lines.
+        faces = corners[:, :, 0]
+        combos = np.repeat(np.arange(len(v))[:, None], len(columns), axis=1)
+        if has_uv and len(vt) < len(v) or has_normal and len(vn) < len(v):
+            combos = None
     else:
+        combos = None
+    if combos is None:
         stacked = np.stack(columns, axis=1)
         combos, inverse = np.unique(stacked, axis=0, return_inverse=True)
         faces = inverse.reshape(-1, 3)

@@ -29,10 +29,9 @@ def _distributed():
     try:
         import distributed
     except ImportError:
-        raise DaskMissingError(
-            "--workers above 1 and --scheduler need Dask: install the extra, "
-            "e.g. `.venv/bin/pip install 'wgpu-shading[dask]'` (the distributed package)"
-        ) from None
+        from ..errors import install_hint
+
+        raise DaskMissingError(f"--workers above 1 and --scheduler need Dask; {install_hint('dask')}") from None
     return distributed
 
 

@@ -52,6 +52,10 @@ class Camera:
         ortho_height = self.ortho_height
         if ortho_height is not None:
             ortho_height = number(ortho_height, "camera.ortho_height", 0.0, MAX_COORDINATE, low_open=True)
+            if projection != "orthographic":  # would be silently ignored
+                raise SceneError(
+                    f"camera.ortho_height ({ortho_height:g}) needs projection = \"orthographic\" (projection is {projection!r})"
+                )
         _set(self, eye=eye, target=target, up=up, fov_y=fov_y, near=near, far=far,
              projection=projection, ortho_height=ortho_height)
 

@@ -250,6 +250,9 @@ def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def _validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndarray, name: str) -> np.ndarray:
     if normals.shape != positions.shape:
         raise MeshError(f"{name}: normals must have shape {positions.shape}, got {normals.shape}")
+    squared = np.einsum("ij,ij->i", normals, normals)
+    if np.all(np.abs(squared - 1.0) < 1e-9):  # already unit (and so finite): computed ones, most files
+        return normals
     finite = np.isfinite(normals).all(axis=1)
     length = np.linalg.norm(np.where(finite[:, None], normals, 0.0), axis=1)
     usable = finite & (length > 1e-20)

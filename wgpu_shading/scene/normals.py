@@ -84,7 +84,8 @@ def _components(count: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
             label = jumped
 
 
-def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray | None, unit: np.ndarray, area: np.ndarray, count: int) -> np.ndarray:
+def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray | None, unit: np.ndarray, area: np.ndarray, count: int,
+                    spread: list | None = None) -> np.ndarray:
     """Per label (0..count-1): the normalized sum of the unit normals of the faces of its
     corners (corner_faces None: every corner, in order); where the sum cancels, the
     largest face's normal (the seeds' rule)."""
@@ -104,6 +105,8 @@ def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray | None, unit: n
         summed = np.stack([np.bincount(labels, weights=unit[corner_faces, k], minlength=count) for k in range(3)], axis=1)
         adjacent = np.bincount(labels, weights=(area[corner_faces] > 0).astype(float), minlength=count)
     length = np.sqrt(np.einsum("ij,ij->i", summed, summed))
+    if spread is not None:  # k − |sum|: how far the k unit normals are from all being equal
+        spread.append(adjacent - length)
     # A sum of k unit vectors shorter than 1e-6·k has cancelled: its direction is noise.
     good = length > 1e-6 * np.maximum(adjacent, 1.0)
     result = np.zeros_like(summed)
@@ -138,7 +141,8 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     welded_faces = welded[faces]
     corner_welded = welded_faces.reshape(-1)
     unit, area = face_normals(positions, faces)
-    mean_normal = _summed_normals(corner_welded, None, unit, area, welded_count)
+    spread: list = []
+    mean_normal = _summed_normals(corner_welded, None, unit, area, welded_count, spread)
     flat = None if flat_faces is None or not np.any(flat_faces) else np.asarray(flat_faces, bool)
     label = corner_welded  # a fan per welded vertex (index into `table`)
     table = mean_normal
@@ -146,12 +150,21 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         # Corners whose face leans more than crease/2 from the vertex's mean normal (or is
         # flat, or has no area) put their vertex under the full per-fan analysis.
         half = math.radians(min(max(crease_angle, 0.0), 180.0)) / 2.0
-        lean = np.einsum("fkj,fj->fk", mean_normal.astype(np.float32)[welded_faces], unit.astype(np.float32))
-        suspicious = (lean < math.cos(half) - 1e-6) | (area <= 0)[:, None]  # float32: 1e-6
-        if flat is not None:
-            suspicious |= flat[:, None]
+        # Cheap exact pre-test: with k unit normals of sum S around a vertex, each one's
+        # cosine to the mean is at least |S| − (k − 1); so k − |S| <= 1 − cos(half) clears
+        # the vertex without looking at its corners (every vertex of a smooth scan).
+        maybe = spread[0] > (1.0 - math.cos(half)) - 1e-9
         near_crease = np.zeros(welded_count, bool)
-        near_crease[corner_welded[suspicious.reshape(-1)]] = True
+        if maybe.any():
+            corners = np.flatnonzero(maybe[corner_welded])  # only their corners: the exact test
+            corner_vertex = corner_welded[corners]
+            lean = np.einsum("ij,ij->i", mean_normal[corner_vertex], unit[corners // 3])
+            near_crease[corner_vertex[lean < math.cos(half) - 1e-9]] = True
+        degenerate = np.flatnonzero(area <= 0)
+        if len(degenerate):
+            near_crease[welded_faces[degenerate].reshape(-1)] = True
+        if flat is not None:
+            near_crease[welded_faces[flat].reshape(-1)] = True
         if near_crease.any():
             corner_faces = np.repeat(np.arange(face_count), 3)
             label = _fan_labels(welded_faces, near_crease, unit, area, crease_angle, flat, corner_faces, welded_count)

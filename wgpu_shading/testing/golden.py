@@ -37,7 +37,7 @@ from typing import Sequence
 
 from .comparison import Comparison, compare, flip_error_map, flip_mean
 from .diagnosis import CHANNELS
-from .images import DEFAULT_AMPLIFICATION, as_rgba8, diff_image, diff_scale_text, read_image, write_image
+from .images import DEFAULT_AMPLIFICATION, as_rgba8, diff_image, diff_scale_text, read_image, with_scale_legend, write_image
 from .tolerance import GoldenError, Tolerance
 
 
@@ -105,8 +105,9 @@ def remove_failure_images(reference, output_dir=None) -> None:
 def write_failure_images(
     actual, expected, reference, output_dir=None, amplification: float | None = DEFAULT_AMPLIFICATION, flip: bool = False
 ) -> tuple[Path, ...]:
-    """Write actual, expected (when there is one) and the amplified diff (same sizes only);
-    with flip=True also FLIP's error map as NAME.flip.png."""
+    """Write actual, expected (when there is one) and the diff (same sizes only; log scale
+    unless a linear amplification is given); with flip=True also FLIP's error map as
+    NAME.flip.png."""
     paths = failure_paths(reference, output_dir)
     remove_failure_images(reference, output_dir)  # no stale diff from an earlier run
     written = [write_image(paths["actual"], actual)]
@@ -114,7 +115,11 @@ def write_failure_images(
         written.append(write_image(paths["expected"], expected))
         if as_rgba8(actual).shape == as_rgba8(expected).shape:
             written.append(
-                write_image(paths["diff"], diff_image(actual, expected, amplification), note=diff_scale_text(amplification))
+                write_image(
+                    paths["diff"],
+                    with_scale_legend(diff_image(actual, expected, amplification), amplification),
+                    note=diff_scale_text(amplification),
+                )
             )
             if flip:
                 flip_path = paths["diff"].with_name(paths["diff"].name.replace(".diff.png", ".flip.png"))

@@ -1,5 +1,5 @@
 """The pixels of a golden-image test: any image to (H, W, 4) uint8, reference PNGs read
-and written, and the amplified difference image a person looks at when a test fails.
+and written, and the difference image (log scale) a person looks at when a test fails.
 
 Pure numpy (imageio for the files, imported when a file is read or written).
 """
@@ -105,3 +105,44 @@ def diff_image(actual, expected, amplification: float | None = DEFAULT_AMPLIFICA
         scaled = rgb * float(amplification)
     amplified = np.clip(np.round(scaled), 0, 255).astype(np.uint8)
     return np.concatenate([amplified, np.full(amplified.shape[:2] + (1,), 255, np.uint8)], axis=2)
+
+
+LEGEND_HEIGHT = 34  # pixels added below a written diff image for its scale
+_LEGEND_TICKS = (1, 8, 64, 255)
+
+
+def with_scale_legend(diff: np.ndarray, amplification: float | None = DEFAULT_AMPLIFICATION) -> np.ndarray:
+    """The diff image with its scale drawn below it (the file a person opens says how to read
+    it): a ramp of how the diff draws differences, ticks at 1, 8, 64 and 255 (in 1/255) and a
+    caption. The diff's own pixels keep their rows and columns. Images narrower than 160
+    pixels are returned as they are (no room for labels); the PNG's text says the scale."""
+    height, width = diff.shape[:2]
+    if width < 160:
+        return diff
+    from PIL import Image, ImageDraw
+
+    def drawn(d):  # the brightness the diff gives a difference of d/255
+        return 255.0 * np.log2(1.0 + d) / 8.0 if amplification is None else d * float(amplification)
+
+    def column(d):  # where the legend puts d: evenly on the log scale, or linearly
+        fraction = np.log2(1.0 + d) / 8.0 if amplification is None else d / 255.0
+        return int(round(fraction * (width - 1)))
+
+    positions = np.linspace(0.0, 1.0, width)
+    differences = 2.0 ** (positions * 8.0) - 1.0 if amplification is None else positions * 255.0
+    ramp = np.clip(np.round(drawn(differences)), 0, 255).astype(np.uint8)
+    legend = np.zeros((LEGEND_HEIGHT, width, 4), np.uint8)
+    legend[..., 3] = 255
+    legend[:8, :, :3] = ramp[None, :, None]
+    canvas = Image.fromarray(legend)
+    draw = ImageDraw.Draw(canvas)
+    white = (255, 255, 255, 255)
+    for tick in _LEGEND_TICKS:
+        x = column(tick)
+        draw.line([(x, 8), (x, 10)], fill=white)
+        text = str(tick)
+        text_width = draw.textlength(text)
+        draw.text((min(max(x - text_width / 2, 0), width - text_width - 1), 11), text, fill=white)
+    caption = "difference in 1/255, " + ("log scale" if amplification is None else f"linear ×{amplification:g}")
+    draw.text((2, 22), caption, fill=white)
+    return np.concatenate([as_rgba8(diff), np.asarray(canvas)], axis=0)

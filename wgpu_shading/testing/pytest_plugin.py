@@ -9,7 +9,7 @@ Paths are relative to the test file's folder. The fixture renders scenes with th
 session-wide `golden_renderer` fixture (override it in a conftest.py to hand in your own
 Renderer), compares with the reference PNG and fails with a message that says how many
 pixels differ, by how much, where, and what the difference looks like; the actual,
-expected and amplified diff images are written to --golden-output (default: a `golden`
+expected and (log-scaled) diff images are written to --golden-output (default: a `golden`
 folder in pytest's temporary directory) and named in the message.
 
 Options:
