@@ -115,7 +115,9 @@ def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distr
     for index, chunk in enumerate(work):
         future = client.submit(render_chunk_task, chunk, out_dir, plugin_name, key=f"wgpu-shading-chunk-{batch}-{index}", pure=False)
         futures[future] = chunk
-    pending = distributed.as_completed(futures)
+    # This client's loop, not the default client's: a process may hold other clients (a
+    # notebook's, a test's), and as_completed would otherwise wait on another loop.
+    pending = distributed.as_completed(futures, loop=client.loop)
     for future in pending:
         chunk = futures.pop(future)
         try:
