@@ -21,6 +21,7 @@ from typing import Iterator
 from ..errors import WgpuShadingError
 from .jobs import Job
 
+
 class DaskMissingError(WgpuShadingError):
     pass
 
@@ -86,13 +87,10 @@ def run_on_dask(
     if scheduler is None:
         cluster = local_cluster(workers, lavapipe_threads)
         client = distributed.Client(cluster)
+    elif not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")) and Path(scheduler).is_file():
+        client = distributed.Client(scheduler_file=scheduler, timeout=30)
     else:
-        logging.getLogger("distributed").setLevel(logging.CRITICAL)
-        target = scheduler
-        if not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")) and Path(scheduler).is_file():
-            client = distributed.Client(scheduler_file=scheduler, timeout=30)
-        else:
-            client = distributed.Client(target, timeout=30)
+        client = distributed.Client(scheduler, timeout=30)
     try:
         from .worker import RendererPlugin
 
