@@ -82,7 +82,7 @@ def run_batch(
         label, cli_input = "bunny 70K", (str(BUNNY) if BUNNY.exists() else None)
         if scene is None:
             scene, label = torus_scene(size), "torus 10K"
-    views = turntable(scene, frames)
+    views = list(turntable(scene, frames))  # made up front: the timings are of rendering only
     progress(f"batch: {frames} views of the {label} at {size}², naive vs render_many")
     naive_frames = [renderer.render(view) for view in views[:6]]
     batch_frames = [frame.color for frame in renderer.render_many(views[:6])]

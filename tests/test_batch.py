@@ -158,7 +158,7 @@ def test_cli_turntable_from_a_new_process(tmp_path):
         (["-o", "spin.png"], "unsupported format; use one of .gif, .mp4"),
         (["-o", "/nonexistent/dir/spin.gif"], "folder '/nonexistent/dir' does not exist"),
         (["--frames", "0"], "--frames must be at least 1"),
-        (["--fps", "0"], "--fps must be a positive number"),
+        (["--fps", "0"], "--fps must be between 0.01 and 1000 frames per second"),
         (["--material", "goldd"], "did you mean 'gold'"),
     ],
 )

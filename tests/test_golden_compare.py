@@ -272,7 +272,7 @@ def test_check_image_creates_passes_fails_and_updates(tmp_path, base):
 def test_read_image_rejects_what_it_cannot_compare(tmp_path):
     bad = tmp_path / "bad.png"
     bad.write_text("not a png")
-    with pytest.raises(GoldenError, match="cannot be read"):
+    with pytest.raises(GoldenError, match="this file holds data that is not PNG"):
         read_image(bad)
     import imageio.v3 as iio
 
@@ -307,3 +307,66 @@ def test_flip_without_the_optional_package_says_how_to_install_it(monkeypatch, b
     monkeypatch.setitem(sys.modules, "flip_evaluator", None)  # import fails as if not installed
     with pytest.raises(GoldenError, match=r"\[flip\] extra into this environment: .* -m pip install 'flip-evaluator"):
         compare(base, base, Tolerance(flip_mean=0.01))
+
+
+# --------------------------------------------------------------------------- hostile references
+
+
+def _jpeg_bytes() -> bytes:
+    import io
+
+    from PIL import Image
+
+    buffer = io.BytesIO()
+    Image.new("RGB", (4, 4), (10, 20, 30)).save(buffer, format="JPEG")
+    return buffer.getvalue()
+
+
+def _sixteen_bit_png(path):
+    import imageio.v3 as iio
+
+    iio.imwrite(path, np.full((4, 4), 40000, np.uint16))
+    return path
+
+
+@pytest.mark.parametrize(
+    "kind, make, message",
+    [
+        ("jpeg", lambda p: p.write_bytes(_jpeg_bytes()), "this file holds JPEG data"),
+        ("16-bit", _sixteen_bit_png, "this one has uint16 pixels"),
+        ("damaged", lambda p: p.write_bytes(b"\x89PNG\r\n\x1a\n" + b"\x00" * 40), "a damaged PNG"),
+    ],
+)
+def test_unusable_references_are_refused_then_replaced_with_update(tmp_path, kind, make, message):
+    reference = tmp_path / "ref.png"
+    make(reference)
+    image = np.full((4, 4, 4), 200, np.uint8)
+    with pytest.raises(GoldenError, match=message + r".*rewrite it with --update"):
+        check_image(image, reference)
+    result = check_image(image, reference, update=True)
+    assert result.status == "updated" and "could not be used" in result.report()
+    assert reference.read_bytes().startswith(b"\x89PNG")
+    assert np.array_equal(read_image(reference), image)
+    assert check_image(image, reference).status == "passed"
+
+
+def test_a_jpg_reference_name_never_gets_png_bytes(tmp_path):
+    reference = tmp_path / "ref.jpg"
+    with pytest.raises(GoldenError, match="references are 8-bit PNG files; name it .png"):
+        check_image(np.zeros((4, 4, 4), np.uint8), reference, update=True)
+    assert not reference.exists()
+
+
+def test_an_rgb_reference_compares_colour_only_against_a_translucent_image(tmp_path):
+    reference = write_image(tmp_path / "rgb.png", np.full((6, 6, 3), 90, np.uint8))
+    import imageio.v3 as iio
+
+    iio.imwrite(reference, np.full((6, 6, 3), 90, np.uint8))  # a file without alpha
+    translucent = np.full((6, 6, 4), 90, np.uint8)
+    translucent[:, :, 3] = 128
+    assert check_image(translucent, reference).status == "passed"
+    different = translucent.copy()
+    different[:, :, 0] = 200
+    assert check_image(different, reference).status == "failed"
+    rgba_reference = write_image(tmp_path / "rgba.png", np.full((6, 6, 4), 90, np.uint8))
+    assert check_image(translucent, rgba_reference).status == "failed"  # its alpha is 255

@@ -218,3 +218,33 @@ def test_check_command_usage_errors_are_one_line(torus, capsys, args, message):
     assert main(["check", torus, "--size", "32", *args]) == 2
     err = capsys.readouterr().err
     assert err.startswith("wgpu-shading: error: ") and message in err and err.count("\n") == 1
+
+
+BAD_INPUT_TEST = textwrap.dedent(
+    """
+    import numpy as np
+
+    def test_bad_scene(assert_golden):
+        assert_golden("bad.toml", "refs/bad.png")
+
+    def test_corrupt_reference(assert_golden):
+        assert_golden(np.zeros((4, 4, 4), np.uint8), "refs/corrupt.png")
+    """
+)
+
+
+def test_bad_scenes_and_references_are_test_failures_with_the_message_not_tracebacks(pytester):
+    pytester.makepyfile(test_bad=BAD_INPUT_TEST)
+    pytester.path.joinpath("bad.toml").write_text('[[lights]]\ntype = ["spot"]\n')
+    (pytester.path / "refs").mkdir()
+    (pytester.path / "refs" / "corrupt.png").write_bytes(b"\xff\xd8\xff\xe0 jpeg data")
+    result = run(pytester)
+    result.assert_outcomes(failed=2)
+    output = result.stdout.str()
+    assert "[[lights]] #1.type: expected one of 'directional', 'positional', 'spot', got ['spot']" in output
+    assert "references are 8-bit PNGs; this file holds JPEG data" in output
+    assert "Traceback" not in output and "raise SceneError" not in output and "GoldenError(" not in output
+    # --update-golden replaces the unusable reference
+    result = run(pytester, "--update-golden", "-k", "corrupt")
+    result.assert_outcomes(passed=1)
+    assert (pytester.path / "refs" / "corrupt.png").read_bytes().startswith(b"\x89PNG")

@@ -65,8 +65,52 @@ def test_texture_coordinates_are_uploaded_when_a_textured_draw_first_needs_them(
     plain = replace(textured, objects=(replace(obj, material=replace(obj.material, texture=None)),))
     fresh = Renderer(device=renderer.device)
     untextured_first = fresh.render(plain)
-    assert fresh._meshes[obj.mesh].uvs is None  # an untextured draw leaves them out
+    assert fresh._meshes.get(obj.mesh).uvs is None  # an untextured draw leaves them out
     textured_image = fresh.render(textured)
-    assert fresh._meshes[obj.mesh].uvs is not None
+    assert fresh._meshes.get(obj.mesh).uvs is not None
     np.testing.assert_array_equal(textured_image, Renderer(device=renderer.device).render(textured))
     assert not np.array_equal(textured_image, untextured_first)
+
+
+def _live_gpu_objects() -> dict[str, int]:
+    import gc
+
+    import wgpu
+
+    gc.collect()
+    counts = wgpu.diagnostics.object_counts.get_dict()
+    return {kind: value["count"] for kind, value in counts.items() if kind != "total"}
+
+
+def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
+    """Every frame has a new output size and a new (still referenced) mesh, and the feature
+    set cycles through more pipelines than the cache holds: the number of live GPU objects
+    must stop growing once the caches are full."""
+    from wgpu_shading import PositionalLight, Renderer, Scene, SceneObject, Shading
+    from wgpu_shading.render.caches import MESH_CACHE_ENTRIES, TARGET_CACHE_ENTRIES
+    from wgpu_shading.render.pipelines import PipelineCache
+    from wgpu_shading.scene.builtins import uv_sphere
+
+    long_run = Renderer(device=renderer.device)
+    long_run._pipelines = PipelineCache(renderer.device, max_entries=2)  # 4 feature sets below
+    kept_meshes = []  # the caller keeps every mesh alive: only eviction can free the uploads
+    shadings = [Shading(frequency=f, reflection=r) for f in ("flat", "gouraud") for r in ("phong", "blinn-phong")]
+
+    def frames(start: int, count: int) -> dict[str, int]:
+        for index in range(start, start + count):
+            mesh = uv_sphere(slices=6 + index % 5, stacks=4)
+            kept_meshes.append(mesh)
+            scene = Scene(
+                objects=(SceneObject(mesh),), lights=(PositionalLight(),),
+                shading=shadings[index % len(shadings)], size=(16 + index, 16 + index % 7),
+            )
+            assert long_run.render(scene)[8, 8, 3] == 255  # the sphere covers the centre
+        return _live_gpu_objects()
+
+    frames(0, MESH_CACHE_ENTRIES + 8)  # fill every cache
+    full = frames(100, 40)
+    later = frames(200, 40)
+    assert later == full, f"live GPU objects still grow: {full} → {later}"
+    assert len(long_run._targets) == TARGET_CACHE_ENTRIES
+    assert len(long_run._meshes) == MESH_CACHE_ENTRIES and long_run._meshes.evictions > 0
+    assert long_run.pipeline_count == 2

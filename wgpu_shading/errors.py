@@ -4,9 +4,40 @@ as one line and exits non-zero."""
 
 from __future__ import annotations
 
+import reprlib
+
+MAX_MESSAGE_CHARS = 600  # a message is one readable line, whatever the input held
+_SHOWN = reprlib.Repr()  # (keyword arguments need Python 3.12)
+_SHOWN.maxlevel, _SHOWN.maxlist, _SHOWN.maxtuple, _SHOWN.maxdict = 3, 8, 8, 6
+_SHOWN.maxstring, _SHOWN.maxother, _SHOWN.maxlong = 60, 60, 40
+
+
+def shown(value: object) -> str:
+    """repr() of a user value for an error message: short (a 1 MB string or a deeply nested
+    list is cut, with "..."), and never recursing without bound."""
+    try:
+        return _SHOWN.repr(value)
+    except RecursionError:  # pragma: no cover - reprlib stops at maxlevel
+        return f"<{type(value).__name__}>"
+
+
+def shorten(text: str, limit: int = MAX_MESSAGE_CHARS) -> str:
+    """`text` on one line, at most `limit` characters (the middle is elided)."""
+    text = " ".join(str(text).split())
+    if len(text) <= limit:
+        return text
+    half = (limit - 5) // 2
+    return f"{text[:half]} ... {text[-half:]}"
+
 
 class WgpuShadingError(Exception):
-    """Base class of every error the package raises on purpose."""
+    """Base class of every error the package raises on purpose. The message is kept to one
+    line of at most MAX_MESSAGE_CHARS characters (file contents or values echoed in it are cut)."""
+
+    def __init__(self, *args: object) -> None:
+        if len(args) == 1 and isinstance(args[0], str):
+            args = (shorten(args[0]),)
+        super().__init__(*args)
 
 
 class SceneError(WgpuShadingError, ValueError):

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import io
 import os
 import queue
+import struct
 import threading
 from pathlib import Path
 from typing import Callable, Iterable
@@ -14,6 +16,8 @@ from ..errors import SceneError
 from .images import output_path
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
+# GIF stores a frame's delay in hundredths of a second, 1..65535.
+MIN_FPS, MAX_FPS = 0.01, 1000.0
 
 
 
@@ -46,6 +50,8 @@ def write_animation(
     """
     path = Path(path)
     check_animation_path(path)
+    if not (isinstance(fps, (int, float)) and MIN_FPS <= fps <= MAX_FPS):
+        raise SceneError(f"fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {fps!r}")
     encoder = _GifEncoder(path, fps) if path.suffix.lower() == ".gif" else _Mp4Encoder(path, fps)
     work: queue.Queue = queue.Queue(maxsize=4)  # bounded: rendering may run ahead only a little
     failure: list[BaseException] = []
@@ -62,40 +68,107 @@ def write_animation(
     thread.start()
     count = 0
     try:
-        for frame in frames:
-            if failure:
-                break
-            work.put(np.asarray(frame)[:, :, :3])  # no alpha: GIF and H.264 are opaque
-            count += 1
-            if progress is not None:
-                progress(count)
-    finally:
-        work.put(None)
-        thread.join()
-    if failure:
-        raise failure[0]
-    encoder.close()
+        try:
+            for frame in frames:  # consumed one at a time: a lazy source is never held whole
+                if failure:
+                    break
+                work.put(np.asarray(frame)[:, :, :3])  # no alpha: GIF and H.264 are opaque
+                count += 1
+                if progress is not None:
+                    progress(count)
+        finally:
+            work.put(None)
+            thread.join()
+        if failure:
+            raise failure[0]
+        encoder.close()
+    except BaseException:
+        getattr(encoder, "abort", lambda: None)()  # no half-written file left behind
+        raise
     return count
 
 
 class _GifEncoder:
+    """A looping animated GIF written frame by frame: memory stays at one frame however
+    long the animation (Pillow's own multi-frame writer keeps every frame until the end).
+
+    Each frame is quantized and LZW-encoded by Pillow as a one-frame GIF; its palette
+    becomes the frame's local color table and its image block is appended to the file."""
+
     def __init__(self, path: Path, fps: float):
         self.path = path
-        self.duration_ms = 1000.0 / fps
-        self.images: list = []
+        self.delay = min(65535, max(1, round(100.0 / fps)))  # GIF counts in hundredths of a second
+        self.file = None
+        self.size: tuple[int, int] | None = None
+        self.count = 0
 
     def add(self, rgb: np.ndarray) -> None:
         from PIL import Image
 
+        height, width = rgb.shape[:2]
         # An adaptive palette per frame (fast octree): smooth shading keeps its gradients,
         # unlike a fixed web palette.
-        self.images.append(Image.fromarray(np.ascontiguousarray(rgb)).quantize(256, method=Image.Quantize.FASTOCTREE))
+        image = Image.fromarray(np.ascontiguousarray(rgb)).quantize(256, method=Image.Quantize.FASTOCTREE)
+        encoded = io.BytesIO()
+        image.save(encoded, format="GIF", interlace=False)
+        color_table, image_block = _split_single_frame_gif(encoded.getvalue())
+        if self.file is None:
+            self.size = (width, height)
+            self.file = open(self.path, "wb")
+            self.file.write(b"GIF89a" + struct.pack("<HHBBB", width, height, 0x70, 0, 0))  # no global table
+            self.file.write(b"\x21\xff\x0bNETSCAPE2.0\x03\x01\x00\x00\x00")  # loop forever
+        elif (width, height) != self.size:
+            raise SceneError(f"{self.path}: frame {self.count + 1} is {width}×{height}, the first was {self.size[0]}×{self.size[1]}")
+        # Graphic control extension: no disposal, the frame's delay, no transparency.
+        self.file.write(b"\x21\xf9\x04\x04" + struct.pack("<H", self.delay) + b"\x00\x00")
+        self.file.write(image_block[:9])  # image separator, position and size
+        table_bits = max(0, (len(color_table) // 3).bit_length() - 2)  # 2^(bits+1) entries
+        self.file.write(bytes([0x80 | (image_block[9] & 0x40) | table_bits]))  # a local color table; interlace as encoded
+        self.file.write(color_table)
+        self.file.write(image_block[10:])  # LZW data
+        self.file.flush()  # on disk as it comes (and a long run's progress is visible)
+        self.count += 1
 
     def close(self) -> None:
-        if not self.images:
+        if self.file is None:
             raise SceneError(f"{self.path}: no frames to write")
-        first, *rest = self.images
-        first.save(self.path, save_all=True, append_images=rest, duration=self.duration_ms, loop=0, optimize=False)
+        self.file.write(b"\x3b")
+        self.file.close()
+
+    def abort(self) -> None:
+        if self.file is not None:
+            self.file.close()
+            self.path.unlink(missing_ok=True)
+
+
+def _split_single_frame_gif(data: bytes) -> tuple[bytes, bytes]:
+    """(color table, image block) of a one-frame GIF as Pillow writes it: the table is the
+    global one (Pillow writes its palette there), the block runs from the image separator
+    through the LZW data's terminator."""
+    flags = data[10]
+    position = 13
+    if not flags & 0x80:
+        raise ValueError("a one-frame GIF without a global color table")
+    table_size = 3 * (1 << ((flags & 0x07) + 1))
+    color_table = data[position : position + table_size]
+    position += table_size
+    while data[position] == 0x21:  # skip extensions: label, then sub-blocks up to a 0
+        position += 2
+        while data[position]:
+            position += data[position] + 1
+        position += 1
+    if data[position] != 0x2C:
+        raise ValueError("no image descriptor in the encoded frame")
+    start = position
+    image_flags = data[position + 9]
+    if image_flags & 0x80:  # a local table after all: use it instead
+        local_size = 3 * (1 << ((image_flags & 0x07) + 1))
+        color_table = data[position + 10 : position + 10 + local_size]
+        block = data[start : start + 10] + data[start + 10 + local_size :]
+    else:
+        block = data[start:]
+    end = block.rfind(b"\x3b")
+    return color_table, block[:end]
 
 
 class _Mp4Encoder:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import MeshError, SceneError
 from ..scene import Material, Mesh, Scene, SceneObject, material
 from ..scene.framing import framing_camera
 from ..scene.lighting import viewer_lights
@@ -35,10 +36,19 @@ def mesh_scene(
     if placed.up != "+Y":  # frame the turned mesh: a mesh with the turn baked in, for framing only
         world = mesh.world_positions() @ np.array(placed.model_matrix())[:3, :3].T
         mesh = Mesh.from_arrays(world, mesh.indices, normals=mesh.normals, name=mesh.name)
-    camera = framing_camera(mesh, size)
-    return Scene(
-        objects=(placed,),
-        lights=viewer_lights(camera),
-        camera=camera,
-        size=size,
-    )
+    try:
+        camera = framing_camera(mesh, size)
+        return Scene(
+            objects=(placed,),
+            lights=viewer_lights(camera),
+            camera=camera,
+            size=size,
+        )
+    except SceneError as error:
+        # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.
+        lower, upper = mesh.bounds()
+        center, radius = (lower + upper) / 2.0, float(np.linalg.norm(upper - lower)) / 2.0
+        raise MeshError(
+            f"mesh {str(mesh_source)!r} ({mesh.vertex_count} vertices around {center.tolist()}, radius {radius:.3g}): "
+            f"the automatic camera and lights cannot be placed for it ({error})"
+        ) from None

@@ -22,6 +22,7 @@ from ..scene.material import Material
 from ..scene.mesh import Mesh, MeshPart, face_normals
 from ..scene.normals import crease_normals
 from .examples import resolve_example
+from .mesh_checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 DEFAULT_CREASE_ANGLE = 60.0  # degrees (SPEC §12)
@@ -52,6 +53,8 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         return builtin(text)
     if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
         raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
+    if "\x00" in text:
+        raise MeshError(f"mesh file {text!r}: a path cannot contain a NUL character")
     path = Path(text)
     if not path.exists():
         raise MeshError(f"mesh file {text!r} not found")
@@ -60,33 +63,44 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     suffix = path.suffix.lower()
     if suffix not in MESH_SUFFIXES:
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")
-    if suffix == ".obj":
-        from .obj import read_obj
+    file_size = file_size_or_error(path, f"mesh file {text!r}")  # size limit, before anything is read
+    with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
+        if suffix == ".obj":
+            from .obj import read_obj
 
-        data = read_obj(path)
-        pieces = [_Piece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
-    elif suffix in (".glb", ".gltf"):
-        pieces = _gltf_pieces(path)
-    else:
-        pieces = [_trimesh_piece(path)]
-    pieces = [p for p in pieces if len(p.faces)]
-    if not pieces:
-        raise MeshError(f"mesh file {text!r} contains no triangles")
-    return _assemble(pieces, path.name, float(crease_angle))
+            data = read_obj(path)
+            pieces = [_Piece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
+        elif suffix in (".glb", ".gltf"):
+            pieces = _gltf_pieces(path)
+        else:
+            pieces = [_trimesh_piece(path, file_size)]
+        pieces = [p for p in pieces if len(p.faces)]
+        if not pieces:
+            raise MeshError(f"mesh file {text!r} contains no triangles")
+        return _assemble(pieces, path.name, float(crease_angle))
 
 
 # --------------------------------------------------------------------------- trimesh formats
 
 
-def _load_trimesh(path: Path, **options):
+def _load_trimesh(path: Path, file_size: int | None = None, **options):
     import trimesh  # lazy: trimesh costs ~0.3 s to import
 
+    where = f"mesh file {str(path)!r}"
     try:
-        return trimesh.load(str(path), process=False, **options)
+        # Text formats are decoded here (UTF-8, else Latin-1): trimesh's own fallback needs
+        # the optional charset_normalizer.
+        source = text_source(path, where, file_size) if file_size is not None else None
+        if source is None:
+            return trimesh.load(str(path), process=False, **options)
+        resolver = trimesh.resolvers.FilePathResolver(str(path))
+        return trimesh.load(source, file_type=path.suffix.lower().lstrip("."), process=False, resolver=resolver, **options)
+    except MeshError:
+        raise
     except IndexError as error:  # trimesh indexes vertices with the file's face indices
-        raise MeshError(f"mesh file {str(path)!r}: a face refers to a vertex that does not exist ({error})") from None
-    except Exception as error:  # trimesh raises many exception types for malformed files
-        raise MeshError(f"mesh file {str(path)!r}: cannot be read ({type(error).__name__}: {error})") from None
+        raise MeshError(f"{where}: a face refers to a vertex that does not exist ({error})") from None
+    except (Exception, RecursionError) as error:  # trimesh raises many exception types for malformed files
+        raise MeshError(f"{where}: {describe_load_error(error, path)}") from None
 
 
 def _file_normals(geometry) -> np.ndarray | None:
@@ -98,10 +112,12 @@ def _file_normals(geometry) -> np.ndarray | None:
     return None
 
 
-def _trimesh_piece(path: Path) -> _Piece:
+def _trimesh_piece(path: Path, file_size: int) -> _Piece:
     import trimesh
 
-    loaded = _load_trimesh(path)
+    # A PLY header's counts are checked against the file size before trimesh allocates them.
+    declared = ply_declared_counts(path, f"mesh file {str(path)!r}", file_size) if path.suffix.lower() == ".ply" else None
+    loaded = _load_trimesh(path, file_size)
     if isinstance(loaded, trimesh.Scene):
         geometries = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
         if len(geometries) != 1:
@@ -133,6 +149,12 @@ def _trimesh_piece(path: Path) -> _Piece:
             colors = np.asarray(vertex_attribute)
         elif face_attribute is not None and len(face_attribute) == len(faces):
             face_colors = np.asarray(face_attribute)
+    if declared is not None and (len(positions) < declared[0] or len(faces) < declared[1]):
+        # Polygons become one or more triangles each, so a whole file has at least as many.
+        raise MeshError(
+            f"mesh file {str(path)!r}: truncated: the header declares {declared[0]} vertices and {declared[1]} faces, "
+            f"the file holds {len(positions)} vertices and {len(faces)} triangles"
+        )
     normals = _file_normals(loaded)
     if face_colors is not None:  # one color per face: every corner its own vertex
         corners = faces.reshape(-1)
@@ -241,7 +263,26 @@ def _piece_normals(piece: _Piece, crease_angle: float) -> _Piece:
     )
 
 
+def _check_piece(piece: _Piece, name: str) -> None:
+    """What normals and welding index with must be valid first (trimesh reads PLY, STL and
+    OFF faces without checking them, process=False): finite positions, indices in range."""
+    if piece.faces.ndim != 2 or piece.faces.shape[1] != 3:
+        raise MeshError(f"{name}: faces must be triangles, got an array of shape {piece.faces.shape}")
+    if not np.isfinite(piece.positions).all():
+        bad = int(np.flatnonzero(~np.isfinite(piece.positions).all(axis=1))[0])
+        raise MeshError(f"{name}: vertex {bad} has a NaN or infinite coordinate: {piece.positions[bad].tolist()}")
+    low, high = int(piece.faces.min()), int(piece.faces.max())
+    if low < 0 or high >= len(piece.positions):
+        culprit = low if low < 0 else high
+        raise MeshError(
+            f"{name}: a face refers to vertex {culprit}, but the file has {len(piece.positions)} vertices "
+            f"(valid: 0..{len(piece.positions) - 1})"
+        )
+
+
 def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
+    for piece in pieces:
+        _check_piece(piece, name)
     pieces = [_piece_normals(piece, crease_angle) for piece in pieces]
     any_uvs = any(p.uvs is not None for p in pieces)
     any_colors = any(p.colors is not None for p in pieces)

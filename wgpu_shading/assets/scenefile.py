@@ -22,7 +22,7 @@ import tomllib
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..errors import MeshError, SceneError
+from ..errors import MeshError, SceneError, shown
 from ..scene import BUILTIN_PREFIX
 from ..scene.materials import material as named_material
 from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
@@ -55,18 +55,22 @@ _MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shinine
 _COLOR_KEYS = ("ambient", "diffuse", "specular")
 
 
+# Scene files are small: a bigger one is not a scene (and tomllib would hold it all).
+MAX_SCENE_FILE_BYTES = 16 << 20
+
+
 def _check_keys(table: Mapping[str, Any], allowed: set[str], where: str, note: str = "") -> None:
     for key in table:
         if key not in allowed:
-            close = difflib.get_close_matches(key, allowed, n=1)
+            close = difflib.get_close_matches(key[:100], allowed, n=1)
             hint = f"; did you mean {close[0]!r}?" if close else f"; expected one of {', '.join(sorted(allowed))}"
-            raise SceneError(f"{where}: unknown key {key!r}{note}{hint}")
+            raise SceneError(f"{where}: unknown key {shown(key)}{note}{hint}")
 
 
 def _table(document: Mapping[str, Any], name: str) -> Mapping[str, Any]:
     value = document.get(name, {})
     if not isinstance(value, dict):
-        raise SceneError(f"[{name}]: expected a table, got {type(value).__name__}")
+        raise SceneError(f"[{name}]: expected a table, got {type(value).__name__} {shown(value)}")
     _check_keys(value, _SECTIONS[name], f"[{name}]")
     return value
 
@@ -87,10 +91,12 @@ def _material(value: Any, base: Path, where: str) -> Material:
     if isinstance(value, str):
         return named_material(value)
     if not isinstance(value, dict):
-        raise SceneError(f"{where}.material: expected a material name or an inline table, got {value!r}")
+        raise SceneError(f"{where}.material: expected a material name or an inline table, got {shown(value)}")
     _check_keys(value, _MATERIAL_KEYS, f"{where}.material")
     fields: dict[str, Any] = {}
     if "base" in value:
+        if not isinstance(value["base"], str):
+            raise SceneError(f"{where}.material.base: expected a material name, got {shown(value['base'])}")
         start = named_material(value["base"])
         fields.update(
             ambient=start.ambient, diffuse=start.diffuse, specular=start.specular,
@@ -104,7 +110,7 @@ def _material(value: Any, base: Path, where: str) -> Material:
             fields[key] = value[key]
     if "texture" in value:
         if not isinstance(value["texture"], str):
-            raise SceneError(f"{where}.material.texture: expected a path to an image, got {value['texture']!r}")
+            raise SceneError(f"{where}.material.texture: expected a path to an image, got {shown(value['texture'])}")
         texture_path = _resolve(value["texture"], base)
         try:
             fields["texture"] = load_texture(texture_path)
@@ -119,8 +125,8 @@ def _material(value: Any, base: Path, where: str) -> Material:
 def _light(table: Mapping[str, Any], index: int):
     where = f"[[lights]] #{index + 1}"
     kind = table.get("type", "positional")
-    if kind not in _LIGHT_KEYS:
-        raise SceneError(f"{where}.type: expected one of {', '.join(map(repr, _LIGHT_KEYS))}, got {kind!r}")
+    if not isinstance(kind, str) or kind not in _LIGHT_KEYS:
+        raise SceneError(f"{where}.type: expected one of {', '.join(map(repr, _LIGHT_KEYS))}, got {shown(kind)}")
     _check_keys(table, set().union(*_LIGHT_KEYS.values()), where)
     _check_keys(table, _LIGHT_KEYS[kind], where, note=f" for a {kind} light")
     arguments = {key: value for key, value in table.items() if key != "type"}
@@ -137,7 +143,7 @@ def _object(table: Mapping[str, Any], index: int, base: Path, crease_angle: floa
         raise SceneError(f"{where}: missing key 'mesh' (builtin:NAME or a mesh file)")
     mesh_text = table["mesh"]
     if not isinstance(mesh_text, str):
-        raise SceneError(f"{where}.mesh: expected a string, got {mesh_text!r}")
+        raise SceneError(f"{where}.mesh: expected a string, got {shown(mesh_text)}")
     source = mesh_text if mesh_text.startswith((BUILTIN_PREFIX, EXAMPLE_PREFIX)) else str(_resolve(mesh_text, base))
     crease = table.get("crease_angle", DEFAULT_CREASE_ANGLE) if crease_angle is None else crease_angle
     if isinstance(crease, bool) or not isinstance(crease, (int, float)) or not 0 <= crease <= 180:
@@ -191,6 +197,8 @@ def _camera(table: Mapping[str, Any]) -> Camera:
 def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".", *, crease_angle: float | None = None) -> Scene:
     """A Scene from an already-parsed TOML document (paths relative to `base`).
     crease_angle, when given, replaces every object's (the CLI's --crease-angle)."""
+    if not isinstance(document, Mapping):
+        raise SceneError(f"scene: expected a table (a parsed TOML document), got {type(document).__name__}")
     base_path = Path(base)
     _check_keys(document, _TOP_LEVEL, "scene")
     output = _table(document, "output")
@@ -214,18 +222,30 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".",
 
 def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = None) -> Scene:
     """Read a scene file (or `example:NAME.toml`). Errors name the file and the offending key."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise SceneError(f"load_scene: expected a path to a scene file, got {type(path).__name__}")
     path = Path(resolve_example(str(path)))
     try:
-        text = path.read_text(encoding="utf-8")
+        with open(path, "rb") as file:
+            data = file.read(MAX_SCENE_FILE_BYTES + 1)
+        if len(data) > MAX_SCENE_FILE_BYTES:
+            raise SceneError(f"scene file {str(path)!r} is larger than {MAX_SCENE_FILE_BYTES >> 20} MiB; not a scene file")
+        text = data.decode("utf-8")
     except FileNotFoundError:
         raise SceneError(f"scene file {str(path)!r} not found") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as error:
+    except (OSError, UnicodeDecodeError, ValueError) as error:  # ValueError: a NUL in the path
         raise SceneError(f"scene file {str(path)!r} cannot be read: {error}") from None
     try:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise SceneError(f"{path}: invalid TOML: {error}") from None
+    except RecursionError:
+        raise SceneError(f"{path}: invalid TOML: arrays or tables nested too deeply") from None
+    except ValueError as error:  # e.g. an integer of more than 4300 digits
+        raise SceneError(f"{path}: invalid TOML: {error}") from None
     try:
         return parse_scene(document, path.parent, crease_angle=crease_angle)
-    except SceneError as error:
+    except (SceneError, MeshError) as error:
         raise SceneError(f"{path}: {error}") from None
+    except RecursionError:
+        raise SceneError(f"{path}: values nested too deeply") from None

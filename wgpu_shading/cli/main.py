@@ -27,15 +27,23 @@ import warnings
 from typing import Sequence
 
 from .. import __version__
-from ..errors import WgpuShadingError
+from ..errors import WgpuShadingError, shorten
 from . import batch, bench, check, info, render
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line usage errors (its own put the whole usage text first): the
+    same "wgpu-shading ...: error: ..." line and exit status 2 as every other bad input."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {shorten(message)} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="wgpu-shading",
         description="Classic local lighting (Phong/Blinn-Phong; flat, Gouraud, Phong shading) rendered offscreen with wgpu.",
     )
@@ -61,6 +69,10 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     print(f"wgpu-shading: warning: {message}", file=sys.stderr)
 
 
+def _option_name(destination: str) -> str:
+    return "input" if destination in ("input", "manifest") else "--" + destination.replace("_", "-")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -69,6 +81,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     trimesh_log = logging.getLogger("trimesh")
     if not trimesh_log.handlers:
         trimesh_log.addHandler(logging.NullHandler())
+    for name, value in vars(args).items():
+        # No file name or value holds a NUL character; os calls would raise ValueError deep inside.
+        for text in value if isinstance(value, list) else [value]:
+            if isinstance(text, str) and "\x00" in text:
+                print(f"wgpu-shading: error: {_option_name(name)} {shorten(repr(text), 80)} contains a NUL character", file=sys.stderr)
+                return EXIT_USAGE
     try:
         with warnings.catch_warnings():
             # A file's problems that do not stop the render (a missing texture or .mtl):

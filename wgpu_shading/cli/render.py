@@ -7,6 +7,7 @@ import math
 import sys
 
 from ..errors import SceneError
+from ..assets.animation import MAX_FPS, MIN_FPS
 from .arguments import _add_scene_arguments, _check_output, _default_output, _error_budget, _load
 
 
@@ -56,8 +57,10 @@ def command_turntable(args: argparse.Namespace) -> int:
 
     if args.frames < 1:
         raise SceneError(f"--frames must be at least 1, got {args.frames}")
-    if not (args.fps > 0 and math.isfinite(args.fps)):
-        raise SceneError(f"--fps must be a positive number, got {args.fps}")
+    if not (MIN_FPS <= args.fps <= MAX_FPS):
+        raise SceneError(f"--fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {args.fps}")
+    if not (math.isfinite(args.degrees) and abs(args.degrees) <= 1e6):
+        raise SceneError(f"--degrees must be a finite number of degrees (at most 1e6 in size), got {args.degrees}")
     scene = _load(args)
     output = _default_output(args, ".gif")
     check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute

@@ -9,15 +9,17 @@ results are the same on every machine that has it. Another adapter is chosen wit
     any other text        the first adapter whose description contains it (case-insensitive)
 
 The default device for each selector is created once per process (about 0.5 s on
-lavapipe) and reused; a caller can also hand its own wgpu device to the Renderer.
+lavapipe) and reused while it lives: once it is lost (destroyed, driver reset), the next
+Renderer() gets a fresh one. A caller can also hand its own wgpu device to the Renderer.
 """
 
 from __future__ import annotations
 
 import os
-from functools import lru_cache
+import threading
+from contextlib import contextmanager
 
-from ..errors import DeviceError
+from ..errors import DeviceError, WgpuShadingError
 
 ADAPTER_ENVIRONMENT_VARIABLE = "WGPU_SHADING_ADAPTER"
 DEFAULT_ADAPTER = "lavapipe"
@@ -93,9 +95,65 @@ def select_adapter(adapter: str | None = None):
     return candidates[0]
 
 
+_devices: dict[str, object] = {}  # selector → the shared default device
+_devices_lock = threading.Lock()
+
+
 def default_device(adapter: str | None = None):
-    """The shared wgpu device for a selector: created on first use, then reused."""
-    return _device_for(requested_adapter(adapter).lower())
+    """The shared wgpu device for a selector: created on first use, then reused while it
+    is alive (a lost device is replaced by a new one)."""
+    selector = requested_adapter(adapter).lower()
+    with _devices_lock:
+        device = _devices.get(selector)
+        if device is None or not _alive(device):
+            device = _devices[selector] = _device_for(selector)
+        return device
+
+
+def _alive(device) -> bool:
+    """False when the device is lost: creating even a tiny buffer then fails ("Parent
+    device is lost"). wgpu-py 0.32 has no device.lost promise to ask instead."""
+    import wgpu
+
+    try:
+        device.create_buffer(size=4, usage=wgpu.BufferUsage.COPY_DST)
+    except Exception as error:
+        if device_lost(error):
+            return False
+        raise
+    return True
+
+
+def device_lost(error: BaseException) -> bool:
+    """True when a wgpu error says that its device is lost or destroyed."""
+    text = str(error).lower()
+    return "device is lost" in text or "device lost" in text or "device was lost" in text
+
+
+@contextmanager
+def lost_device_errors(device):
+    """Inside: an error that says `device` is lost becomes a DeviceError, and the device
+    leaves the default-device cache, so that the next Renderer() gets a fresh one."""
+    try:
+        yield
+    except WgpuShadingError:
+        raise
+    except Exception as error:
+        if device_lost(error):
+            forget_device(device)
+            raise DeviceError(
+                f"the wgpu device was lost ({str(error).strip().splitlines()[-1].strip()}); create a new Renderer to continue"
+            ) from None
+        raise
+
+
+def forget_device(device) -> None:
+    """Drop `device` from the default-device cache (it was lost): the next default_device()
+    call creates a new one. Devices the caller handed in are not in the cache."""
+    with _devices_lock:
+        for selector, cached in list(_devices.items()):
+            if cached is device:
+                del _devices[selector]
 
 
 # On a CPU adapter every buffer lives in host memory anyway; letting mesh buffers be mapped
@@ -110,7 +168,6 @@ def uses_direct_upload(device) -> bool:
     return DIRECT_UPLOAD_FEATURE in device.features and device.adapter.info.get("adapter_type") == "CPU"
 
 
-@lru_cache(maxsize=None)
 def _device_for(selector: str):
     chosen = select_adapter(selector)
     features = []

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
+from .caches import PIPELINE_CACHE_ENTRIES, LruCache
 from .features import FeatureSet
 from .layout import Layouts, layouts_for
 from .shadergen import generate_wgsl
@@ -95,11 +96,13 @@ _BLEND_OVER = {
 
 
 class PipelineCache:
-    """Pipelines and bind group layouts of one device."""
+    """Pipelines and bind group layouts of one device. Pipelines are evicted least recently
+    used beyond `max_entries` (caches.PIPELINE_CACHE_ENTRIES); the few distinct bind group
+    layouts are kept (they are shared by every pipeline)."""
 
-    def __init__(self, device):
+    def __init__(self, device, max_entries: int = PIPELINE_CACHE_ENTRIES):
         self._device = device
-        self._pipelines: dict[tuple, PipelineEntry] = {}
+        self._pipelines: LruCache[PipelineEntry] = LruCache(max_entries)
         self._group_layouts: dict[tuple, object] = {}
 
     def __len__(self) -> int:
@@ -116,8 +119,7 @@ class PipelineCache:
         key = (features, color_format, mirrored, samples)
         entry = self._pipelines.get(key)
         if entry is None:
-            entry = self._create(features, color_format, mirrored, samples)
-            self._pipelines[key] = entry
+            entry = self._pipelines.put(key, self._create(features, color_format, mirrored, samples))
         return entry
 
     def _create(self, features: FeatureSet, color_format: str, mirrored: bool, samples: int) -> PipelineEntry:

@@ -19,9 +19,11 @@ from collections import deque
 from typing import TYPE_CHECKING, Iterable, Iterator
 
 from ..scene import Scene
+from ..scene.objects import check_scene_argument
 
 if TYPE_CHECKING:  # pragma: no cover
     from .renderer import Frame, Renderer
+
 
 DEFAULT_IN_FLIGHT = 2
 
@@ -56,18 +58,23 @@ def render_many(
 
     def read_oldest() -> "Frame":
         worker, scene, target = pending.popleft()
-        frame = worker._read(target, scene, read_depth=depth)
+        with worker._lock, worker._device_errors():
+            frame = worker._read(target, scene, read_depth=depth)
         free_targets[(id(worker), scene.size, scene.samples)].append(target)
         return frame
 
     for index, scene in enumerate(scenes):
+        check_scene_argument(scene, f"render_many: scene {index}")
         worker = workers[index % len(workers)]
         worker._check_size(scene.size, color_format, scene.samples)
         if len(pending) >= in_flight * len(workers):
             yield read_oldest()
         slots = free_targets.setdefault((id(worker), scene.size, scene.samples), [])
         target = slots.pop() if slots else worker._new_target(scene.size[0], scene.size[1], color_format, scene.samples)
-        worker._submit(scene, target, read_depth=depth)
+        # Under the worker's lock: another thread's render_frame on the same renderer must
+        # not rewrite the uniform buffers between this frame's writes and its submit.
+        with worker._lock, worker._device_errors():
+            worker._submit(scene, target, read_depth=depth)
         pending.append((worker, scene, target))
     while pending:
         yield read_oldest()

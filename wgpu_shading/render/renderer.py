@@ -4,12 +4,19 @@ A Renderer owns one wgpu device (the shared default one, or the caller's) and ke
 everything that outlives a frame: pipelines (per feature set), mesh and texture
 uploads (per Mesh/Texture object, released when those are garbage-collected), uniform
 buffers, render targets and readback buffers (per size and format). Rendering the same
-scene again, or the same meshes from another camera, only rewrites uniforms.
+scene again, or the same meshes from another camera, only rewrites uniforms. Every one
+of these caches is bounded and evicts the least recently used entry (caches.py).
+
+Threads: a Renderer may be shared. Preparing, submitting and reading back a frame, and
+every cache mutation, happen under the renderer's lock (the uniform buffers and render
+targets are reused between frames, so two frames must not interleave on one renderer);
+validation of the scene and the caller's own work run in parallel. For parallel
+rendering, give each thread its own Renderer (docs/reliability.md).
 """
 
 from __future__ import annotations
 
-import weakref
+import threading
 from dataclasses import dataclass
 from typing import Iterable, Iterator
 
@@ -17,13 +24,27 @@ import numpy as np
 import wgpu
 from pyglm import glm
 
-from ..errors import SceneError
+from ..errors import DeviceError, SceneError
 from ..scene import Mesh, Scene, Texture
-from .device import default_device, uses_direct_upload
+from ..scene.objects import check_scene_argument
+from .caches import (
+    BIND_GROUP_CACHE_ENTRIES,
+    MESH_CACHE_BYTES,
+    MESH_CACHE_ENTRIES,
+    TARGET_CACHE_ENTRIES,
+    TEXTURE_CACHE_BYTES,
+    TEXTURE_CACHE_ENTRIES,
+    UNIFORM_CACHE_ENTRIES,
+    LruCache,
+    ObjectCache,
+)
+from .device import default_device, lost_device_errors, uses_direct_upload
 from .features import FeatureSet, object_features
 from .pipelines import PipelineCache, PipelineEntry
 from .pipelining import render_many
 from .resources import (
+    cached_bind_group,
+    check_target_size,
     BYTES_PER_PIXEL,
     GpuMesh,
     GpuTexture,
@@ -36,7 +57,7 @@ from .resources import (
     upload_texture,
     upload_uvs,
 )
-from .uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
+from .uniforms import finite_uniform_bytes, frame_uniforms, is_mirrored, linear_depth, object_uniforms
 
 
 @dataclass(frozen=True)
@@ -79,16 +100,25 @@ class Renderer:
     uploads and buffers. Pass `device=` to render on a wgpu device you already have."""
 
     def __init__(self, device=None, *, adapter: str | None = None):
+        if adapter is not None and not isinstance(adapter, str):
+            raise DeviceError(f"adapter: expected a selector such as 'lavapipe' or 'gpu', got {type(adapter).__name__}")
+        if device is not None and not isinstance(device, wgpu.GPUDevice):
+            raise DeviceError(f"device: expected a wgpu.GPUDevice, got {type(device).__name__}")
         self._device = device if device is not None else default_device(adapter)
+        # One frame at a time per renderer (reentrant: render_many's helpers and the
+        # accuracy study call back into render_frame).
+        self._lock = threading.RLock()
         self._pipelines = PipelineCache(self._device)
         # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
         # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
         self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(self._device) else 0
-        self._meshes: weakref.WeakKeyDictionary[Mesh, GpuMesh] = weakref.WeakKeyDictionary()
-        self._textures: weakref.WeakKeyDictionary[Texture, GpuTexture] = weakref.WeakKeyDictionary()
-        self._targets: dict[tuple[int, int, str], Target] = {}
-        self._uniform_buffers: dict[tuple[str, int, int], object] = {}
-        self._bind_groups: dict[tuple, object] = {}
+        self._meshes: ObjectCache[GpuMesh] = ObjectCache(MESH_CACHE_ENTRIES, MESH_CACHE_BYTES, lambda m: m.nbytes)
+        self._textures: ObjectCache[GpuTexture] = ObjectCache(
+            TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes
+        )
+        self._targets: LruCache[Target] = LruCache(TARGET_CACHE_ENTRIES)
+        self._uniform_buffers: LruCache[object] = LruCache(UNIFORM_CACHE_ENTRIES)
+        self._bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
         self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
         self._sampler = self._device.create_sampler(
             address_mode_u=wgpu.AddressMode.repeat,
@@ -122,11 +152,18 @@ class Renderer:
         return self.render_frame(scene, float32=float32).color
 
     def render_frame(self, scene: Scene, *, float32: bool = False, depth: bool = False) -> Frame:
-        """Color and, with depth=True, eye-space depth of one frame."""
+        """Color and, with depth=True, eye-space depth of one frame. Safe to call from
+        several threads: frames on one renderer are serialised (see the module docstring)."""
+        check_scene_argument(scene, "render")
         color_format = "float32" if float32 else "rgba8"
-        target = self._target(scene.size, color_format, scene.samples)
-        self._submit(scene, target, read_depth=depth)
-        return self._read(target, scene, read_depth=depth)
+        with self._lock, self._device_errors():
+            target = self._target(scene.size, color_format, scene.samples)
+            self._submit(scene, target, read_depth=depth)
+            return self._read(target, scene, read_depth=depth)
+
+    def _device_errors(self):
+        """A lost device becomes a DeviceError (and a new Renderer() gets a fresh device)."""
+        return lost_device_errors(self._device)
 
     def render_many(
         self,
@@ -144,6 +181,10 @@ class Renderer:
     def _helper_renderers(self, count: int) -> list["Renderer"]:
         """`count` extra renderers, each on its own device of the same adapter, for
         render_many. They belong to this renderer (made on first use, dropped with it)."""
+        with self._lock:
+            return self._make_helpers(count)
+
+    def _make_helpers(self, count: int) -> list["Renderer"]:
         helpers = self._batch_helpers
         while len(helpers) < count:
             # The same features as the primary device (e.g. direct mesh upload on lavapipe).
@@ -160,24 +201,7 @@ class Renderer:
     # ------------------------------------------------------------------ resources
 
     def _check_size(self, size: tuple[int, int], color_format: str, samples: int = 1) -> None:
-        if samples > 1 and color_format != "rgba8":
-            # WebGPU cannot resolve (average) multisampled rgba32float targets.
-            raise SceneError(
-                f"output.samples {samples}: antialiasing needs the 8-bit target; the float32 "
-                "target (.npy, --float) is single-sample only (use samples = 1)"
-            )
-        width, height = size
-        limit = self._device.limits["max-texture-dimension-2d"]
-        if width > limit or height > limit:
-            raise SceneError(f"output.size {width}×{height} exceeds this adapter's limit of {limit} pixels per side")
-        readback_bytes = padded_row_bytes(width, BYTES_PER_PIXEL[color_format]) * height
-        if readback_bytes > self._device.limits["max-buffer-size"]:
-            raise SceneError(
-                f"output.size {width}×{height} with the {color_format} target needs a "
-                f"{readback_bytes / 2**30:.1f} GiB readback buffer; this adapter allows "
-                f"{self._device.limits['max-buffer-size'] / 2**30:.1f} GiB (use a smaller size"
-                + (" or the 8-bit target)" if color_format != "rgba8" else ")")
-            )
+        check_target_size(self._device, size, color_format, samples)
 
     def _target(self, size: tuple[int, int], color_format: str, samples: int = 1) -> Target:
         width, height = size
@@ -185,7 +209,7 @@ class Renderer:
         target = self._targets.get(key)
         if target is None:
             self._check_size(size, color_format, samples)
-            target = self._targets[key] = self._new_target(width, height, color_format, samples)
+            target = self._targets.put(key, self._new_target(width, height, color_format, samples))
         return target
 
     def _new_target(self, width: int, height: int, color_format: str, samples: int = 1) -> Target:
@@ -194,7 +218,7 @@ class Renderer:
     def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False, with_colors: bool = False) -> GpuMesh:
         gpu_mesh = self._meshes.get(mesh)
         if gpu_mesh is None:
-            gpu_mesh = self._meshes[mesh] = upload_mesh(self._device, mesh, self._mesh_usage)
+            gpu_mesh = self._meshes.put(mesh, upload_mesh(self._device, mesh, self._mesh_usage))
         if with_uvs:
             upload_uvs(self._device, gpu_mesh, mesh, self._mesh_usage)
         if with_colors:
@@ -204,35 +228,24 @@ class Renderer:
     def _gpu_texture(self, texture: Texture) -> GpuTexture:
         gpu_texture = self._textures.get(texture)
         if gpu_texture is None:
-            gpu_texture = self._textures[texture] = upload_texture(self._device, texture)
+            gpu_texture = self._textures.put(texture, upload_texture(self._device, texture))
         return gpu_texture
 
     def _uniform_buffer(self, role: str, index: int, data: np.ndarray):
+        payload = finite_uniform_bytes(data, "camera and lights" if role == "frame" else f"objects[{index}]")
         key = (role, index, data.nbytes)
         buffer = self._uniform_buffers.get(key)
         if buffer is None:
             buffer = self._device.create_buffer(
                 size=data.nbytes, usage=wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST
             )
-            self._uniform_buffers[key] = buffer
-        self._device.queue.write_buffer(buffer, 0, data.tobytes())
+            self._uniform_buffers.put(key, buffer)
+        self._device.queue.write_buffer(buffer, 0, payload)
         return buffer
 
-    def _bind_group(self, cache: dict, layout, resources: tuple) -> object:
-        """A bind group, cached in `cache`: the dict of whoever owns the resources (the renderer
-        for uniform buffers, a GpuMesh for its buffers, a GpuTexture for its view), so a
-        cached group never outlives, or keeps alive, what it binds."""
-        key = (id(layout),) + tuple(id(r) for r in resources)
-        group = cache.get(key)
-        if group is None:
-            entries = []
-            for binding, resource in enumerate(resources):
-                if isinstance(resource, wgpu.GPUBuffer):
-                    resource = {"buffer": resource, "offset": 0, "size": resource.size}
-                entries.append({"binding": binding, "resource": resource})
-            group = self._device.create_bind_group(layout=layout, entries=entries)
-            cache[key] = group
-        return group
+    def _bind_group(self, cache: LruCache, layout, resources: tuple) -> object:
+        """A bind group, cached in `cache` (see resources.cached_bind_group)."""
+        return cached_bind_group(self._device, cache, layout, resources)
 
     # ------------------------------------------------------------------ frame
 
@@ -328,6 +341,13 @@ class Renderer:
         if draws:
             # Every object shares the frame uniforms; their layout depends only on scene-level features.
             frame_data = frame_uniforms(scene, draws[0].entry.frame_dtype, eye_from_world)
+            uniform_limit = self._device.limits["max-uniform-buffer-binding-size"]
+            if frame_data.nbytes > uniform_limit:
+                render_pass.end()
+                raise SceneError(
+                    f"lights: the {len(scene.lights)} lights need {frame_data.nbytes} bytes of uniforms; this adapter "
+                    f"binds at most {uniform_limit} (use fewer lights)"
+                )
             frame_buffer = self._uniform_buffer("frame", 0, frame_data)
         for draw in draws:
             entry = draw.entry
@@ -375,3 +395,4 @@ class Renderer:
             raw = read_buffer(target.depth_readback, target.depth_row_bytes, target.height, target.width, np.float32, 1)
             depth = linear_depth(raw[:, :, 0], scene.camera)
         return Frame(color=color, depth=depth)
+

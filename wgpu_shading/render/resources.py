@@ -9,7 +9,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import wgpu
 
+from ..errors import SceneError
 from ..scene import Mesh, Texture
+from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
 from .pipelines import COLOR_FORMATS, DEPTH_FORMAT
 
 BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
@@ -24,14 +26,22 @@ class GpuMesh:
     uvs: object | None
     triangle_count: int
     colors: object | None = None
-    storage_groups: dict = field(default_factory=dict)  # flat shading's vertex-pulling bind groups
+    # flat shading's vertex-pulling bind groups (one per layout: a handful)
+    storage_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
+
+    @property
+    def nbytes(self) -> int:
+        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors)
+        return sum(b.size for b in buffers if b is not None)
 
 
 @dataclass
 class GpuTexture:
     texture: object
     view: object
-    object_groups: dict = field(default_factory=dict)  # object bind groups that bind this view
+    nbytes: int = 0
+    # object bind groups that bind this view (one per object uniform buffer and layout)
+    object_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
 
 
 @dataclass
@@ -166,6 +176,10 @@ def upload_colors(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> No
 def upload_texture(device, texture: Texture) -> GpuTexture:
     """The texture with its box-filtered mip chain, rows bottom-up: texture row 0 is the
     image's last row, so v = 0 is the bottom."""
+    height, width = texture.pixels.shape[:2]
+    limit = device.limits["max-texture-dimension-2d"]
+    if width > limit or height > limit:
+        raise SceneError(f"texture {texture.name!r}: {width}×{height} pixels exceeds this adapter's limit of {limit} pixels per side")
     levels = mip_chain(np.ascontiguousarray(texture.pixels[::-1]))
     height, width = levels[0].shape[:2]
     gpu = device.create_texture(
@@ -181,7 +195,7 @@ def upload_texture(device, texture: Texture) -> GpuTexture:
             {"bytes_per_row": pixels.shape[1] * 4, "rows_per_image": pixels.shape[0]},
             (pixels.shape[1], pixels.shape[0], 1),
         )
-    return GpuTexture(texture=gpu, view=gpu.create_view())
+    return GpuTexture(texture=gpu, view=gpu.create_view(), nbytes=sum(level.nbytes for level in levels))
 
 
 def read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels: int) -> np.ndarray:
@@ -193,3 +207,43 @@ def read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels
     finally:
         buffer.unmap()
     return image
+
+
+def check_target_size(device, size: tuple[int, int], color_format: str, samples: int = 1) -> None:
+    """A clear error for an output the adapter cannot render or read back."""
+    if samples > 1 and color_format != "rgba8":
+        # WebGPU cannot resolve (average) multisampled rgba32float targets.
+        raise SceneError(
+            f"output.samples {samples}: antialiasing needs the 8-bit target; the float32 "
+            "target (.npy, --float) is single-sample only (use samples = 1)"
+        )
+    width, height = size
+    limit = device.limits["max-texture-dimension-2d"]
+    if width > limit or height > limit:
+        raise SceneError(f"output.size {width}×{height} exceeds this adapter's limit of {limit} pixels per side")
+    readback_bytes = padded_row_bytes(width, BYTES_PER_PIXEL[color_format]) * height
+    if readback_bytes > device.limits["max-buffer-size"]:
+        raise SceneError(
+            f"output.size {width}×{height} with the {color_format} target needs a "
+            f"{readback_bytes / 2**30:.1f} GiB readback buffer; this adapter allows "
+            f"{device.limits['max-buffer-size'] / 2**30:.1f} GiB (use a smaller size"
+            + (" or the 8-bit target)" if color_format != "rgba8" else ")")
+        )
+
+
+def cached_bind_group(device, cache: LruCache, layout, resources: tuple) -> object:
+    """A bind group, cached in `cache`: the LRU cache of whoever owns the resources (the
+    renderer for uniform buffers, a GpuMesh for its buffers, a GpuTexture for its view).
+    The key holds the bound objects themselves (identity-hashed), not their id()s: an
+    evicted buffer's id may be reused by a new one, which must not find the old group."""
+    key = (layout,) + tuple(resources)
+    group = cache.get(key)
+    if group is None:
+        entries = []
+        for binding, resource in enumerate(resources):
+            if isinstance(resource, wgpu.GPUBuffer):
+                resource = {"buffer": resource, "offset": 0, "size": resource.size}
+            entries.append({"binding": binding, "resource": resource})
+        group = device.create_bind_group(layout=layout, entries=entries)
+        cache.put(key, group)
+    return group

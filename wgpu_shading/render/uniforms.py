@@ -14,6 +14,7 @@ import math
 import numpy as np
 from pyglm import glm
 
+from ..errors import SceneError
 from ..scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
 
 
@@ -111,8 +112,8 @@ def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtyp
     model_view = glm.dmat4(model_view)
     data = np.zeros((), dtype)
     data["eye_from_model"] = np.array(model_view).T  # column-major
-    normal_matrix = glm.inverseTranspose(glm.dmat3(model_view))  # the seed's norm_matrix
-    data["eye_normal_from_model"][:, :3] = np.array(normal_matrix).T  # columns padded to vec4
+    normal_matrix = np.array(glm.inverseTranspose(glm.dmat3(model_view)))  # the seed's norm_matrix
+    data["eye_normal_from_model"][:, :3] = _unit_scaled(normal_matrix).T  # columns padded to vec4
     fields = data["material"]
     fields["ambient"] = material.ambient
     fields["diffuse"] = material.diffuse
@@ -123,6 +124,31 @@ def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtyp
     if "alpha_cutoff" in fields.dtype.names:
         fields["alpha_cutoff"] = material.alpha_cutoff
     return data
+
+
+def _unit_scaled(normal_matrix: np.ndarray) -> np.ndarray:
+    """The normal matrix scaled by a power of two towards unit size when it is far from it.
+
+    Only its direction matters (the shaders normalize what it returns), but a tiny object
+    scale makes it huge: flat shading multiplies it with a cross product of float32 edges,
+    and the squared length of that overflowed float32 (a black, unlit object). Scaling by
+    2^k is exact, so matrices of ordinary size are left untouched bit for bit."""
+    largest = float(np.abs(normal_matrix).max())
+    if 2.0**-20 <= largest <= 2.0**20:
+        return normal_matrix
+    return normal_matrix * 2.0 ** -math.frexp(largest)[1]
+
+
+def finite_uniform_bytes(data: np.ndarray, where: str) -> bytes:
+    """The buffer's bytes, after a last check that every value is finite in float32 (every
+    uniform field is f32). Scene validation keeps them finite; this is the net under it, so
+    that inf or NaN never reaches a shader."""
+    payload = data.tobytes()
+    if not np.isfinite(np.frombuffer(payload, np.float32)).all():
+        raise SceneError(
+            f"{where}: a value derived from it (matrix, normal matrix, colour, projection) is not finite in float32"
+        )
+    return payload
 
 
 def is_mirrored(model_view: glm.dmat4 | np.ndarray) -> bool:

@@ -8,10 +8,26 @@ from urllib.parse import parse_qsl
 
 import numpy as np
 
-from ..errors import MeshError
+from ..errors import MeshError, shown
 from .mesh import Mesh
 
 BUILTIN_PREFIX = "builtin:"
+# Tessellation limit, checked before anything is allocated (a 20000×20000 sphere would
+# take > 6 GB): 4 million triangles is ~100 MB of mesh.
+MAX_BUILTIN_TRIANGLES = 4_000_000
+
+
+def _check_tessellation(name: str, triangles: int, counts: str) -> None:
+    if triangles > MAX_BUILTIN_TRIANGLES:
+        raise MeshError(
+            f"builtin:{name} with {counts} would have {triangles} triangles; at most {MAX_BUILTIN_TRIANGLES} are supported"
+        )
+
+
+def _check_size(name: str, **sizes: float) -> None:
+    for key, value in sizes.items():
+        if not (math.isfinite(value) and 1e-6 <= value <= 1e6):
+            raise MeshError(f"builtin:{name} needs {key} between 1e-06 and 1e+06, got {value}")
 
 
 def uv_sphere(radius: float = 1.0, slices: int = 64, stacks: int = 32) -> Mesh:
@@ -23,8 +39,8 @@ def uv_sphere(radius: float = 1.0, slices: int = 64, stacks: int = 32) -> Mesh:
     slices, stacks = int(slices), int(stacks)
     if slices < 3 or stacks < 2:
         raise MeshError(f"builtin:sphere needs slices >= 3 and stacks >= 2, got slices={slices}, stacks={stacks}")
-    if not radius > 0:
-        raise MeshError(f"builtin:sphere needs radius > 0, got {radius}")
+    _check_size("sphere", radius=radius)
+    _check_tessellation("sphere", 2 * slices * (stacks - 1), f"slices={slices}, stacks={stacks}")
     theta = np.linspace(0.0, math.pi, stacks + 1)[1:-1]  # polar angle of the inner rings
     phi = np.linspace(0.0, 2.0 * math.pi, slices + 1)  # seam duplicated
     sin_t, cos_t = np.sin(theta)[:, None], np.cos(theta)[:, None]
@@ -79,8 +95,10 @@ def torus(major_radius: float = 0.5, minor_radius: float = 0.2, segments: int = 
     rings = segments if rings is None else int(rings)
     if segments < 3 or rings < 3:
         raise MeshError(f"builtin:torus needs segments >= 3 and rings >= 3, got {segments}, {rings}")
+    _check_size("torus", major=major_radius, minor=minor_radius)
     if not 0 < minor_radius < major_radius:
         raise MeshError(f"builtin:torus needs 0 < minor < major, got major={major_radius}, minor={minor_radius}")
+    _check_tessellation("torus", 2 * segments * rings, f"segments={segments}, rings={rings}")
     around = np.linspace(0.0, 2.0 * math.pi, segments + 1)  # big circle, seam duplicated
     tube = np.linspace(0.0, 2.0 * math.pi, rings + 1)
     a, t = np.meshgrid(around, tube, indexing="ij")
@@ -102,6 +120,7 @@ def torus(major_radius: float = 0.5, minor_radius: float = 0.2, segments: int = 
 
 def cube(size: float = 1.0) -> Mesh:
     """An axis-aligned cube centred on the origin: 24 vertices, so every face is flat."""
+    _check_size("cube", size=size)  # a negative size would turn it inside out
     half = size / 2.0
     faces_axes = [  # normal, u axis, v axis
         ((1, 0, 0), (0, 0, -1), (0, 1, 0)),
@@ -128,6 +147,8 @@ def plane(size: float = 2.0, subdivisions: int = 1) -> Mesh:
     n = int(subdivisions)
     if n < 1:
         raise MeshError(f"builtin:plane needs subdivisions >= 1, got {n}")
+    _check_size("plane", size=size)
+    _check_tessellation("plane", 2 * n * n, f"subdivisions={n}")
     coords = np.linspace(-size / 2.0, size / 2.0, n + 1)
     x, y = np.meshgrid(coords, coords, indexing="xy")
     positions = np.stack([x.reshape(-1), y.reshape(-1), np.zeros(x.size)], 1)
@@ -155,16 +176,20 @@ def builtin(spec: str) -> Mesh:
     body = spec[len(BUILTIN_PREFIX):] if spec.startswith(BUILTIN_PREFIX) else spec
     name, _, query = body.partition("?")
     if name not in BUILTINS:
-        raise MeshError(f"unknown built-in mesh {spec!r}; available: {', '.join(BUILTIN_PREFIX + n for n in BUILTINS)}")
+        raise MeshError(f"unknown built-in mesh {shown(spec)}; available: {', '.join(BUILTIN_PREFIX + n for n in BUILTINS)}")
     factory, parameters = BUILTINS[name]
     kwargs: dict[str, object] = {}
     for key, raw in parse_qsl(query, keep_blank_values=True, strict_parsing=False):
         if key not in parameters:
-            raise MeshError(f"{spec!r}: unknown parameter {key!r}; {name} takes {', '.join(parameters)}")
+            raise MeshError(f"{shown(spec)}: unknown parameter {shown(key)}; {name} takes {', '.join(parameters)}")
         try:
+            if len(raw) > 40:
+                raise ValueError(raw)
             value = parameters[key](raw)
         except ValueError:
-            raise MeshError(f"{spec!r}: parameter {key} expects {parameters[key].__name__}, got {raw!r}") from None
+            raise MeshError(f"{shown(spec)}: parameter {key} expects {parameters[key].__name__}, got {shown(raw)}") from None
+        if key in kwargs or _PARAMETER_NAMES.get(name, {}).get(key, key) in kwargs:
+            raise MeshError(f"{shown(spec)}: parameter {key} is given twice")
         kwargs[_PARAMETER_NAMES.get(name, {}).get(key, key)] = value
     return factory(**kwargs)
 

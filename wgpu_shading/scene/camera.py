@@ -13,6 +13,13 @@ from .values import MAX_COORDINATE, Vec3, _set, choice, direction, number, vec3
 
 PROJECTIONS: tuple[str, ...] = ("perspective", "orthographic")
 
+# The projection matrix goes to the GPU in float32: its terms focal, near/(far-near) and
+# near·far/(far-near) must be normal float32 numbers (not denormal, not infinite), and
+# focal × eye-space coordinates (<= 1e18, see Scene) must stay finite.
+MIN_FOV_Y = 1e-6  # degrees: focal length 1/tan(fov_y/2) up to ~1e8
+MIN_NEAR = 1e-20
+MAX_FAR_OVER_NEAR = 1e30
+
 
 @dataclass(frozen=True)
 class Camera:
@@ -37,10 +44,19 @@ class Camera:
         fov_y = number(self.fov_y, "camera.fov_y", 0.0, 180.0, low_open=True)
         if fov_y >= 180.0:
             raise SceneError(f"camera.fov_y: expected less than 180 degrees, got {fov_y}")
+        if fov_y < MIN_FOV_Y:
+            raise SceneError(f"camera.fov_y: expected at least {MIN_FOV_Y:g} degrees (float32 projection), got {fov_y:g}")
         near = number(self.near, "camera.near", 0.0, math.inf, low_open=True)
         far = number(self.far, "camera.far", 0.0, math.inf, low_open=True)
+        if near < MIN_NEAR:
+            raise SceneError(f"camera.near: expected at least {MIN_NEAR:g} (float32 depth), got {near:g}")
         if not far > near:
             raise SceneError(f"camera.far ({far:g}) must be greater than camera.near ({near:g})")
+        if far / near > MAX_FAR_OVER_NEAR:
+            raise SceneError(
+                f"camera.far / camera.near = {far / near:.3g} exceeds {MAX_FAR_OVER_NEAR:g} "
+                f"(float32 depth cannot resolve it): near = {near:g}, far = {far:g}"
+            )
         forward = glm.dvec3(*target) - glm.dvec3(*eye)
         distance = glm.length(forward)
         scale = max(max(abs(v) for v in eye), max(abs(v) for v in target), 1.0)

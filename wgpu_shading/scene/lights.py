@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from typing import Union
 
 from ..errors import SceneError
-from .values import MAX_EXPONENT, Color, Vec3, _numbers, _set, color, direction, number, vec3
+from .values import MAX_COORDINATE, MAX_EXPONENT, Color, Vec3, _numbers, _set, color, direction, number, vec3
 
 
 def _light_colors(light: object, prefix: str) -> dict[str, Color]:
@@ -19,6 +19,8 @@ def _attenuation(value: object, name: str) -> Vec3:
     coefficients = _numbers(value, name, (3,))
     if min(coefficients) < 0.0:
         raise SceneError(f"{name}: coefficients must be >= 0, got {list(coefficients)}")
+    if max(coefficients) > MAX_COORDINATE:
+        raise SceneError(f"{name}: coefficients must be at most {MAX_COORDINATE:g}, got {list(coefficients)}")
     if max(coefficients) == 0.0:
         raise SceneError(
             f"{name}: (0, 0, 0) divides by zero everywhere; use (1, 0, 0) for no attenuation"

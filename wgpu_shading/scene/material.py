@@ -7,7 +7,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SceneError
-from .values import MAX_EXPONENT, TEXTURE_MODES, Color, TextureMode, _set, choice, color, number
+from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureMode, _set, choice, color, number
+
+
+# Texture side limit: WebGPU's default max-texture-dimension-2d; the renderer also checks
+# its adapter's own limit when it uploads.
+MAX_TEXTURE_SIDE = MAX_IMAGE_SIDE
 
 
 @dataclass(frozen=True, eq=False)
@@ -26,13 +31,25 @@ class Texture:
             pixels = np.repeat(pixels[:, :, None], 3, axis=2)
         if pixels.ndim != 3 or pixels.shape[2] not in (1, 2, 3, 4) or 0 in pixels.shape[:2]:
             raise SceneError(f"texture {self.name!r}: expected an H×W×(1..4) image, got shape {pixels.shape}")
+        if max(pixels.shape[:2]) > MAX_TEXTURE_SIDE:
+            height, width = pixels.shape[:2]
+            raise SceneError(
+                f"texture {self.name!r}: {width}×{height} pixels; at most {MAX_TEXTURE_SIDE} per side are supported"
+            )
         if pixels.dtype != np.uint8:
-            if pixels.dtype.kind == "f":
+            if pixels.dtype == np.bool_:  # 1-bit images: True is white, not 1/255
+                pixels = pixels.astype(np.uint8) * 255
+            elif pixels.dtype.kind == "f":
                 if not np.isfinite(pixels).all():
                     raise SceneError(f"texture {self.name!r}: pixel values must be finite")
                 pixels = np.round(np.clip(pixels, 0.0, 1.0) * 255.0)
             elif pixels.dtype == np.uint16:
                 pixels = pixels // 257
+            elif pixels.dtype.kind not in "iu" or pixels.min() < 0 or pixels.max() > 255:
+                raise SceneError(
+                    f"texture {self.name!r}: expected 8-bit, 16-bit, 1-bit or [0, 1] float pixels, got {pixels.dtype}"
+                    + (f" values from {pixels.min()} to {pixels.max()}" if pixels.dtype.kind in "iu" else "")
+                )
             pixels = pixels.astype(np.uint8)
         channels = pixels.shape[2]
         if channels == 1:

@@ -14,7 +14,7 @@ import difflib
 from types import MappingProxyType
 from typing import Mapping
 
-from ..errors import SceneError
+from ..errors import SceneError, shown
 from .material import Material
 
 # name: (ambient RGB, diffuse RGB, specular RGB, shininess as a fraction of 128, alpha)
@@ -74,6 +74,8 @@ def canonical_name(name: str) -> str:
 
 def material(name: str) -> Material:
     """Look a material up by name ("gold", "black plastic", "polished-silver", ...)."""
+    if not isinstance(name, str):
+        raise SceneError(f"material: expected a material name (see `wgpu-shading materials`), got {shown(name)}")
     key = canonical_name(name)
     try:
         return MATERIALS[key]
@@ -81,5 +83,5 @@ def material(name: str) -> Material:
         close = difflib.get_close_matches(key, MATERIALS.keys(), n=3)
         hint = f"; did you mean {' or '.join(map(repr, close))}?" if close else ""
         raise SceneError(
-            f"unknown material {name!r}{hint} (`wgpu-shading materials` lists all {len(MATERIALS)})"
+            f"unknown material {shown(name)}{hint} (`wgpu-shading materials` lists all {len(MATERIALS)})"
         ) from None

@@ -16,6 +16,7 @@ contiguous range of triangles with its own material, drawn with its own draw cal
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -25,6 +26,16 @@ from .normals import crease_normals, face_normals
 
 if TYPE_CHECKING:  # pragma: no cover
     from .material import Material
+
+# Limits (docs/reliability.md). Counts: host and GPU memory (~100 bytes per triangle in
+# all). Extent (the bounding box's diagonal, in model units): flat shading takes the cross
+# product of two float32 edges on the GPU, whose squared length must stay below float32's
+# 3.4e38; below MIN_EXTENT no camera can get close enough to see the mesh.
+MAX_VERTICES = 1 << 25  # 33.5 million
+MAX_TRIANGLES = 1 << 25
+MIN_EXTENT = 1e-9
+MAX_EXTENT = 1e9
+MAX_ORIGIN = 1e15  # where the mesh sits (kept in float64)
 
 
 @dataclass(frozen=True)
@@ -108,6 +119,11 @@ class Mesh:
         """Positions in model space as float64 (origin added back)."""
         return self.positions.astype(np.float64) + np.asarray(self.origin)
 
+    @cached_property
+    def relative_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """float64 (lower, upper) corners of the stored (origin-relative) positions; cached."""
+        return self.positions.min(axis=0).astype(np.float64), self.positions.max(axis=0).astype(np.float64)
+
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """float64 (lower, upper) corners of the bounding box in model space."""
         return (
@@ -136,7 +152,20 @@ class Mesh:
         a number (degrees) welds vertices by position and splits at edges sharper than it
         (normals.crease_normals; vertices may be split, so the vertex count can change).
         flat_faces (F,) bool marks faces that are always flat (OBJ `s off`)."""
-        positions = np.asarray(positions, dtype=np.float64)
+        with np.errstate(all="ignore"):  # every bad value is reported as a MeshError instead
+            return cls._from_arrays(
+                positions, indices, normals, uvs, name=name, material=material, colors=colors,
+                parts=parts, crease_angle=crease_angle, flat_faces=flat_faces,
+            )
+
+    @classmethod
+    def _from_arrays(
+        cls, positions, indices, normals, uvs, *, name: str, material, colors, parts, crease_angle, flat_faces
+    ) -> "Mesh":
+        try:
+            positions = np.asarray(positions, dtype=np.float64)
+        except (TypeError, ValueError) as error:
+            raise MeshError(f"{name}: positions must be numbers ({error})") from None
         faces = np.asarray(indices)
         if positions.ndim != 2 or positions.shape[1] != 3:
             raise MeshError(f"{name}: positions must have shape (N, 3), got {positions.shape}")
@@ -146,6 +175,10 @@ class Mesh:
             raise MeshError(f"{name}: indices must have shape (F, 3) (triangles), got {faces.shape}")
         if len(positions) == 0 or len(faces) == 0:
             raise MeshError(f"{name}: the mesh is empty ({len(positions)} vertices, {len(faces)} triangles)")
+        if len(positions) > MAX_VERTICES or len(faces) > MAX_TRIANGLES:
+            raise MeshError(
+                f"{name}: {len(positions)} vertices and {len(faces)} triangles; at most {MAX_VERTICES} of each are supported"
+            )
         bad = ~np.isfinite(positions).all(axis=1)
         if bad.any():
             first = int(np.flatnonzero(bad)[0])
@@ -193,6 +226,14 @@ class Mesh:
                 raise MeshError(f"{name}: uvs contain NaN or infinite values")
             uvs = np.ascontiguousarray(uvs, dtype=np.float32)
         lower, upper = positions.min(axis=0), positions.max(axis=0)
+        extent = float(np.linalg.norm(upper - lower))
+        if not MIN_EXTENT <= extent <= MAX_EXTENT:
+            raise MeshError(
+                f"{name}: the mesh is {extent:.3g} units across; between {MIN_EXTENT:g} and {MAX_EXTENT:g} are supported "
+                "(float32 on the GPU): scale the file's coordinates, then use the object's scale"
+            )
+        if float(np.abs(lower).max()) > MAX_ORIGIN or float(np.abs(upper).max()) > MAX_ORIGIN:
+            raise MeshError(f"{name}: coordinates must be within ±{MAX_ORIGIN:g}")
         origin = (lower + upper) / 2.0
         if np.all(np.abs(origin) <= 1e-3 * max(float((upper - lower).max()), 1e-30)):
             origin = np.zeros(3)  # keep meshes that are already centred bit-exact

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from pyglm import glm
 
-from ..errors import SceneError
+from ..errors import SceneError, shown
 from .camera import Camera
 from .lights import DirectionalLight, Light, PositionalLight, SpotLight
 from .material import Material
@@ -16,6 +16,9 @@ from .mesh import Mesh
 from .values import (
     FREQUENCIES,
     MAX_EXPONENT,
+    MAX_LIGHTS,
+    MAX_SCALE,
+    MIN_SCALE,
     REFLECTIONS,
     Color,
     Frequency,
@@ -29,6 +32,9 @@ from .values import (
     vec3,
 )
 
+# Eye-space coordinates of every object stay within this: squared distances and lengths
+# computed in float32 by the shaders (up to 3·(2e18)²) then stay below float32's 3.4e38.
+MAX_EYE_COORDINATE = 1e18
 SAMPLE_COUNTS = (1, 4)  # what every WebGPU adapter supports for render targets
 
 # Euler XYZ about fixed axes is R = Rz · Ry · Rx: applied to the matrix in the order Z, Y, X.
@@ -76,13 +82,18 @@ class SceneObject:
 
     def __post_init__(self) -> None:
         if not isinstance(self.mesh, Mesh):
-            raise SceneError(f"object.mesh: expected a Mesh, got {type(self.mesh).__name__}")
+            raise SceneError(f"object.mesh: expected a Mesh, got {type(self.mesh).__name__}: {shown(self.mesh)}")
         if self.material is not None and not isinstance(self.material, Material):
             raise SceneError(f"object.material: expected a Material, got {type(self.material).__name__}")
         _set(self, up=up_axis(self.up, "object.up"))
         scale = vec3(self.scale, "object.scale")
         if min(abs(s) for s in scale) == 0.0:
             raise SceneError(f"object.scale: components must be non-zero (the object would be flat), got {list(scale)}")
+        if not all(MIN_SCALE <= abs(s) <= MAX_SCALE for s in scale):
+            raise SceneError(
+                f"object.scale: components must be between {MIN_SCALE:g} and {MAX_SCALE:g} in size "
+                f"(float32 model and normal matrices), got {list(scale)}"
+            )
         _set(
             self,
             translate=vec3(self.translate, "object.translate"),
@@ -171,9 +182,18 @@ class Scene:
 
     def __post_init__(self) -> None:
         if self.samples not in SAMPLE_COUNTS or isinstance(self.samples, bool):
-            raise SceneError(f"output.samples: expected 1 (no antialiasing) or 4 (MSAA), got {self.samples!r}")
+            raise SceneError(f"output.samples: expected 1 (no antialiasing) or 4 (MSAA), got {shown(self.samples)}")
+        for key in ("objects", "lights"):
+            value = getattr(self, key)
+            if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
+                raise SceneError(f"{key}: expected a list, got {shown(value)}")
         objects = tuple(self.objects)
         lights = tuple(self.lights)
+        if len(lights) > MAX_LIGHTS:
+            raise SceneError(
+                f"lights: {len(lights)} lights; at most {MAX_LIGHTS} are supported "
+                "(their uniforms must fit the GPU's 64 KiB uniform buffer)"
+            )
         for index, obj in enumerate(objects):
             if not isinstance(obj, SceneObject):
                 raise SceneError(f"objects[{index}]: expected a SceneObject, got {type(obj).__name__}")
@@ -184,11 +204,40 @@ class Scene:
             raise SceneError(f"camera: expected a Camera, got {type(self.camera).__name__}")
         if not isinstance(self.shading, Shading):
             raise SceneError(f"shading: expected a Shading, got {type(self.shading).__name__}")
+        background = color(self.background, "output.background")
+        if max(background) > 1.0:
+            raise SceneError(f"output.background: components must be between 0 and 1, got {list(background)}")
         _set(
             self,
             objects=objects,
             lights=lights,
             ambient=color(self.ambient, "ambient.color"),
             size=image_size(self.size),
-            background=color(self.background, "output.background"),
+            background=background,
         )
+        self._check_eye_space()
+
+    def _check_eye_space(self) -> None:
+        """Every object's bounding box, seen from the camera, within ±MAX_EYE_COORDINATE:
+        the GPU works in float32 eye space, where farther coordinates overflow."""
+        view = np.array(self.camera.view_matrix())
+        for index, obj in enumerate(self.objects):
+            lower, upper = obj.mesh.relative_bounds
+            corners = np.array(
+                [[x, y, z, 1.0] for x in (lower[0], upper[0]) for y in (lower[1], upper[1]) for z in (lower[2], upper[2])]
+            ).T
+            with np.errstate(all="ignore"):  # an overflow is caught just below, underflow is harmless
+                eye = (view @ np.array(obj.model_matrix())) @ corners
+                reach = float(np.abs(eye[:3]).max())
+            if not reach <= MAX_EYE_COORDINATE:
+                raise SceneError(
+                    f"objects[{index}] ({obj.mesh.name}): seen from the camera its coordinates reach {reach:.3g}; "
+                    f"at most {MAX_EYE_COORDINATE:g} are supported (float32); scale it down or move the camera"
+                )
+
+
+def check_scene_argument(scene: object, where: str) -> None:
+    """A clear error for a caller who passes something other than a Scene (a dict, a path)."""
+    if not isinstance(scene, Scene):
+        hint = " (load a scene file with load_scene(path))" if isinstance(scene, (str, bytes)) or hasattr(scene, "__fspath__") else ""
+        raise SceneError(f"{where}: expected a Scene, got {type(scene).__name__}{hint}")

@@ -11,7 +11,7 @@ from typing import Literal, Sequence
 
 import numpy as np
 
-from ..errors import SceneError
+from ..errors import SceneError, shown
 
 Color = tuple[float, float, float, float]
 Vec3 = tuple[float, float, float]
@@ -24,9 +24,16 @@ FREQUENCIES: tuple[str, ...] = ("flat", "gouraud", "phong")
 REFLECTIONS: tuple[str, ...] = ("phong", "blinn-phong")
 TEXTURE_MODES: tuple[str, ...] = ("modulate", "modulate_all", "blend")
 
+# Limits (docs/reliability.md). Every value derived from these for the GPU (matrices, normal
+# matrices, eye-space positions, squared distances, lit colours summed over MAX_LIGHTS)
+# stays finite in float32 (max 3.4e38).
 MAX_COORDINATE = 1e15
 MAX_EXPONENT = 1e6
 MAX_IMAGE_SIDE = 16384
+MAX_COLOR = 1e6  # light and material colour components (HDR intensities allowed, not 1e39)
+MIN_DIRECTION_LENGTH = 1e-30  # shorter vectors have no direction worth the name
+MIN_SCALE, MAX_SCALE = 1e-12, 1e12  # |object.scale| components
+MAX_LIGHTS = 256  # all kinds together: the frame uniforms must fit WebGPU's 64 KiB
 
 
 # --------------------------------------------------------------------------- validation
@@ -35,18 +42,21 @@ MAX_IMAGE_SIDE = 16384
 def _numbers(value: object, name: str, lengths: Sequence[int]) -> tuple[float, ...]:
     """A tuple of finite floats of one of the allowed lengths, or a SceneError naming `name`."""
     expected = " or ".join(str(n) for n in lengths)
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
-        raise SceneError(f"{name}: expected a list of {expected} numbers, got {value!r}")
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__"):
+        raise SceneError(f"{name}: expected a list of {expected} numbers, got {shown(value)}")
     items = list(value)  # type: ignore[arg-type]
     if len(items) not in lengths:
-        raise SceneError(f"{name}: expected {expected} numbers, got {len(items)}: {value!r}")
+        raise SceneError(f"{name}: expected {expected} numbers, got {len(items)}: {shown(value)}")
     numbers = []
     for item in items:
         if isinstance(item, bool) or not isinstance(item, (int, float, np.integer, np.floating)):
-            raise SceneError(f"{name}: expected numbers, got {item!r} in {value!r}")
-        number = float(item)
+            raise SceneError(f"{name}: expected numbers, got {shown(item)} in {shown(value)}")
+        try:
+            number = float(item)
+        except OverflowError:  # an integer beyond float64
+            number = math.inf
         if not math.isfinite(number):
-            raise SceneError(f"{name}: expected finite numbers, got {number} in {value!r}")
+            raise SceneError(f"{name}: expected finite numbers, got {shown(item)} in {shown(value)}")
         numbers.append(number)
     return tuple(numbers)
 
@@ -58,6 +68,8 @@ def color(value: object, name: str = "color") -> Color:
         numbers = numbers + (1.0,)
     if min(numbers) < 0.0:
         raise SceneError(f"{name}: color components must be >= 0, got {list(numbers)}")
+    if max(numbers[:3]) > MAX_COLOR:
+        raise SceneError(f"{name}: color components must be at most {MAX_COLOR:g}, got {list(numbers)}")
     if numbers[3] > 1.0:
         raise SceneError(f"{name}: alpha must be between 0 and 1, got {numbers[3]}")
     return numbers  # type: ignore[return-value]
@@ -74,23 +86,28 @@ def direction(value: object, name: str) -> Vec3:
     numbers = vec3(value, name)
     if math.hypot(*numbers) == 0.0:
         raise SceneError(f"{name}: a direction must not be the zero vector")
+    if math.hypot(*numbers) < MIN_DIRECTION_LENGTH:
+        raise SceneError(f"{name}: a direction must be at least {MIN_DIRECTION_LENGTH:g} long, got {list(numbers)}")
     return numbers
 
 
 def number(value: object, name: str, low: float, high: float, *, low_open: bool = False) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise SceneError(f"{name}: expected a number, got {value!r}")
-    result = float(value)
+        raise SceneError(f"{name}: expected a number, got {shown(value)}")
+    try:
+        result = float(value)
+    except OverflowError:
+        result = math.inf
     too_low = result <= low if low_open else result < low
     if not math.isfinite(result) or too_low or result > high:
         bracket = "(" if low_open else "["
-        raise SceneError(f"{name}: expected a number in {bracket}{low:g}, {high:g}], got {value!r}")
+        raise SceneError(f"{name}: expected a number in {bracket}{low:g}, {high:g}], got {shown(value)}")
     return result
 
 
 def choice(value: object, name: str, options: Sequence[str]) -> str:
-    if value not in options:
-        raise SceneError(f"{name}: expected one of {', '.join(map(repr, options))}, got {value!r}")
+    if not isinstance(value, str) or value not in options:
+        raise SceneError(f"{name}: expected one of {', '.join(map(repr, options))}, got {shown(value)}")
     return str(value)
 
 

@@ -37,7 +37,16 @@ from typing import Sequence
 
 from .comparison import Comparison, compare, flip_error_map, flip_mean
 from .diagnosis import CHANNELS
-from .images import DEFAULT_AMPLIFICATION, as_rgba8, diff_image, diff_scale_text, read_image, with_scale_legend, write_image
+from .images import (
+    DEFAULT_AMPLIFICATION,
+    as_rgba8,
+    diff_image,
+    diff_scale_text,
+    read_image,
+    read_reference,
+    with_scale_legend,
+    write_image,
+)
 from .tolerance import GoldenError, Tolerance
 
 
@@ -69,7 +78,9 @@ class CheckResult:
         if self.status == "created":
             return f"created reference {ref}"
         lines = []
-        if self.status == "updated":
+        if self.status == "updated" and self.comparison is None:
+            lines.append(f"updated reference {ref} (the old one could not be used)")
+        elif self.status == "updated":
             lines.append(f"updated reference {ref} (it differed: {self.comparison.summary()})")
         elif self.status == "passed":
             lines.append(f"PASS {ref}: {self.comparison.summary()}")
@@ -146,12 +157,28 @@ def check_image(
     """
     reference = Path(reference)
     actual = as_rgba8(actual, "actual image")
+    if reference.suffix.lower() != ".png":
+        # Never PNG bytes under a .jpg name, and never a lossy reference.
+        raise GoldenError(f"reference {str(reference)!r}: references are 8-bit PNG files; name it .png")
     if not reference.exists():
         if update:
             write_image(reference, actual)
             return CheckResult("created", reference, written=(reference,))
         raise GoldenError(f"reference {str(reference)!r} does not exist; create it with --update (CLI) or --update-golden (pytest)")
-    expected = read_image(reference)
+    try:
+        expected, has_alpha = read_reference(reference)
+    except GoldenError:
+        if not update:
+            raise
+        # --update replaces what cannot be compared with (16-bit, JPEG data, damaged).
+        remove_failure_images(reference, output_dir)
+        write_image(reference, actual)
+        return CheckResult("updated", reference, written=(reference,))
+    if not has_alpha:
+        # An RGB reference says nothing about alpha: compare colour only (a translucent
+        # material's alpha would otherwise fail against the file's implied 255).
+        actual = actual.copy()
+        actual[:, :, 3] = 255
     comparison = compare(actual, expected, tolerance)
     if comparison.passed:
         remove_failure_images(reference, output_dir)
@@ -182,6 +209,7 @@ __all__: Sequence[str] = (
     "flip_error_map",
     "flip_mean",
     "read_image",
+    "read_reference",
     "remove_failure_images",
     "write_failure_images",
     "write_image",

@@ -57,20 +57,39 @@ def size_text(image: np.ndarray) -> str:
     return f"{image.shape[1]}×{image.shape[0]}"
 
 
-def read_image(path: str | os.PathLike[str]) -> np.ndarray:
-    """An 8-bit PNG (or another image format Pillow reads) as (H, W, 4) uint8."""
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def read_reference(path: str | os.PathLike[str]) -> tuple[np.ndarray, bool]:
+    """A reference image: an 8-bit PNG, as (H, W, 4) uint8, and whether the file has an
+    alpha channel. Anything else (another format under any name, 16-bit, palette-less
+    oddities Pillow reads as something else, a damaged file) is a GoldenError that says so."""
     import imageio.v3 as iio
 
     path = Path(path)
+    where = f"reference {str(path)!r}"
     if not path.is_file():
-        raise GoldenError(f"reference {str(path)!r} does not exist")
+        raise GoldenError(f"{where} does not exist")
+    with open(path, "rb") as file:
+        data = file.read()
+    if not data.startswith(PNG_SIGNATURE):
+        kind = "JPEG data" if data.startswith(b"\xff\xd8") else "data that is not PNG"
+        raise GoldenError(f"{where}: references are 8-bit PNGs; this file holds {kind} (rewrite it with --update)")
     try:
-        image = iio.imread(path, plugin="pillow")
-    except Exception as error:  # imageio raises many kinds
-        raise GoldenError(f"reference {str(path)!r} cannot be read as an image: {error}") from None
+        image = iio.imread(data, plugin="pillow")
+    except Exception as error:  # Pillow raises many kinds for damaged files
+        raise GoldenError(f"{where}: a damaged PNG ({type(error).__name__}: {error}); rewrite it with --update") from None
     if image.dtype != np.uint8:
-        raise GoldenError(f"reference {str(path)!r}: expected 8-bit pixels, got {image.dtype}")
-    return as_rgba8(image, f"reference {str(path)!r}")
+        raise GoldenError(f"{where}: references are 8-bit PNGs; this one has {image.dtype} pixels (rewrite it with --update)")
+    has_alpha = image.ndim == 3 and image.shape[2] in (2, 4)
+    if image.ndim == 3 and image.shape[2] == 2:  # gray + alpha
+        image = np.concatenate([np.repeat(image[:, :, :1], 3, axis=2), image[:, :, 1:]], axis=2)
+    return as_rgba8(image, where), has_alpha
+
+
+def read_image(path: str | os.PathLike[str]) -> np.ndarray:
+    """An 8-bit PNG as (H, W, 4) uint8 (see read_reference)."""
+    return read_reference(path)[0]
 
 
 def write_image(path: str | os.PathLike[str], image, note: str | None = None) -> Path:

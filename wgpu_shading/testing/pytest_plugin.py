@@ -146,7 +146,17 @@ class GoldenChecker:
         """Render `subject` (a Scene or a .toml path) or take it as an image (an array), and
         compare it with the reference PNG; fail the test with a readable message if they
         differ. Returns the golden.CheckResult (.status: "passed", or "created"/"updated"
-        with --update-golden; .comparison: the metrics)."""
+        with --update-golden; .comparison: the metrics). A bad scene, mesh or reference is a
+        test failure with its one-line message, not a traceback."""
+        __tracebackhide__ = True
+        from ..errors import WgpuShadingError
+
+        try:
+            return self._check(subject, reference, tolerance=tolerance, size=size, amplification=amplification)
+        except WgpuShadingError as error:
+            pytest.fail(f"assert_golden({_describe(subject)}, {str(reference)!r}): {error}", pytrace=False)
+
+    def _check(self, subject, reference, *, tolerance, size, amplification):
         __tracebackhide__ = True
         from .golden import DEFAULT_AMPLIFICATION, check_image, write_failure_images
         from ..scene import Scene
@@ -191,6 +201,12 @@ class GoldenChecker:
             lines.append("if the change is intended, rerun with --update-golden and review the new reference")
             pytest.fail("\n".join(lines), pytrace=False)
         return result
+
+
+def _describe(subject) -> str:
+    if isinstance(subject, (str, os.PathLike)):
+        return repr(str(subject))
+    return type(subject).__name__
 
 
 @pytest.fixture
