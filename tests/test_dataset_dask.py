@@ -125,3 +125,40 @@ def test_batch_workers_2_starts_a_local_cluster_with_the_same_pixels(tmp_path, r
             assert np.array_equal(np.array(Image.open(out / file)), np.array(Image.open(tmp_path / "local" / file))), file
     report = json.loads((out / "report.json").read_text())
     assert report["rendered"] == 4 and report["failed"] == {}
+
+
+def test_a_job_that_kills_its_worker_fails_alone_and_is_named(tmp_path):
+    """A job whose rendering kills the worker process (as a driver crash would): its chunk is
+    retried, then split into single jobs, so only that job fails, with the reason; its
+    chunk's other job and every other mesh's jobs are rendered."""
+
+    class Poison(distributed.WorkerPlugin):  # pickled by value: spawned workers need no test module
+        name = "poison-cube-view-1"
+
+        def setup(self, worker):
+            from wgpu_shading.dataset import chunk
+
+            original = chunk.job_scene
+
+            def job_scene(base, job):
+                if job.folder == "cube" and job.name == "view_001":
+                    os._exit(1)  # the process dies mid-chunk, like a segfault in the driver
+                return original(base, job)
+
+            chunk.job_scene = job_scene
+
+    jobs = mesh_jobs([MESHES[0], MESHES[2]], turntable_views(2), Outputs(), {"size": 24})
+    cluster = local_cluster(2, lavapipe_threads=1)
+    try:
+        with distributed.Client(cluster) as client:
+            client.register_plugin(Poison())  # also given to every restarted worker
+            result = render_dataset(jobs, tmp_path / "out", scheduler=cluster.scheduler_address, chunk_size=2, progress=False)
+    finally:
+        cluster.close(timeout=10)
+    assert list(result.failed) == ["cube/view_001"], result.failed
+    assert "worker rendering it died" in result.failed["cube/view_001"]
+    assert sorted(result.rendered) == ["cube/view_000", "torus/view_000", "torus/view_001"]
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert list(report["failed"]) == ["cube/view_001"]
+    assert not (tmp_path / "out" / "cube" / "view_001.png").exists()
+    assert not [p for p in (tmp_path / "out").rglob("*") if p.name.endswith(".tmp")]

@@ -340,3 +340,19 @@ def test_point_clouds_and_triangle_strips_are_errors_naming_what_was_found(tmp_p
     assert main(["render", str(tmp_path / "m.obj"), "--size", "8", "-q", "-o", str(tmp_path / "m.png")]) == 0
     err = capsys.readouterr().err
     assert err == f"wgpu-shading: warning: {tmp_path / 'm.obj'}: material library 'gone.mtl' not found (looked for {tmp_path / 'gone.mtl'}); parts drawn without it\n"
+
+
+def test_shader_command_prints_each_parts_shader(tmp_path, capsys):
+    from wgpu_shading.cli import main
+
+    positions, indices = quad(0, 0)
+    normals = np.tile(np.float32([0, 0, 1]), (4, 1))
+    path = write_gltf(
+        tmp_path / "two.gltf",
+        meshes=[[{"positions": positions, "indices": indices, "normals": normals, "material": 0}],
+                [{"positions": positions + 2, "indices": indices, "normals": normals, "material": 1}]],
+        materials=[{"pbrMetallicRoughness": {"metallicFactor": 0}}, {"pbrMetallicRoughness": {"metallicFactor": 0}, "alphaMode": "MASK"}],
+    )
+    assert main(["shader", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert out.count("// ===== objects 0") == 2 and "alpha=mask" in out and "discard" in out

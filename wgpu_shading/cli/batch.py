@@ -46,6 +46,12 @@ def command_batch(args: argparse.Namespace) -> int:
             views = turntable_views(count, args.elevation)
         jobs = mesh_jobs(args.meshes, views, outputs, defaults)
     show_progress = not args.quiet and sys.stderr.isatty()
+    if args.scheduler:
+        # This process is ours: Dask's client-side warnings (a worker lost, keys rescheduled)
+        # would break the progress bar; what matters reaches report.json and the summary.
+        import logging
+
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
     result = render_dataset(
         jobs,
         args.output,

@@ -20,6 +20,7 @@ stderr and exit with status 2; no traceback.
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 import warnings
@@ -75,6 +76,11 @@ def _option_name(destination: str) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    # trimesh logs file problems it works around (e.g. a PLY's missing texture image) with
+    # tracebacks through Python's last-resort handler; the CLI reports files its own way.
+    trimesh_log = logging.getLogger("trimesh")
+    if not trimesh_log.handlers:
+        trimesh_log.addHandler(logging.NullHandler())
     for name, value in vars(args).items():
         # No file name or value holds a NUL character; os calls would raise ValueError deep inside.
         for text in value if isinstance(value, list) else [value]:

@@ -102,12 +102,15 @@ def command_shader(args: argparse.Namespace) -> int:
     scene = _load(args)
     seen = set()
     for index, obj in enumerate(scene.objects):
-        features = object_features(scene, obj, index)
-        if features in seen:
-            continue
-        seen.add(features)
-        print(f"// ===== objects {index}: {obj.mesh.name}")
-        print(generate_wgsl(features))
+        # One draw per part (each with its own material): print each distinct shader once.
+        for part, part_material in zip(obj.mesh.parts, obj.part_materials()):
+            features = object_features(scene, obj, index, part_material)
+            if features in seen:
+                continue
+            seen.add(features)
+            label = f" part {part.name!r}" if len(obj.mesh.parts) > 1 else ""
+            print(f"// ===== objects {index}: {obj.mesh.name}{label}")
+            print(generate_wgsl(features))
     if not scene.objects:
         print("// the scene has no objects: nothing is drawn, no shader is needed")
     return 0

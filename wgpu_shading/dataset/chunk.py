@@ -11,8 +11,7 @@ from __future__ import annotations
 import os
 import threading
 import time
-from collections import OrderedDict
-from collections import deque
+from collections import OrderedDict, deque
 from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Iterable
@@ -108,7 +107,8 @@ class ChunkRenderer:
                     raise base
                 scene = job_scene(base, job)
                 # Checked here, so a size the adapter cannot render fails this job only.
-                self.renderer._check_size(scene.size, "float32" if job.outputs.color == "png16" else "rgba8")
+                float_target = job.outputs.color == "png16" or job.outputs.normals != "none" or job.outputs.ids
+                self.renderer._check_size(scene.size, "float32" if float_target else "rgba8")
                 ready.append((job, scene))
             except Exception as error:  # noqa: BLE001
                 records[job.id] = failed(job, error)

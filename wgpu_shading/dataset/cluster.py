@@ -21,6 +21,7 @@ from typing import Iterator
 from ..errors import WgpuShadingError
 from .jobs import Job
 
+
 class DaskMissingError(WgpuShadingError):
     pass
 
@@ -86,13 +87,10 @@ def run_on_dask(
     if scheduler is None:
         cluster = local_cluster(workers, lavapipe_threads)
         client = distributed.Client(cluster)
+    elif not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")) and Path(scheduler).is_file():
+        client = distributed.Client(scheduler_file=scheduler, timeout=30)
     else:
-        logging.getLogger("distributed").setLevel(logging.CRITICAL)
-        target = scheduler
-        if not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")) and Path(scheduler).is_file():
-            client = distributed.Client(scheduler_file=scheduler, timeout=30)
-        else:
-            client = distributed.Client(target, timeout=30)
+        client = distributed.Client(scheduler, timeout=30)
     try:
         from .worker import RendererPlugin
 
@@ -115,7 +113,9 @@ def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distr
     for index, chunk in enumerate(work):
         future = client.submit(render_chunk_task, chunk, out_dir, plugin_name, key=f"wgpu-shading-chunk-{batch}-{index}", pure=False)
         futures[future] = chunk
-    pending = distributed.as_completed(futures)
+    # This client's loop, not the default client's: a process may hold other clients (a
+    # notebook's, a test's), and as_completed would otherwise wait on another loop.
+    pending = distributed.as_completed(futures, loop=client.loop)
     for future in pending:
         chunk = futures.pop(future)
         try:

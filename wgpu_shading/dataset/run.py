@@ -93,8 +93,8 @@ def render_dataset(
                     result.failed[record["id"]] = record["error"]
             if bar is not None:
                 elapsed = time.perf_counter() - start
-                bar.update(len(records))
                 bar.set_postfix(failed=len(result.failed), fps=f"{len(result.rendered) / max(elapsed, 1e-9):.1f}", refresh=False)
+                bar.update(len(records))  # redraws, with the postfix
     finally:
         if bar is not None:
             bar.close()
