@@ -277,3 +277,8 @@ def test_a_nul_character_in_an_argument_is_a_clear_error(tmp_path, capsys):
     assert code == 2 and err.strip() == "wgpu-shading: error: input 'scene\\x00.toml' contains a NUL character"
     code, err = _run(capsys, "render", "builtin:cube", "-o", "o\x00.png")
     assert code == 2 and "--output 'o\\x00.png' contains a NUL character" in err
+
+
+def test_batch_views_beyond_the_limit_fail_before_anything_is_listed(tmp_path, capsys):
+    code, err = _run(capsys, "batch", "-o", str(tmp_path / "ds"), "--meshes", "builtin:cube", "--views", "100000000000")
+    assert code == 2 and "views: expected 1 to 100000 views per mesh, got 100000000000" in err

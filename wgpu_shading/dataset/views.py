@@ -32,11 +32,20 @@ DEFAULT_SIZE = (512, 512)  # what `wgpu-shading render MESH` uses
 FRAMING_ELEVATION = math.degrees(math.atan2(FRAMING_DIRECTION[1], FRAMING_DIRECTION[2]))  # ≈ 19.29°
 
 
+# The views of a mesh are listed up front; beyond this a typo (--views 100000000000) would
+# exhaust memory instead of failing (docs/reliability.md).
+MAX_VIEWS = 100_000
+
+
+def _check_count(count: int) -> None:
+    if count < 1 or count > MAX_VIEWS:
+        raise SceneError(f"views: expected 1 to {MAX_VIEWS} views per mesh, got {count}")
+
+
 def turntable_views(count: int, elevation: float | None = None) -> list[dict[str, float]]:
     """`count` azimuths 360°/count apart (the first is the scene's own view), at the scene's
     elevation or turned by `elevation` degrees (render's --camera-elevation)."""
-    if count < 1:
-        raise SceneError(f"views: expected at least 1, got {count}")
+    _check_count(count)
     views = [{"azimuth": 360.0 * i / count} for i in range(count)]
     if elevation is not None:
         for view in views:
@@ -48,8 +57,7 @@ def sphere_views(count: int, base_elevation: float = FRAMING_ELEVATION) -> list[
     """`count` directions spread evenly over the sphere (a Fibonacci lattice: equal-area
     bands in elevation, azimuth stepped by the golden angle; never exactly at a pole), as
     turns of a camera `base_elevation` degrees above the horizon (a bare mesh's framing)."""
-    if count < 1:
-        raise SceneError(f"views: expected at least 1, got {count}")
+    _check_count(count)
     golden_angle = 180.0 * (3.0 - math.sqrt(5.0))
     views = []
     for i in range(count):
