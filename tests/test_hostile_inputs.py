@@ -282,3 +282,18 @@ def test_a_nul_character_in_an_argument_is_a_clear_error(tmp_path, capsys):
 def test_batch_views_beyond_the_limit_fail_before_anything_is_listed(tmp_path, capsys):
     code, err = _run(capsys, "batch", "-o", str(tmp_path / "ds"), "--meshes", "builtin:cube", "--views", "100000000000")
     assert code == 2 and "views: expected 1 to 100000 views per mesh, got 100000000000" in err
+
+
+def test_a_texture_header_claiming_a_huge_image_is_refused_before_decoding(tmp_path):
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    header = struct.pack(">IIBBBBB", 30000, 30000, 8, 2, 0, 0, 0)  # 30000² RGB, and no pixel data at all
+    path = _write(tmp_path / "bomb.png", b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IEND", b""))
+    from wgpu_shading.assets.textures import load_texture
+
+    with pytest.raises(SceneError, match=r"bomb.png': too large .*at most 16384 pixels per side"):
+        load_texture(path)

@@ -1,4 +1,4 @@
-"""Texture images read from files (PNG, JPEG, ... through imageio) into Texture objects."""
+"""Texture images read from files (PNG, JPEG, BMP, TIFF, ... decoded by Pillow through imageio) into Texture objects."""
 
 from __future__ import annotations
 
@@ -37,14 +37,16 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
     try:
         with Image.open(io.BytesIO(data)) as header:  # reads the header only
             width, height = header.size
-    except Exception:
-        width = height = None  # not a format Pillow knows: imageio may still read it
-    if width is not None and (width > MAX_TEXTURE_SIDE or height > MAX_TEXTURE_SIDE):
+    except Image.DecompressionBombError as error:  # far beyond MAX_TEXTURE_SIDE² pixels
+        raise SceneError(f"{where}: too large ({error}); at most {MAX_TEXTURE_SIDE} pixels per side are supported") from None
+    except Exception as error:  # not an image format Pillow reads (PNG, JPEG, BMP, TIFF, GIF, WebP, ...)
+        raise SceneError(f"{where}: not an image Pillow can read ({type(error).__name__}: {error})") from None
+    if width > MAX_TEXTURE_SIDE or height > MAX_TEXTURE_SIDE:
         raise SceneError(f"{where}: {width}×{height} pixels; at most {MAX_TEXTURE_SIDE} per side are supported")
     try:
-        # A file Pillow recognised is decoded by Pillow alone (imageio would otherwise try
-        # every other plugin on a damaged PNG, with deprecation warnings on the way).
-        pixels = iio.imread(data, plugin="pillow") if width is not None else iio.imread(data)
+        # Decoded by Pillow alone: imageio would otherwise try every other plugin on a
+        # damaged file (legacy DICOM, tifffile, ...), with deprecation warnings on the way.
+        pixels = iio.imread(data, plugin="pillow")
     except Exception as error:  # imageio raises many kinds for unreadable files
         raise SceneError(f"{where}: cannot read image ({type(error).__name__}: {error})") from None
     if pixels.ndim == 4:  # animated formats: first frame
