@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import SceneError
 from ..scene import LIGHT_TYPES, Scene
-from ..scene.framing import bounding_sphere, depth_range, parse_direction
+from ..scene.framing import object_depth_range, parse_direction
 from ..scene.lighting import headlight, viewer_lights
 
 LIGHT_SYNTAX = (
@@ -154,12 +154,7 @@ def apply_viewer_options(scene: Scene, args: argparse.Namespace, bare_mesh: bool
     except SceneError as error:
         raise SceneError(f"camera options: {error}") from None
     if bare_mesh and camera is not scene.camera:
-        obj = scene.objects[0]
-        center, radius = bounding_sphere(obj.mesh)
-        world_from_model = obj.world_from_model()  # the mesh may be turned (--up)
-        center = world_from_model[:3, :3] @ (center - np.asarray(obj.mesh.origin)) + world_from_model[:3, 3]
-        radius *= float(np.abs(np.linalg.det(world_from_model[:3, :3]))) ** (1.0 / 3.0)
-        near, far = depth_range(camera.eye, center, radius)
+        near, far = object_depth_range(camera.eye, scene.objects[0])
         camera = replace(camera, near=near, far=far)
     lights = scene.lights
     if getattr(args, "light", None):

@@ -18,12 +18,11 @@ import math
 from dataclasses import replace
 from typing import Any
 
-import numpy as np
 from pyglm import glm
 
 from ..errors import SceneError
 from ..scene import Camera, Scene, material
-from ..scene.framing import FRAMING_DIRECTION, bounding_sphere, depth_range
+from ..scene.framing import FRAMING_DIRECTION, object_depth_range
 from ..scene.lighting import viewer_lights
 from .jobs import Job
 
@@ -104,12 +103,7 @@ def job_scene(base: Scene, job: Job) -> Scene:
         return scene
     if not is_bare_mesh(job):
         return replace(scene, camera=camera)
-    obj = scene.objects[0]
-    center, radius = bounding_sphere(obj.mesh)
-    world_from_model = obj.world_from_model()  # the mesh may be turned (--up)
-    center = world_from_model[:3, :3] @ (center - np.asarray(obj.mesh.origin)) + world_from_model[:3, 3]
-    radius *= float(np.abs(np.linalg.det(world_from_model[:3, :3]))) ** (1.0 / 3.0)
-    near, far = depth_range(camera.eye, center, radius)
+    near, far = object_depth_range(camera.eye, scene.objects[0])
     camera = replace(camera, near=job.camera.get("near", near), far=job.camera.get("far", far))
     return replace(scene, camera=camera, lights=viewer_lights(camera))
 

@@ -17,6 +17,7 @@ from pyglm import glm
 from ..errors import SceneError
 from .camera import Camera
 from .mesh import Mesh
+from .objects import SceneObject
 from .values import Vec3, direction
 
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
@@ -51,6 +52,16 @@ def depth_range(eye, center, radius: float) -> tuple[float, float]:
     distance = float(np.linalg.norm(np.asarray(eye, dtype=np.float64) - np.asarray(center, dtype=np.float64)))
     far = distance + 1.5 * radius
     return max(distance - 1.5 * radius, far * 1e-4), far
+
+
+def object_depth_range(eye, obj: "SceneObject") -> tuple[float, float]:
+    """near and far planes that enclose a placed object seen from `eye`: its mesh's bounding
+    sphere moved by the object's model matrix (which may turn the mesh, e.g. `--up`)."""
+    center, radius = bounding_sphere(obj.mesh)
+    model = obj.model_matrix()
+    center = glm.dvec3(model * glm.dvec4(*(center - np.asarray(obj.mesh.origin)), 1.0))
+    radius *= abs(glm.determinant(glm.dmat3(model))) ** (1.0 / 3.0)
+    return depth_range(eye, np.array(center), radius)
 
 
 def framing_camera(mesh: Mesh, size: tuple[int, int], fov_y: float = 45.0) -> Camera:
