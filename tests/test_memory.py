@@ -114,3 +114,23 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
     assert len(long_run._targets) == TARGET_CACHE_ENTRIES
     assert len(long_run._meshes) == MESH_CACHE_ENTRIES and long_run._meshes.evictions > 0
     assert long_run.pipeline_count == 2
+
+
+def test_the_first_mip_level_is_computed_in_strips_with_the_same_values():
+    """A 16384² texture would need 4 GiB as float32 at once; strips of rows give the same
+    exact means (odd sizes: the last row and column are repeated, then dropped)."""
+    from wgpu_shading.render.resources import _first_level
+
+    rng = np.random.default_rng(3)
+    for height, width in [(1, 1), (7, 1), (5, 5), (1025, 3), (130, 77)]:
+        pixels = rng.integers(0, 256, (height, width, 4), dtype=np.uint8)
+        whole = _first_level(pixels, rows_per_strip=10**9)
+        padded = pixels
+        if height % 2:
+            padded = np.concatenate([padded, padded[-1:]], axis=0)
+        if width % 2:
+            padded = np.concatenate([padded, padded[:, -1:]], axis=1)
+        exact = padded.astype(np.float64).reshape(padded.shape[0] // 2, 2, padded.shape[1] // 2, 2, 4).mean(axis=(1, 3))
+        np.testing.assert_array_equal(whole, exact[: max(1, height // 2), : max(1, width // 2)])
+        for rows in (2, 4, 64):
+            np.testing.assert_array_equal(_first_level(pixels, rows_per_strip=rows), whole)

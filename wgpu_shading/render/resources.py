@@ -87,7 +87,10 @@ def map_for_reading(buffer) -> None:
 def mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
     """Box-filtered mip levels down to 1×1 (texture values are used as linear, like the seeds)."""
     levels = [pixels]
-    current = pixels.astype(np.float32)
+    if pixels.shape[0] == 1 and pixels.shape[1] == 1:
+        return levels
+    current = _first_level(pixels)
+    levels.append(np.round(current).astype(np.uint8))
     while current.shape[0] > 1 or current.shape[1] > 1:
         height, width = current.shape[:2]
         if height % 2:
@@ -99,6 +102,28 @@ def mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
         levels.append(np.round(current).astype(np.uint8))
     return levels
 
+
+
+def _first_level(pixels: np.ndarray, rows_per_strip: int = 512) -> np.ndarray:
+    """The first mip level's exact float32 means, computed a strip of rows at a time: a
+    16384² texture in float32 would take 4 GiB at once. (Means of four 8-bit values are
+    exact in float32, so this equals the whole-image computation bit for bit.)"""
+    height, width = pixels.shape[:2]
+    out_height, out_width = max(1, height // 2), max(1, width // 2)
+    result = np.empty((out_height, out_width, 4), np.float32)
+    for start in range(0, height, rows_per_strip):  # an even strip height keeps 2×2 blocks whole
+        first_row = start // 2
+        if first_row >= out_height:
+            break
+        strip = pixels[start : start + rows_per_strip].astype(np.float32)
+        if strip.shape[0] % 2:
+            strip = np.concatenate([strip, strip[-1:]], axis=0)
+        if width % 2:
+            strip = np.concatenate([strip, strip[:, -1:]], axis=1)
+        means = strip.reshape(strip.shape[0] // 2, 2, strip.shape[1] // 2, 2, 4).mean(axis=(1, 3))
+        count = min(len(means), out_height - first_row)
+        result[first_row : first_row + count] = means[:count, :out_width]
+    return result
 
 
 def new_target(device, width: int, height: int, color_format: str, samples: int = 1) -> Target:
