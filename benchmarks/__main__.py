@@ -88,7 +88,7 @@ FULL = Settings(
     breakdown_size=512, breakdown_rounds=8, breakdown_frames=3,
     cold_rounds=10,
     batch_frames=360, batch_size=512,
-    memory_triangles=1_300_000, memory_size=512, memory_runs=3,
+    memory_triangles=1_300_000, memory_size=512, memory_runs=6,
     scaling_counts=(10_000, 30_000, 100_000, 300_000, 1_000_000, 3_000_000),
     scaling_sides=(128, 256, 512, 1024, 2048), scaling_rounds=4, scaling_frames=2,
 )

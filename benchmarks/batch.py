@@ -20,7 +20,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +43,17 @@ class BatchResult:
     threads: dict[str, float]  # thread role -> ms CPU per naive frame
     cli_seconds: float | None
     cli_frames_written: int | None
+    cpu_seconds: dict[str, list[float]] = field(default_factory=dict)  # mode -> process CPU per pass
+    idle: dict[str, list[float]] = field(default_factory=dict)  # mode -> the machine's idle share per pass
+
+    def cores_used(self, mode: str) -> float:
+        """Cores this process kept busy on average in `mode` (process CPU ÷ wall time)."""
+        return statistics.median(c / w for c, w in zip(self.cpu_seconds.get(mode, []), self.seconds[mode]) if w > 0) if self.cpu_seconds.get(mode) else float("nan")
+
+    def idle_cores(self, mode: str) -> float:
+        """Cores of the whole machine left idle during `mode` (by anyone), median pass."""
+        shares = self.idle.get(mode)
+        return statistics.median(shares) * (os.cpu_count() or 1) if shares else float("nan")
 
     def fps(self, mode: str) -> float:
         return self.frames / statistics.median(self.seconds[mode])
@@ -103,17 +114,35 @@ def run_batch(
     }
     list(renderer.render_many(views[:4]))  # make the helper device and its pipeline: not timed
     seconds: dict[str, list[float]] = {mode: [] for mode in modes}
+    cpu_seconds: dict[str, list[float]] = {mode: [] for mode in modes}
+    idle: dict[str, list[float]] = {mode: [] for mode in modes}
     names = list(modes)
     for index in range(passes):
         shift = index % len(names)
         for mode in names[shift:] + names[:shift]:
-            start = time.perf_counter()
+            machine_before = _machine_jiffies()
+            cpu_start, start = time.process_time(), time.perf_counter()
             modes[mode]()
             seconds[mode].append(time.perf_counter() - start)
+            cpu_seconds[mode].append(time.process_time() - cpu_start)
+            machine_after = _machine_jiffies()
+            if machine_before and machine_after and machine_after[1] > machine_before[1]:
+                idle[mode].append((machine_after[0] - machine_before[0]) / (machine_after[1] - machine_before[1]))
     cycle = iter(views * 100)
     threads = thread_breakdown(lambda: renderer.render(next(cycle)), min_frames=thread_frames, min_seconds=thread_seconds)
     cli_seconds, written = _cli_turntable(cli_input, label.split()[0], frames, size)
-    return BatchResult(label, frames, size, seconds, identical, threads, cli_seconds, written)
+    return BatchResult(label, frames, size, seconds, identical, threads, cli_seconds, written, cpu_seconds, idle)
+
+
+def _machine_jiffies() -> tuple[int, int] | None:
+    """(idle, total) CPU time of the whole machine so far, from /proc/stat (Linux; None
+    elsewhere): how much CPU nobody used, to tell whether more overlap had room to run."""
+    try:
+        with open("/proc/stat") as file:
+            fields = [int(value) for value in file.readline().split()[1:]]
+    except (OSError, ValueError):
+        return None
+    return fields[3] + fields[4], sum(fields[:8])  # idle + iowait, all but guest time
 
 
 def _cli_turntable(source: str | None, name: str, frames: int, size: int) -> tuple[float | None, int | None]:

@@ -33,6 +33,13 @@ class MemoryRow:
     baseline: int
     with_mesh: int
     peak: int  # median over runs
+    peaks: tuple[int, ...] = ()  # every run's peak (llvmpipe's queue makes them bimodal)
+    uploaded: int = 0  # our GPU buffers for the mesh
+
+    @property
+    def ours_in_meshes(self) -> float:
+        """What our code holds: the mesh's arrays plus their GPU copy, in mesh arrays."""
+        return (self.mesh_bytes + self.uploaded) / self.mesh_bytes
 
     @property
     def peak_over_baseline_in_meshes(self) -> float:
@@ -62,6 +69,8 @@ def run_memory(triangles: int, size: int, runs: int) -> list[MemoryRow]:
                     baseline=int(statistics.median(s["baseline"] for s in samples)),
                     with_mesh=int(statistics.median(s["with_mesh"] for s in samples)),
                     peak=int(statistics.median(s["peak"] for s in samples)),
+                    peaks=tuple(s["peak"] for s in samples),
+                    uploaded=samples[0]["uploaded"],
                 )
             )
     return rows

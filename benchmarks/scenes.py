@@ -20,7 +20,11 @@ from wgpu_shading.assets.mesh_scene import mesh_scene
 from wgpu_shading.scene import sphere_for_triangles
 
 REPO = Path(__file__).resolve().parent.parent
-BUNNY = REPO.parent / "shared" / "models" / "stanford-bunny.obj"
+# The shared models sit beside the checkout, or beside the folder of worktrees.
+BUNNY = next(
+    (path for path in (base / "shared" / "models" / "stanford-bunny.obj" for base in (REPO.parent, REPO.parent.parent)) if path.exists()),
+    REPO.parent / "shared" / "models" / "stanford-bunny.obj",
+)
 TORUS_SCENE = REPO / "examples" / "gold_torus_phong.toml"
 
 

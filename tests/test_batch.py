@@ -10,7 +10,7 @@ import imageio.v3 as iio
 import numpy as np
 import pytest
 
-from wgpu_shading import Camera, PositionalLight, Scene, SceneObject, SpotLight, DirectionalLight, load_mesh, material
+from wgpu_shading import Camera, PositionalLight, Renderer, Scene, SceneObject, SpotLight, DirectionalLight, load_mesh, material
 from wgpu_shading.assets.animation import write_animation
 from wgpu_shading.render.pipelining import default_parallelism
 from wgpu_shading.scene.turntable import spun, turntable
@@ -175,3 +175,18 @@ def test_cli_mp4_without_imageio_ffmpeg_is_a_one_line_error(monkeypatch, capsys,
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "needs imageio-ffmpeg" in err and "[video]" in err
     assert not (tmp_path / "spin.mp4").exists()
+
+
+def test_uniform_writes_skipped_only_when_unchanged(torus_scene):
+    """A renderer rewrites a uniform buffer only when its bytes change: alternating and
+    repeated scenes on one renderer must match each scene rendered by a fresh renderer
+    (its own buffers), and the two views must really differ (else the test proves nothing)."""
+    other = spun(torus_scene, 90)
+    expected = {id(torus_scene): Renderer().render(torus_scene), id(other): Renderer().render(other)}
+    assert not np.array_equal(expected[id(torus_scene)], expected[id(other)])
+    shared = Renderer()
+    for scene in (torus_scene, torus_scene, other, torus_scene, other, other):
+        np.testing.assert_array_equal(shared.render(scene), expected[id(scene)])
+    frame = shared.render_frame(torus_scene, depth=True)  # the depth store is kept when depth is read
+    drawn = np.isfinite(frame.depth)
+    assert drawn.any() and (frame.depth[drawn] > 0.1).all() and (frame.depth[drawn] < 100).all()

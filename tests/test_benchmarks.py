@@ -199,6 +199,7 @@ def test_smoke_batch_renders_and_writes_the_turntable(smoke):
     text = _section(smoke, "batch")
     (modes,) = _tables(text)
     assert len(modes) == 3 and all(_positive(row["frames/s (median pass)"]) for row in modes)
+    assert all(_positive(row["cores we used"]) for row in modes)  # process CPU ÷ wall: this process did work
     assert "frames identical to render(): True" in text
     assert re.search(r"turntable cube -o spin.gif --frames 5 .*: [\d.]+ s, 5 frames written", text)
 
@@ -207,6 +208,8 @@ def test_smoke_memory_and_scaling_print_their_tables(smoke):
     (memory,) = _tables(_section(smoke, "memory"))
     assert [row["variant"] for row in memory] == ["default", "LP_NUM_THREADS=0 (no binning queue)"]
     assert all(row["triangles"] == "1,980" and _positive(row["baseline MiB"]) for row in memory)
+    # our share counts the mesh's arrays once plus their GPU copy: above 1× of them
+    assert all(float(row["ours (mesh + GPU copy) ÷ mesh arrays"].rstrip("×")) > 1.0 for row in memory)
     triangles, pixels = _tables(_section(smoke, "scaling"))
     assert [row["triangles (sphere, 64²)"] for row in triangles] == ["196", "1,980"]
     assert [row["pixels (torus 128)"] for row in pixels] == ["1,024", "4,096"]

@@ -32,6 +32,7 @@ size = int(sys.argv[2])
 renderer = Renderer()
 small = mesh_scene("builtin:sphere", (size, size), None)
 renderer.render(small)
+small_uploaded = renderer._meshes.nbytes
 gc.collect()
 baseline = status("VmRSS")
 arrays = np.load(sys.argv[1])
@@ -48,4 +49,6 @@ print(json.dumps({
     "with_mesh": with_mesh,
     "peak": status("VmHWM"),
     "after": status("VmRSS"),
+    # Our GPU buffers for the mesh (driver memory; on lavapipe the buffers are host memory).
+    "uploaded": renderer._meshes.nbytes - small_uploaded,
 }))

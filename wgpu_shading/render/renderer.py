@@ -56,6 +56,7 @@ from .resources import (
     upload_colors,
     upload_texture,
     upload_uvs,
+    uniform_buffer,
 )
 from .uniforms import finite_uniform_bytes, frame_uniforms, is_mirrored, linear_depth, object_uniforms
 
@@ -117,7 +118,7 @@ class Renderer:
             TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes
         )
         self._targets: LruCache[Target] = LruCache(TARGET_CACHE_ENTRIES)
-        self._uniform_buffers: LruCache[object] = LruCache(UNIFORM_CACHE_ENTRIES)
+        self._uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self._bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
         self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
         self._sampler = self._device.create_sampler(
@@ -233,15 +234,7 @@ class Renderer:
 
     def _uniform_buffer(self, role: str, index: int, data: np.ndarray):
         payload = finite_uniform_bytes(data, "camera and lights" if role == "frame" else f"objects[{index}]")
-        key = (role, index, data.nbytes)
-        buffer = self._uniform_buffers.get(key)
-        if buffer is None:
-            buffer = self._device.create_buffer(
-                size=data.nbytes, usage=wgpu.BufferUsage.UNIFORM | wgpu.BufferUsage.COPY_DST
-            )
-            self._uniform_buffers.put(key, buffer)
-        self._device.queue.write_buffer(buffer, 0, payload)
-        return buffer
+        return uniform_buffer(self._device, self._uniform_buffers, (role, index, data.nbytes), payload)
 
     def _bind_group(self, cache: LruCache, layout, resources: tuple) -> object:
         """A bind group, cached in `cache` (see resources.cached_bind_group)."""
@@ -295,7 +288,9 @@ class Renderer:
             # depth that is read (pixel centres, as without MSAA); the MSAA pass then
             # overwrites the color with its resolved, antialiased image.
             single = self._prepare(scene, target.color_format, eye_from_world, 1)
-            self._encode_pass(encoder, scene, single, eye_from_world, target.color_view, None, target.depth_view)
+            self._encode_pass(
+                encoder, scene, single, eye_from_world, target.color_view, None, target.depth_view, store_depth=True
+            )
         if target.samples > 1:
             draws = self._prepare(scene, target.color_format, eye_from_world, target.samples)
             self._encode_pass(
@@ -303,7 +298,9 @@ class Renderer:
             )
         else:
             draws = self._prepare(scene, target.color_format, eye_from_world)
-            self._encode_pass(encoder, scene, draws, eye_from_world, target.color_view, None, target.depth_view)
+            self._encode_pass(
+                encoder, scene, draws, eye_from_world, target.color_view, None, target.depth_view, store_depth=read_depth
+            )
         size = (target.width, target.height, 1)
         encoder.copy_texture_to_buffer(
             {"texture": target.color},
@@ -318,9 +315,14 @@ class Renderer:
             )
         device.queue.submit([encoder.finish()])
 
-    def _encode_pass(self, encoder, scene: Scene, draws: list[_Draw], eye_from_world, color_view, resolve_view, depth_view) -> None:
+    def _encode_pass(
+        self, encoder, scene: Scene, draws: list[_Draw], eye_from_world, color_view, resolve_view, depth_view,
+        *, store_depth: bool = False,
+    ) -> None:
         """One render pass drawing `draws`; with `resolve_view`, the multisampled color is
-        averaged into it at the end of the pass."""
+        averaged into it at the end of the pass. The depth attachment is kept after the
+        pass only with `store_depth` (a frame whose depth is read back): otherwise it is
+        scratch, and StoreOp.discard tells the driver it need not write it out."""
         color_attachment = {
             "view": color_view,
             "clear_value": scene.background,
@@ -335,7 +337,7 @@ class Renderer:
                 "view": depth_view,
                 "depth_clear_value": 0.0,  # reversed Z: 0 is the far plane
                 "depth_load_op": wgpu.LoadOp.clear,
-                "depth_store_op": wgpu.StoreOp.store,
+                "depth_store_op": wgpu.StoreOp.store if store_depth else wgpu.StoreOp.discard,
             },
         )
         if draws:
