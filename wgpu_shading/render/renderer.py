@@ -43,20 +43,18 @@ from .features import FeatureSet, object_features
 from .pipelines import PipelineCache, PipelineEntry
 from .pipelining import render_many
 from .resources import (
-    cached_bind_group,
-    check_target_size,
-    BYTES_PER_PIXEL,
     GpuMesh,
     GpuTexture,
     Target,
+    cached_bind_group,
+    check_target_size,
     new_target,
-    padded_row_bytes,
     read_buffer,
-    upload_mesh,
+    uniform_buffer,
     upload_colors,
+    upload_mesh,
     upload_texture,
     upload_uvs,
-    uniform_buffer,
 )
 from .uniforms import finite_uniform_bytes, frame_uniforms, is_mirrored, linear_depth, object_uniforms
 
