@@ -19,6 +19,9 @@ PROJECTIONS: tuple[str, ...] = ("perspective", "orthographic")
 MIN_FOV_Y = 1e-6  # degrees: focal length 1/tan(fov_y/2) up to ~1e8
 MIN_NEAR = 1e-20
 MAX_FAR_OVER_NEAR = 1e30
+# glOrtho's scale 2/ortho_height, times eye-space coordinates up to 1e18 (see Scene), must
+# stay finite in float32 (3.4e38): 1e-12 leaves a wide margin, like MIN_FOV_Y's focal 1e8.
+MIN_ORTHO_HEIGHT = 1e-12
 
 
 @dataclass(frozen=True)
@@ -68,6 +71,10 @@ class Camera:
         ortho_height = self.ortho_height
         if ortho_height is not None:
             ortho_height = number(ortho_height, "camera.ortho_height", 0.0, MAX_COORDINATE, low_open=True)
+            if ortho_height < MIN_ORTHO_HEIGHT:
+                raise SceneError(
+                    f"camera.ortho_height: expected at least {MIN_ORTHO_HEIGHT:g} (float32 projection), got {ortho_height:g}"
+                )
             if projection != "orthographic":  # would be silently ignored
                 raise SceneError(
                     f"camera.ortho_height ({ortho_height:g}) needs projection = \"orthographic\" (projection is {projection!r})"

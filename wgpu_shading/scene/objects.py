@@ -183,6 +183,8 @@ class Scene:
     def __post_init__(self) -> None:
         if self.samples not in SAMPLE_COUNTS or isinstance(self.samples, bool):
             raise SceneError(f"output.samples: expected 1 (no antialiasing) or 4 (MSAA), got {shown(self.samples)}")
+        # 4.0 and numpy integers compare equal to 4 but wgpu needs a Python int.
+        _set(self, samples=int(self.samples))
         for key in ("objects", "lights"):
             value = getattr(self, key)
             if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):

@@ -1,0 +1,112 @@
+"""A second round of hostile input, found by trying what tests/test_hostile_inputs.py and
+tests/test_fuzz.py do not: each was a traceback (exit 3), a silent wrong result or a
+blank image with exit 0. Every one must be exit 2 with one line naming the file or key
+(or, where the input is legitimate, the right result)."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wgpu_shading import MeshError, SceneError, load_mesh, load_scene
+from wgpu_shading.cli.main import main
+from wgpu_shading.dataset import read_manifest
+from wgpu_shading.scene import Scene
+
+
+def _run(capsys, *args: str) -> tuple[int, str]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no numpy RuntimeWarning may leak onto stderr
+        code = main(list(args))
+    return code, capsys.readouterr().err
+
+
+def _one_line(code: int, err: str, *words: str) -> str:
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    for word in words:
+        assert word in lines[0], lines[0]
+    return lines[0]
+
+
+def test_samples_written_as_a_float_is_the_whole_number(tmp_path, capsys):
+    # `samples = 4.0` passed validation (4.0 in (1, 4)) and then reached wgpu as a float:
+    # "TypeError: an integer is required", exit 3.
+    assert Scene(samples=4.0).samples == 4 and type(Scene(samples=4.0).samples) is int
+    assert type(Scene(samples=np.int64(1)).samples) is int
+    with pytest.raises(SceneError, match="output.samples"):
+        Scene(samples=4.5)
+    path = tmp_path / "s.toml"
+    path.write_text('[output]\nsamples = 4.0\nsize = [16, 16]\n[[objects]]\nmesh = "builtin:cube"\n')
+    code, err = _run(capsys, "render", str(path), "-o", str(tmp_path / "out.png"), "-q")
+    assert code == 0, err
+
+
+def test_a_tiny_ortho_height_is_refused_by_the_camera_not_the_uniform_net(tmp_path, capsys):
+    # 1e-300 passed (0, 1e15]: the projection overflowed float32, a numpy warning leaked
+    # and the error blamed "camera and lights" without the key.
+    path = tmp_path / "ortho.toml"
+    path.write_text('[camera]\nprojection = "orthographic"\northo_height = 1e-300\n[[objects]]\nmesh = "builtin:cube"\n')
+    code, err = _run(capsys, "render", str(path), "-o", str(tmp_path / "out.png"))
+    line = _one_line(code, err, str(path), "camera.ortho_height", "1e-300")
+    with pytest.raises(SceneError) as error:
+        load_scene(path)
+    assert line == f"wgpu-shading: error: {error.value}"
+
+
+def test_a_mesh_whose_triangles_have_no_area_is_an_error_not_a_blank_image(tmp_path, capsys):
+    path = tmp_path / "collinear.obj"
+    path.write_bytes(b"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")
+    code, err = _run(capsys, "render", str(path), "-o", str(tmp_path / "out.png"))
+    line = _one_line(code, err, "collinear.obj", "area")
+    with pytest.raises(MeshError) as error:
+        load_mesh(path)
+    assert line == f"wgpu-shading: error: {error.value}"
+
+
+@pytest.mark.parametrize("text", [b"[]", b"5", b"[" * 100_000 + b"]" * 100_000])
+def test_a_gltf_that_is_json_but_not_an_object_is_a_mesh_error(tmp_path, capsys, text):
+    path = tmp_path / "odd.gltf"
+    path.write_bytes(text)
+    code, err = _run(capsys, "render", str(path), "-o", str(tmp_path / "out.png"))
+    _one_line(code, err, "odd.gltf", "not a valid glTF file")
+
+
+def test_depth_and_colour_to_the_same_file_is_refused(tmp_path, capsys):
+    # Before, the depth PNG silently replaced the colour image (exit 0).
+    out = str(tmp_path / "same.png")
+    code, err = _run(capsys, "render", "builtin:cube", "--size", "16", "-o", out, "--depth", out)
+    _one_line(code, err, "--depth", "same.png", "same file")
+    assert not Path(out).exists()
+
+
+@pytest.mark.parametrize(
+    "name, data, words",
+    [
+        ("latin1.csv", b"mesh,name\nbuiltin:cube,caf\xe9\n", ["latin1.csv", "UTF-8"]),
+        ("utf16.csv", "mesh,azimuth\nbuiltin:cube,0\n".encode("utf-16"), ["utf16.csv", "UTF-8"]),
+        ("deep.jsonl", b'{"mesh": "builtin:cube", "eye": ' + b"[" * 100_000 + b"]" * 100_000 + b"}\n", ["deep.jsonl", "line 1", "nested too deeply"]),
+        ("twice.csv", b"mesh,azimuth,mesh\nbuiltin:cube,0,builtin:sphere\n", ["twice.csv", "column 'mesh'", "twice"]),
+        ("cells.csv", b"mesh,azimuth\nbuiltin:cube,0,5,6\n", ["cells.csv", "line 2", "4 cells", "2 columns"]),
+    ],
+)
+def test_bad_manifests_are_one_line_errors(tmp_path, capsys, name, data, words):
+    path = tmp_path / name
+    path.write_bytes(data)
+    code, err = _run(capsys, "batch", str(path), "-o", str(tmp_path / "ds"), "-q")
+    line = _one_line(code, err, *words)
+    with pytest.raises(SceneError) as error:
+        read_manifest(path)
+    assert line == f"wgpu-shading: error: {error.value}"
+
+
+def test_a_csv_manifest_with_a_byte_order_mark_reads_its_first_column(tmp_path):
+    # Spreadsheets save "CSV UTF-8" with a BOM: the first column was '\ufeffmesh', unknown.
+    path = tmp_path / "excel.csv"
+    path.write_bytes("\ufeffmesh,azimuth\nbuiltin:cube,30\n".encode("utf-8"))
+    (job,) = read_manifest(path)
+    assert job.source == "builtin:cube"
