@@ -234,6 +234,7 @@ class Mesh:
             )
         if float(np.abs(lower).max()) > MAX_ORIGIN or float(np.abs(upper).max()) > MAX_ORIGIN:
             raise MeshError(f"{name}: coordinates must be within ±{MAX_ORIGIN:g}")
+        _check_some_area(positions, faces, extent, name)
         origin = (lower + upper) / 2.0
         if np.all(np.abs(origin) <= 1e-3 * max(float((upper - lower).max()), 1e-30)):
             origin = np.zeros(3)  # keep meshes that are already centred bit-exact
@@ -305,3 +306,20 @@ def _validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.nda
         computed = vertex_normals(positions, faces)
         result[~usable] = computed[~usable]
     return result
+
+
+def _check_some_area(positions: np.ndarray, faces: np.ndarray, extent: float, name: str) -> None:
+    """A mesh whose every triangle is degenerate (collinear or repeated corners) rasterizes
+    no pixel: a blank image with exit 0 unless refused here. Twice the area of the largest
+    triangle, relative to the mesh's size squared, below float32's resolution counts as none."""
+    positions, faces = np.asarray(positions, dtype=np.float64), np.asarray(faces)
+    threshold = 1e-12 * extent * extent
+    for start in range(0, len(faces), 65536):  # chunks: an ordinary mesh stops at the first
+        corners = positions[faces[start : start + 65536]]
+        doubled_areas = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+        if float(doubled_areas.max(initial=0.0)) > threshold:
+            return
+    raise MeshError(
+        f"{name}: none of its {len(faces)} triangles has any area (their corners are collinear or repeated); "
+        "nothing would be drawn"
+    )
