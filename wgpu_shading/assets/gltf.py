@@ -38,10 +38,16 @@ def read_gltf_json(path: Path) -> dict:
     try:
         if raw[:4] == b"glTF":
             length, _ = struct.unpack_from("<II", raw, 12)
-            return json.loads(raw[20 : 20 + length])
-        return json.loads(raw)
+            document = json.loads(raw[20 : 20 + length])
+        else:
+            document = json.loads(raw)
     except (ValueError, struct.error) as error:
         raise MeshError(f"mesh file {str(path)!r}: not a valid glTF file ({error})") from None
+    except RecursionError:
+        raise MeshError(f"mesh file {str(path)!r}: not a valid glTF file (its JSON is nested too deeply)") from None
+    if not isinstance(document, dict):  # every later step reads it as an object
+        raise MeshError(f"mesh file {str(path)!r}: not a valid glTF file (expected a JSON object, got {type(document).__name__})")
+    return document
 
 
 def check_extensions(document: dict, path: Path) -> None:
