@@ -26,6 +26,9 @@ def command_render(args: argparse.Namespace) -> int:
     if output is not None:
         _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
     depth_path = None if args.depth is None else output_path(Path(args.depth), DEPTH_SUFFIXES, "--depth")
+    if depth_path is not None and output is not None and depth_path.resolve() == output.resolve():
+        # Otherwise the depth image silently replaces the colour image.
+        raise SceneError(f"--depth {str(depth_path)!r} is the same file as the output; give depth its own name")
     scene = _load(args)
     renderer = Renderer(adapter=args.adapter)
     scene = _auto_shading(args, scene, renderer)
