@@ -44,11 +44,16 @@ def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: di
     if suffix not in (".csv", ".jsonl", ".ndjson"):
         raise SceneError(f"manifest {str(path)!r}: expected a .csv or .jsonl file")
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # spreadsheets write "CSV UTF-8" with a BOM
     except OSError as error:
         raise SceneError(f"manifest {str(path)!r}: {error.strerror or error}") from None
+    except UnicodeDecodeError as error:
+        raise SceneError(
+            f"manifest {str(path)!r}: not UTF-8 text (byte {error.object[error.start]:#04x} at offset {error.start}); "
+            "save it as UTF-8"
+        ) from None
     if suffix == ".csv":
-        rows = [(index + 2, row) for index, row in enumerate(csv.DictReader(text.splitlines()))]
+        rows = _csv_rows(text, path)
     else:
         rows = []
         for number, line in enumerate(text.splitlines(), 1):
@@ -58,6 +63,8 @@ def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: di
                 row = json.loads(line)
             except json.JSONDecodeError as error:
                 raise SceneError(f"manifest {str(path)!r} line {number}: not JSON ({error.msg})") from None
+            except RecursionError:
+                raise SceneError(f"manifest {str(path)!r} line {number}: JSON nested too deeply") from None
             if not isinstance(row, dict):
                 raise SceneError(f"manifest {str(path)!r} line {number}: expected a JSON object")
             rows.append((number, row))
@@ -65,6 +72,27 @@ def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: di
         raise SceneError(f"manifest {str(path)!r}: no jobs")
     base = path.parent
     return jobs_from_rows(((f"{path} line {number}", row) for number, row in rows), base, outputs or Outputs(), defaults or {})
+
+
+def _csv_rows(text: str, path: Path) -> list[tuple[int, dict]]:
+    """(line number, row) pairs; a repeated column (csv.DictReader keeps the last one
+    silently) or a row with more cells than the header has columns is an error."""
+    reader = csv.reader(text.splitlines())
+    header = next(reader, None) or []
+    repeated = sorted({column for column in header if header.count(column) > 1})
+    if repeated:
+        raise SceneError(f"manifest {str(path)!r} line 1: column {repeated[0]!r} appears twice")
+    rows = []
+    for cells in reader:
+        number = reader.line_num
+        if not any(cell.strip() for cell in cells):
+            continue
+        if len(cells) > len(header):
+            raise SceneError(
+                f"manifest {str(path)!r} line {number}: {len(cells)} cells, but the header has {len(header)} columns"
+            )
+        rows.append((number, dict(zip(header, cells))))
+    return rows
 
 
 def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Outputs, defaults: dict[str, Any]) -> list[Job]:
