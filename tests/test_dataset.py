@@ -204,7 +204,7 @@ def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
         {"mesh": TORUS, "size": 32},
         {"mesh": "broken.obj"},
         {"mesh": "missing.ply"},
-        {"mesh": TORUS, "size": 32, "distance": -1},
+        {"mesh": TORUS, "size": 32, "eye": [0, 0, 1e16]},  # out of range: found when the scene is built
     ]
     manifest = write_lines(tmp_path / "jobs.jsonl", rows)
     status = main(["batch", str(manifest), "-o", str(tmp_path / "out")])
@@ -214,7 +214,7 @@ def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):
     assert set(report["failed"]) == {"broken/view_000", "missing/view_000", "torus/view_001"}
     assert "broken.obj" in report["failed"]["broken/view_000"]
     assert "missing.ply" in report["failed"]["missing/view_000"]
-    assert "distance: expected a positive number" in report["failed"]["torus/view_001"]
+    assert "camera.eye" in report["failed"]["torus/view_001"]
     assert (tmp_path / "out" / "torus" / "view_000.png").is_file()
     captured = capsys.readouterr()
     assert "3 job(s) failed" in captured.err and "1 rendered" in captured.out

@@ -110,3 +110,31 @@ def test_a_csv_manifest_with_a_byte_order_mark_reads_its_first_column(tmp_path):
     path.write_bytes("\ufeffmesh,azimuth\nbuiltin:cube,30\n".encode("utf-8"))
     (job,) = read_manifest(path)
     assert job.source == "builtin:cube"
+
+
+@pytest.mark.parametrize(
+    "row, words",
+    [
+        ("material\nbuiltin:cube,unobtainium", ["line 2", "unknown material 'unobtainium'"]),
+        ("frequency\nbuiltin:cube,foo", ["line 2", "frequency", "'foo'"]),
+        ("reflection\nbuiltin:cube,lambert", ["line 2", "reflection", "'lambert'"]),
+        ("projection\nbuiltin:cube,fisheye", ["line 2", "projection", "'fisheye'"]),
+        ("distance\nbuiltin:cube,-1", ["line 2", "distance", "-1"]),
+        ("distance\nbuiltin:cube,0", ["line 2", "distance", "0"]),
+    ],
+)
+def test_a_bad_manifest_value_is_bad_input_before_anything_renders(tmp_path, capsys, row, words):
+    # These were found only when the job ran: exit 1 ("1 job(s) failed") after the rest of
+    # the dataset had rendered, though the documented status for bad input is 2.
+    path = tmp_path / "jobs.csv"
+    path.write_text("mesh," + row + "\n")
+    code, err = _run(capsys, "batch", str(path), "-o", str(tmp_path / "ds"), "-q", "--size", "8")
+    _one_line(code, err, "jobs.csv", *words)
+    assert not (tmp_path / "ds" / "cube").exists()
+
+
+def test_a_json_boolean_is_not_an_angle(tmp_path):
+    path = tmp_path / "jobs.jsonl"
+    path.write_text('{"mesh": "builtin:cube", "azimuth": true}\n')
+    with pytest.raises(SceneError, match="azimuth: expected a number, got True"):
+        read_manifest(path)

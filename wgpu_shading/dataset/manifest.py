@@ -25,7 +25,9 @@ from pathlib import Path
 from typing import Any, Iterable
 
 from ..errors import SceneError
-from ..scene import image_size
+from ..scene import image_size, material
+from ..scene.camera import PROJECTIONS
+from ..scene.values import FREQUENCIES, REFLECTIONS
 from .jobs import CAMERA_KEYS, ORBIT_KEYS, OVERRIDE_KEYS, Job, Outputs
 
 SOURCE_KEYS = ("mesh", "scene", "source")
@@ -34,6 +36,9 @@ KNOWN_KEYS = set(SOURCE_KEYS) | {"id", "folder", "name", "size"} | set(CAMERA_KE
 _BOOL_KEYS = ("infinite_viewer", "two_sided")
 _VECTOR_KEYS = ("eye", "target", "up")
 _NUMBER_KEYS = ("fov_y", "near", "far", "ortho_height", "blinn_exponent_scale") + ORBIT_KEYS
+# Checked when the manifest is read, so that a typo is bad input (exit 2) before anything
+# renders, not a failed job found after the rest of the dataset.
+_CHOICE_KEYS = {"frequency": FREQUENCIES, "reflection": REFLECTIONS, "projection": PROJECTIONS}
 
 
 def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: dict[str, Any] | None = None) -> list[Job]:
@@ -217,10 +222,22 @@ def _value(key: str, value: Any, where: str) -> Any:
         return tuple(numbers)
     if key in _NUMBER_KEYS:
         try:
+            if isinstance(value, bool):  # JSON true is not 1 degree
+                raise TypeError
             number = float(value)
         except (TypeError, ValueError):
             raise SceneError(f"{where}: {key}: expected a number, got {value!r}") from None
         if not math.isfinite(number):
             raise SceneError(f"{where}: {key}: expected a finite number, got {value!r}")
+        if key == "distance" and not number > 0.0:
+            raise SceneError(f"{where}: distance: expected a positive number, got {value!r}")
         return number
-    return str(value)
+    text = str(value)
+    if key in _CHOICE_KEYS and text not in _CHOICE_KEYS[key]:
+        raise SceneError(f"{where}: {key}: expected one of {', '.join(_CHOICE_KEYS[key])}, got {value!r}")
+    if key == "material":
+        try:
+            material(text)
+        except SceneError as error:
+            raise SceneError(f"{where}: {error}") from None
+    return text
