@@ -5,7 +5,7 @@ Columns / keys (all but the first optional):
                                  are relative to the manifest's folder
     id, folder, name             job id (default FOLDER/NAME), output folder (default: the
                                  mesh's stem) and file stem (default view_000, view_001, ... per folder)
-    azimuth, elevation, distance the view: render's --camera-azimuth/--camera-elevation turns
+    azimuth, elevation, distance the view: render's --camera-azimuth-angle/--camera-elevation-angle turns
                                  of the scene's camera, then the eye's distance (views.py)
     eye, target, up, fov_y, near, far, projection, ortho_height
                                  camera keys as in a scene file ("1 2 3" in CSV)

@@ -2,7 +2,7 @@
 for the same file and flags), then the job's camera and orbit, exactly as `render`'s camera
 flags move it, so a job's pixels are those of the matching `render` command.
 
-Orbit (the `render` flags --camera-azimuth and --camera-elevation, f3d's and VTK's meaning):
+Orbit (the `render` flags --camera-azimuth-angle and --camera-elevation-angle, f3d's and VTK's meaning):
 azimuth turns the camera about its up vector through the target (positive: to the viewer's
 right, seen from above), then elevation about its right axis (positive: up; the up vector
 turns with it). Both are relative to the scene's camera: a bare mesh is framed from 19.3°
@@ -44,7 +44,7 @@ def _check_count(count: int) -> None:
 
 def turntable_views(count: int, elevation: float | None = None) -> list[dict[str, float]]:
     """`count` azimuths 360°/count apart (the first is the scene's own view), at the scene's
-    elevation or turned by `elevation` degrees (render's --camera-elevation)."""
+    elevation or turned by `elevation` degrees (render's --camera-elevation-angle)."""
     _check_count(count)
     views = [{"azimuth": 360.0 * i / count} for i in range(count)]
     if elevation is not None:
