@@ -138,3 +138,16 @@ def test_a_json_boolean_is_not_an_angle(tmp_path):
     path.write_text('{"mesh": "builtin:cube", "azimuth": true}\n')
     with pytest.raises(SceneError, match="azimuth: expected a number, got True"):
         read_manifest(path)
+
+
+@pytest.mark.parametrize("text", ["", "objects = []\n", "[camera]\nfov_y = 40\n"])
+def test_a_scene_file_without_objects_is_an_error_not_a_black_image(tmp_path, capsys, text):
+    # An empty (or truncated) scene file rendered the background alone with exit 0.
+    path = tmp_path / "nothing.toml"
+    path.write_text(text)
+    code, err = _run(capsys, "render", str(path), "-o", str(tmp_path / "out.png"))
+    line = _one_line(code, err, "nothing.toml", "[[objects]]")
+    with pytest.raises(SceneError) as error:
+        load_scene(path)
+    assert line == f"wgpu-shading: error: {error.value}"
+    assert not (tmp_path / "out.png").exists()

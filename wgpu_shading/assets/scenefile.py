@@ -244,8 +244,14 @@ def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = Non
     except ValueError as error:  # e.g. an integer of more than 4300 digits
         raise SceneError(f"{path}: invalid TOML: {error}") from None
     try:
-        return parse_scene(document, path.parent, crease_angle=crease_angle)
+        scene = parse_scene(document, path.parent, crease_angle=crease_angle)
     except (SceneError, MeshError) as error:
         raise SceneError(f"{path}: {error}") from None
     except RecursionError:
         raise SceneError(f"{path}: values nested too deeply") from None
+    if not scene.objects:
+        # A scene *file* is meant to be drawn: the background alone, with exit 0, looks like a
+        # broken renderer (an empty or truncated file). parse_scene stays permissive for
+        # library callers that add objects themselves.
+        raise SceneError(f"{path}: no [[objects]] section; nothing would be drawn (add one, e.g. mesh = \"builtin:sphere\")")
+    return scene
