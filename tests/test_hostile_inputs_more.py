@@ -151,3 +151,23 @@ def test_a_scene_file_without_objects_is_an_error_not_a_black_image(tmp_path, ca
         load_scene(path)
     assert line == f"wgpu-shading: error: {error.value}"
     assert not (tmp_path / "out.png").exists()
+
+
+def test_an_mtllib_that_is_a_folder_is_skipped_like_a_missing_one(tmp_path, capsys):
+    # It raised IsADirectoryError's "[Errno 21] Is a directory: '...'", naming neither the
+    # OBJ nor the material library.
+    (tmp_path / "sub").mkdir()
+    path = tmp_path / "m.obj"
+    path.write_bytes(b"mtllib sub\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.warns(UserWarning, match="material library 'sub'"):
+        mesh = load_mesh(path)
+    assert len(mesh.indices) == 1
+
+
+def test_an_unreadable_texture_message_has_no_memory_address(tmp_path, capsys):
+    (tmp_path / "zero.png").write_bytes(b"")
+    path = tmp_path / "t.toml"
+    path.write_text('[[objects]]\nmesh = "builtin:cube"\nmaterial = { texture = "zero.png" }\n')
+    code, err = _run(capsys, "render", str(path), "-o", str(tmp_path / "out.png"))
+    line = _one_line(code, err, "zero.png", "not an image Pillow can read")
+    assert "0x" not in line and "BytesIO" not in line, line

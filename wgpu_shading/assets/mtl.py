@@ -126,8 +126,11 @@ def read_mtl_files(libraries: list[str], base: Path, obj_name: str) -> dict[str,
     materials: dict[str, Material] = {}
     for library in libraries:
         path = base / library
-        if not path.exists():
+        if not path.is_file():  # missing, a folder, a dangling or looping link
             warnings.warn(f"{obj_name}: material library {library!r} not found (looked for {path}); parts drawn without it", stacklevel=2)
             continue
-        materials.update(read_mtl(path))
+        try:
+            materials.update(read_mtl(path))
+        except OSError as error:  # permissions, I/O errors: a sentence naming both files
+            raise MeshError(f"{obj_name}: material library {library!r} cannot be read ({error.strerror or error})") from None
     return materials

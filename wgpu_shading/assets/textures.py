@@ -39,6 +39,8 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
             width, height = header.size
     except Image.DecompressionBombError as error:  # far beyond MAX_TEXTURE_SIDE² pixels
         raise SceneError(f"{where}: too large ({error}); at most {MAX_TEXTURE_SIDE} pixels per side are supported") from None
+    except Image.UnidentifiedImageError:  # its text names the BytesIO object and its address
+        raise SceneError(f"{where}: not an image Pillow can read (no known image format; {len(data)} bytes)") from None
     except Exception as error:  # not an image format Pillow reads (PNG, JPEG, BMP, TIFF, GIF, WebP, ...)
         raise SceneError(f"{where}: not an image Pillow can read ({type(error).__name__}: {error})") from None
     if width > MAX_TEXTURE_SIDE or height > MAX_TEXTURE_SIDE:
