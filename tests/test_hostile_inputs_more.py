@@ -171,3 +171,9 @@ def test_an_unreadable_texture_message_has_no_memory_address(tmp_path, capsys):
     code, err = _run(capsys, "render", str(path), "-o", str(tmp_path / "out.png"))
     line = _one_line(code, err, "zero.png", "not an image Pillow can read")
     assert "0x" not in line and "BytesIO" not in line, line
+
+
+@pytest.mark.parametrize("spec", ["directional:dir=1,1,1:dir=0,0,1", "positional:pos=1,1,1:position=2,2,2"])
+def test_a_light_key_given_twice_is_an_error(tmp_path, capsys, spec):
+    code, err = _run(capsys, "render", "builtin:cube", "--light", spec, "-o", str(tmp_path / "out.png"))
+    _one_line(code, err, "--light", "given twice")

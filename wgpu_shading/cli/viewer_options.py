@@ -75,11 +75,16 @@ def parse_light(text: str, camera) -> object:
     if kind not in (*LIGHT_TYPES, "headlight"):
         raise SceneError(f"--light {text!r}: unknown type {kind!r}; expected {LIGHT_SYNTAX}")
     fields: dict = {}
+    given: set[str] = set()
     for pair in pairs:
         key, equals, value = pair.partition("=")
         key = key.strip().lower()
         if not equals or (key not in _LIGHT_KEYS and key != "color"):
             raise SceneError(f"--light {text!r}: cannot read {pair!r}; expected {LIGHT_SYNTAX}")
+        canonical = _LIGHT_KEYS.get(key, key)
+        if canonical in given:  # the last one silently won before
+            raise SceneError(f"--light {text!r}: {key} is given twice")
+        given.add(canonical)
         try:
             numbers = [float(v) for v in value.split(",")]
         except ValueError:
