@@ -177,3 +177,11 @@ def test_an_unreadable_texture_message_has_no_memory_address(tmp_path, capsys):
 def test_a_light_key_given_twice_is_an_error(tmp_path, capsys, spec):
     code, err = _run(capsys, "render", "builtin:cube", "--light", spec, "-o", str(tmp_path / "out.png"))
     _one_line(code, err, "--light", "given twice")
+
+
+def test_a_malformed_scheduler_address_is_bad_input(tmp_path, capsys):
+    pytest.importorskip("distributed")
+    # Dask's ValueError ("missing port number in address") ended as exit 3.
+    code, err = _run(capsys, "batch", "--meshes", "builtin:cube", "--views", "1", "--size", "8",
+                     "-o", str(tmp_path / "ds"), "-q", "--scheduler", "garbage")
+    _one_line(code, err, "--scheduler 'garbage'", "cannot connect")

@@ -18,7 +18,7 @@ import uuid
 from pathlib import Path
 from typing import Iterator
 
-from ..errors import WgpuShadingError
+from ..errors import SceneError, WgpuShadingError
 from .jobs import Job
 
 
@@ -87,10 +87,8 @@ def run_on_dask(
     if scheduler is None:
         cluster = local_cluster(workers, lavapipe_threads)
         client = distributed.Client(cluster)
-    elif not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")) and Path(scheduler).is_file():
-        client = distributed.Client(scheduler_file=scheduler, timeout=30)
     else:
-        client = distributed.Client(scheduler, timeout=30)
+        client = _connect(distributed, scheduler)
     try:
         from .worker import RendererPlugin
 
@@ -103,6 +101,18 @@ def run_on_dask(
         client.close(timeout=10)
         if cluster is not None:
             cluster.close(timeout=10)
+
+
+def _connect(distributed, scheduler: str):
+    """A client of an existing cluster; a malformed or unreachable address is bad input
+    (exit 2, one line), not Dask's ValueError or OSError traceback."""
+    try:
+        if not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")) and Path(scheduler).is_file():
+            return distributed.Client(scheduler_file=scheduler, timeout=30)
+        return distributed.Client(scheduler, timeout=30)
+    except (ValueError, OSError, TimeoutError) as error:  # OSError covers refused connections
+        message = str(error).splitlines()[0] if str(error) else type(error).__name__
+        raise SceneError(f"--scheduler {scheduler!r}: cannot connect to a Dask scheduler there ({message})") from None
 
 
 def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distributed) -> Iterator[list[dict]]:
