@@ -185,3 +185,21 @@ def test_a_malformed_scheduler_address_is_bad_input(tmp_path, capsys):
     code, err = _run(capsys, "batch", "--meshes", "builtin:cube", "--views", "1", "--size", "8",
                      "-o", str(tmp_path / "ds"), "-q", "--scheduler", "garbage")
     _one_line(code, err, "--scheduler 'garbage'", "cannot connect")
+
+
+@pytest.mark.parametrize("uri", ["missing.png", "folder", "empty.png"])
+def test_a_gltf_texture_that_cannot_be_read_is_a_warning_not_silence(tmp_path, uri):
+    # trimesh drops the image without a word: the model came out untextured with exit 0 and
+    # no hint, where an OBJ's missing map_Kd warns.
+    from gltf_builder import quad, write_gltf
+
+    (tmp_path / "folder").mkdir()
+    (tmp_path / "empty.png").write_bytes(b"")
+    positions, indices = quad(0, 0)
+    uvs = positions[:, :2]
+    path = write_gltf(tmp_path / "t.gltf", [[{"positions": positions, "indices": indices, "uvs": uvs, "material": 0}]],
+                      materials=[{"name": "skin", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+                      extra={"images": [{"uri": uri}], "textures": [{"source": 0}]})
+    with pytest.warns(UserWarning, match="t.gltf: material 'skin': its base colour texture could not be read"):
+        mesh = load_mesh(path)
+    assert mesh.parts[0].material.texture is None

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import struct
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -144,6 +145,13 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
     if image is not None:
         nearest = _nearest(document, pbr.get("baseColorTexture"))
         texture = Texture(np.asarray(image.convert("RGBA")), name=f"{name}:{material.get('name', '')}", nearest=nearest)
+    elif pbr.get("baseColorTexture") is not None:
+        # trimesh drops an image it cannot load (missing, a folder, not an image) without a
+        # word; say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
+        warnings.warn(
+            f"{name}: material {material.get('name', '')!r}: its base colour texture could not be read; drawn untextured",
+            stacklevel=2,
+        )
     alpha_mode = str(material.get("alphaMode", "OPAQUE")).lower()
     opacity = float(np.clip(base[3], 0.0, 1.0))
     unlit = "KHR_materials_unlit" in extensions
