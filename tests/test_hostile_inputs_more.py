@@ -203,3 +203,24 @@ def test_a_gltf_texture_that_cannot_be_read_is_a_warning_not_silence(tmp_path, u
     with pytest.warns(UserWarning, match="t.gltf: material 'skin': its base colour texture could not be read"):
         mesh = load_mesh(path)
     assert mesh.parts[0].material.texture is None
+
+
+@pytest.mark.parametrize(
+    "material, words",
+    [
+        ({"pbrMetallicRoughness": []}, ["AttributeError"]),
+        ({"extensions": []}, ["AttributeError"]),
+        ({"extensions": {"KHR_materials_specular": {"specularFactor": "x"}}}, ["ValueError"]),
+        ({"emissiveFactor": [1e39, 0, 0]}, ["material.emission", "1e+39"]),
+    ],
+)
+def test_a_hostile_gltf_material_is_a_mesh_error_naming_the_file(tmp_path, capsys, material, words):
+    from gltf_builder import quad, write_gltf
+
+    positions, indices = quad(0, 0)
+    path = write_gltf(tmp_path / "m.gltf", [[{"positions": positions, "indices": indices, "material": 0}]], materials=[material])
+    code, err = _run(capsys, "render", str(path), "-o", str(tmp_path / "out.png"))
+    line = _one_line(code, err, "m.gltf", "material", *words)
+    with pytest.raises(MeshError) as error:
+        load_mesh(path)
+    assert line == f"wgpu-shading: error: {error.value}"

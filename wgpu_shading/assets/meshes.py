@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeshError
+from ..errors import MeshError, SceneError
 from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.material import Material
 from ..scene.mesh import Mesh, MeshPart, face_normals
@@ -206,7 +206,13 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
         visual = geometry.visual
         trimesh_material = getattr(visual, "material", None)
         if geometry_name not in materials:
-            materials[geometry_name] = gltf_material(document, row, trimesh_material, path.name)
+            try:
+                materials[geometry_name] = gltf_material(document, row, trimesh_material, path.name)
+            except (SceneError, AttributeError, TypeError, ValueError, KeyError, IndexError) as error:
+                # A hostile document's material (a list where an object belongs, a string
+                # factor, a colour beyond the limits): one line naming the file.
+                detail = str(error) if isinstance(error, SceneError) else f"{type(error).__name__}: {error}"
+                raise MeshError(f"mesh file {str(path)!r}: material of {geometry_name!r}: {detail}") from None
         matrix = np.asarray(world_from_node, dtype=np.float64)
         linear = matrix[:3, :3]
         positions = np.asarray(geometry.vertices, dtype=np.float64) @ linear.T + matrix[:3, 3]
