@@ -120,9 +120,12 @@ def _trimesh_piece(path: Path, file_size: int) -> _Piece:
     loaded = _load_trimesh(path, file_size)
     if isinstance(loaded, trimesh.Scene):
         geometries = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
-        if len(geometries) != 1:
-            raise MeshError(f"mesh file {str(path)!r}: expected one mesh, found {len(geometries)}")
-        loaded = geometries[0]
+        if not geometries:
+            raise MeshError(f"mesh file {str(path)!r}: contains no triangles (no mesh in the file)")
+        # Several bodies (an ASCII STL with several `solid`s, as CAD tools export
+        # assemblies): one mesh, as f3d and every slicer show them; STL/OFF/PLY carry no
+        # materials that could tell the bodies apart.
+        loaded = geometries[0] if len(geometries) == 1 else trimesh.util.concatenate(geometries)
     if isinstance(loaded, trimesh.PointCloud):
         raw = loaded.metadata.get("_ply_raw", {}) if isinstance(loaded.metadata, dict) else {}
         if "tristrips" in raw:

@@ -1,0 +1,70 @@
+"""Defects found by checking files from outside the repository (issue 12's "real files that are
+not in the repository"): each test is a small generated file with the same trait as the real
+one (named in the test), checked against what the format's author meant."""
+from __future__ import annotations
+
+import pytest
+
+from test_file_parts import head_on, pixel
+from wgpu_shading import MeshError, SceneObject, load_mesh
+
+SQUARE_FACES = "f 1 2 3\nf 1 3 4\n"
+
+
+def _square_obj(tmp_path, mtl_text: str):
+    (tmp_path / "m.mtl").write_text(mtl_text)
+    (tmp_path / "m.obj").write_text(
+        "mtllib m.mtl\nusemtl m\nv -1 -0.5 0\nv 1 -0.5 0\nv 1 0.5 0\nv -1 0.5 0\n" + SQUARE_FACES
+    )
+    return tmp_path / "m.obj"
+
+
+def test_meshlab_tr_1_without_d_is_opaque_not_invisible(tmp_path, renderer):
+    """MeshLab (VCG) writes `Tr 1.000000` into every MTL it exports, meaning opaque (trimesh's
+    models/fuze.obj.mtl). 1 − Tr made such files render as an empty black image with exit 0;
+    f3d shows them opaque. A white Kd under a white head-on light is 255 and covered."""
+    obj = _square_obj(tmp_path, "# Converted by Meshlab Group\nnewmtl m\nKa 0.2 0.2 0.2\nKd 1 1 1\nKs 1 1 1\nTr 1.000000\nillum 2\nNs 0\n")
+    with pytest.warns(UserWarning, match=r"m.mtl:2: material 'm': 'Tr 1' without 'd' would make it invisible; read as opaque"):
+        mesh = load_mesh(obj)
+    material = mesh.parts[0].material
+    assert material.diffuse[3] == 1.0 and material.alpha_mode == "opaque"
+    image = renderer.render(head_on([SceneObject(mesh)], "phong"))
+    assert tuple(pixel(image, 0.0, 0.0)) == (255, 255, 255, 255)
+
+
+def test_explicit_d_0_is_kept_but_warned_about(tmp_path):
+    obj = _square_obj(tmp_path, "newmtl m\nKd 1 1 1\nd 0\n")
+    with pytest.warns(UserWarning, match=r"material 'm': 'd 0' makes it fully transparent; its faces draw nothing"):
+        mesh = load_mesh(obj)
+    assert mesh.parts[0].material.diffuse[3] == 0.0
+
+
+def _facet(a, b, c) -> str:
+    return "facet normal 0 0 1\nouter loop\n" + "".join(f"vertex {x} {y} 0\n" for x, y in (a, b, c)) + "endloop\nendfacet\n"
+
+
+def _solid(name: str, x0: float) -> str:
+    corners = [(x0, -0.5), (x0 + 1, -0.5), (x0 + 1, 0.5), (x0, 0.5)]
+    return f"solid {name}\n" + _facet(corners[0], corners[1], corners[2]) + _facet(corners[0], corners[2], corners[3]) + f"endsolid {name}\n"
+
+
+def test_ascii_stl_with_several_solids_draws_them_all(tmp_path, renderer):
+    """CAD tools export an assembly as one ASCII STL with a `solid` per body (trimesh's
+    models/multibody.stl, two_objects_mixed_case_names.stl); f3d and slicers draw every body.
+    It used to stop with "expected one mesh, found 2"."""
+    (tmp_path / "two.stl").write_text(_solid("left", -1.5) + _solid("Right", 0.5))
+    mesh = load_mesh(tmp_path / "two.stl")
+    assert sum(p.count for p in mesh.parts) == 4
+    image = renderer.render(head_on([SceneObject(mesh)], "flat"))
+    left, right, gap = pixel(image, -1.0, 0.0), pixel(image, 1.0, 0.0), pixel(image, 0.0, 0.0)
+    assert left[3] == right[3] == 255 and left[:3].sum() > 100
+    assert tuple(left) == tuple(right)  # same default material, same facing
+    assert tuple(gap[:3]) == (0, 0, 0)
+
+
+def test_a_file_with_no_mesh_says_it_has_no_triangles(tmp_path):
+    """trimesh's models/empty.ply and emptyIO/ply_empty_bin.ply: the message said
+    "expected one mesh, found 0"."""
+    (tmp_path / "empty.stl").write_text("solid empty\nendsolid empty\n")
+    with pytest.raises(MeshError, match=r"empty.stl': contains no triangles"):
+        load_mesh(tmp_path / "empty.stl")
