@@ -68,3 +68,45 @@ def test_a_file_with_no_mesh_says_it_has_no_triangles(tmp_path):
     (tmp_path / "empty.stl").write_text("solid empty\nendsolid empty\n")
     with pytest.raises(MeshError, match=r"empty.stl': contains no triangles"):
         load_mesh(tmp_path / "empty.stl")
+
+
+def _as_glb(gltf_path, glb_path):
+    """The same document as a GLB (JSON chunk only; the buffers stay data URIs)."""
+    import struct
+
+    text = gltf_path.read_bytes()
+    text += b" " * (-len(text) % 4)
+    glb_path.write_bytes(b"glTF" + struct.pack("<II", 2, 20 + len(text)) + struct.pack("<I", len(text)) + b"JSON" + text)
+    return glb_path
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+def test_gltf_specular_glossiness_shows_the_diffuse_texture(tmp_path, renderer, suffix):
+    """KHR_materials_pbrSpecularGlossiness (older Sketchfab/3ds Max exports; assimp's
+    BoxTextured-glTF-pbrSpecularGlossiness): trimesh bakes the specular color into a new base
+    color texture, which rendered the box grey and washed out where f3d shows the diffuse
+    texture. Under a white head-on light with no specular part, each texel shows as it is."""
+    import numpy as np
+
+    from gltf_builder import quad, write_gltf
+    from test_file_parts import _checker
+
+    positions, indices = quad(-1.0, -0.5, 1.0)
+    path = write_gltf(
+        tmp_path / "sg.gltf",
+        meshes=[[{"positions": positions * [2, 1, 1], "indices": indices, "normals": np.tile(np.float32([0, 0, 1]), (4, 1)),
+                  "uvs": np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32), "material": 0}]],
+        materials=[{"extensions": {"KHR_materials_pbrSpecularGlossiness": {
+            "diffuseTexture": {"index": 0}, "specularFactor": [0.2, 0.3, 0.4], "glossinessFactor": 0.5}}}],
+        images=[_checker()], samplers=[{"magFilter": 9728, "minFilter": 9728}], textures=[{"source": 0, "sampler": 0}],
+        extra={"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]},
+    )
+    if suffix == ".glb":
+        path = _as_glb(path, tmp_path / "sg.glb")
+    material = load_mesh(path).parts[0].material
+    assert material.specular[:3] == pytest.approx((0.2, 0.3, 0.4)) and material.diffuse[:3] == (1.0, 1.0, 1.0)
+    assert material.shininess == pytest.approx((2 / 0.25**2 - 2) / 4)  # roughness 1 − 0.5, the metallic-roughness rule
+    assert material.texture is not None and material.texture.nearest
+    image = renderer.render(head_on([SceneObject(load_mesh(path))], size=(128, 64)))  # a light without specular
+    # the checker's texels exactly (test_gltf_textured_and_untextured_parts_with_instanced_nodes's layout)
+    assert tuple(pixel(image, -1.5, 0.25)[:3]) == (0, 0, 255) and tuple(pixel(image, -0.5, 0.25)[:3]) == (255, 255, 0)

@@ -16,10 +16,14 @@ Material mapping (glTF 2.0 spec, appendix B, onto OpenGL's model; docs/real-worl
   shininess = clamp((2/α² − 2) / 4, 1, 512), α = roughness²: the Blinn-Phong exponent of
              the same lobe width (Walter et al. 2007), /4 for Phong's R·V (VTK's rule)
 Metallic and roughness textures count with their mean value (one material per part).
+KHR_materials_pbrSpecularGlossiness (archived, but in many older exports) is the classic
+model already: diffuse = ambient = diffuseFactor (× diffuseTexture), specular =
+specularFactor, roughness = 1 − glossinessFactor (specularGlossinessTexture ignored).
 """
 
 from __future__ import annotations
 
+import copy
 import json
 import struct
 from pathlib import Path
@@ -31,6 +35,7 @@ from ..scene.material import Material, Texture
 
 _KEPT_MODES = {0, 1, 4, 5}
 _NEAREST = 9728  # GL_NEAREST (and 9984/9986 NEAREST_MIPMAP_* count as nearest too)
+_SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 
 
 def read_gltf_json(path: Path) -> dict:
@@ -63,6 +68,35 @@ def check_extensions(document: dict, path: Path) -> None:
     }
     if unsupported:
         raise MeshError(f"mesh file {str(path)!r} requires glTF extension(s) this renderer cannot decode: {', '.join(sorted(unsupported))}")
+
+
+def without_specular_glossiness(path: Path, document: dict) -> bytes | None:
+    """The file's bytes with each specular-glossiness material's diffuse factor and texture
+    put where trimesh reads a base color; None when no material uses the extension.
+
+    trimesh converts the extension to metallic-roughness itself (trimesh.visual.gloss),
+    baking the specular color into a new base color texture: a grey, washed-out box where
+    f3d and the extension's viewers show the diffuse texture. gltf_material maps the
+    extension directly (from the untouched document); trimesh only decodes the image."""
+    if not any(_SPECULAR_GLOSSINESS in m.get("extensions", {}) for m in document.get("materials", [])):
+        return None
+    rewritten = copy.deepcopy(document)
+    for material in rewritten["materials"]:
+        extension = material.get("extensions", {}).pop(_SPECULAR_GLOSSINESS, None)
+        if extension is None:
+            continue
+        pbr = {"baseColorFactor": extension.get("diffuseFactor", [1.0, 1.0, 1.0, 1.0]), "metallicFactor": 0.0}
+        if "diffuseTexture" in extension:
+            pbr["baseColorTexture"] = extension["diffuseTexture"]
+        material["pbrMetallicRoughness"] = pbr
+    text = json.dumps(rewritten).encode()
+    raw = path.read_bytes()
+    if raw[:4] != b"glTF":
+        return text
+    old_length, _ = struct.unpack_from("<II", raw, 12)
+    text += b" " * (-len(text) % 4)  # GLB chunks are 4-byte aligned; JSON pads with spaces
+    rest = raw[20 + old_length :]
+    return b"glTF" + struct.pack("<II", 2, 20 + len(text) + len(rest)) + struct.pack("<I", len(text)) + b"JSON" + text + rest
 
 
 def primitive_table(document: dict) -> list[dict]:
@@ -109,22 +143,31 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
     if material is None:
         return None
     pbr = material.get("pbrMetallicRoughness", {})
-    base = np.array(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
-    metallic = float(pbr.get("metallicFactor", 1.0))
-    roughness = float(pbr.get("roughnessFactor", 1.0))
-    image = getattr(trimesh_material, "metallicRoughnessTexture", None)
-    if image is not None:  # glTF: roughness in G, metalness in B
-        metallic *= _mean_channel(image, 2)
-        roughness *= _mean_channel(image, 1)
     extensions = material.get("extensions", {})
-    specular_extension = extensions.get("KHR_materials_specular")
-    if specular_extension is not None:
-        color = np.array(specular_extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
-        dielectric = np.minimum(0.04 * color, 1.0) * float(specular_extension.get("specularFactor", 1.0))
+    glossiness = extensions.get(_SPECULAR_GLOSSINESS)
+    if glossiness is not None:  # the classic model already (module docstring)
+        base = np.array(glossiness.get("diffuseFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
+        diffuse = base[:3]
+        specular = np.clip(np.array(glossiness.get("specularFactor", [1.0, 1.0, 1.0]), dtype=np.float64), 0.0, 1.0)
+        roughness = 1.0 - float(np.clip(glossiness.get("glossinessFactor", 1.0), 0.0, 1.0))
+        base_texture_info = glossiness.get("diffuseTexture")
     else:
-        dielectric = np.full(3, 0.04)
-    diffuse = base[:3] * (1.0 - metallic)
-    specular = dielectric * (1.0 - metallic) + base[:3] * metallic
+        base = np.array(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
+        metallic = float(pbr.get("metallicFactor", 1.0))
+        roughness = float(pbr.get("roughnessFactor", 1.0))
+        image = getattr(trimesh_material, "metallicRoughnessTexture", None)
+        if image is not None:  # glTF: roughness in G, metalness in B
+            metallic *= _mean_channel(image, 2)
+            roughness *= _mean_channel(image, 1)
+        specular_extension = extensions.get("KHR_materials_specular")
+        if specular_extension is not None:
+            color = np.array(specular_extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
+            dielectric = np.minimum(0.04 * color, 1.0) * float(specular_extension.get("specularFactor", 1.0))
+        else:
+            dielectric = np.full(3, 0.04)
+        diffuse = base[:3] * (1.0 - metallic)
+        specular = dielectric * (1.0 - metallic) + base[:3] * metallic
+        base_texture_info = pbr.get("baseColorTexture")
     alpha = max(roughness, 0.03) ** 2
     shininess = float(np.clip((2.0 / alpha**2 - 2.0) / 4.0, 1.0, 512.0))
     emission = np.array(material.get("emissiveFactor", [0.0, 0.0, 0.0]), dtype=np.float64)
@@ -136,7 +179,7 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
     texture = None
     image = getattr(trimesh_material, "baseColorTexture", None)
     if image is not None:
-        nearest = _nearest(document, pbr.get("baseColorTexture"))
+        nearest = _nearest(document, base_texture_info)
         texture = Texture(np.asarray(image.convert("RGBA")), name=f"{name}:{material.get('name', '')}", nearest=nearest)
     alpha_mode = str(material.get("alphaMode", "OPAQUE")).lower()
     opacity = float(np.clip(base[3], 0.0, 1.0))

@@ -83,7 +83,11 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
 # --------------------------------------------------------------------------- trimesh formats
 
 
-def _load_trimesh(path: Path, file_size: int | None = None, **options):
+def _load_trimesh(path: Path, file_size: int | None = None, content: bytes | None = None, **options):
+    """trimesh's reading of `path` (or of `content`, the file rewritten, resolving its
+    other files next to `path`), its exceptions turned into one-line MeshErrors."""
+    import io
+
     import trimesh  # lazy: trimesh costs ~0.3 s to import
 
     where = f"mesh file {str(path)!r}"
@@ -91,6 +95,8 @@ def _load_trimesh(path: Path, file_size: int | None = None, **options):
         # Text formats are decoded here (UTF-8, else Latin-1): trimesh's own fallback needs
         # the optional charset_normalizer.
         source = text_source(path, where, file_size) if file_size is not None else None
+        if content is not None:
+            source = io.BytesIO(content)
         if source is None:
             return trimesh.load(str(path), process=False, **options)
         resolver = trimesh.resolvers.FilePathResolver(str(path))
@@ -185,11 +191,11 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
 def _gltf_pieces(path: Path) -> list[_Piece]:
     import trimesh
 
-    from .gltf import check_extensions, gltf_material, primitive_table, read_gltf_json
+    from .gltf import check_extensions, gltf_material, primitive_table, read_gltf_json, without_specular_glossiness
 
     document = read_gltf_json(path)
     check_extensions(document, path)
-    scene = _load_trimesh(path, force="scene")
+    scene = _load_trimesh(path, content=without_specular_glossiness(path, document), force="scene")
     rows = primitive_table(document)
     names = list(scene.geometry)
     if len(rows) != len(names):
