@@ -110,3 +110,40 @@ def test_gltf_specular_glossiness_shows_the_diffuse_texture(tmp_path, renderer, 
     image = renderer.render(head_on([SceneObject(load_mesh(path))], size=(128, 64)))  # a light without specular
     # the checker's texels exactly (test_gltf_textured_and_untextured_parts_with_instanced_nodes's layout)
     assert tuple(pixel(image, -1.5, 0.25)[:3]) == (0, 0, 255) and tuple(pixel(image, -0.5, 0.25)[:3]) == (255, 255, 0)
+
+
+def test_concave_obj_polygon_leaves_its_notch_open(tmp_path, renderer):
+    """n-gons are exported as they are (Blender by default, LightWave: assimp's
+    concave_polygon.obj, a ring cut open by a slit, rendered as a filled disk). An L whose
+    first corner is not in its kernel: a fan from it covers the notch. Ear clipping leaves
+    the notch empty and both arms covered, as f3d shows it; the convex quad keeps its fan."""
+    (tmp_path / "l.obj").write_text(
+        "v 0.8 0 0\nv 0 0 0\nv 0 0.8 0\nv -0.8 0.8 0\nv -0.8 -0.8 0\nv 0.8 -0.8 0\n"
+        "v 1.2 -0.8 0\nv 1.8 -0.8 0\nv 1.8 0.8 0\nv 1.2 0.8 0\n"
+        "f 1 2 3 4 5 6\nf 7 8 9 10\n"
+    )
+    mesh = load_mesh(tmp_path / "l.obj")
+    assert sum(p.count for p in mesh.parts) == 4 + 2
+    image = renderer.render(head_on([SceneObject(mesh)], "flat", size=(128, 64), background=(0.0, 0.0, 1.0, 1.0)))
+    arm_a, arm_b = pixel(image, -0.4, 0.4), pixel(image, 0.4, -0.4)
+    assert arm_a[:3].sum() > 100 and tuple(arm_a) == tuple(arm_b)  # facing the viewer, same material
+    for x, y in ((0.2, 0.2), (0.1, 0.6), (0.6, 0.1), (0.6, 0.6)):  # the notch: a fan covered the first three
+        assert tuple(pixel(image, x, y)) == (0, 0, 255, 255), (x, y)
+    assert tuple(pixel(image, 1.5, 0.0)) == tuple(arm_a)  # the quad, lit the same way
+
+
+def test_byte_order_marks_and_unknown_usemtl(tmp_path, recwarn):
+    """Windows tools start files with a UTF-8 byte order mark: on an OBJ's first `v` line it
+    hid the vertex (every index shifted: an error here, a wrong mesh elsewhere); on an MTL's
+    first `newmtl` it hid the material, and the part was silently drawn in the default
+    material. assimp's box_UTF16BE.obj (UTF-16) read as "0 vertices". A `usemtl` that no
+    library defines is now a warning naming it."""
+    (tmp_path / "m.mtl").write_bytes(b"\xef\xbb\xbfnewmtl red\nKd 1 0 0\n")
+    body = "mtllib m.mtl\nusemtl red\nf 1 2 3\nusemtl blue\nf 1 3 2\n"
+    (tmp_path / "utf8.obj").write_bytes(b"\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1 0\n" + body.encode())
+    (tmp_path / "utf16.obj").write_bytes(("v 0 0 0\nv 1 0 0\nv 0 1 0\n" + body).encode("utf-16"))
+    for name in ("utf8.obj", "utf16.obj"):
+        with pytest.warns(UserWarning, match=r"'usemtl blue' names no material of m.mtl; its faces drawn without it"):
+            mesh = load_mesh(tmp_path / name)
+        assert len(mesh.positions) >= 3 and [p.name for p in mesh.parts] == ["red", "blue"]
+        assert mesh.parts[0].material.diffuse[:3] == (1.0, 0.0, 0.0) and mesh.parts[1].material is None

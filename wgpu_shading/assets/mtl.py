@@ -100,7 +100,7 @@ def read_mtl(path: Path) -> dict[str, Material]:
     materials: dict[str, Material] = {}
     current: str | None = None
     fields: dict = {}
-    text = path.read_text(encoding="utf-8", errors="replace")
+    text = path.read_text(encoding="utf-8-sig", errors="replace")  # -sig: a BOM would hide the first newmtl
     start_line = 0
 
     def finish() -> None:
