@@ -3,6 +3,7 @@ not in the repository"): each test is a small generated file with the same trait
 one (named in the test), checked against what the format's author meant."""
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from test_file_parts import head_on, pixel
@@ -147,3 +148,39 @@ def test_byte_order_marks_and_unknown_usemtl(tmp_path, recwarn):
             mesh = load_mesh(tmp_path / name)
         assert len(mesh.positions) >= 3 and [p.name for p in mesh.parts] == ["red", "blue"]
         assert mesh.parts[0].material.diffuse[:3] == (1.0, 0.0, 0.0) and mesh.parts[1].material is None
+
+
+def test_missing_vt_or_vn_drops_the_attribute_not_the_faces(tmp_path, renderer):
+    """OpenSubdiv's catmark_torus_creases0.obj refers to vn that it never declares, trimesh's
+    cubevt.obj to vt: f3d draws both meshes, here they stopped with an error. Now the
+    attribute goes with a warning naming the line; the faces render (computed normals)."""
+    (tmp_path / "q.obj").write_text("v -1 -0.5 0\nv 1 -0.5 0\nv 1 0.5 0\nv -1 0.5 0\nvt 0 0\nf 1/1/1 2/1/2 3/1/3 4/1/4\n")
+    with pytest.warns(UserWarning, match=r"q.obj:6: face 'f 1/1/1 2/1/2 3/1/3 4/1/4' refers to a normal \(vn\) that does not exist "
+                                         r"\(1 vt, 0 vn declared before it\); its normals are ignored"):
+        mesh = load_mesh(tmp_path / "q.obj")
+    assert mesh.uvs is not None and sum(p.count for p in mesh.parts) == 2
+    np.testing.assert_allclose(mesh.normals, np.tile([0.0, 0.0, 1.0], (len(mesh.normals), 1)))
+    image = renderer.render(head_on([SceneObject(mesh)], "flat"))
+    assert image[16, 32, 3] == 255 and image[16, 32, :3].sum() > 100
+    (tmp_path / "t.obj").write_text("v -1 -0.5 0\nv 1 -0.5 0\nv 1 0.5 0\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n")
+    with pytest.warns(UserWarning, match=r"t.obj:5: .* refers to a texture coordinate \(vt\) that does not exist.*its texture coordinates are ignored"):
+        assert load_mesh(tmp_path / "t.obj").uvs is None
+    (tmp_path / "v.obj").write_text("v 0 0 0\nv 1 0 0\nf 1 2 3\n")
+    with pytest.raises(MeshError, match=r"v.obj:3: face 'f 1 2 3' refers to a vertex that does not exist"):
+        load_mesh(tmp_path / "v.obj")  # a missing position is still an error
+
+
+def test_mtllib_with_several_files_and_map_colorspace(tmp_path):
+    """tinyobjloader issues 112 and 184: `mtllib a.mtl b.mtl` names two libraries (was looked
+    up as one file 'a.mtl b.mtl': every material lost); `map_Kd -colorspace sRGB tex.png`
+    looked for a file named '-colorspace sRGB tex.png'."""
+    from PIL import Image
+
+    Image.fromarray(np.full((2, 2, 3), 200, np.uint8)).save(tmp_path / "tex.png")
+    (tmp_path / "a.mtl").write_text("newmtl red\nKd 1 0 0\n")
+    (tmp_path / "b.mtl").write_text("newmtl textured\nKd 1 1 1\nmap_Kd -colorspace sRGB -o 0.1 tex.png\n")
+    (tmp_path / "m.obj").write_text(
+        "mtllib a.mtl b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl red\nf 1/1 2/2 3/3\nusemtl textured\nf 1/1 3/3 2/2\n")
+    red, textured = (p.material for p in load_mesh(tmp_path / "m.obj").parts)
+    assert red.diffuse[:3] == (1.0, 0.0, 0.0)
+    assert textured.texture is not None and textured.texture.pixels[0, 0, 0] == 200

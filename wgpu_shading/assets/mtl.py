@@ -24,8 +24,9 @@ from ..errors import MeshError
 from ..scene.material import Material
 from .textures import load_texture
 
-# map_* options and how many values follow each (-o/-s/-t take 1 to 3 numbers).
-_OPTION_VALUES = {"-blendu": 1, "-blendv": 1, "-cc": 1, "-clamp": 1, "-texres": 1, "-bm": 1, "-boost": 1,
+# map_* options and how many values follow each (-o/-s/-t take 1 to 3 numbers);
+# -colorspace is a newer exporter extension (tinyobjloader issue 184).
+_OPTION_VALUES = {"-colorspace": 1, "-blendu": 1, "-blendv": 1, "-cc": 1, "-clamp": 1, "-texres": 1, "-bm": 1, "-boost": 1,
                   "-imfchan": 1, "-type": 1, "-mm": 2, "-o": 3, "-s": 3, "-t": 3}
 
 
@@ -133,6 +134,10 @@ def read_mtl(path: Path) -> dict[str, Material]:
 def read_mtl_files(libraries: list[str], base: Path, obj_name: str) -> dict[str, Material]:
     """Every `mtllib` of an OBJ (a missing library is a warning: parts get no material)."""
     materials: dict[str, Material] = {}
+    # `mtllib a.mtl b.mtl` names several libraries (the MTL spec); a name with spaces that
+    # exists as a whole is one file.
+    libraries = [name for library in libraries
+                 for name in ([library] if (base / library).exists() or len(library.split()) == 1 else library.split())]
     for library in libraries:
         path = base / library
         if not path.exists():

@@ -137,7 +137,16 @@ def _run_corners(run: _Run, path: str) -> tuple[np.ndarray, np.ndarray]:
         raise MeshError(f"{path}:{_face_line(run, ordinal)}: face index 0 in {lines[ordinal].strip()!r} (OBJ indices start at 1)")
     # Positive indices count from 1; negative ones back from the last v/vt/vn declared so far.
     resolved = np.where(raw > 0, raw - 1, np.where(raw < 0, counts + raw, -1))
-    out_of_range = ((raw != 0) & ((resolved < 0) | (resolved >= counts))).any(axis=(1, 2))
+    missing = (raw != 0) & ((resolved < 0) | (resolved >= counts))
+    for column, what, plural in ((1, "texture coordinate (vt)", "texture coordinates"), (2, "normal (vn)", "normals")):
+        # A vt/vn index past the declared ones (OpenSubdiv's catmark_torus_creases0.obj has no
+        # vn lines at all): the faces are still there, as f3d draws them; only the attribute goes.
+        if missing[:, :, column].any():
+            ordinal = int(polygon[np.flatnonzero(missing[:, :, column].any(axis=1))[0]])
+            warnings.warn(f"{path}:{_face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a {what} that does not exist "
+                          f"({run.uv_count} vt, {run.normal_count} vn declared before it); its {plural} are ignored", stacklevel=2)
+            resolved[:, :, column] = np.where(missing[:, :, column], -1, resolved[:, :, column])
+    out_of_range = missing[:, :, 0].any(axis=1)
     if out_of_range.any():
         ordinal = int(polygon[np.flatnonzero(out_of_range)[0]])
         raise MeshError(
