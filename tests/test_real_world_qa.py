@@ -184,3 +184,37 @@ def test_mtllib_with_several_files_and_map_colorspace(tmp_path):
     red, textured = (p.material for p in load_mesh(tmp_path / "m.obj").parts)
     assert red.diffuse[:3] == (1.0, 0.0, 0.0)
     assert textured.texture is not None and textured.texture.pixels[0, 0, 0] == 200
+
+
+def test_gltf_texture_transform_moves_the_uvs(tmp_path, renderer):
+    """KHR_texture_transform (assimp's TextureTransformTest.gltf showed its own "not
+    supported" tiles; f3d applies it). A 2×2 texture of four colors on two quads, nearest
+    sampling: an offset of half the texture in u (left quad) or in glTF's v, which runs down
+    the image (right quad), shows the neighbouring texel. Without a transform the quads'
+    upper-left quarter shows the image's lower-left texel (blue)."""
+    from gltf_builder import quad, write_gltf
+
+    pixels = np.zeros((2, 2, 4), np.uint8)
+    pixels[0, 0], pixels[0, 1], pixels[1, 0], pixels[1, 1] = (255, 0, 0, 255), (0, 255, 0, 255), (0, 0, 255, 255), (255, 255, 255, 255)
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
+    normals = np.tile(np.float32([0, 0, 1]), (4, 1))
+    left, indices = quad(-1.75, -0.5)
+    right, _ = quad(0.25, -0.5)
+
+    def material(offset):
+        return {"pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {
+            "index": 0, "extensions": {"KHR_texture_transform": {"offset": offset}}}}}
+
+    path = write_gltf(
+        tmp_path / "tt.gltf",
+        meshes=[[{"positions": left, "indices": indices, "normals": normals, "uvs": uvs, "material": 0}],
+                [{"positions": right, "indices": indices, "normals": normals, "uvs": uvs, "material": 1}]],
+        materials=[material([0.5, 0.0]), material([0.0, 0.5])],
+        images=[pixels], samplers=[{"magFilter": 9728, "minFilter": 9728}], textures=[{"source": 0, "sampler": 0}],
+        extra={"extensionsUsed": ["KHR_texture_transform"]},
+    )
+    image = renderer.render(head_on([SceneObject(load_mesh(path))], size=(128, 64)))
+    assert tuple(pixel(image, -1.5, 0.25)[:3]) == (255, 255, 255)  # u + 0.5: the lower-right texel
+    assert tuple(pixel(image, -1.5, -0.25)[:3]) == (0, 255, 0)  # the upper-right one
+    assert tuple(pixel(image, 0.5, 0.25)[:3]) == (255, 0, 0)  # v + 0.5: the upper-left texel
+    assert tuple(pixel(image, 0.5, -0.25)[:3]) == (0, 0, 255)  # the lower-left one

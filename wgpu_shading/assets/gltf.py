@@ -19,6 +19,7 @@ Metallic and roughness textures count with their mean value (one material per pa
 KHR_materials_pbrSpecularGlossiness (archived, but in many older exports) is the classic
 model already: diffuse = ambient = diffuseFactor (× diffuseTexture), specular =
 specularFactor, roughness = 1 − glossinessFactor (specularGlossinessTexture ignored).
+KHR_texture_transform on the base color texture is applied to the uvs (texCoord ignored).
 """
 
 from __future__ import annotations
@@ -97,6 +98,28 @@ def without_specular_glossiness(path: Path, document: dict) -> bytes | None:
     text += b" " * (-len(text) % 4)  # GLB chunks are 4-byte aligned; JSON pads with spaces
     rest = raw[20 + old_length :]
     return b"glTF" + struct.pack("<II", 2, 20 + len(text) + len(rest)) + struct.pack("<I", len(text)) + b"JSON" + text + rest
+
+
+def transform_uvs(uvs: np.ndarray, material: dict | None) -> np.ndarray:
+    """trimesh's uvs with the base color texture's KHR_texture_transform applied (trimesh
+    ignores it: the extension's test file showed its own "not supported" tiles).
+    uv' = T · R · S · uv in glTF's uv space, whose v trimesh has flipped (v = 1 − v_glTF)."""
+    if not material:
+        return uvs
+    info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture") or {}
+    gloss = material.get("extensions", {}).get(_SPECULAR_GLOSSINESS)
+    if gloss is not None:
+        info = gloss.get("diffuseTexture") or {}
+    transform = info.get("extensions", {}).get("KHR_texture_transform")
+    if not transform:
+        return uvs
+    offset = np.array(transform.get("offset", [0.0, 0.0]), dtype=np.float64)
+    rotation = float(transform.get("rotation", 0.0))
+    scale = np.array(transform.get("scale", [1.0, 1.0]), dtype=np.float64)
+    cos, sin = np.cos(rotation), np.sin(rotation)
+    linear = np.array([[cos, sin], [-sin, cos]]) @ np.diag(scale)  # the extension's R · S
+    gltf_uv = np.stack([uvs[:, 0], 1.0 - uvs[:, 1]], axis=1) @ linear.T + offset
+    return np.stack([gltf_uv[:, 0], 1.0 - gltf_uv[:, 1]], axis=1)
 
 
 def primitive_table(document: dict) -> list[dict]:

@@ -191,7 +191,7 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
 def _gltf_pieces(path: Path) -> list[_Piece]:
     import trimesh
 
-    from .gltf import check_extensions, gltf_material, primitive_table, read_gltf_json, without_specular_glossiness
+    from .gltf import check_extensions, gltf_material, primitive_table, read_gltf_json, transform_uvs, without_specular_glossiness
 
     document = read_gltf_json(path)
     check_extensions(document, path)
@@ -226,7 +226,7 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
         if np.linalg.det(linear) < 0:
             faces = faces[:, ::-1]  # a mirroring node keeps the outside outside
         uvs = getattr(visual, "uv", None)
-        uvs = np.asarray(uvs, dtype=np.float64) if uvs is not None and len(uvs) == len(positions) else None
+        uvs = transform_uvs(np.asarray(uvs, dtype=np.float64), row["material"]) if uvs is not None and len(uvs) == len(positions) else None
         colors = None
         if row["has_color"]:
             raw = getattr(visual, "vertex_attributes", {}).get("color")
