@@ -119,20 +119,18 @@ class Renderer:
         self._uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self._bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
         self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
-        self._sampler = self._device.create_sampler(
+        # Linear filtering with mipmaps by default; glTF samplers may ask for NEAREST (pixel
+        # art, palettes, labels).
+        self._sampler = self._create_sampler(wgpu.FilterMode.linear, wgpu.MipmapFilterMode.linear)
+        self._nearest_sampler = self._create_sampler(wgpu.FilterMode.nearest, wgpu.MipmapFilterMode.nearest)
+
+    def _create_sampler(self, filter_mode, mipmap_filter):
+        return self._device.create_sampler(
             address_mode_u=wgpu.AddressMode.repeat,
             address_mode_v=wgpu.AddressMode.repeat,
-            mag_filter=wgpu.FilterMode.linear,
-            min_filter=wgpu.FilterMode.linear,
-            mipmap_filter=wgpu.MipmapFilterMode.linear,
-        )
-        # glTF samplers with NEAREST filters (pixel art, palettes, labels).
-        self._nearest_sampler = self._device.create_sampler(
-            address_mode_u=wgpu.AddressMode.repeat,
-            address_mode_v=wgpu.AddressMode.repeat,
-            mag_filter=wgpu.FilterMode.nearest,
-            min_filter=wgpu.FilterMode.nearest,
-            mipmap_filter=wgpu.MipmapFilterMode.nearest,
+            mag_filter=filter_mode,
+            min_filter=filter_mode,
+            mipmap_filter=mipmap_filter,
         )
 
     @property
