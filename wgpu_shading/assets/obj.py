@@ -163,8 +163,8 @@ def _ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.nd
     own normal (its vector area, the sum of the fan's): then the corners lie in angular order
     around the first one. Otherwise (an L, a ring cut open by a slit, letters) the fan covers
     the concave notches, which f3d, Blender and assimp leave open."""
-    if len(corners) == 0 or len(polygon) == len(np.unique(polygon)):
-        return corners  # triangles only
+    if len(corners) == 0 or len(polygon) == int(polygon[-1]) + 1:
+        return corners  # triangles only (polygon numbers run 0, 1, ... in order, one per triangle)
     points = positions[corners[:, :, 0]]
     areas = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
     count = int(polygon.max()) + 1
