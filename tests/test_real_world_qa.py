@@ -218,3 +218,14 @@ def test_gltf_texture_transform_moves_the_uvs(tmp_path, renderer):
     assert tuple(pixel(image, -1.5, -0.25)[:3]) == (0, 255, 0)  # the upper-right one
     assert tuple(pixel(image, 0.5, 0.25)[:3]) == (255, 0, 0)  # v + 0.5: the upper-left texel
     assert tuple(pixel(image, 0.5, -0.25)[:3]) == (0, 0, 255)  # the lower-left one
+
+
+def test_indented_obj_lines_are_read(tmp_path):
+    """Blanks before a keyword are allowed; they used to hide every line ('0 vertices')."""
+    from wgpu_shading.assets import load_mesh
+
+    path = tmp_path / "indented.obj"
+    path.write_text("  v 0 0 0\n\tv 1 0 0\n v 0 1 0\n   f 1 2 3\n")
+    mesh = load_mesh(path)
+    assert (mesh.vertex_count, mesh.triangle_count) == (3, 1)
+    assert sorted(map(tuple, mesh.world_positions().round(6).tolist())) == [(0, 0, 0), (0, 1, 0), (1, 0, 0)]

@@ -236,8 +236,16 @@ def _without_byte_order_mark(data: bytes) -> bytes:
     return data
 
 
+def _without_indentation(data: bytes) -> bytes:
+    """Lines with their leading blanks removed, when any line has some: the OBJ spec allows
+    them, and the classification below looks at a line's first two bytes."""
+    if b"\n " in data or b"\n\t" in data or data[:1] in (b" ", b"\t"):
+        return b"\n".join(line.lstrip(b" \t") for line in data.split(b"\n"))
+    return data
+
+
 def read_obj(path: Path) -> ObjData:
-    data = _without_byte_order_mark(path.read_bytes())
+    data = _without_indentation(_without_byte_order_mark(path.read_bytes()))
     lines = data.decode("utf-8", errors="replace").split("\n")
     name = str(path)
     # Classify every line by its first two bytes, in numpy (a Python loop over millions of
