@@ -142,14 +142,27 @@ def primitive_table(document: dict) -> list[dict]:
     return rows
 
 
-def _nearest(document: dict, texture_info: dict | None) -> bool:
+def _sampler(document: dict, texture_info: dict | None) -> dict:
+    """The glTF sampler of a texture reference ({} when none: linear, repeat)."""
     if not texture_info:
-        return False
+        return {}
     textures = document.get("textures", [])
     texture = textures[texture_info.get("index", 0)] if texture_info.get("index", 0) < len(textures) else {}
     samplers = document.get("samplers", [])
-    sampler = samplers[texture["sampler"]] if "sampler" in texture and texture["sampler"] < len(samplers) else {}
-    return sampler.get("magFilter") == _NEAREST
+    return samplers[texture["sampler"]] if "sampler" in texture and texture["sampler"] < len(samplers) else {}
+
+
+def _nearest(document: dict, texture_info: dict | None) -> bool:
+    return _sampler(document, texture_info).get("magFilter") == _NEAREST
+
+
+# glTF wrapS/wrapT (OpenGL enums) → Texture.wrap; anything else is the spec's default, REPEAT.
+_WRAP_MODES = {10497: "repeat", 33071: "clamp", 33648: "mirror"}
+
+
+def _wrap(document: dict, texture_info: dict | None) -> tuple[str, str]:
+    sampler = _sampler(document, texture_info)
+    return _WRAP_MODES.get(sampler.get("wrapS"), "repeat"), _WRAP_MODES.get(sampler.get("wrapT"), "repeat")
 
 
 def _mean_channel(image, channel: int) -> float:
@@ -203,7 +216,10 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
     image = getattr(trimesh_material, "baseColorTexture", None)
     if image is not None:
         nearest = _nearest(document, base_texture_info)
-        texture = Texture(np.asarray(image.convert("RGBA")), name=f"{name}:{material.get('name', '')}", nearest=nearest)
+        texture = Texture(
+            np.asarray(image.convert("RGBA")), name=f"{name}:{material.get('name', '')}", nearest=nearest,
+            wrap=_wrap(document, base_texture_info),
+        )
     alpha_mode = str(material.get("alphaMode", "OPAQUE")).lower()
     opacity = float(np.clip(base[3], 0.0, 1.0))
     unlit = "KHR_materials_unlit" in extensions
