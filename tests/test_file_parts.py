@@ -356,3 +356,34 @@ def test_shader_command_prints_each_parts_shader(tmp_path, capsys):
     assert main(["shader", str(path)]) == 0
     out = capsys.readouterr().out
     assert out.count("// ===== objects 0") == 2 and "alpha=mask" in out and "discard" in out
+
+
+@pytest.mark.parametrize(
+    "wrap_s, expected",
+    [  # the colours at u = 0.25, 0.75, 1.25, 1.75 of a 2×1 texture (yellow | blue)
+        (10497, ["yellow", "blue", "yellow", "blue"]),  # REPEAT: the texture again
+        (33071, ["yellow", "blue", "blue", "blue"]),  # CLAMP_TO_EDGE: the last column goes on
+        (33648, ["yellow", "blue", "blue", "yellow"]),  # MIRRORED_REPEAT: the texture backwards
+    ],
+)
+def test_gltf_sampler_wrap_modes(tmp_path, renderer, wrap_s, expected):
+    """glTF samplers' wrapS/wrapT decide what u outside [0, 1] shows (they were all REPEAT)."""
+    positions, indices = quad(-1.0, -0.5, 2.0)
+    uvs = np.array([[0, 0], [2, 0], [2, 1], [0, 1]], np.float32)
+    normals = np.tile(np.float32([0, 0, 1]), (4, 1))
+    texture = np.array([[[255, 255, 0, 255], [0, 0, 255, 255]]], np.uint8)
+    path = write_gltf(
+        tmp_path / "wrap.gltf",
+        meshes=[[{"positions": positions, "indices": indices, "normals": normals, "uvs": uvs, "material": 0}]],
+        materials=[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}, "extensions": {"KHR_materials_unlit": {}}}],
+        images=[texture],
+        samplers=[{"magFilter": 9728, "minFilter": 9728, "wrapS": wrap_s, "wrapT": 33071}],
+        textures=[{"source": 0, "sampler": 0}],
+        extra={"extensionsUsed": ["KHR_materials_unlit"]},
+    )
+    mesh = load_mesh(path)
+    assert mesh.parts[0].material.texture.wrap[1] == "clamp"
+    image = renderer.render(head_on([SceneObject(mesh)], size=(128, 64)))
+    colours = {(255, 255, 0): "yellow", (0, 0, 255): "blue"}
+    seen = [colours.get(tuple(int(c) for c in pixel(image, x, 0.0)[:3]), "other") for x in (-0.75, -0.25, 0.25, 0.75)]
+    assert seen == expected

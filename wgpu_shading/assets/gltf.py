@@ -16,10 +16,15 @@ Material mapping (glTF 2.0 spec, appendix B, onto OpenGL's model; docs/real-worl
   shininess = clamp((2/α² − 2) / 4, 1, 512), α = roughness²: the Blinn-Phong exponent of
              the same lobe width (Walter et al. 2007), /4 for Phong's R·V (VTK's rule)
 Metallic and roughness textures count with their mean value (one material per part).
+KHR_materials_pbrSpecularGlossiness (archived, but in many older exports) is the classic
+model already: diffuse = ambient = diffuseFactor (× diffuseTexture), specular =
+specularFactor, roughness = 1 − glossinessFactor (specularGlossinessTexture ignored).
+KHR_texture_transform on the base color texture is applied to the uvs (texCoord ignored).
 """
 
 from __future__ import annotations
 
+import copy
 import json
 import struct
 import warnings
@@ -32,6 +37,7 @@ from ..scene.material import Material, Texture
 
 _KEPT_MODES = {0, 1, 4, 5}
 _NEAREST = 9728  # GL_NEAREST (and 9984/9986 NEAREST_MIPMAP_* count as nearest too)
+_SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 
 
 def read_gltf_json(path: Path) -> dict:
@@ -72,6 +78,57 @@ def check_extensions(document: dict, path: Path) -> None:
         raise MeshError(f"mesh file {str(path)!r} requires glTF extension(s) this renderer cannot decode: {', '.join(sorted(unsupported))}")
 
 
+def without_specular_glossiness(path: Path, document: dict) -> bytes | None:
+    """The file's bytes with each specular-glossiness material's diffuse factor and texture
+    put where trimesh reads a base color; None when no material uses the extension.
+
+    trimesh converts the extension to metallic-roughness itself (trimesh.visual.gloss),
+    baking the specular color into a new base color texture: a grey, washed-out box where
+    f3d and the extension's viewers show the diffuse texture. gltf_material maps the
+    extension directly (from the untouched document); trimesh only decodes the image."""
+    if not any(_SPECULAR_GLOSSINESS in m.get("extensions", {}) for m in document.get("materials", [])):
+        return None
+    rewritten = copy.deepcopy(document)
+    for material in rewritten["materials"]:
+        extension = material.get("extensions", {}).pop(_SPECULAR_GLOSSINESS, None)
+        if extension is None:
+            continue
+        pbr = {"baseColorFactor": extension.get("diffuseFactor", [1.0, 1.0, 1.0, 1.0]), "metallicFactor": 0.0}
+        if "diffuseTexture" in extension:
+            pbr["baseColorTexture"] = extension["diffuseTexture"]
+        material["pbrMetallicRoughness"] = pbr
+    text = json.dumps(rewritten).encode()
+    raw = path.read_bytes()
+    if raw[:4] != b"glTF":
+        return text
+    old_length, _ = struct.unpack_from("<II", raw, 12)
+    text += b" " * (-len(text) % 4)  # GLB chunks are 4-byte aligned; JSON pads with spaces
+    rest = raw[20 + old_length :]
+    return b"glTF" + struct.pack("<II", 2, 20 + len(text) + len(rest)) + struct.pack("<I", len(text)) + b"JSON" + text + rest
+
+
+def transform_uvs(uvs: np.ndarray, material: dict | None) -> np.ndarray:
+    """trimesh's uvs with the base color texture's KHR_texture_transform applied (trimesh
+    ignores it: the extension's test file showed its own "not supported" tiles).
+    uv' = T · R · S · uv in glTF's uv space, whose v trimesh has flipped (v = 1 − v_glTF)."""
+    if not material:
+        return uvs
+    info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture") or {}
+    gloss = material.get("extensions", {}).get(_SPECULAR_GLOSSINESS)
+    if gloss is not None:
+        info = gloss.get("diffuseTexture") or {}
+    transform = info.get("extensions", {}).get("KHR_texture_transform")
+    if not transform:
+        return uvs
+    offset = np.array(transform.get("offset", [0.0, 0.0]), dtype=np.float64)
+    rotation = float(transform.get("rotation", 0.0))
+    scale = np.array(transform.get("scale", [1.0, 1.0]), dtype=np.float64)
+    cos, sin = np.cos(rotation), np.sin(rotation)
+    linear = np.array([[cos, sin], [-sin, cos]]) @ np.diag(scale)  # the extension's R · S
+    gltf_uv = np.stack([uvs[:, 0], 1.0 - uvs[:, 1]], axis=1) @ linear.T + offset
+    return np.stack([gltf_uv[:, 0], 1.0 - gltf_uv[:, 1]], axis=1)
+
+
 def primitive_table(document: dict) -> list[dict]:
     """One row per primitive trimesh turns into a geometry, in trimesh's order."""
     rows = []
@@ -92,14 +149,27 @@ def primitive_table(document: dict) -> list[dict]:
     return rows
 
 
-def _nearest(document: dict, texture_info: dict | None) -> bool:
+def _sampler(document: dict, texture_info: dict | None) -> dict:
+    """The glTF sampler of a texture reference ({} when none: linear, repeat)."""
     if not texture_info:
-        return False
+        return {}
     textures = document.get("textures", [])
     texture = textures[texture_info.get("index", 0)] if texture_info.get("index", 0) < len(textures) else {}
     samplers = document.get("samplers", [])
-    sampler = samplers[texture["sampler"]] if "sampler" in texture and texture["sampler"] < len(samplers) else {}
-    return sampler.get("magFilter") == _NEAREST
+    return samplers[texture["sampler"]] if "sampler" in texture and texture["sampler"] < len(samplers) else {}
+
+
+def _nearest(document: dict, texture_info: dict | None) -> bool:
+    return _sampler(document, texture_info).get("magFilter") == _NEAREST
+
+
+# glTF wrapS/wrapT (OpenGL enums) → Texture.wrap; anything else is the spec's default, REPEAT.
+_WRAP_MODES = {10497: "repeat", 33071: "clamp", 33648: "mirror"}
+
+
+def _wrap(document: dict, texture_info: dict | None) -> tuple[str, str]:
+    sampler = _sampler(document, texture_info)
+    return _WRAP_MODES.get(sampler.get("wrapS"), "repeat"), _WRAP_MODES.get(sampler.get("wrapT"), "repeat")
 
 
 def _mean_channel(image, channel: int) -> float:
@@ -116,22 +186,31 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
     if material is None:
         return None
     pbr = material.get("pbrMetallicRoughness", {})
-    base = np.array(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
-    metallic = float(pbr.get("metallicFactor", 1.0))
-    roughness = float(pbr.get("roughnessFactor", 1.0))
-    image = getattr(trimesh_material, "metallicRoughnessTexture", None)
-    if image is not None:  # glTF: roughness in G, metalness in B
-        metallic *= _mean_channel(image, 2)
-        roughness *= _mean_channel(image, 1)
     extensions = material.get("extensions", {})
-    specular_extension = extensions.get("KHR_materials_specular")
-    if specular_extension is not None:
-        color = np.array(specular_extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
-        dielectric = np.minimum(0.04 * color, 1.0) * float(specular_extension.get("specularFactor", 1.0))
+    glossiness = extensions.get(_SPECULAR_GLOSSINESS)
+    if glossiness is not None:  # the classic model already (module docstring)
+        base = np.array(glossiness.get("diffuseFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
+        diffuse = base[:3]
+        specular = np.clip(np.array(glossiness.get("specularFactor", [1.0, 1.0, 1.0]), dtype=np.float64), 0.0, 1.0)
+        roughness = 1.0 - float(np.clip(glossiness.get("glossinessFactor", 1.0), 0.0, 1.0))
+        base_texture_info = glossiness.get("diffuseTexture")
     else:
-        dielectric = np.full(3, 0.04)
-    diffuse = base[:3] * (1.0 - metallic)
-    specular = dielectric * (1.0 - metallic) + base[:3] * metallic
+        base = np.array(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
+        metallic = float(pbr.get("metallicFactor", 1.0))
+        roughness = float(pbr.get("roughnessFactor", 1.0))
+        image = getattr(trimesh_material, "metallicRoughnessTexture", None)
+        if image is not None:  # glTF: roughness in G, metalness in B
+            metallic *= _mean_channel(image, 2)
+            roughness *= _mean_channel(image, 1)
+        specular_extension = extensions.get("KHR_materials_specular")
+        if specular_extension is not None:
+            color = np.array(specular_extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
+            dielectric = np.minimum(0.04 * color, 1.0) * float(specular_extension.get("specularFactor", 1.0))
+        else:
+            dielectric = np.full(3, 0.04)
+        diffuse = base[:3] * (1.0 - metallic)
+        specular = dielectric * (1.0 - metallic) + base[:3] * metallic
+        base_texture_info = pbr.get("baseColorTexture")
     alpha = max(roughness, 0.03) ** 2
     shininess = float(np.clip((2.0 / alpha**2 - 2.0) / 4.0, 1.0, 512.0))
     emission = np.array(material.get("emissiveFactor", [0.0, 0.0, 0.0]), dtype=np.float64)
@@ -143,9 +222,12 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
     texture = None
     image = getattr(trimesh_material, "baseColorTexture", None)
     if image is not None:
-        nearest = _nearest(document, pbr.get("baseColorTexture"))
-        texture = Texture(np.asarray(image.convert("RGBA")), name=f"{name}:{material.get('name', '')}", nearest=nearest)
-    elif pbr.get("baseColorTexture") is not None:
+        nearest = _nearest(document, base_texture_info)
+        texture = Texture(
+            np.asarray(image.convert("RGBA")), name=f"{name}:{material.get('name', '')}", nearest=nearest,
+            wrap=_wrap(document, base_texture_info),
+        )
+    elif base_texture_info is not None:
         # trimesh drops an image it cannot load (missing, a folder, not an image) without a
         # word; say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
         warnings.warn(

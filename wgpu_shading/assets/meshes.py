@@ -83,7 +83,11 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
 # --------------------------------------------------------------------------- trimesh formats
 
 
-def _load_trimesh(path: Path, file_size: int | None = None, **options):
+def _load_trimesh(path: Path, file_size: int | None = None, content: bytes | None = None, **options):
+    """trimesh's reading of `path` (or of `content`, the file rewritten, resolving its
+    other files next to `path`), its exceptions turned into one-line MeshErrors."""
+    import io
+
     import trimesh  # lazy: trimesh costs ~0.3 s to import
 
     where = f"mesh file {str(path)!r}"
@@ -91,6 +95,8 @@ def _load_trimesh(path: Path, file_size: int | None = None, **options):
         # Text formats are decoded here (UTF-8, else Latin-1): trimesh's own fallback needs
         # the optional charset_normalizer.
         source = text_source(path, where, file_size) if file_size is not None else None
+        if content is not None:
+            source = io.BytesIO(content)
         if source is None:
             return trimesh.load(str(path), process=False, **options)
         resolver = trimesh.resolvers.FilePathResolver(str(path))
@@ -120,9 +126,12 @@ def _trimesh_piece(path: Path, file_size: int) -> _Piece:
     loaded = _load_trimesh(path, file_size)
     if isinstance(loaded, trimesh.Scene):
         geometries = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
-        if len(geometries) != 1:
-            raise MeshError(f"mesh file {str(path)!r}: expected one mesh, found {len(geometries)}")
-        loaded = geometries[0]
+        if not geometries:
+            raise MeshError(f"mesh file {str(path)!r}: contains no triangles (no mesh in the file)")
+        # Several bodies (an ASCII STL with several `solid`s, as CAD tools export
+        # assemblies): one mesh, as f3d and every slicer show them; STL/OFF/PLY carry no
+        # materials that could tell the bodies apart.
+        loaded = geometries[0] if len(geometries) == 1 else trimesh.util.concatenate(geometries)
     if isinstance(loaded, trimesh.PointCloud):
         raw = loaded.metadata.get("_ply_raw", {}) if isinstance(loaded.metadata, dict) else {}
         if "tristrips" in raw:
@@ -182,11 +191,11 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
 def _gltf_pieces(path: Path) -> list[_Piece]:
     import trimesh
 
-    from .gltf import check_extensions, gltf_material, primitive_table, read_gltf_json
+    from .gltf import check_extensions, gltf_material, primitive_table, read_gltf_json, transform_uvs, without_specular_glossiness
 
     document = read_gltf_json(path)
     check_extensions(document, path)
-    scene = _load_trimesh(path, force="scene")
+    scene = _load_trimesh(path, content=without_specular_glossiness(path, document), force="scene")
     rows = primitive_table(document)
     names = list(scene.geometry)
     if len(rows) != len(names):
@@ -223,7 +232,7 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
         if np.linalg.det(linear) < 0:
             faces = faces[:, ::-1]  # a mirroring node keeps the outside outside
         uvs = getattr(visual, "uv", None)
-        uvs = np.asarray(uvs, dtype=np.float64) if uvs is not None and len(uvs) == len(positions) else None
+        uvs = transform_uvs(np.asarray(uvs, dtype=np.float64), row["material"]) if uvs is not None and len(uvs) == len(positions) else None
         colors = None
         if row["has_color"]:
             raw = getattr(visual, "vertex_attributes", {}).get("color")

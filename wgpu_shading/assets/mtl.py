@@ -7,7 +7,10 @@
   and f3d ignores Ks, so the file's author saw no highlight. `illum 0` / `illum 1` (no
   specular by the MTL definition) also drop Ks.
 - `d` (dissolve) is the alpha; without `d`, `Tr` (transparency) gives alpha 1 − Tr.
-  Alpha below 1 makes the material blend (SPEC §13).
+  Alpha below 1 makes the material blend (SPEC §13). `Tr 1` without `d` is read as
+  opaque, with a warning: MeshLab (VCG) writes `Tr 1.000000` into every MTL it exports,
+  meaning the alpha, and 1 − Tr would make those files invisible; f3d shows them opaque.
+  An explicit `d 0` is kept (the author asked for it) but warned about: nothing is drawn.
 - `map_Kd`: options (-s, -o, -bm, ...) are skipped and the rest of the line is the file
   name, spaces included. A missing image is a warning naming it; the part is untextured.
 """
@@ -21,8 +24,9 @@ from ..errors import MeshError
 from ..scene.material import Material
 from .textures import load_texture
 
-# map_* options and how many values follow each (-o/-s/-t take 1 to 3 numbers).
-_OPTION_VALUES = {"-blendu": 1, "-blendv": 1, "-cc": 1, "-clamp": 1, "-texres": 1, "-bm": 1, "-boost": 1,
+# map_* options and how many values follow each (-o/-s/-t take 1 to 3 numbers);
+# -colorspace is a newer exporter extension (tinyobjloader issue 184).
+_OPTION_VALUES = {"-colorspace": 1, "-blendu": 1, "-blendv": 1, "-cc": 1, "-clamp": 1, "-texres": 1, "-bm": 1, "-boost": 1,
                   "-imfchan": 1, "-type": 1, "-mm": 2, "-o": 3, "-s": 3, "-t": 3}
 
 
@@ -68,6 +72,12 @@ def _material(name: str, fields: dict, base: Path, where: str) -> Material:
     dissolve = fields.get("d")
     if dissolve is None and "tr" in fields:
         dissolve = 1.0 - fields["tr"]
+        if dissolve <= 0.0:  # MeshLab's `Tr 1` means opaque, see the module docstring
+            warnings.warn(f"{where}: material {name!r}: 'Tr {fields['tr']:g}' without 'd' would make it invisible; "
+                          "read as opaque (MeshLab writes Tr 1 for opaque materials)", stacklevel=2)
+            dissolve = 1.0
+    elif dissolve is not None and dissolve <= 0.0:
+        warnings.warn(f"{where}: material {name!r}: 'd {dissolve:g}' makes it fully transparent; its faces draw nothing", stacklevel=2)
     alpha = min(max(dissolve, 0.0), 1.0) if dissolve is not None else 1.0
     diffuse = fields.get("kd", (1.0, 1.0, 1.0) if texture is not None else (0.8, 0.8, 0.8))
     ambient = fields.get("ka", (0.2, 0.2, 0.2))
@@ -91,7 +101,7 @@ def read_mtl(path: Path) -> dict[str, Material]:
     materials: dict[str, Material] = {}
     current: str | None = None
     fields: dict = {}
-    text = path.read_text(encoding="utf-8", errors="replace")
+    text = path.read_text(encoding="utf-8-sig", errors="replace")  # -sig: a BOM would hide the first newmtl
     start_line = 0
 
     def finish() -> None:
@@ -124,6 +134,10 @@ def read_mtl(path: Path) -> dict[str, Material]:
 def read_mtl_files(libraries: list[str], base: Path, obj_name: str) -> dict[str, Material]:
     """Every `mtllib` of an OBJ (a missing library is a warning: parts get no material)."""
     materials: dict[str, Material] = {}
+    # `mtllib a.mtl b.mtl` names several libraries (the MTL spec); a name with spaces that
+    # exists as a whole is one file.
+    libraries = [name for library in libraries
+                 for name in ([library] if (base / library).exists() or len(library.split()) == 1 else library.split())]
     for library in libraries:
         path = base / library
         if not path.is_file():  # missing, a folder, a dangling or looping link

@@ -137,7 +137,16 @@ def _run_corners(run: _Run, path: str) -> tuple[np.ndarray, np.ndarray]:
         raise MeshError(f"{path}:{_face_line(run, ordinal)}: face index 0 in {lines[ordinal].strip()!r} (OBJ indices start at 1)")
     # Positive indices count from 1; negative ones back from the last v/vt/vn declared so far.
     resolved = np.where(raw > 0, raw - 1, np.where(raw < 0, counts + raw, -1))
-    out_of_range = ((raw != 0) & ((resolved < 0) | (resolved >= counts))).any(axis=(1, 2))
+    missing = (raw != 0) & ((resolved < 0) | (resolved >= counts))
+    for column, what, plural in ((1, "texture coordinate (vt)", "texture coordinates"), (2, "normal (vn)", "normals")):
+        # A vt/vn index past the declared ones (OpenSubdiv's catmark_torus_creases0.obj has no
+        # vn lines at all): the faces are still there, as f3d draws them; only the attribute goes.
+        if missing[:, :, column].any():
+            ordinal = int(polygon[np.flatnonzero(missing[:, :, column].any(axis=1))[0]])
+            warnings.warn(f"{path}:{_face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a {what} that does not exist "
+                          f"({run.uv_count} vt, {run.normal_count} vn declared before it); its {plural} are ignored", stacklevel=2)
+            resolved[:, :, column] = np.where(missing[:, :, column], -1, resolved[:, :, column])
+    out_of_range = missing[:, :, 0].any(axis=1)
     if out_of_range.any():
         ordinal = int(polygon[np.flatnonzero(out_of_range)[0]])
         raise MeshError(
@@ -145,6 +154,43 @@ def _run_corners(run: _Run, path: str) -> tuple[np.ndarray, np.ndarray]:
             f"({run.vertex_count} v, {run.uv_count} vt, {run.normal_count} vn declared before it)"
         )
     return resolved, polygon
+
+
+def _ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """Concave polygons triangulated again by ear clipping; the fan is kept for the rest.
+
+    A fan from the first corner is right only when every fan triangle faces the polygon's
+    own normal (its vector area, the sum of the fan's): then the corners lie in angular order
+    around the first one. Otherwise (an L, a ring cut open by a slit, letters) the fan covers
+    the concave notches, which f3d, Blender and assimp leave open."""
+    if len(corners) == 0 or len(polygon) == int(polygon[-1]) + 1:
+        return corners  # triangles only (polygon numbers run 0, 1, ... in order, one per triangle)
+    points = positions[corners[:, :, 0]]
+    areas = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
+    count = int(polygon.max()) + 1
+    normal_of = np.stack([np.bincount(polygon, areas[:, k], count) for k in range(3)], axis=1)
+    backwards = np.einsum("ij,ij->i", areas, normal_of[polygon]) < 0.0
+    if not backwards.any():
+        return corners
+    import mapbox_earcut
+
+    pieces, start = [], 0
+    for bad in np.unique(polygon[backwards]).tolist():
+        first, stop = np.searchsorted(polygon, [bad, bad + 1])
+        pieces.append(corners[start:first])
+        fan = corners[first:stop]
+        ring = np.concatenate([fan[:1, 0], fan[:, 1], fan[-1:, 2]])  # the polygon's corners in order
+        normal = normal_of[bad]
+        axes = [k for k in range(3) if k != int(np.argmax(np.abs(normal)))]
+        indices = mapbox_earcut.triangulate_float64(positions[ring[:, 0]][:, axes], np.array([len(ring)], np.uint32))
+        triangles = ring[np.asarray(indices, np.int64).reshape(-1, 3)]
+        tri_points = positions[triangles[:, :, 0]]
+        facing = np.cross(tri_points[:, 1] - tri_points[:, 0], tri_points[:, 2] - tri_points[:, 0]) @ normal
+        triangles[facing < 0] = triangles[facing < 0][:, ::-1]  # the file's winding, whatever the projection did
+        pieces.append(triangles)
+        start = stop
+    pieces.append(corners[start:])
+    return np.concatenate(pieces)
 
 
 def _resolve_positive(raw: np.ndarray, counts: np.ndarray) -> np.ndarray | None:
@@ -180,8 +226,26 @@ def _slices(lines: list[str], indices: np.ndarray) -> list[str]:
     return out
 
 
+def _without_byte_order_mark(data: bytes) -> bytes:
+    """UTF-8 bytes without a byte order mark. Windows tools start files with one; left in,
+    it hides the first line's keyword (a first `v` line was lost, shifting every index)."""
+    if data.startswith(b"\xef\xbb\xbf"):
+        return data[3:]
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16 (assimp's box_UTF16BE.obj)
+        return data.decode("utf-16").encode("utf-8")
+    return data
+
+
+def _without_indentation(data: bytes) -> bytes:
+    """Lines with their leading blanks removed, when any line has some: the OBJ spec allows
+    them, and the classification below looks at a line's first two bytes."""
+    if b"\n " in data or b"\n\t" in data or data[:1] in (b" ", b"\t"):
+        return b"\n".join(line.lstrip(b" \t") for line in data.split(b"\n"))
+    return data
+
+
 def read_obj(path: Path) -> ObjData:
-    data = path.read_bytes()
+    data = _without_indentation(_without_byte_order_mark(path.read_bytes()))
     lines = data.decode("utf-8", errors="replace").split("\n")
     name = str(path)
     # Classify every line by its first two bytes, in numpy (a Python loop over millions of
@@ -233,7 +297,8 @@ def read_obj(path: Path) -> ObjData:
     vn = _floats(_slices(lines, vn_lines), "vn", 3, name, vn_lines + 1) if len(vn_lines) else np.zeros((0, 3))
     corner_list, flat_list, material_list = [], [], []
     for current in runs:
-        corners, _ = _run_corners(current, name)
+        corners, polygon = _run_corners(current, name)
+        corners = _ear_clip_concave(corners, polygon, v[:, :3])
         corner_list.append(corners)
         flat_list.append(np.full(len(corners), current.flat))
         material_list.append([current.material] * len(corners))
@@ -279,6 +344,8 @@ def read_obj(path: Path) -> ObjData:
         counts = np.array([len(faces)])
     parts, start = [], 0
     for material_name, count in zip(names, counts):
+        if material_name and materials and material_name not in materials:  # (a missing library warned already)
+            warnings.warn(f"{name}: 'usemtl {material_name}' names no material of {', '.join(libraries)}; its faces drawn without it", stacklevel=2)
         parts.append((start, int(count), materials.get(material_name) if material_name else None, material_name))
         start += int(count)
     return ObjData(positions, faces, uvs, normals, colors, flat_faces, parts)

@@ -48,6 +48,7 @@ from .resources import (
     Target,
     cached_bind_group,
     check_target_size,
+    create_sampler,
     new_target,
     read_buffer,
     uniform_buffer,
@@ -119,19 +120,16 @@ class Renderer:
         self._uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self._bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
         self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
-        # Linear filtering with mipmaps by default; glTF samplers may ask for NEAREST (pixel
-        # art, palettes, labels).
-        self._sampler = self._create_sampler(wgpu.FilterMode.linear, wgpu.MipmapFilterMode.linear)
-        self._nearest_sampler = self._create_sampler(wgpu.FilterMode.nearest, wgpu.MipmapFilterMode.nearest)
+        self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
 
-    def _create_sampler(self, filter_mode, mipmap_filter):
-        return self._device.create_sampler(
-            address_mode_u=wgpu.AddressMode.repeat,
-            address_mode_v=wgpu.AddressMode.repeat,
-            mag_filter=filter_mode,
-            min_filter=filter_mode,
-            mipmap_filter=mipmap_filter,
-        )
+    def _sampler(self, texture: Texture) -> object:
+        """Linear filtering with mipmaps by default; glTF samplers may ask for NEAREST (pixel
+        art, palettes, labels) and for clamped or mirrored coordinates."""
+        key = (texture.nearest, texture.wrap)
+        sampler = self._samplers.get(key)
+        if sampler is None:
+            sampler = self._samplers[key] = create_sampler(self._device, texture.nearest, texture.wrap)
+        return sampler
 
     @property
     def device(self):
@@ -262,7 +260,7 @@ class Renderer:
                     ),
                     object_data=object_uniforms(model_view, material, entry.object_dtype),
                     texture=texture,
-                    sampler=self._nearest_sampler if texture is not None and material.texture.nearest else self._sampler,
+                    sampler=self._sampler(material.texture) if texture is not None else None,
                     first_triangle=part.first,
                     triangle_count=part.count,
                 )

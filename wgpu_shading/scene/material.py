@@ -13,6 +13,8 @@ from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureM
 # Texture side limit: WebGPU's default max-texture-dimension-2d; the renderer also checks
 # its adapter's own limit when it uploads.
 MAX_TEXTURE_SIDE = MAX_IMAGE_SIDE
+# What a coordinate outside [0, 1] samples (glTF's REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
+WRAP_MODES = ("repeat", "clamp", "mirror")
 
 
 @dataclass(frozen=True, eq=False)
@@ -22,10 +24,14 @@ class Texture:
     pixels: np.ndarray
     name: str = ""
     nearest: bool = False  # nearest-neighbour sampling (glTF NEAREST filters), else linear + mipmaps
+    wrap: tuple[str, str] = ("repeat", "repeat")  # u and v outside [0, 1]: one of WRAP_MODES each
 
     def __post_init__(self) -> None:
         if not isinstance(self.nearest, bool):
             raise SceneError(f"texture {self.name!r}.nearest: expected true or false, got {self.nearest!r}")
+        if isinstance(self.wrap, str) or len(tuple(self.wrap)) != 2:
+            raise SceneError(f"texture {self.name!r}.wrap: expected two of {', '.join(WRAP_MODES)} (u, v), got {self.wrap!r}")
+        _set(self, wrap=tuple(choice(mode, f"texture {self.name!r}.wrap", WRAP_MODES) for mode in self.wrap))
         pixels = np.asarray(self.pixels)
         if pixels.ndim == 2:
             pixels = np.repeat(pixels[:, :, None], 3, axis=2)
