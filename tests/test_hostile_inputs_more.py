@@ -224,3 +224,10 @@ def test_a_hostile_gltf_material_is_a_mesh_error_naming_the_file(tmp_path, capsy
     with pytest.raises(MeshError) as error:
         load_mesh(path)
     assert line == f"wgpu-shading: error: {error.value}"
+
+
+def test_an_obj_with_classic_mac_line_endings_loads(tmp_path):
+    path = tmp_path / "cr.obj"
+    path.write_bytes(b"v 0 0 0\rv 1 0 0\rv 0 1 0\rv 1 1 0\rf 1 2 3\rf 2 4 3\r")
+    mesh = load_mesh(path)
+    assert len(mesh.indices) == 2 and len(mesh.positions) >= 4

@@ -244,8 +244,16 @@ def _without_indentation(data: bytes) -> bytes:
     return data
 
 
+def _with_newlines(data: bytes) -> bytes:
+    """Classic Mac OS files end lines with CR alone: the whole file read as one line, an
+    error saying it had no faces. (CR LF needs nothing: a trailing CR is blank space.)"""
+    if b"\r" in data and b"\n" not in data:
+        return data.replace(b"\r", b"\n")
+    return data
+
+
 def read_obj(path: Path) -> ObjData:
-    data = _without_indentation(_without_byte_order_mark(path.read_bytes()))
+    data = _without_indentation(_with_newlines(_without_byte_order_mark(path.read_bytes())))
     lines = data.decode("utf-8", errors="replace").split("\n")
     name = str(path)
     # Classify every line by its first two bytes, in numpy (a Python loop over millions of
