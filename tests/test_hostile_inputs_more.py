@@ -231,3 +231,11 @@ def test_an_obj_with_classic_mac_line_endings_loads(tmp_path):
     path.write_bytes(b"v 0 0 0\rv 1 0 0\rv 0 1 0\rv 1 1 0\rf 1 2 3\rf 2 4 3\r")
     mesh = load_mesh(path)
     assert len(mesh.indices) == 2 and len(mesh.positions) >= 4
+
+
+def test_an_unknown_builtin_in_batch_is_bad_input(tmp_path, capsys):
+    # It was a failed job (exit 1) after the other meshes had rendered.
+    code, err = _run(capsys, "batch", "--meshes", "builtin:cube", "--meshes", "builtin:sphre", "--views", "1",
+                     "--size", "8", "-o", str(tmp_path / "ds"), "-q")
+    _one_line(code, err, "unknown built-in mesh 'builtin:sphre'", "builtin:sphere")
+    assert not (tmp_path / "ds" / "cube").exists()

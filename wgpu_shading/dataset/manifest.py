@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any, Iterable
 
 from ..errors import SceneError
-from ..scene import image_size, material
+from ..scene import BUILTIN_PREFIX, BUILTINS, image_size, material
 from ..scene.camera import PROJECTIONS
 from ..scene.values import FREQUENCIES, REFLECTIONS
 from .jobs import CAMERA_KEYS, ORBIT_KEYS, OVERRIDE_KEYS, Job, Outputs
@@ -115,6 +115,9 @@ def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Output
         if len(sources) != 1:
             raise SceneError(f"{where}: expected exactly one of mesh, scene, source")
         source = _resolve(str(row[sources[0]]), base)
+        if source.startswith(BUILTIN_PREFIX) and source[len(BUILTIN_PREFIX):].partition("?")[0] not in BUILTINS:
+            # A typo in a built-in's name is bad input, found before anything renders.
+            raise SceneError(f"{where}: unknown built-in mesh {source!r}; available: {', '.join(BUILTIN_PREFIX + n for n in BUILTINS)}")
         folder = str(row.get("folder") or folder_of_source.get(source) or _folder_for(source, folder_of_source))
         folder_of_source.setdefault(source, folder)
         index = names_per_folder.get(folder, 0)
