@@ -124,16 +124,21 @@ def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False
         raise SceneError(f"output {str(path)!r}: --float writes exact float32 values to .npy, not {path.suffix!r}")
 
 
+def _number_in(text: str, convert, low: float, high: float, expected: str, out_of_range: str | None = None):
+    """`convert(text)` if it lies in [low, high]; otherwise the argparse error saying what
+    was expected (`out_of_range`, when given, for a number outside the range)."""
+    try:
+        value = convert(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
+    if not low <= value <= high:
+        raise argparse.ArgumentTypeError(f"expected {out_of_range or expected}, got {text!r}")
+    return value
+
 
 def _degrees(text: str) -> float:
     """A crease angle, 0..180 degrees."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected degrees between 0 and 180, got {text!r}") from None
-    if not 0.0 <= value <= 180.0:
-        raise argparse.ArgumentTypeError(f"expected degrees between 0 and 180, got {text!r}")
-    return value
+    return _number_in(text, float, 0.0, 180.0, "degrees between 0 and 180")
 
 
 def _up(text: str) -> str:
@@ -147,25 +152,17 @@ def _up(text: str) -> str:
 
 def _fraction(text: str) -> float:
     """'0.001' or '0.1%'."""
-    try:
-        value = float(text[:-1]) / 100.0 if text.endswith("%") else float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a fraction such as 0.001 or 0.1%, got {text!r}") from None
-    if not 0.0 <= value <= 1.0:
-        raise argparse.ArgumentTypeError(f"expected a fraction between 0 and 1 (or 0%..100%), got {text!r}")
-    return value
+    def convert(value: str) -> float:
+        return float(value[:-1]) / 100.0 if value.endswith("%") else float(value)
+
+    return _number_in(
+        text, convert, 0.0, 1.0, "a fraction such as 0.001 or 0.1%", "a fraction between 0 and 1 (or 0%..100%)"
+    )
 
 
 def _unit(text: str) -> int:
     """An integer 0..255."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer 0..255 (units of 1/255), got {text!r}") from None
-    if not 0 <= value <= 255:
-        raise argparse.ArgumentTypeError(f"expected an integer 0..255 (units of 1/255), got {text!r}")
-    return value
-
+    return _number_in(text, int, 0, 255, "an integer 0..255 (units of 1/255)")
 
 
 def _error_budget(text: str) -> float:

@@ -177,17 +177,14 @@ class Renderer:
         """`count` extra renderers, each on its own device of the same adapter, for
         render_many. They belong to this renderer (made on first use, dropped with it)."""
         with self._lock:
-            return self._make_helpers(count)
-
-    def _make_helpers(self, count: int) -> list["Renderer"]:
-        helpers = self._batch_helpers
-        while len(helpers) < count:
-            # The same features as the primary device (e.g. direct mesh upload on lavapipe).
-            helper_device = self._device.adapter.request_device_sync(
-                label=f"wgpu-shading batch helper {len(helpers) + 1}", required_features=sorted(self._device.features)
-            )
-            helpers.append(Renderer(device=helper_device))
-        return helpers[:count]
+            helpers = self._batch_helpers
+            while len(helpers) < count:
+                # The same features as the primary device (e.g. direct mesh upload on lavapipe).
+                helper_device = self._device.adapter.request_device_sync(
+                    label=f"wgpu-shading batch helper {len(helpers) + 1}", required_features=sorted(self._device.features)
+                )
+                helpers.append(Renderer(device=helper_device))
+            return helpers[:count]
 
     def features(self, scene: Scene) -> list[FeatureSet]:
         """The feature set of each object's first part (what `wgpu-shading shader` prints)."""
