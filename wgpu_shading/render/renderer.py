@@ -255,7 +255,7 @@ class Renderer:
                     gpu_mesh=self._gpu_mesh(
                         obj.mesh, with_uvs=features.texture_mode is not None, with_colors=features.vertex_colors
                     ),
-                    object_data=object_uniforms(model_view, material, entry.object_dtype),
+                    object_data=object_uniforms(model_view, material, entry.object_dtype, scene),
                     texture=texture,
                     sampler=self._sampler(material.texture) if texture is not None else None,
                     first_triangle=part.first,
