@@ -13,8 +13,8 @@ from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
 def mesh_scene(
     mesh_source: str,
-    size: tuple[int, int],
-    material_name: str | None,
+    size: tuple[int, int] = (512, 512),
+    material_name: str | None = None,
     *,
     crease_angle: float = DEFAULT_CREASE_ANGLE,
     up: str = "+Y",
