@@ -341,3 +341,19 @@ def options_from_mapping(values: dict[str, Any], where: str, by: str = "name") -
 
 
 COLUMNS = {option.column: option for option in VIEW_OPTIONS}
+
+
+def spellings_table() -> str:
+    """The Markdown table of every option's spellings (docs/view-options.md holds it; a test
+    checks that the two agree)."""
+    rows = ["| option | `render` and `batch` flags | manifest column | scene-file key | what it does |", "|---|---|---|---|---|"]
+    for option in VIEW_OPTIONS:
+        flags = [f"`{flag} {option.metavar}`" if option.metavar else f"`{flag}`" for flag in option.flags]
+        flags += [f"`{flag}`" for flag, _, _ in option.switches]
+        help_text = option.help.replace("|", "\\|")
+        rows.append(f"| {option.name} | {', '.join(flags)} | `{option.column}` | `{option.scene_key}` | {help_text} |")
+    return "\n".join(rows) + "\n"
+
+
+if __name__ == "__main__":  # python -m wgpu_shading.scene.view_options > the table for docs/view-options.md
+    print(spellings_table(), end="")
