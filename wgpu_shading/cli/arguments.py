@@ -16,12 +16,12 @@ from .viewer_options import add_view_arguments, view_options_from_args
 __all__ = ["add_view_arguments", "load_view", "view_options_from_args"]
 
 
-def _load(args: argparse.Namespace):
+def scene_from_args(args: argparse.Namespace):
     """The scene named on the command line, with the command-line view options applied."""
     return load_view(args.input, view_options_from_args(args))
 
 
-def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
+def add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "input",
         help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB), builtin:NAME, or example:NAME (`wgpu-shading examples`)",
@@ -32,14 +32,14 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
 # --------------------------------------------------------------------------- commands
 
 
-def _default_output(args: argparse.Namespace, suffix: str) -> Path:
+def default_output(args: argparse.Namespace, suffix: str) -> Path:
     """-o, or the input's name with `suffix` in the current folder (builtin:torus → torus.png)."""
     if args.output:
         return Path(args.output)
     return Path(Path(args.input.split("?")[0].replace("builtin:", "").replace("example:", "")).stem + suffix)
 
 
-def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
+def check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
     output_path(path, allowed)
     if float_target and path.suffix.lower() != ".npy":
         raise UsageError(f"output {str(path)!r}: --float writes exact float32 values to .npy, not {path.suffix!r}")
@@ -57,7 +57,7 @@ def _number_in(text: str, convert, low: float, high: float, expected: str, out_o
     return value
 
 
-def _fraction(text: str) -> float:
+def fraction(text: str) -> float:
     """'0.001' or '0.1%'."""
     def convert(value: str) -> float:
         return float(value[:-1]) / 100.0 if value.endswith("%") else float(value)
@@ -67,12 +67,12 @@ def _fraction(text: str) -> float:
     )
 
 
-def _unit(text: str) -> int:
+def level_255(text: str) -> int:
     """An integer 0..255."""
     return _number_in(text, int, 0, 255, "an integer 0..255 (units of 1/255)")
 
 
-def _error_budget(text: str) -> float:
+def error_budget(text: str) -> float:
     """A number >= 0 in units of 1/255 ('1', '0.5', '2/255')."""
     number = text[:-4] if text.endswith("/255") else text
     try:

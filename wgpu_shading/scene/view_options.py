@@ -24,8 +24,8 @@ from pyglm import glm
 from ..errors import SceneError, UsageError
 from .camera import PROJECTIONS, Camera
 from .framing import object_depth_range
-from .lighting import viewer_lights
-from .materials import material as named_material
+from .viewer_lights import viewer_lights
+from .material_table import material as named_material
 from .objects import Scene
 from .values import FREQUENCIES, REFLECTIONS
 from .view_values import (

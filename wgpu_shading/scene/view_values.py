@@ -15,9 +15,9 @@ from typing import Any
 
 from ..errors import SceneError, UsageError
 from .framing import parse_direction
-from .lighting import headlight
+from .viewer_lights import headlight
 from .lights import LIGHT_TYPES
-from .materials import material as named_material
+from .material_table import material as named_material
 from .objects import SAMPLE_COUNTS, up_axis
 from .values import MAX_EXPONENT, image_size
 
