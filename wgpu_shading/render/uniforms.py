@@ -75,7 +75,7 @@ def _fill_light_colors(lights: np.ndarray, index: int, light: object) -> None:
 def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: glm.dmat4 | None = None) -> np.ndarray:
     """The FrameUniforms buffer contents for `scene` (pass the view matrix if you have it)."""
     data = np.zeros((), dtype)
-    view = scene.camera.view_matrix() if eye_from_world is None else glm.dmat4(eye_from_world)
+    view = glm.dmat4(scene.camera.eye_from_world() if eye_from_world is None else eye_from_world)
     rotation = glm.dmat3(view)
     width, height = scene.size
     data["clip_from_eye"] = clip_from_eye(scene.camera, width / height).T  # column-major
@@ -104,7 +104,7 @@ def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: glm.dmat4 | No
 
 def eye_from_model(scene: Scene, obj: SceneObject) -> glm.dmat4:
     """The model-view matrix in double precision (formed before any rounding to float32)."""
-    return scene.camera.view_matrix() * obj.model_matrix()
+    return glm.dmat4(scene.camera.eye_from_world()) * obj.model_matrix()
 
 
 def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtype: np.dtype) -> np.ndarray:
