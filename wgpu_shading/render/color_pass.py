@@ -75,7 +75,7 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
                 entry=entry,
                 draw_index=len(opaque) + len(blended),
                 gpu_mesh=cache.gpu_mesh(obj.mesh, entry.plan),
-                object_data=object_uniforms(model_view, material, entry.object_dtype),
+                object_data=object_uniforms(model_view, material, entry.object_dtype, scene),
                 textures=textures,
                 texture_owner=owner,
                 first_triangle=part.first,
