@@ -53,3 +53,13 @@ def test_doc_block_imports_exist(name, line, code, tmp_path):
         script.write_text(code)
         result = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=120)
         assert result.returncode == 0, f"docs/{name} line {line}:\n{result.stderr}"
+
+
+def test_help_names_no_docs_path():
+    """An installed package has no docs/ folder: --help explains instead of pointing there."""
+    from wgpu_shading.cli.main import build_parser
+
+    parser = build_parser()
+    commands = next(action for action in parser._actions if action.dest == "command")  # argparse keeps them here
+    for name, command in commands.choices.items():
+        assert "docs/" not in command.format_help(), name
