@@ -188,5 +188,6 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
         alpha_mode=alpha_mode if alpha_mode in ("opaque", "mask", "blend") else "opaque",
         alpha_cutoff=float(np.clip(material.get("alphaCutoff", 0.5), 0.0, 1.0)),
         unlit=unlit,
+        double_sided=material.get("doubleSided", False) is True,
     )
 

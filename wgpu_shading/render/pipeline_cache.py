@@ -87,8 +87,9 @@ class PipelineCache:
                 # A mirrored model-view reverses the winding on screen; flip what counts as
                 # front so `front_facing` still means "the outward side faces the viewer".
                 "front_face": wgpu.FrontFace.cw if mirrored else wgpu.FrontFace.ccw,
-                # No culling, like OpenGL's default: open meshes show their inside.
-                "cull_mode": wgpu.CullMode.none,
+                # No culling, like OpenGL's default: open meshes show their inside; a glTF
+                # material with doubleSided false culls its back faces (glTF 2.0 §3.9.6).
+                "cull_mode": wgpu.CullMode.back if features.cull_back else wgpu.CullMode.none,
             },
             depth_stencil={
                 "format": DEPTH_FORMAT,
