@@ -84,9 +84,16 @@ def parse_json(text: bytes, path: Path) -> dict:
 class GltfData:
     """A glTF document and lazy access to its buffers, accessors and images."""
 
-    def __init__(self, path: Path):
+    def __init__(self, path: Path, json_only: bool = False):
+        """json_only: read a GLB's JSON chunk alone (for its lights); buffers are then absent."""
         self.path = path
-        raw = path.read_bytes()
+        regular_file_size(path, f"mesh file {str(path)!r}")
+        with open(path, "rb") as file:
+            raw = file.read(20)
+            if json_only and raw[:4] == b"glTF" and len(raw) == 20:
+                raw += file.read(struct.unpack_from("<I", raw, 12)[0])
+            else:
+                raw += file.read()
         self.binary: bytes | None = None
         if raw[:4] == b"glTF":
             text, self.binary = split_glb(raw, path)

@@ -54,6 +54,7 @@ def scene_from_args(args: argparse.Namespace):
             args.material,
             crease_angle=DEFAULT_CREASE_ANGLE if args.crease_angle is None else args.crease_angle,
             up=args.up or "+Y",
+            file_lights=not getattr(args, "viewer_lights", False),
         )
     scene = apply_viewer_options(scene, args, bare_mesh=not source.lower().endswith(".toml"))
     shading = scene.shading
@@ -93,7 +94,10 @@ def add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
     parser.add_argument("--infinite-viewer", action="store_true", help="OpenGL's default viewer: V = (0, 0, 1)")
-    parser.add_argument("--two-sided", action="store_true", help="light back faces with the flipped normal")
+    parser.add_argument("--two-sided", action="store_true",
+                        help="draw and light back faces with the flipped normal (also glTF doubleSided: false ones)")
+    parser.add_argument("--viewer-lights", action="store_true",
+                        help="light a glTF file that has its own lights (KHR_lights_punctual) with the viewer's key light and headlight instead")
     parser.add_argument(
         "--crease-angle", type=_degrees, metavar="DEG",
         help="mesh files without normals: edges sharper than this are creases (default 60; 180 smooth, 0 flat)",

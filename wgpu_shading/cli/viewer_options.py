@@ -164,8 +164,8 @@ def apply_viewer_options(scene: Scene, args: argparse.Namespace, bare_mesh: bool
     lights = scene.lights
     if getattr(args, "light", None):
         lights = tuple(parse_light(spec, camera) for spec in args.light)
-    elif bare_mesh and camera is not scene.camera:
-        lights = viewer_lights(camera)
+    elif bare_mesh and camera is not scene.camera and scene.lights == viewer_lights(scene.camera):
+        lights = viewer_lights(camera)  # a file's own lights (glTF) stay where they are
     output: dict = {}
     if getattr(args, "samples", None) is not None:
         output["samples"] = args.samples
