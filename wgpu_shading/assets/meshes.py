@@ -1,7 +1,8 @@
 """Mesh files (OBJ/MTL, PLY, STL, OFF, glTF/GLB) into one Mesh with one part per material.
 
 OBJ is read by obj.py (trimesh's OBJ reader mis-resolves relative indices and drops
-smoothing groups); PLY, STL and OFF by trimesh; glTF by trimesh plus its JSON (gltf.py).
+smoothing groups); OFF by off.py (a token stream: trimesh wanted one face per line);
+PLY and STL by trimesh; glTF by our own accessor reader (gltf_data.py, gltf_mesh.py).
 Every format ends as "pieces" (vertex arrays with their parts), whose normals follow
 SPEC §12: the file's normals win; glTF primitives without NORMAL are flat; otherwise
 vertices are welded by position and split at the crease angle (scene/normals.py).
@@ -72,6 +73,11 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
             pieces = [_Piece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
         elif suffix in (".glb", ".gltf"):
             pieces = _gltf_pieces(path)
+        elif suffix == ".off":
+            from .off import read_off
+
+            off = read_off(path, file_size)
+            pieces = [_Piece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])]
         else:
             pieces = [_trimesh_piece(path, file_size)]
         pieces = [p for p in pieces if len(p.faces)]
