@@ -243,3 +243,19 @@ def test_extensions_we_implement_may_be_required(tmp_path):
     path.write_text(json.dumps(document))
     with pytest.raises(MeshError, match="KHR_materials_volume"):
         load_mesh(path)
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_a_fifo_named_as_a_gltf_image_is_a_warning_without_reading(tmp_path):
+    from gltf_builder import quad, write_gltf
+
+    os.mkfifo(tmp_path / "pipe.png")
+    positions, indices = quad(0, 0)
+    path = write_gltf(tmp_path / "f.gltf", [[{"positions": positions, "indices": indices, "uvs": positions[:, :2], "material": 0}]],
+                      materials=[{"name": "m", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], images=[np.zeros((1, 1, 3))])
+    document = json.loads(path.read_text())
+    document["images"] = [{"uri": "pipe.png"}]
+    path.write_text(json.dumps(document))
+    with pytest.warns(UserWarning, match="could not be read"):
+        mesh = load_mesh(path)
+    assert mesh.parts[0].material.texture is None
