@@ -259,3 +259,13 @@ def test_a_fifo_named_as_a_gltf_image_is_a_warning_without_reading(tmp_path):
     with pytest.warns(UserWarning, match="could not be read"):
         mesh = load_mesh(path)
     assert mesh.parts[0].material.texture is None
+
+
+def test_quantized_integer_positions_are_scaled_by_their_node(tmp_path):
+    # KHR_mesh_quantization: unsigned short positions, not normalized, dequantized by the node's scale.
+    doc = Doc()
+    positions = doc.accessor(np.array([[0, 0, 0, 0], [4, 0, 0, 0], [4, 4, 0, 0], [0, 4, 0, 0]], np.uint16)[:, :3], _USHORT)
+    indices = doc.accessor(np.array([0, 1, 2, 0, 2, 3]), _USHORT)
+    path = doc.write(tmp_path / "q.gltf", [[{"attributes": {"POSITION": positions}, "indices": indices}]], [{"mesh": 0, "scale": [0.25, 0.25, 0.25]}],
+                     extensionsUsed=["KHR_mesh_quantization"], extensionsRequired=["KHR_mesh_quantization"])
+    assert _same_points(load_mesh(path), SQUARE)

@@ -117,6 +117,10 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
             "JOINTS_0": _attribute(data, attributes, "JOINTS_0", where, count, (4,)),
             "WEIGHTS_0": _attribute(data, attributes, "WEIGHTS_0", where, count, (4,)),
         }
+        extra = [_attribute(data, attributes, name, where, count, (4,)) for name in ("JOINTS_1", "WEIGHTS_1")]
+        if all(a is not None for a in extra + [arrays["JOINTS_0"], arrays["WEIGHTS_0"]]):  # 8 influences
+            arrays["JOINTS_0"] = np.concatenate([arrays["JOINTS_0"], extra[0]], axis=1)
+            arrays["WEIGHTS_0"] = np.concatenate([arrays["WEIGHTS_0"], extra[1]], axis=1)
         if "indices" in primitive:
             indices = data.accessor(primitive["indices"], f"{where}.indices")
             if indices.shape[1] != 1 or indices.dtype.kind != "i":
@@ -126,7 +130,11 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
             indices = np.arange(count, dtype=np.int64)
     if len(indices) and (indices.min() < 0 or indices.max() >= len(positions)):
         raise gltf_error(data.path, f"{where}.indices", f"index {int(indices.max())} is beyond the {len(positions)} vertices")
-    arrays["POSITION"] = positions
+    # KHR_mesh_quantization allows integer positions, normals and uvs: placed as floats
+    for name in ("NORMAL", "TEXCOORD_0"):
+        if arrays[name] is not None:
+            arrays[name] = arrays[name].astype(np.float64)
+    arrays["POSITION"] = positions.astype(np.float64)
     arrays["faces"] = triangles(mode, indices)
     return arrays
 
