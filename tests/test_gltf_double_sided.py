@@ -73,3 +73,18 @@ def test_double_sided_must_be_a_bool_or_none():
     assert Material(double_sided=True).double_sided is True and Material().double_sided is None
     with pytest.raises(SceneError, match="double_sided"):
         Material(double_sided="yes")
+
+
+def test_ids_and_normals_outputs_cull_the_same_back_faces(tmp_path, renderer):
+    # The dataset's id/normal images must cover what the colour image covers.
+    from dataclasses import replace
+
+    from wgpu_shading.assets.mesh_scene import mesh_scene
+    from wgpu_shading.render.extra_outputs import ExtraOutputs
+
+    scene = mesh_scene(str(_facing_away(tmp_path, double_sided=False)), (64, 64))
+    camera = replace(scene.camera, eye=(0.0, 0.0, 6.0), target=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0))
+    frame = ExtraOutputs(renderer).render(replace(scene, camera=camera))
+    assert frame.ids[32, 16] == 1 and frame.ids[32, 48] == 0
+    forced = ExtraOutputs(renderer).render(replace(scene, camera=camera, shading=replace(scene.shading, two_sided=True)))
+    assert forced.ids[32, 48] == 2

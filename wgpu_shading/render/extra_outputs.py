@@ -26,7 +26,7 @@ from .layout import layouts_for
 from .pipeline_cache import DEPTH_FORMAT
 from .resources import padded_row_bytes, read_buffer
 from .shadergen import read_source
-from .uniforms import clip_from_eye
+from .uniforms import clip_from_eye, is_mirrored
 
 if TYPE_CHECKING:  # pragma: no cover
     from .renderer import Renderer
@@ -79,17 +79,29 @@ class ExtraOutputs:
             {"array_stride": 12, "attributes": [{"format": wgpu.VertexFormat.float32x3, "offset": 0, "shader_location": location}]}
             for location in (0, 1)
         ]
-        self._pipeline = device.create_render_pipeline(
-            label="extra outputs",
-            layout=device.create_pipeline_layout(bind_group_layouts=[self._group_layout]),
-            vertex={"module": module, "entry_point": "vs_main", "buffers": vertex_buffers},
-            primitive={"topology": wgpu.PrimitiveTopology.triangle_list, "cull_mode": wgpu.CullMode.none},
-            depth_stencil={"format": DEPTH_FORMAT, "depth_write_enabled": True, "depth_compare": wgpu.CompareFunction.greater},
-            multisample={"count": 1},
-            fragment={"module": module, "entry_point": "fs_main", "targets": [{"format": _FORMAT}]},
-        )
+        self._module, self._vertex_buffers = module, vertex_buffers
+        self._pipelines: dict[tuple[bool, bool], object] = {}
+        self._pipeline = self._pipeline_for(cull=False, mirrored=False)
         self._uniforms: dict[int, tuple[object, object]] = {}  # segment id → (buffer, bind group)
         self._free: dict[tuple[int, int], list[_Target]] = {}
+
+    def _pipeline_for(self, cull: bool, mirrored: bool):
+        """No culling (like the lit pass), or back faces culled for a glTF material with
+        doubleSided false, as the lit pass culls them (pipeline_cache.py)."""
+        key = (cull, mirrored and cull)
+        if key not in self._pipelines:
+            self._pipelines[key] = self._device.create_render_pipeline(
+                label="extra outputs",
+                layout=self._device.create_pipeline_layout(bind_group_layouts=[self._group_layout]),
+                vertex={"module": self._module, "entry_point": "vs_main", "buffers": self._vertex_buffers},
+                primitive={"topology": wgpu.PrimitiveTopology.triangle_list,
+                           "front_face": wgpu.FrontFace.cw if key[1] else wgpu.FrontFace.ccw,
+                           "cull_mode": wgpu.CullMode.back if cull else wgpu.CullMode.none},
+                depth_stencil={"format": DEPTH_FORMAT, "depth_write_enabled": True, "depth_compare": wgpu.CompareFunction.greater},
+                multisample={"count": 1},
+                fragment={"module": self._module, "entry_point": "fs_main", "targets": [{"format": _FORMAT}]},
+            )
+        return self._pipelines[key]
 
     def render(self, scene: Scene, space: str = "eye") -> ExtraFrame:
         return next(iter(self.render_many([scene], space)))
@@ -145,10 +157,12 @@ class ExtraOutputs:
                 "depth_store_op": wgpu.StoreOp.discard,
             },
         )
-        render_pass.set_pipeline(self._pipeline)
+        materials = {id(obj): dict(zip(map(id, obj.mesh.parts), obj.part_materials())) for obj in scene.objects}
         for segment, (obj, part) in enumerate(segments(scene), 1):
             model = obj.model_matrix()
             model_view = eye_from_world * model
+            cull = materials[id(obj)][id(part)].double_sided is False and not scene.shading.two_sided
+            render_pass.set_pipeline(self._pipeline_for(cull, is_mirrored(model_view)))
             normal_from_model = glm.inverseTranspose(glm.dmat3(model_view if space == "eye" else model))
             data = np.zeros((), self._dtype)
             data["clip_from_eye"] = clip
