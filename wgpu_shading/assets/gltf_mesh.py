@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import MeshError
 from ..scene.mesh import MAX_TRIANGLES, MAX_VERTICES
-from .gltf_data import GltfData, gltf_error
+from .gltf_data import MAX_GLTF_ITEMS, GltfData, gltf_error
 from .gltf_nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices
 
 _TRIANGLES, _STRIP, _FAN = 4, 5, 6
@@ -143,7 +143,7 @@ def gltf_pieces(data: GltfData) -> list[GltfPiece]:
     """Every primitive instance of the file's scene, in node order, in world space."""
     world, roots = world_matrices(data)
     nodes = data.items("nodes")
-    meshes = data.items("meshes")
+    data.items("meshes")  # checked to be a list within the limit
     cache: dict[tuple[int, int], dict | None] = {}
     pieces: list[GltfPiece] = []
     vertices = faces = 0
@@ -157,8 +157,8 @@ def gltf_pieces(data: GltfData) -> list[GltfPiece]:
         if world[node_index] is None and not skinned:
             continue  # hidden (scaled to zero)
         primitives = mesh.get("primitives", [])
-        if not isinstance(primitives, list) or len(primitives) > len(meshes) + (1 << 16):
-            raise gltf_error(data.path, f"meshes[{mesh_index}].primitives", "expected a list of primitives")
+        if not isinstance(primitives, list) or len(primitives) > MAX_GLTF_ITEMS:
+            raise gltf_error(data.path, f"meshes[{mesh_index}].primitives", f"expected a list of at most {MAX_GLTF_ITEMS} primitives")
         skin = skin_matrices(data, node["skin"], world, f"nodes[{node_index}].skin") if skinned else None
         for primitive_index, primitive in enumerate(primitives):
             where = f"meshes[{mesh_index}].primitives[{primitive_index}]"
