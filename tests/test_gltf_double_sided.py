@@ -80,11 +80,10 @@ def test_ids_and_normals_outputs_cull_the_same_back_faces(tmp_path, renderer):
     from dataclasses import replace
 
     from wgpu_shading.assets.mesh_scene import mesh_scene
-    from wgpu_shading.render.extra_outputs import ExtraOutputs
 
     scene = mesh_scene(str(_facing_away(tmp_path, double_sided=False)), (64, 64))
     camera = replace(scene.camera, eye=(0.0, 0.0, 6.0), target=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0))
-    frame = ExtraOutputs(renderer).render(replace(scene, camera=camera))
+    frame = renderer.render_frame(replace(scene, camera=camera), ids=True)
     assert frame.ids[32, 16] == 1 and frame.ids[32, 48] == 0
-    forced = ExtraOutputs(renderer).render(replace(scene, camera=camera, shading=replace(scene.shading, two_sided=True)))
+    forced = renderer.render_frame(replace(scene, camera=camera, shading=replace(scene.shading, two_sided=True)), ids=True)
     assert forced.ids[32, 48] == 2

@@ -70,7 +70,7 @@ def _file_lights(mesh_source: str, placed: SceneObject) -> tuple:
     path = Path(resolve_example(str(mesh_source)))
     if path.suffix.lower() not in (".gltf", ".glb"):
         return ()
-    model = np.array(placed.model_matrix()).T  # pyglm is column-major
+    model = placed.world_from_model()
     linear, origin = model[:3, :3], np.asarray(placed.mesh.origin)
     placed_lights = []
     for light, node in gltf_lights(path):
