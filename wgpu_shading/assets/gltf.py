@@ -68,9 +68,9 @@ def check_extensions(document: dict, path: Path) -> None:
 
 
 def transform_uvs(uvs: np.ndarray, material: dict | None) -> np.ndarray:
-    """trimesh's uvs with the base color texture's KHR_texture_transform applied (trimesh
-    ignores it: the extension's test file showed its own "not supported" tiles).
-    uv' = T · R · S · uv in glTF's uv space, whose v trimesh has flipped (v = 1 − v_glTF)."""
+    """The reader's uvs with the base color texture's KHR_texture_transform applied (the
+    extension's test file showed its own "not supported" tiles without it).
+    uv' = T · R · S · uv in glTF's uv space, whose v the reader has flipped (v = 1 − v_glTF)."""
     if not material:
         return uvs
     info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture") or {}
@@ -168,8 +168,8 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
             wrap=_wrap(document, base_texture_info),
         )
     elif base_texture_info is not None:
-        # trimesh drops an image it cannot load (missing, a folder, not an image) without a
-        # word; say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
+        # The reader gives None for an image it cannot load (missing, a folder, a FIFO, not
+        # an image); say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
         warnings.warn(
             f"{name}: material {material.get('name', '')!r}: its base colour texture could not be read; drawn untextured",
             stacklevel=2,

@@ -52,13 +52,6 @@ def _light_table(data: GltfData) -> list:
     return extension.get("lights", [])
 
 
-def has_file_lights(path: Path) -> bool:
-    """Whether a glTF file defines KHR_lights_punctual lights (reads only its JSON)."""
-    if path.suffix.lower() not in (".gltf", ".glb"):
-        return False
-    return bool(_light_table(GltfData(path, json_only=True)))
-
-
 def gltf_lights(path: Path) -> list[tuple[object, np.ndarray]]:
     """The file's lights of its scene's nodes as (classic light in the file's space, its
     node's world matrix) pairs; [] when it has none."""

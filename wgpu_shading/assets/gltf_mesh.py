@@ -225,6 +225,7 @@ def material_images(data: GltfData, material: dict, warn_name: str):
 def _image(data: GltfData, info: object):
     from PIL import Image
 
+    from ..scene.material import MAX_TEXTURE_SIDE
     from .textures import MAX_TEXTURE_FILE_BYTES
 
     if not isinstance(info, dict):
@@ -239,7 +240,9 @@ def _image(data: GltfData, info: object):
         raw = data.image_bytes(source, "texture source", MAX_TEXTURE_FILE_BYTES)
         import io
 
-        image = Image.open(io.BytesIO(raw))
+        image = Image.open(io.BytesIO(raw))  # reads the header only
+        if max(image.size) > MAX_TEXTURE_SIDE:  # checked before the pixels are decoded
+            return None
         image.load()
         return image
     except MeshError:

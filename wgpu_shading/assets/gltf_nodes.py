@@ -15,7 +15,7 @@ import numpy as np
 
 from .gltf_data import GltfData, gltf_error
 
-_SKIN_CHUNK = 1 << 20  # vertices posed at a time: bounds the (n, 4, 3, 4) temporaries
+_SKIN_CHUNK = 1 << 16  # vertices posed at a time: the (n, k, 4, 4) gathered matrices stay near 32 MB
 
 
 def _numbers(data: GltfData, value: object, size: int, field: str) -> list[float]:
