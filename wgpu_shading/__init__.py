@@ -50,6 +50,7 @@ _LAZY = {
     "Camera": "scene", "DirectionalLight": "scene", "Light": "scene", "Material": "scene",
     "PositionalLight": "scene", "Scene": "scene", "SceneObject": "scene", "Shading": "scene",
     "SpotLight": "scene", "Texture": "scene",
+    "view": "live.widget",  # a notebook widget (the [view] extra; docs/viewer.md)
 }
 
 
@@ -89,4 +90,5 @@ __all__ = [
     "load_scene",
     "material",
     "parse_scene",
+    "view",
 ]
