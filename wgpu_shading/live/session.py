@@ -74,6 +74,7 @@ class LiveView:
         self.closed = False
         self.on_quit: Callable[[], None] = lambda: None  # the window's close (canvas.attach)
         opened = self._scene_for(options)
+        self._panel = opened.size
         material = _material_name(opened)
         self.state = ViewState(
             Settings(
@@ -163,8 +164,8 @@ class LiveView:
         return Frame(color=np.ascontiguousarray(np.concatenate([f.color for f in frames], axis=1)))
 
     def size(self) -> tuple[int, int]:
-        """The whole picture's size in pixels (all panels)."""
-        width, height = self._scene_for(self.panels()[0].options).size
+        """The whole picture's size in pixels (all panels side by side). No key changes it."""
+        width, height = self._panel
         return width * len(self.panels()), height
 
     def title(self) -> str:
@@ -198,17 +199,12 @@ class LiveView:
         if kind == "pointer_move" and self._drag is not None:
             x0, y0, button = self._drag
             self._drag = (event["x"], event["y"], button)
-            panel = self._panel_size()
-            return self.state.drag(button, event["x"] - x0, event["y"] - y0, panel)
+            return self.state.drag(button, event["x"] - x0, event["y"] - y0, self._panel)
         if kind == "wheel":
             return self.state.wheel(event.get("dy", 0.0))
         if kind == "key_down":
             return self.press(event.get("key", ""))
         return False
-
-    def _panel_size(self) -> tuple[int, int]:
-        width, height = self.size()
-        return width // len(self.panels()), height
 
     def press(self, key: str) -> bool:
         """A key: settings keys change the view (True), the others act now (False)."""
