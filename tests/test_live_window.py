@@ -1,7 +1,8 @@
 """`wgpu-shading view` in a real window: a glfw window on a virtual X server (Xvfb), driven
 by xdotool as a user would (keys, a mouse drag). `S` right after opening must save the
 pixels `render` writes with the same options, and `S` after the drag the pixels of the
-command `P` printed. (`./run tests` installs Xvfb, xauth and xdotool with apt.)"""
+command `P` printed; and the window itself (captured with xwd) must show render's pixels.
+(`./run tests` installs Xvfb, xauth, xdotool and x11-apps with apt.)"""
 
 from __future__ import annotations
 
@@ -36,6 +37,8 @@ wait_for() { for _ in $(seq 300); do [ -e "$1" ] && return 0; sleep 0.1; done; e
 xdotool mousemove --window "$window" 80 60
 xdotool key s
 wait_for torus-001.png
+# What the window shows (the frame was presented before S was handled): xwd, when there.
+if command -v xwd >/dev/null; then xwd -id "$window" -silent > shown.xwd; fi
 xdotool mousemove --window "$window" 40 60 mousedown 1 mousemove --window "$window" 70 70 \
     mousemove --window "$window" 100 80 mouseup 1
 xdotool key p s
@@ -71,6 +74,9 @@ def test_window_saves_renders_pixels_then_the_printed_commands(tmp_path):
     render = tmp_path / "render.png"
     assert main(["render", "builtin:torus", "--size", "160x120", "-o", str(render), "-q"]) == 0
     assert np.array_equal(_png(tmp_path / "torus-001.png"), _png(render)), "S right after opening differs from render"
+    if shutil.which("xwd"):  # the window's own pixels (x11-apps' xwd)
+        shown = read_xwd((tmp_path / "shown.xwd").read_bytes())
+        assert np.array_equal(shown, _png(render)[:, :, :3]), "the window shows other pixels than render writes"
 
     lines = (tmp_path / "viewer.out").read_text().splitlines()
     assert "wrote torus-001.png" in lines and "wrote torus-002.png" in lines, log
@@ -81,6 +87,21 @@ def test_window_saves_renders_pixels_then_the_printed_commands(tmp_path):
     assert main([*argv[1:], "-o", str(printed), "-q"]) == 0
     assert np.array_equal(_png(tmp_path / "torus-002.png"), _png(printed)), "S after the drag differs from P's command"
     assert not np.array_equal(_png(printed), _png(render))
+
+
+def read_xwd(data: bytes) -> np.ndarray:
+    """The RGB pixels of an X window dump (xwd's format: a header of 25 big-endian 32-bit
+    fields, the window name, a colour map, then the rows; X11/XWDFile.h). Only the layout a
+    24-bit TrueColor Xvfb screen writes: 32 bits a pixel, least significant byte first."""
+    import struct
+
+    fields = struct.unpack(">25I", data[:100])
+    header_size, width, height, byte_order, bits_per_pixel, bytes_per_line = (
+        fields[0], fields[4], fields[5], fields[7], fields[11], fields[12])
+    assert bits_per_pixel == 32 and byte_order == 0, f"unexpected xwd layout: {bits_per_pixel} bpp, byte order {byte_order}"
+    start = header_size + 12 * fields[19]  # the colour map: ncolors entries of 12 bytes
+    rows = np.frombuffer(data[start:start + bytes_per_line * height], np.uint8).reshape(height, bytes_per_line)
+    return rows[:, : width * 4].reshape(height, width, 4)[:, :, [2, 1, 0]]  # B, G, R, pad → R, G, B
 
 
 def _environment() -> dict:
