@@ -96,6 +96,17 @@ def test_right_drag_and_wheel_zoom_by_vtks_dolly_factors(live):
     assert math.isclose(distance(live.state.camera), start / 1.1**5 / 1.1**2, rel_tol=1e-12)
 
 
+def test_a_zoom_the_camera_refuses_is_said_and_undone(live):
+    printed = []
+    live.out = printed.append
+    for _ in range(12):  # each event at most 1.1^100 farther: soon past float32's range
+        live.handle_event({"event_type": "wheel", "dx": 0.0, "dy": 1e9, "x": 80, "y": 60})
+    assert printed and "the view stays as it was" in printed[-1]
+    distance = np.linalg.norm(np.subtract(live.state.camera.eye, live.state.camera.target))
+    assert math.isfinite(distance) and distance < 1e30
+    assert np.asarray(live.canvas.draw()).shape == (120, 160, 4)  # and it still draws
+
+
 def test_middle_drag_pans_the_target_with_the_pointer(live):
     before = live.state.camera
     drag(live, 3, (80, 60), (100, 60))  # 20 px right: the scene follows, the camera moves left

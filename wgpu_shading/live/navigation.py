@@ -30,6 +30,7 @@ DOLLY_MOTION_FACTOR = 10.0
 WHEEL_NOTCH = 100.0  # rendercanvas (and the browser) report one wheel notch as dy = ±100
 WHEEL_FACTOR = 0.2  # VTK's MouseWheelMotionFactor... × MotionFactor = 2 per notch
 MIN_DISTANCE_FRACTION = 1e-6  # dolly never puts the eye on the target (a degenerate camera)
+MAX_DOLLY_EXPONENT = 100.0  # one event zooms at most 1.1^100 ≈ 1.4e4 times (no 0 or inf factor)
 
 
 def orbit(camera: Camera, dx: float, dy: float, size: tuple[int, int]) -> Camera:
@@ -42,13 +43,17 @@ def orbit(camera: Camera, dx: float, dy: float, size: tuple[int, int]) -> Camera
 
 def drag_zoom_factor(dy: float, size: tuple[int, int]) -> float:
     """The Dolly factor of a right drag of dy pixels (y down): dragging up zooms in."""
-    return DOLLY_BASE ** (DOLLY_MOTION_FACTOR * -dy / (size[1] / 2.0))
+    return _factor(DOLLY_MOTION_FACTOR * -dy / (size[1] / 2.0))
 
 
 def wheel_zoom_factor(dy: float) -> float:
     """The Dolly factor of a wheel event (rendercanvas: dy < 0 when the wheel turns forward,
     which zooms in, as in f3d)."""
-    return DOLLY_BASE ** (DOLLY_MOTION_FACTOR * WHEEL_FACTOR * -dy / WHEEL_NOTCH)
+    return _factor(DOLLY_MOTION_FACTOR * WHEEL_FACTOR * -dy / WHEEL_NOTCH)
+
+
+def _factor(exponent: float) -> float:
+    return DOLLY_BASE ** min(max(exponent, -MAX_DOLLY_EXPONENT), MAX_DOLLY_EXPONENT)
 
 
 def dolly(camera: Camera, factor: float) -> Camera:

@@ -27,7 +27,7 @@ from typing import Callable
 import numpy as np
 
 from ..assets.views import is_scene_file, load_source
-from ..errors import SceneError
+from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
 from ..scene.view_options import ViewOptions, apply_view_options, render_command
@@ -88,6 +88,7 @@ class LiveView:
             shininess=_shininess(opened),
             material=material,
         )
+        self._drawn = self.state.settings  # the last settings a frame was drawn with
 
     # ------------------------------------------------------------------ scenes
 
@@ -157,7 +158,16 @@ class LiveView:
     def frame(self) -> Frame:
         """The picture shown now (panels side by side with --compare), timed for the title."""
         start = time.perf_counter()
-        frames = [self.renderer.render_frame(scene) for scene in self.scenes()]
+        try:
+            scenes = self.scenes()
+        except WgpuShadingError as error:
+            # A setting the scene refuses (a camera the mouse pushed out of float32's range,
+            # a file that no longer reads): say so and go back to the last view that drew.
+            self.out(f"wgpu-shading: {error}; back to the last view")
+            self.state.settings = self._drawn
+            scenes = self.scenes()
+        frames = [self.renderer.render_frame(scene) for scene in scenes]
+        self._drawn = self.state.settings
         self.frame_ms = (time.perf_counter() - start) * 1000.0
         if len(frames) == 1:
             return frames[0]
@@ -188,7 +198,17 @@ class LiveView:
 
     def handle_event(self, event: dict) -> bool:
         """One rendercanvas event (pointer_down/move/up, wheel, key_down). Returns whether the
-        picture changed (the caller asks for a redraw)."""
+        picture changed (the caller asks for a redraw). A move the camera refuses (pushed out
+        of float32's range by the wheel, say) is said and left undone."""
+        before = self.state.settings
+        try:
+            return self._handle(event)
+        except WgpuShadingError as error:
+            self.state.settings = before
+            self.out(f"wgpu-shading: {error}; the view stays as it was")
+            return False
+
+    def _handle(self, event: dict) -> bool:
         kind = event.get("event_type")
         if kind == "pointer_down":
             self._drag = (event["x"], event["y"], event.get("button", 0))
