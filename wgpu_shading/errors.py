@@ -48,8 +48,18 @@ class MeshError(WgpuShadingError, ValueError):
     """A mesh cannot be loaded or holds invalid data (NaN vertices, bad indices, ...)."""
 
 
+class UsageError(WgpuShadingError, ValueError):
+    """A command-line flag, a manifest, an output path or a worker count is invalid: how the
+    package was asked to work, not what it was asked to draw (SceneError, MeshError)."""
+
+
 class DeviceError(WgpuShadingError, RuntimeError):
     """No usable wgpu adapter or device."""
+
+
+class AccuracyError(WgpuShadingError):
+    """An accuracy study or an automatic shading choice cannot be made as asked (bad option,
+    missing plot library)."""
 
 
 def install_hint(extra: str) -> str:

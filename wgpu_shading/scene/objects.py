@@ -24,7 +24,7 @@ from .values import (
     Frequency,
     Reflection,
     Vec3,
-    _set,
+    set_fields,
     choice,
     color,
     image_size,
@@ -85,7 +85,7 @@ class SceneObject:
             raise SceneError(f"object.mesh: expected a Mesh, got {type(self.mesh).__name__}: {shown(self.mesh)}")
         if self.material is not None and not isinstance(self.material, Material):
             raise SceneError(f"object.material: expected a Material, got {type(self.material).__name__}")
-        _set(self, up=up_axis(self.up, "object.up"))
+        set_fields(self, up=up_axis(self.up, "object.up"))
         scale = vec3(self.scale, "object.scale")
         if min(abs(s) for s in scale) == 0.0:
             raise SceneError(f"object.scale: components must be non-zero (the object would be flat), got {list(scale)}")
@@ -94,20 +94,21 @@ class SceneObject:
                 f"object.scale: components must be between {MIN_SCALE:g} and {MAX_SCALE:g} in size "
                 f"(float32 model and normal matrices), got {list(scale)}"
             )
-        _set(
+        set_fields(
             self,
             translate=vec3(self.translate, "object.translate"),
             rotate=vec3(self.rotate, "object.rotate"),
             scale=scale,
         )
 
-    def model_matrix(self) -> glm.dmat4:
-        # (pyglm converts a *tuple* through float32: glm.dvec3(t) loses digits, glm.dvec3(*t) does not.)
-        """translate · Rz · Ry · Rx · scale · translate(mesh.origin), in double precision.
+    def world_from_model(self) -> np.ndarray:
+        """The model matrix as a float64 4x4 numpy array (column vectors: p_world = M @
+        p_model): translate · Rz · Ry · Rx · scale · translate(mesh.origin), in double precision.
 
         Rotations are about fixed axes, X first. Mesh positions are stored relative to
         mesh.origin (float32 keeps their precision that way); the last factor puts the
         origin back, in float64."""
+        # (pyglm converts a *tuple* through float32: glm.dvec3(t) loses digits, glm.dvec3(*t) does not.)
         model = glm.translate(glm.dmat4(1.0), glm.dvec3(*self.translate))
         for degrees, axis in zip(reversed(self.rotate), _AXES_ZYX):
             if degrees:  # skip exact zeros so unrotated objects stay bit-exact
@@ -116,7 +117,14 @@ class SceneObject:
         up_rotation = _UP_ROTATIONS[self.up]
         if up_rotation is not None:
             model = glm.rotate(model, math.radians(up_rotation[0]), glm.dvec3(*up_rotation[1]))
-        return glm.translate(model, glm.dvec3(*self.mesh.origin))
+        return np.array(glm.translate(model, glm.dvec3(*self.mesh.origin)))
+
+    def model_matrix(self) -> glm.dmat4:
+        """Deprecated: `glm.dmat4(obj.world_from_model())` (one name per matrix)."""
+        import warnings
+
+        warnings.warn("SceneObject.model_matrix() is deprecated; use world_from_model()", DeprecationWarning, stacklevel=2)
+        return glm.dmat4(self.world_from_model())
 
     def part_materials(self) -> tuple[Material, ...]:
         """The material each part of the mesh is drawn with (see `material`)."""
@@ -129,9 +137,6 @@ class SceneObject:
         """The material of the first part: the one material of a single-material object."""
         return self.part_materials()[0]
 
-    def world_from_model(self) -> np.ndarray:
-        """The model matrix as a float64 4x4 numpy array (column vectors)."""
-        return np.array(self.model_matrix())
 
 
 _DEFAULT_MATERIAL = Material()
@@ -157,7 +162,7 @@ class Shading:
         for key in ("local_viewer", "two_sided", "clamp_vertex_colors"):
             if not isinstance(getattr(self, key), bool):
                 raise SceneError(f"shading.{key}: expected true or false, got {getattr(self, key)!r}")
-        _set(
+        set_fields(
             self,
             frequency=choice(self.frequency, "shading.frequency", FREQUENCIES),
             reflection=choice(self.reflection, "shading.reflection", REFLECTIONS),
@@ -184,7 +189,7 @@ class Scene:
         if self.samples not in SAMPLE_COUNTS or isinstance(self.samples, bool):
             raise SceneError(f"output.samples: expected 1 (no antialiasing) or 4 (MSAA), got {shown(self.samples)}")
         # 4.0 and numpy integers compare equal to 4 but wgpu needs a Python int.
-        _set(self, samples=int(self.samples))
+        set_fields(self, samples=int(self.samples))
         for key in ("objects", "lights"):
             value = getattr(self, key)
             if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
@@ -209,7 +214,7 @@ class Scene:
         background = color(self.background, "output.background")
         if max(background) > 1.0:
             raise SceneError(f"output.background: components must be between 0 and 1, got {list(background)}")
-        _set(
+        set_fields(
             self,
             objects=objects,
             lights=lights,
@@ -222,14 +227,14 @@ class Scene:
     def _check_eye_space(self) -> None:
         """Every object's bounding box, seen from the camera, within ±MAX_EYE_COORDINATE:
         the GPU works in float32 eye space, where farther coordinates overflow."""
-        view = np.array(self.camera.view_matrix())
+        view = self.camera.eye_from_world()
         for index, obj in enumerate(self.objects):
             lower, upper = obj.mesh.relative_bounds
             corners = np.array(
                 [[x, y, z, 1.0] for x in (lower[0], upper[0]) for y in (lower[1], upper[1]) for z in (lower[2], upper[2])]
             ).T
             with np.errstate(all="ignore"):  # an overflow is caught just below, underflow is harmless
-                eye = (view @ np.array(obj.model_matrix())) @ corners
+                eye = (view @ obj.world_from_model()) @ corners
                 reach = float(np.abs(eye[:3]).max())
             if not reach <= MAX_EYE_COORDINATE:
                 raise SceneError(
