@@ -220,3 +220,34 @@ def test_compare_shows_each_frequency_side_by_side_with_one_camera(renderer, tmp
         panel = shown[:, index * 160:(index + 1) * 160]
         assert np.array_equal(panel, rendered(tmp_path, argv[1:], f"panel{index}.png"))
     assert "flat | gouraud | phong" in view.title()
+
+
+def test_a_scene_file_and_a_reread_mesh_reproduce_too(renderer, tmp_path):
+    """A scene file (its own camera and lights: nothing follows the camera) and a key that
+    re-reads the file (C, the crease angle) still print a command that draws what is shown."""
+    for source, keys in (("example:gold_torus_phong.toml", ("b", "]")), ("example:knot.obj", ("c", "c", "f", "f"))):
+        view = LiveView(source, ViewOptions(size=SIZE), renderer=renderer, out=lambda text: None)
+        canvas = offscreen.RenderCanvas(size=view.size())
+        attach(view, canvas)
+        drag(view, 1, (30, 40), (70, 55))
+        drag(view, 2, (80, 60), (80, 50))
+        for name in keys:
+            key(view, name)
+        (argv,) = view.commands()
+        assert np.array_equal(np.asarray(canvas.draw()), rendered(tmp_path, argv[1:])), (source, argv)
+
+
+def test_view_command_says_what_is_missing(monkeypatch, capsys):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "rendercanvas.glfw", None)  # the [view] extra is not installed
+    assert main(["view", "builtin:torus"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("wgpu-shading: error: the view window needs rendercanvas and glfw") and "[view]" in err
+    assert "-m pip install" in err and len(err.splitlines()) == 1
+    monkeypatch.delitem(sys.modules, "rendercanvas.glfw")
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    assert main(["view", "builtin:torus"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "no display" in err and "xvfb-run -a" in err and len(err.splitlines()) == 1
