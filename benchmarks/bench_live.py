@@ -80,6 +80,15 @@ def main() -> int:
     rows = []
     times = drag_frames(view, canvas, args.frames, canvas.draw)
     rows.append(("orbit drag, offscreen canvas", times))
+    # The floor: the same scene rendered and read back with nothing around it, interleaved
+    # with nothing (the machine's load hits both runs alike only roughly: compare medians).
+    scene = view.scenes()[0]
+    floor = []
+    for _ in range(args.frames):
+        start = time.perf_counter()
+        renderer.render_frame(scene)
+        floor.append(time.perf_counter() - start)
+    rows.append(("Renderer.render_frame alone (the floor)", floor))
     start = time.perf_counter()
     view.press("f")  # flat: a pipeline not compiled yet
     canvas.draw()
