@@ -77,6 +77,17 @@ def test_left_drag_orbits_about_the_up_vector_as_f3d(live):
     assert after.eye[0] < before.eye[0] - 0.5
 
 
+def test_a_stretched_window_turns_by_the_same_fraction_of_its_width(live):
+    before = live.state.camera
+    live.handle_event({"event_type": "resize", "width": 320.0, "height": 240.0, "pixel_ratio": 1.0})
+    drag(live, 1, (100, 120), (180, 120), steps=1)  # a quarter of the 320-wide window
+    turned = np.subtract(live.state.camera.eye, live.state.camera.target)
+    start = np.subtract(before.eye, before.target)
+    horizontal = lambda v: np.array([v[0], v[2]])  # noqa: E731  (the turn is about +Y here)
+    cosine = horizontal(turned) @ horizontal(start) / np.linalg.norm(horizontal(turned)) / np.linalg.norm(horizontal(start))
+    assert math.isclose(math.degrees(math.acos(cosine)), 50.0, abs_tol=1e-6)  # as 40 px of the 160-wide picture
+
+
 def test_vertical_drag_raises_the_camera_and_keeps_up_orthogonal(live):
     before = live.state.camera
     drag(live, 1, (80, 40), (80, 70), steps=1)  # 30 px down: Elevation(+50 degrees): seen from higher

@@ -70,6 +70,7 @@ class LiveView:
         self.out = out or (lambda text: print(text, flush=True))
         self._loaded: dict[tuple, Scene] = {}
         self._drag: tuple[float, float, int] | None = None  # pointer position and button
+        self.shown_size: tuple[float, float] | None = None  # the canvas's, when it differs
         self.frame_ms: float | None = None
         self.closed = False
         self.on_quit: Callable[[], None] = lambda: None  # the window's close (canvas.attach)
@@ -166,7 +167,10 @@ class LiveView:
             self.out(f"wgpu-shading: {error}; back to the last view")
             self.state.settings = self._drawn
             scenes = self.scenes()
-        frames = [self.renderer.render_frame(scene) for scene in scenes]
+        # All panels submitted before the first is read: lavapipe draws one while the next is
+        # encoded (each pending frame holds its own target until it is read).
+        pending = [self.renderer.submit(scene) for scene in scenes]
+        frames = [self.renderer.read(frame) for frame in pending]
         self._drawn = self.state.settings
         self.frame_ms = (time.perf_counter() - start) * 1000.0
         if len(frames) == 1:
@@ -216,10 +220,19 @@ class LiveView:
         if kind == "pointer_up":
             self._drag = None
             return False
+        if kind == "resize":  # the window's size in logical pixels (rendercanvas scales the picture)
+            self.shown_size = (float(event["width"]), float(event["height"]))
+            return False
         if kind == "pointer_move" and self._drag is not None:
             x0, y0, button = self._drag
             self._drag = (event["x"], event["y"], button)
-            return self.state.drag(button, event["x"] - x0, event["y"] - y0, self._panel)
+            # Pointer motion in picture pixels: a window stretched to twice the picture's size
+            # turns the view by the same angle for the same fraction of its width.
+            width, height = self.size()
+            shown_width, shown_height = self.shown_size or (width, height)
+            dx = (event["x"] - x0) * width / max(shown_width, 1.0)
+            dy = (event["y"] - y0) * height / max(shown_height, 1.0)
+            return self.state.drag(button, dx, dy, self._panel)
         if kind == "wheel":
             return self.state.wheel(event.get("dy", 0.0))
         if kind == "key_down":
