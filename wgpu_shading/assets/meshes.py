@@ -22,6 +22,7 @@ from ..scene.material import Material
 from ..scene.mesh import Mesh, MeshPart, face_normals
 from ..scene.normals import crease_normals
 from .examples import resolve_example
+from .files import check_regular_file
 from .mesh_checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
@@ -58,8 +59,7 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     path = Path(text)
     if not path.exists():
         raise MeshError(f"mesh file {text!r} not found")
-    if path.is_dir():
-        raise MeshError(f"mesh file {text!r} is a directory")
+    check_regular_file(path, f"mesh file {text!r}", MeshError)  # a folder, FIFO or device: refused unread
     suffix = path.suffix.lower()
     if suffix not in MESH_SUFFIXES:
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")

@@ -27,6 +27,7 @@ from ..scene import BUILTIN_PREFIX
 from ..scene.materials import material as named_material
 from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
+from .files import check_regular_file
 from .textures import load_texture
 from ..scene import (
     LIGHT_TYPES,
@@ -225,6 +226,7 @@ def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = Non
     if not isinstance(path, (str, os.PathLike)):
         raise SceneError(f"load_scene: expected a path to a scene file, got {type(path).__name__}")
     path = Path(resolve_example(str(path)))
+    check_regular_file(path, f"scene file {str(path)!r}", SceneError)  # a FIFO would block open()
     try:
         with open(path, "rb") as file:
             data = file.read(MAX_SCENE_FILE_BYTES + 1)
