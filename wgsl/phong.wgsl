@@ -7,7 +7,6 @@
 #include "bindings.wgsl"
 #include "lighting.wgsl"
 #include "surface.wgsl"
-#include "vertex_input.wgsl"
 
 
 struct Varyings {

@@ -33,7 +33,7 @@ fn total_light(lit: LitColor) -> vec3<f32> {
 
 #if TEXTURE
 fn final_color(lit: LitColor, uv: vec2<f32>) -> vec4<f32> {
-    let texel = textureSample(surface_texture, surface_sampler, uv);
+    let texel = textureSample(base_color_texture, base_color_sampler, uv);
 #if TEXTURE_MODULATE
     // A texture showing the real surface: it replaces the surface color under ambient and
     // diffuse light; the highlight stays the light's color. Without a material this is the
