@@ -56,3 +56,22 @@ def is_readable_regular_file(path: str | os.PathLike[str]) -> bool:
         return stat.S_ISREG(os.stat(path).st_mode)
     except (OSError, ValueError):
         return False
+
+
+TEXT_CHUNK = 16 << 20
+
+
+def read_text_bytes(path: str | os.PathLike[str], where: str, error: type[WgpuShadingError]) -> bytes:
+    """A text file's bytes, read in 16 MiB chunks and refused at the first NUL byte: text
+    formats (OBJ, OFF, MTL) never hold one, and a file of zeros (a damaged copy, a disk
+    image) was read whole and then exhausted memory while being split into lines."""
+    chunks = []
+    offset = 0
+    with open(path, "rb") as file:
+        while chunk := file.read(TEXT_CHUNK):
+            nul = chunk.find(b"\x00")
+            if nul >= 0:
+                raise error(f"{where}: not a text file (a NUL byte at offset {offset + nul}); is it binary or damaged?")
+            chunks.append(chunk)
+            offset += len(chunk)
+    return b"".join(chunks)
