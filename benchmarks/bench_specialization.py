@@ -4,7 +4,7 @@
 
 For each scene, both variants run through the same harness (same meshes, targets, render
 pass, copy and readback); only the pipeline and its uniform data differ:
-  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.pipelines)
+  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.pipeline_cache)
   uber         benchmarks/uber.wgsl: every feature compiled in, switched by uniforms
 Reported: median warm frame time (render + readback) with frames of the two variants
 interleaved (the machine is shared and noisy, so only side-by-side ratios mean anything),
@@ -44,7 +44,7 @@ from wgpu_shading.render.device import default_device, describe_device  # noqa: 
 from wgpu_shading.render.features import FeatureSet, object_features  # noqa: E402
 from wgpu_shading.render.layout import Layouts  # noqa: E402
 from wgpu_shading.render.bindings import binding_plan  # noqa: E402
-from wgpu_shading.render.pipelines import DEPTH_FORMAT, PipelineCache  # noqa: E402
+from wgpu_shading.render.pipeline_cache import DEPTH_FORMAT, PipelineCache  # noqa: E402
 from wgpu_shading.render.uniforms import clip_from_eye, eye_from_model, frame_uniforms, object_uniforms  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -13,7 +13,7 @@ import pytest
 from wgpu_shading.render import bindings
 from wgpu_shading.render.bindings import SampledTexture, binding_plan
 from wgpu_shading.render.features import FeatureSet
-from wgpu_shading.render.pipelines import PipelineCache
+from wgpu_shading.render.pipeline_cache import PipelineCache
 from wgpu_shading.render.shadergen import generate_wgsl
 
 DECLARATION = re.compile(r"@group\((\d+)\) @binding\((\d+)\) var(?:<[^>]*>)? (\w+)")

@@ -41,8 +41,8 @@ from .caches import (
 from .device import default_device, lost_device_errors, uses_direct_upload
 from .bindings import Binding, BindingPlan
 from .features import FeatureSet, object_features
-from .pipelines import PipelineCache, PipelineEntry
-from .pipelining import render_many
+from .pipeline_cache import PipelineCache, PipelineEntry
+from .frames_in_flight import render_many
 from .resources import (
     GpuMesh,
     GpuTexture,
@@ -120,7 +120,7 @@ class Renderer:
         self._targets: LruCache[Target] = LruCache(TARGET_CACHE_ENTRIES)
         self._uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self._bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
-        self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
+        self._batch_helpers: list[Renderer] = []  # extra devices for render_many (frames_in_flight.py)
         self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
 
     def _sampler(self, texture: Texture) -> object:
@@ -171,7 +171,7 @@ class Renderer:
         parallel: int | None = None,
     ) -> Iterator[Frame]:
         """Frames of many scenes, in order, each equal to render_frame(scene): faster than a
-        loop over render_frame (pipelined; on lavapipe spread over two devices). See pipelining.py."""
+        loop over render_frame (pipelined; on lavapipe spread over two devices). See frames_in_flight.py."""
         return render_many(self, scenes, float32=float32, depth=depth, in_flight=in_flight, parallel=parallel)
 
     def _helper_renderers(self, count: int) -> list["Renderer"]:

@@ -12,7 +12,7 @@ import wgpu
 from ..errors import SceneError
 from ..scene import Mesh, Texture
 from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
-from .pipelines import COLOR_FORMATS, DEPTH_FORMAT
+from .pipeline_cache import COLOR_FORMATS, DEPTH_FORMAT
 
 BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
 _ROW_ALIGNMENT = 256  # WebGPU's required bytes_per_row multiple for texture copies
