@@ -210,3 +210,16 @@ def test_a_16_bit_rgb_reference_is_refused(tmp_path):
         png.Writer(4, 4, greyscale=False, bitdepth=16).write(file, pixels)
     with pytest.raises(GoldenError, match="references are 8-bit PNGs; this one has uint16 pixels"):
         check_image(np.zeros((4, 4, 4), np.uint8), path)
+
+
+# --------------------------------------------------------------------------- messages
+
+
+def test_trimesh_internals_are_not_leaked_into_messages():
+    from wgpu_shading.assets.mesh_checks import describe_load_error
+
+    escape = ValueError("'../secret.bin' escapes resolver root '/data/m' — pass `FilePathResolver(path, allow_anywhere=True)` to allow it")
+    text = describe_load_error(escape, Path("m.gltf"))
+    assert "FilePathResolver" not in text and "'../secret.bin'" in text and "outside its folder" in text
+    text = describe_load_error(AssertionError(), Path("m.ply"))
+    assert "AssertionError" not in text and "not a valid PLY file" in text

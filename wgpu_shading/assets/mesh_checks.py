@@ -134,6 +134,12 @@ def describe_load_error(error: BaseException, path: Path) -> str:
         return f"not a valid {path.suffix.lstrip('.').upper()} file (neither its binary form nor UTF-8 text)"
     if isinstance(error, MemoryError):
         return "not enough memory to read it"
+    text = str(error).strip()
+    escape = re.match(r"'(.*)' escapes resolver root '(.*)'", text)
+    if escape:  # trimesh's advice names its own API (FilePathResolver(path, allow_anywhere=True))
+        return f"it refers to {escape.group(1)!r}, outside its folder {escape.group(2)!r}; only files beside it or below are read"
+    if isinstance(error, AssertionError) or not text:  # a parser's internal check: "AssertionError: " says nothing
+        return f"not a valid {path.suffix.lstrip('.').upper()} file (its reader found an inconsistency it could not describe)"
     return f"cannot be read ({type(error).__name__}: {error})"
 
 

@@ -61,12 +61,30 @@ def read_binary_stl(path: Path, count: int) -> tuple[np.ndarray, np.ndarray]:
         for start in range(0, count, BLOCK):
             records = np.fromfile(file, dtype=RECORD, count=min(BLOCK, count - start))
             corners[start * 3 : start * 3 + len(records) * 3] = records["corners"].reshape(-1, 3)
-    corners += np.float32(0.0)  # -0.0 becomes 0.0: equal coordinates, equal bytes
-    rows = corners.view(np.dtype((np.void, 12))).reshape(-1)
-    unique, inverse = np.unique(rows, return_inverse=True)
-    del rows
-    positions = unique.view(np.float32).reshape(-1, 3)
-    return positions, inverse.reshape(-1, 3).astype(np.int64, copy=False)
+    corners += np.float32(0.0)  # -0.0 becomes 0.0: equal coordinates, equal bits
+    return _join_equal(corners)
+
+
+def _join_equal(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Equal rows of `corners` as one vertex: (positions, faces), sorted by their bits.
+    np.unique(return_inverse=True) on 12-byte rows held five arrays of the corners' size at
+    once; this holds the corners, one sort order and one sorted copy."""
+    bits = corners.view(np.uint32)
+    high = (bits[:, 0].astype(np.uint64) << np.uint64(32)) | bits[:, 1]
+    order = np.lexsort((bits[:, 2], high))
+    del high
+    ordered = corners[order]
+    new = np.empty(len(ordered), bool)
+    new[:1] = True
+    np.any(ordered[1:] != ordered[:-1], axis=1, out=new[1:])
+    positions = ordered[new]
+    del ordered
+    vertex = np.cumsum(new, dtype=np.int64)
+    vertex -= 1
+    del new
+    inverse = np.empty(len(order), np.int64)
+    inverse[order] = vertex
+    return positions, inverse.reshape(-1, 3)
 
 
 def _mostly_text(head: bytes) -> bool:
