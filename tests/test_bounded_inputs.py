@@ -106,14 +106,14 @@ def test_an_obj_with_more_vertices_than_supported_is_refused_before_parsing(tmp_
 def test_a_scene_file_with_too_many_objects_is_refused_before_loading(tmp_path, capsys):
     path = tmp_path / "crowd.toml"
     path.write_text('[[objects]]\nmesh = "no-such-file.obj"\n' * (MAX_OBJECTS + 1))  # none is loaded
-    with pytest.raises(SceneError, match=rf"\[\[objects\]\]: {MAX_OBJECTS + 1} entries; at most {MAX_OBJECTS} are supported"):
+    with pytest.raises(SceneError, match=rf"\[\[objects\]\]: {MAX_OBJECTS + 1} objects; at most {MAX_OBJECTS} are supported"):
         load_scene(path)
 
 
 def test_a_scene_file_with_too_many_lights_is_refused(tmp_path):
     path = tmp_path / "lights.toml"
     path.write_text('[[objects]]\nmesh = "builtin:cube"\n' + '[[lights]]\ntype = "directional"\n' * 257)
-    with pytest.raises(SceneError, match=r"\[\[lights\]\]: 257 entries; at most 256"):
+    with pytest.raises(SceneError, match=r"\[\[lights\]\]: 257 lights; at most 256"):
         load_scene(path)
 
 

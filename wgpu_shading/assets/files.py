@@ -64,12 +64,16 @@ TEXT_CHUNK = 16 << 20
 def read_text_bytes(path: str | os.PathLike[str], where: str, error: type[WgpuShadingError]) -> bytes:
     """A text file's bytes, read in 16 MiB chunks and refused at the first NUL byte: text
     formats (OBJ, OFF, MTL) never hold one, and a file of zeros (a damaged copy, a disk
-    image) was read whole and then exhausted memory while being split into lines."""
-    chunks = []
+    image) was read whole and then exhausted memory while being split into lines. UTF-16
+    text (it starts with a byte-order mark) is half NULs and is read whole, as before."""
+    chunks: list[bytes] = []
     offset = 0
+    utf16 = False
     with open(path, "rb") as file:
         while chunk := file.read(TEXT_CHUNK):
-            nul = chunk.find(b"\x00")
+            if offset == 0:
+                utf16 = chunk[:2] in (b"\xff\xfe", b"\xfe\xff")
+            nul = -1 if utf16 else chunk.find(b"\x00")
             if nul >= 0:
                 raise error(f"{where}: not a text file (a NUL byte at offset {offset + nul}); is it binary or damaged?")
             chunks.append(chunk)

@@ -210,7 +210,7 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".",
     for key, limit in (("lights", MAX_LIGHTS), ("objects", MAX_OBJECTS)):  # counted before any is built or loaded
         count = len(document.get(key) or ()) if isinstance(document.get(key), list) else 0
         if count > limit:
-            raise SceneError(f"[[{key}]]: {count} entries; at most {limit} are supported")
+            raise SceneError(f"[[{key}]]: {count} {key}; at most {limit} are supported")
     lights = [_light(table, i) for i, table in enumerate(_array_of_tables(document, "lights"))]
     objects = [_object(table, i, base_path, crease_angle) for i, table in enumerate(_array_of_tables(document, "objects"))]
     defaults = Scene()
