@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SceneError
-from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureMode, _set, choice, color, number
+from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureMode, set_fields, choice, color, number
 
 
 # Texture side limit: WebGPU's default max-texture-dimension-2d; the renderer also checks
@@ -31,7 +31,7 @@ class Texture:
             raise SceneError(f"texture {self.name!r}.nearest: expected true or false, got {self.nearest!r}")
         if isinstance(self.wrap, str) or len(tuple(self.wrap)) != 2:
             raise SceneError(f"texture {self.name!r}.wrap: expected two of {', '.join(WRAP_MODES)} (u, v), got {self.wrap!r}")
-        _set(self, wrap=tuple(choice(mode, f"texture {self.name!r}.wrap", WRAP_MODES) for mode in self.wrap))
+        set_fields(self, wrap=tuple(choice(mode, f"texture {self.name!r}.wrap", WRAP_MODES) for mode in self.wrap))
         given = self.pixels
         pixels = np.asarray(self.pixels)
         if pixels.ndim == 2:
@@ -71,7 +71,7 @@ class Texture:
         if not pixels.flags.c_contiguous or not (private or (pixels.flags.owndata and not pixels.flags.writeable)):
             pixels = np.array(pixels, order="C", copy=True)
         pixels.setflags(write=False)
-        _set(self, pixels=pixels)
+        set_fields(self, pixels=pixels)
 
 
 ALPHA_MODES = ("opaque", "mask", "blend")
@@ -102,7 +102,7 @@ class Material:
 
     def __post_init__(self) -> None:
         prefix = f"material {self.name!r}" if self.name else "material"
-        _set(
+        set_fields(
             self,
             ambient=color(self.ambient, f"{prefix}.ambient"),
             diffuse=color(self.diffuse, f"{prefix}.diffuse"),
