@@ -21,7 +21,7 @@ from PIL import Image
 from wgpu_shading.assets.animation import write_animation
 from wgpu_shading.assets.images import check_writable, write_depth, write_image
 from wgpu_shading.cli.main import main
-from wgpu_shading.errors import SceneError
+from wgpu_shading.errors import UsageError
 from wgpu_shading.testing.golden import GoldenError, check_image
 
 OLD = b"the previous file, intact"
@@ -59,7 +59,7 @@ def full_disk():
 def test_a_full_disk_keeps_the_previous_image_and_names_the_file(full_disk, name):
     path = full_disk / name
     path.write_bytes(OLD)
-    with pytest.raises(SceneError) as caught:
+    with pytest.raises(UsageError) as caught:
         write_image(path, noise(1000, 1000))  # 4 MB of noise (a 0.6 MB JPEG) > 256 KiB
     message = str(caught.value)
     assert repr(str(path)) in message and "No space left on device" in message and "unchanged" in message
@@ -71,7 +71,7 @@ def test_a_full_disk_keeps_the_previous_depth(full_disk, name):
     path = full_disk / name
     path.write_bytes(OLD)
     depth = np.random.default_rng(1).uniform(1.0, 9.0, (600, 600))
-    with pytest.raises(SceneError, match="No space left on device"):
+    with pytest.raises(UsageError, match="No space left on device"):
         write_depth(path, depth, 0.5, 10.0)
     assert path.read_bytes() == OLD and leftovers(full_disk) == []
 
@@ -83,7 +83,7 @@ def test_a_full_disk_keeps_the_previous_animation_and_ffmpeg_stays_quiet(full_di
     path = full_disk / name
     path.write_bytes(OLD)
     frames = (noise(128, 128, 3, seed) for seed in range(60))
-    with pytest.raises(SceneError) as caught:
+    with pytest.raises(UsageError) as caught:
         write_animation(path, frames, fps=10)
     assert repr(str(path)) in str(caught.value) and "No space left on device" in str(caught.value)
     assert path.read_bytes() == OLD and leftovers(full_disk) == []
@@ -119,7 +119,7 @@ def test_an_encoder_failure_leaves_the_previous_file(tmp_path, monkeypatch):
         raise OSError(errno.EIO, "Input/output error")
 
     monkeypatch.setattr(Image.Image, "save", broken_save)
-    with pytest.raises(SceneError, match=r"t.png' could not be written: Input/output error \(the file that was there is unchanged\)"):
+    with pytest.raises(UsageError, match=r"t.png' could not be written: Input/output error \(the file that was there is unchanged\)"):
         write_image(path, noise(8, 8))
     assert path.read_bytes() == OLD and leftovers(tmp_path) == []
 
@@ -167,11 +167,11 @@ def test_a_link_into_a_missing_folder_is_refused_before_rendering(tmp_path, caps
 
 
 def test_a_device_output_is_refused_not_replaced(tmp_path):
-    with pytest.raises(SceneError, match="not a regular file"):
+    with pytest.raises(UsageError, match="not a regular file"):
         check_writable(Path("/dev/null"))
     link = tmp_path / "null.png"
     link.symlink_to("/dev/null")
-    with pytest.raises(SceneError, match="not a regular file"):
+    with pytest.raises(UsageError, match="not a regular file"):
         check_writable(link)
 
 

@@ -14,7 +14,7 @@ from wgpu_shading.cli import main
 from wgpu_shading.dataset import Outputs, render_dataset
 from wgpu_shading.dataset.jobs import Job
 from wgpu_shading.dataset.lock import folder_lock
-from wgpu_shading.errors import SceneError
+from wgpu_shading.errors import UsageError
 
 
 def job(name: str, outputs: Outputs = Outputs(), folder: str = "m") -> Job:
@@ -40,7 +40,7 @@ def test_two_jobs_writing_one_file_are_refused_before_rendering(tmp_path, names,
 
         check_output_names(jobs)
         return
-    with pytest.raises(SceneError) as caught:
+    with pytest.raises(UsageError) as caught:
         render_dataset(jobs, out, progress=False)
     message = str(caught.value)
     assert f"'m/{names[0]}'" in message and f"'m/{names[1]}'" in message and "same file" in message
@@ -50,12 +50,12 @@ def test_two_jobs_writing_one_file_are_refused_before_rendering(tmp_path, names,
 
 @pytest.mark.parametrize("name", ["cameras", "Cameras"])
 def test_a_view_named_cameras_is_refused(tmp_path, name):
-    with pytest.raises(SceneError, match=rf"'m/{name}'.*record m/{name}.json would be the folder's camera file.*reserved"):
+    with pytest.raises(UsageError, match=rf"'m/{name}'.*record m/{name}.json would be the folder's camera file.*reserved"):
         render_dataset([job(name)], tmp_path / "out", progress=False)
 
 
 def test_a_folder_named_like_the_report_is_refused(tmp_path):
-    with pytest.raises(SceneError, match="folder 'report.json' is the run's report's name"):
+    with pytest.raises(UsageError, match="folder 'report.json' is the run's report's name"):
         render_dataset([job("v", folder="report.json")], tmp_path / "out", progress=False)
 
 
@@ -72,7 +72,7 @@ def test_a_second_run_into_a_locked_folder_is_refused(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     with folder_lock(out):
-        with pytest.raises(SceneError, match=rf"is being written by another batch run \(pid {os.getpid()}\); wait"):
+        with pytest.raises(UsageError, match=rf"is being written by another batch run \(pid {os.getpid()}\); wait"):
             render_dataset([job("v")], out, progress=False)
     assert not (out / "m").exists()
 
@@ -95,7 +95,7 @@ def test_the_lock_is_refused_to_another_process_and_released_when_it_ends(tmp_pa
     )
     try:
         assert holder.stdout.readline() == "locked\n"
-        with pytest.raises(SceneError, match=rf"another batch run \(pid {holder.pid}\)"):
+        with pytest.raises(UsageError, match=rf"another batch run \(pid {holder.pid}\)"):
             with folder_lock(out):
                 pass
     finally:

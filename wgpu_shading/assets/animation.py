@@ -12,7 +12,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
-from ..errors import SceneError
+from ..errors import SceneError, UsageError
 from .atomic import atomic_path
 from .images import output_path
 
@@ -31,7 +31,7 @@ def check_animation_path(path: Path) -> None:
         except ImportError:
             from ..errors import install_hint
 
-            raise SceneError(
+            raise UsageError(
                 f"output {str(path)!r}: writing MP4 needs imageio-ffmpeg ({install_hint('video')}), or write a .gif"
             ) from None
 
@@ -56,7 +56,7 @@ def write_animation(
     path = Path(path)
     check_animation_path(path)
     if not (isinstance(fps, (int, float)) and MIN_FPS <= fps <= MAX_FPS):
-        raise SceneError(f"fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {fps!r}")
+        raise UsageError(f"fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {fps!r}")
     with atomic_path(path) as temporary:
         encoder = _GifEncoder(temporary, fps, path) if path.suffix.lower() == ".gif" else _Mp4Encoder(temporary, fps, path)
         return _stream(encoder, frames, progress)
@@ -222,7 +222,7 @@ class _Mp4Encoder:
             self.process.stdin.write(np.ascontiguousarray(rgb, dtype=np.uint8).tobytes())
         except (BrokenPipeError, OSError):
             self.process.wait()
-            raise SceneError(f"output {str(self.shown)!r} could not be written: {self._reason()}") from None
+            raise UsageError(f"output {str(self.shown)!r} could not be written: {self._reason()}") from None
 
     def close(self) -> None:
         if self.process is None:
@@ -232,7 +232,7 @@ class _Mp4Encoder:
         except OSError:
             pass
         if self.process.wait() != 0:
-            raise SceneError(f"output {str(self.shown)!r} could not be written: {self._reason()}")
+            raise UsageError(f"output {str(self.shown)!r} could not be written: {self._reason()}")
         self.log.close()
 
     def abort(self) -> None:

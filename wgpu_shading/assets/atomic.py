@@ -34,7 +34,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import BinaryIO, Callable, Iterator
 
-from ..errors import SceneError, WgpuShadingError
+from ..errors import UsageError, WgpuShadingError
 
 TEMPORARY_MARK = ".wgpu-shading-tmp-"
 _counter = itertools.count()
@@ -72,7 +72,7 @@ def is_temporary(name: str, tag: str = "") -> bool:
     return name.startswith(".") and f"{TEMPORARY_MARK}{tag}" in name
 
 
-def check_target(path: str | os.PathLike[str], what: str = "output", error: type[WgpuShadingError] = SceneError) -> Path:
+def check_target(path: str | os.PathLike[str], what: str = "output", error: type[WgpuShadingError] = UsageError) -> Path:
     """Raise a one-line error unless `path` can be written the way `atomic_path` writes it
     (tried, not guessed: permissions, read-only mounts, /proc, ...). Nothing is created at
     the target and nothing is changed: a temporary is made beside it and removed again, an
@@ -108,7 +108,7 @@ def check_target(path: str | os.PathLike[str], what: str = "output", error: type
 
 @contextmanager
 def atomic_path(
-    path: str | os.PathLike[str], what: str = "output", error: type[WgpuShadingError] = SceneError, tag: str = ""
+    path: str | os.PathLike[str], what: str = "output", error: type[WgpuShadingError] = UsageError, tag: str = ""
 ) -> Iterator[Path]:
     """Yield a temporary path beside `path` for the caller to write the whole file to; when
     the block ends normally it replaces `path`. On any exception (OSError becomes `error`
@@ -130,7 +130,7 @@ def atomic_path(
 
 @contextmanager
 def atomic_open(
-    path: str | os.PathLike[str], what: str = "output", error: type[WgpuShadingError] = SceneError, tag: str = ""
+    path: str | os.PathLike[str], what: str = "output", error: type[WgpuShadingError] = UsageError, tag: str = ""
 ) -> Iterator[BinaryIO]:
     """`atomic_path`, opened for binary writing (closed before the rename)."""
     with atomic_path(path, what, error, tag) as temporary:
@@ -142,7 +142,7 @@ def atomic_write(
     path: str | os.PathLike[str],
     write: Callable[[BinaryIO], object] | bytes,
     what: str = "output",
-    error: type[WgpuShadingError] = SceneError,
+    error: type[WgpuShadingError] = UsageError,
     tag: str = "",
 ) -> Path:
     """Write `path` from bytes, or through `write(file)`, atomically. Returns `path`."""

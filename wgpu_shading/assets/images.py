@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..errors import SceneError
+from ..errors import UsageError
 from .atomic import atomic_open, atomic_path, check_target
 
 IMAGE_SUFFIXES = (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
@@ -22,28 +22,28 @@ def output_path(path: os.PathLike[str] | str, suffixes: Sequence[str], what: str
     A symbolic link is written through to its target (see atomic.py)."""
     path = Path(path)
     if path.suffix.lower() not in suffixes:
-        raise SceneError(f"{what} {str(path)!r}: unsupported format; use one of {', '.join(suffixes)}")
+        raise UsageError(f"{what} {str(path)!r}: unsupported format; use one of {', '.join(suffixes)}")
     if not path.is_symlink() and not path.parent.exists():
-        raise SceneError(f"{what} {str(path)!r}: folder {str(path.parent)!r} does not exist")
+        raise UsageError(f"{what} {str(path)!r}: folder {str(path.parent)!r} does not exist")
     check_writable(path, what)
     return path
 
 
 def check_writable(path: Path, what: str = "output") -> None:
-    """Raise a one-line SceneError unless `path` can be written (atomic.check_target: tried
+    """Raise a one-line UsageError unless `path` can be written (atomic.check_target: tried
     with a temporary beside it; nothing is created at the target, a link stays a link)."""
-    check_target(path, what, SceneError)
+    check_target(path, what, UsageError)
 
 
 def check_folder_writable(folder: Path, what: str) -> None:
-    """Raise a one-line SceneError unless files can be created in `folder` (tried, not guessed)."""
+    """Raise a one-line UsageError unless files can be created in `folder` (tried, not guessed)."""
     import tempfile
 
     try:
         with tempfile.TemporaryFile(dir=folder):
             pass
     except OSError as error:
-        raise SceneError(f"{what} {str(folder)!r}: files cannot be written there: {error.strerror or error}") from None
+        raise UsageError(f"{what} {str(folder)!r}: files cannot be written there: {error.strerror or error}") from None
 
 
 def png_bytes(image: np.ndarray) -> bytes:

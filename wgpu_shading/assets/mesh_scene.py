@@ -34,7 +34,7 @@ def mesh_scene(
         chosen = material("gold")
     placed = SceneObject(mesh, chosen, up=up)
     if placed.up != "+Y":  # frame the turned mesh: a mesh with the turn baked in, for framing only
-        world = mesh.world_positions() @ np.array(placed.model_matrix())[:3, :3].T
+        world = mesh.world_positions() @ placed.world_from_model()[:3, :3].T
         mesh = Mesh.from_arrays(world, mesh.indices, normals=mesh.normals, name=mesh.name)
     try:
         camera = framing_camera(mesh, size)

@@ -21,13 +21,13 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator
 
-from ..errors import SceneError
+from ..errors import UsageError
 from .names import LOCK_FILE
 
 
 @contextmanager
 def folder_lock(out_dir: Path) -> Iterator[None]:
-    """Hold OUTPUT's lock for the block, or raise a one-line SceneError when another run has it."""
+    """Hold OUTPUT's lock for the block, or raise a one-line UsageError when another run has it."""
     try:
         import fcntl
     except ImportError:  # pragma: no cover - Windows: no flock; one run at a time is up to the user
@@ -37,19 +37,19 @@ def folder_lock(out_dir: Path) -> Iterator[None]:
     try:
         descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
     except OSError as error:
-        raise SceneError(f"output folder {str(out_dir)!r}: its lock file cannot be made: {error.strerror or error}") from None
+        raise UsageError(f"output folder {str(out_dir)!r}: its lock file cannot be made: {error.strerror or error}") from None
     try:
         try:
             fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             holder = os.pread(descriptor, 32, 0).decode("ascii", "replace").strip()
-            raise SceneError(
+            raise UsageError(
                 f"output folder {str(out_dir)!r} is being written by another batch run"
                 + (f" (pid {holder})" if holder.isdigit() else "")
                 + "; wait for it to finish or choose another folder"
             ) from None
         except OSError as error:
-            raise SceneError(f"output folder {str(out_dir)!r}: cannot be locked: {error.strerror or error}") from None
+            raise UsageError(f"output folder {str(out_dir)!r}: cannot be locked: {error.strerror or error}") from None
         os.ftruncate(descriptor, 0)
         os.pwrite(descriptor, f"{os.getpid()}\n".encode(), 0)
         yield

@@ -16,7 +16,7 @@ Windows, where a dataset is often copied.
 
 from __future__ import annotations
 
-from ..errors import SceneError
+from ..errors import UsageError
 from .jobs import Job
 
 CAMERAS_FILE = "cameras.json"  # in every mesh folder: the cameras of its views
@@ -39,27 +39,27 @@ def job_files(job: Job) -> list[tuple[str, str]]:
 
 
 def check_output_names(jobs: list[Job]) -> None:
-    """Raise a one-line SceneError naming both jobs (or the reserved file) when two outputs
+    """Raise a one-line UsageError naming both jobs (or the reserved file) when two outputs
     would be the same file."""
     owners: dict[tuple[str, str], tuple[int, str, str, str]] = {}  # (folder, name) → (job index, id, file, kind)
     for index, job in enumerate(jobs):
         folder = job.folder.casefold()
         if folder in (name.casefold() for name in RESERVED_FOLDERS):
-            raise SceneError(
+            raise UsageError(
                 f"batch: job {job.id!r}: folder {job.folder!r} is {RESERVED_FOLDERS.get(job.folder, 'reserved')}'s name; choose another folder"
             )
         for file_name, kind in job_files(job):
             key = (folder, file_name.casefold())
             for reserved, what in RESERVED_IN_FOLDER.items():
                 if key[1] == reserved.casefold():
-                    raise SceneError(
+                    raise UsageError(
                         f"batch: job {job.id!r}: its {kind} {job.folder}/{file_name} would be {what}; "
                         f"the name {job.name!r} is reserved, choose another"
                     )
             other = owners.get(key)
             if other is not None and other[0] != index:
                 _, other_id, other_file, other_kind = other
-                raise SceneError(
+                raise UsageError(
                     f"batch: jobs {other_id!r} and {job.id!r} would write the same file {job.folder}/{file_name} "
                     f"(the {other_kind} of one, the {kind} of the other"
                     + (", names that differ only in case are one file on macOS and Windows" if other_file != file_name else "")

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterator
 
-from ..errors import SceneError
+from ..errors import UsageError
 from .cameras import CONVENTION
 from .jobs import Job, chunks
 from .lock import folder_lock
@@ -66,15 +66,15 @@ def render_dataset(
     `parallel`: its render_many devices (None: 2 on lavapipe). Dask workers use one each.
     """
     if not jobs:
-        raise SceneError("batch: no jobs")
+        raise UsageError("batch: no jobs")
     if workers < 1:
-        raise SceneError(f"--workers must be at least 1, got {workers}")
+        raise UsageError(f"--workers must be at least 1, got {workers}")
     check_output_names(jobs)  # before anything is made: two jobs never write one file
     out_dir = Path(output)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as error:
-        raise SceneError(f"output folder {str(out_dir)!r}: {error.strerror or error}") from None
+        raise UsageError(f"output folder {str(out_dir)!r}: {error.strerror or error}") from None
     with folder_lock(out_dir):  # one run per folder: its clean-up removes nothing of another's
         return _run(jobs, out_dir, workers, scheduler, chunk_size, progress, adapter, lavapipe_threads, renderer, parallel)
 
