@@ -31,6 +31,14 @@ def leftovers(folder: Path) -> list[str]:
     return sorted(p.name for p in folder.rglob("*wgpu-shading-tmp*"))
 
 
+def size(path: Path) -> int:
+    """A file's size, 0 when it went away meanwhile (the writability check's probe does)."""
+    try:
+        return path.stat().st_size
+    except FileNotFoundError:
+        return 0
+
+
 def noise(height: int, width: int, channels: int = 4, seed: int = 0) -> np.ndarray:
     """Incompressible pixels: the encoded file is as large as the image."""
     return np.random.default_rng(seed).integers(0, 256, (height, width, channels), dtype=np.uint8)
@@ -230,7 +238,7 @@ def test_sigterm_during_a_turntable_leaves_no_partial_animation(tmp_path, name):
     )
     try:
         deadline = time.monotonic() + 60
-        while not any(p.stat().st_size > 0 for p in tmp_path.glob(f".{name}.wgpu-shading-tmp-*")):
+        while not any(size(p) > 0 for p in tmp_path.glob(f".{name}.wgpu-shading-tmp-*")):
             assert time.monotonic() < deadline and child.poll() is None, child.stderr.read() if child.poll() is not None else "timeout"
             time.sleep(0.05)
         child.send_signal(signal.SIGTERM)
