@@ -236,8 +236,12 @@ def test_compare_shows_each_frequency_side_by_side_with_one_camera(renderer, tmp
 def test_a_scene_file_and_a_reread_mesh_reproduce_too(renderer, tmp_path):
     """A scene file (its own camera and lights: nothing follows the camera) and a key that
     re-reads the file (C, the crease angle) still print a command that draws what is shown."""
-    for source, keys in (("example:gold_torus_phong.toml", ("b", "]")), ("example:knot.obj", ("c", "c", "f", "f"))):
-        view = LiveView(source, ViewOptions(size=SIZE), renderer=renderer, out=lambda text: None)
+    for source, options, keys in (
+        ("example:gold_torus_phong.toml", ViewOptions(size=SIZE), ("b", "]")),
+        ("example:knot.obj", ViewOptions(size=SIZE), ("c", "c", "f", "f")),
+        ("example:knot.obj", ViewOptions(size=SIZE, up="+Z"), ("m",)),  # an option read with the file
+    ):
+        view = LiveView(source, options, renderer=renderer, out=lambda text: None)
         canvas = offscreen.RenderCanvas(size=view.size())
         attach(view, canvas)
         drag(view, 1, (30, 40), (70, 55))
@@ -262,3 +266,24 @@ def test_view_command_says_what_is_missing(monkeypatch, capsys):
     assert main(["view", "builtin:torus"]) == 2
     err = capsys.readouterr().err.strip()
     assert "no display" in err and "xvfb-run -a" in err and len(err.splitlines()) == 1
+
+
+def test_file_or_viewer_lights_are_read_with_the_file(renderer, tmp_path):
+    """--viewer-lights acts when a glTF file is read: the live view reads the file with it."""
+    from gltf_builder import quad, write_gltf
+
+    positions, indices = quad(-1, -1, 2)
+    path = write_gltf(
+        tmp_path / "lit.gltf", [[{"positions": positions, "indices": indices, "normals": np.tile([0, 0, 1], (4, 1))}]],
+        nodes=[{"mesh": 0}, {"extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        extra={"extensionsUsed": ["KHR_lights_punctual"], "scenes": [{"nodes": [0, 1]}],
+               "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "color": [1, 0, 0]}]}}},
+    )
+    pictures = []
+    for viewer_lights in (None, True):  # the file's red light, then the viewer's white ones
+        view = LiveView(str(path), ViewOptions(size=SIZE, viewer_lights=viewer_lights), renderer=renderer, out=lambda t: None)
+        (argv,) = view.commands()
+        shown = view.frame().color
+        assert np.array_equal(shown, rendered(tmp_path, argv[1:])), argv
+        pictures.append(shown)
+    assert not np.array_equal(*pictures)

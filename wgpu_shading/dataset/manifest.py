@@ -22,6 +22,7 @@ import json
 from pathlib import Path
 from typing import Any, Iterable
 
+from ..assets.files import check_regular_file
 from ..errors import UsageError
 from ..scene import BUILTIN_PREFIX, BUILTINS
 from ..scene.view_options import COLUMNS, ViewOptions
@@ -44,6 +45,7 @@ def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: di
     suffix = path.suffix.lower()
     if suffix not in (".csv", ".jsonl", ".ndjson"):
         raise UsageError(f"manifest {str(path)!r}: expected a .csv or .jsonl file")
+    check_regular_file(path, f"manifest {str(path)!r}", UsageError)  # a FIFO would block the read
     try:
         text = path.read_text(encoding="utf-8-sig")  # spreadsheets write "CSV UTF-8" with a BOM
     except OSError as error:

@@ -30,7 +30,7 @@ from ..assets.views import is_scene_file, load_source
 from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
-from ..scene.view_options import ViewOptions, apply_view_options, render_command
+from ..scene.view_options import VIEW_OPTIONS, ViewOptions, apply_view_options, render_command
 from .state import Settings, ViewState, help_text
 
 COMPARE_AXES = {"frequency": FREQUENCIES, "reflection": REFLECTIONS}
@@ -135,9 +135,11 @@ class LiveView:
     def _scene_for(self, options: ViewOptions) -> Scene:
         if isinstance(self.source, Scene):
             return apply_view_options(self.source, options)
-        # Only the options that act when a file is read select (and key) the loaded scene.
-        load = ViewOptions(size=options.size, crease_angle=options.crease_angle, up=options.up)
-        key = (load.size, load.crease_angle, load.up)
+        # Only the options that act when a file is read (the table's `load` ones: size, crease
+        # angle, up axis, file or viewer lights) select, and key, the scene read.
+        loading = {option.name: getattr(options, option.name) for option in VIEW_OPTIONS if option.load}
+        load = ViewOptions(**loading)
+        key = tuple(sorted(loading.items()))
         base = self._loaded.get(key)
         if base is None:
             base = load_source(self.source, load)
