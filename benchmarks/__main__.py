@@ -46,6 +46,8 @@ SMOKE_SCRIPTS = {
     "golden_noise": ("golden_noise.py", "--smoke"),
     "loading": ("bench_loading.py", "--smoke"),
     "antialiasing": ("bench_antialiasing.py", "--smoke"),
+    "live": ("bench_live.py", "--smoke"),
+    "callgrind": ("scripts/callgrind_frames.py", "ours", "--smoke"),
 }
 
 

@@ -82,8 +82,8 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 # --------------------------------------------------------------------------- python -m benchmarks --smoke
 
 SMOKE_STEPS = (
-    "warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference", "golden_noise",
-    "loading", "antialiasing", "report",
+    "warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference",
+    "golden_noise", "loading", "antialiasing", "live", "callgrind", "report",
 )
 
 

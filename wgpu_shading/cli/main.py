@@ -12,6 +12,7 @@
     wgpu-shading materials                  the material table
     wgpu-shading examples                   the example scenes and sample meshes (example:NAME)
     wgpu-shading info                       adapters and versions
+    wgpu-shading view MESH [--compare frequency]   a live window (mouse and keys as in f3d)
 
 Errors a user can cause (missing file, bad key, bad value, no adapter) print one line on
 stderr and exit with status 2; no traceback.
@@ -23,13 +24,15 @@ import argparse
 import logging
 import os
 import re
+import signal
 import sys
+import threading
 import warnings
 from typing import Sequence
 
 from .. import __version__
 from ..errors import WgpuShadingError, shorten
-from . import batch, bench, check, info, render
+from . import batch, bench, check, info, render, view
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
@@ -65,6 +68,7 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_batch(commands, gpu)
     render.add_shader(commands, gpu)
     info.add_info(commands, gpu)
+    view.add_view(commands, gpu)
     return parser
 
 
@@ -76,7 +80,30 @@ def _option_name(destination: str) -> str:
     return "input" if destination in ("input", "manifest") else "--" + destination.replace("_", "-")
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised like Ctrl-C so that every clean-up runs (a file being written is left
+    as it was: its temporary is removed; see assets/atomic.py). Python's default for SIGTERM
+    is to die at once, leaving temporaries and child processes behind."""
+
+
+def _terminate(signum, frame) -> None:
+    raise Terminated()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    if threading.current_thread() is not threading.main_thread():
+        return _main(argv)
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        return _main(argv)
+    except Terminated:  # arrived after _main's own handlers
+        print("wgpu-shading: terminated", file=sys.stderr)
+        return 143
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -108,6 +135,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as error:  # unwritable output, full disk, ...
         print(f"wgpu-shading: error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except Terminated:
+        print("wgpu-shading: terminated", file=sys.stderr)
+        return 143  # 128 + SIGTERM, as a shell reports a process it killed
     except KeyboardInterrupt:
         print("wgpu-shading: interrupted", file=sys.stderr)
         return 130

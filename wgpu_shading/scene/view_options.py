@@ -154,6 +154,11 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        flags=("--camera-distance",), metavar="D", group="camera"),
     _O("lights", read_lights, "lights", "[[lights]]", f"replace the lights (repeat for more): {LIGHT_SYNTAX}",
        flags=("--light",), metavar="SPEC", group="lights", repeated=True),
+    _O("viewer_lights", read_bool, "viewer_lights", "(none: a scene file lists its [[lights]])",
+       "a glTF file with its own lights (KHR_lights_punctual) is lit by them; true: by the viewer's key light and headlight instead",
+       switches=(("--viewer-lights", True, "light a glTF file that has its own lights with the viewer's key light and headlight instead"),
+                 ("--file-lights", False, "light a glTF file with its own KHR_lights_punctual lights when it has them (the default)")),
+       group="lights", load=True),
 )
 OPTIONS_BY_NAME = {option.name: option for option in VIEW_OPTIONS}
 
@@ -190,6 +195,7 @@ class ViewOptions:
     camera_elevation: float | None = None
     camera_distance: float | None = None
     lights: tuple[str, ...] | None = None
+    viewer_lights: bool | None = None
 
     def __post_init__(self) -> None:
         for option in VIEW_OPTIONS:
@@ -267,8 +273,8 @@ def apply_view_options(scene: Scene, options: ViewOptions, *, follow_camera: boo
         changes["camera"] = camera
     if options.lights is not None:
         changes["lights"] = tuple(parse_light(spec, camera) for spec in options.lights)
-    elif follow_camera and camera is not scene.camera:
-        changes["lights"] = viewer_lights(camera)
+    elif follow_camera and camera is not scene.camera and scene.lights == viewer_lights(scene.camera):
+        changes["lights"] = viewer_lights(camera)  # a glTF file's own lights stay where they are
     if not changes:
         return scene
     try:
@@ -328,19 +334,7 @@ def place_camera(camera: Camera, options: ViewOptions) -> Camera:
     return placed
 
 
-def options_from_mapping(values: dict[str, Any], where: str, by: str = "name") -> ViewOptions:
-    """ViewOptions from {name or column: value}; `by` is "name" or "column". An unknown key
-    or a bad value is a UsageError naming `where` and the key."""
-    options = {}
-    for key, value in values.items():
-        option = OPTIONS_BY_NAME.get(key) if by == "name" else COLUMNS.get(key)
-        if option is None:
-            raise UsageError(f"{where}: unknown view option {key!r}")
-        options[option.name] = option.read(value, f"{where}: {key}")
-    return ViewOptions(**options)
-
-
-COLUMNS = {option.column: option for option in VIEW_OPTIONS}
+COLUMNS = {option.column: option for option in VIEW_OPTIONS}  # manifest column → option
 
 
 def spellings_table() -> str:

@@ -98,7 +98,9 @@ def _shade_pixels(
     shading = scene.shading
     material = obj.surface_material
     faces = prepared.faces[triangles]
-    back = shading.two_sided & ~front_facing  # back faces are lit with -N only when two-sided
+    # back faces are lit with -N only when two-sided (the scene's, or a glTF doubleSided material's)
+    two_sided = shading.two_sided or material.double_sided is True
+    back = two_sided & ~front_facing
     flip = np.where(back, -1.0, 1.0)[:, None]
 
     def shade_with(points, normals):
@@ -124,7 +126,7 @@ def _shade_pixels(
         vertex_normals = safe_normalize(prepared.eye_normals, FALLBACK_NORMAL)
         used = np.unique(faces)
         front = vertex_color(prepared.eye_positions[used], vertex_normals[used])
-        back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used]) if shading.two_sided else front
+        back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used]) if two_sided else front
         slot = np.searchsorted(used, faces)  # (N, 3) rows of `used`
         parts = []
         for k in range(2):
