@@ -36,6 +36,17 @@ def test_submit_then_read_equals_render_frame(renderer, scene):
     assert frames[0].color.shape == (24, 24, 4)
 
 
+def test_the_frame_api_types_are_public_names_of_the_package(renderer, scene):
+    """Type hints and isinstance checks need no render/ import path (issue 18)."""
+    import wgpu_shading
+
+    for name in ("Renderer", "PendingFrame", "Frame"):
+        assert name in wgpu_shading.__all__ and name in dir(wgpu_shading)
+    pending = renderer.submit(scene)
+    assert isinstance(pending, wgpu_shading.PendingFrame)
+    assert isinstance(renderer.read(pending), wgpu_shading.Frame)
+
+
 def test_a_pending_frame_is_read_once(renderer, scene):
     pending = renderer.submit(scene)
     renderer.read(pending)

@@ -24,7 +24,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .assets.mesh_scene import mesh_scene
     from .render.auto_shading import AutoChoice, auto_shading
     from .render.features import FeatureSet
-    from .render.renderer import Frame, Renderer
+    from .render.renderer import Frame, PendingFrame, Renderer
     from .scene import (
         MATERIALS,
         Camera,
@@ -55,7 +55,7 @@ _LAZY = {
     "MATERIALS": "scene", "material": "scene", "Mesh": "scene",
     "load_mesh": "assets", "load_scene": "assets", "parse_scene": "assets", "mesh_scene": "assets.mesh_scene",
     "AutoChoice": "render.auto_shading", "auto_shading": "render.auto_shading", "turntable": "scene.turntable",
-    "Frame": "render.renderer", "Renderer": "render.renderer",
+    "Frame": "render.renderer", "PendingFrame": "render.renderer", "Renderer": "render.renderer",
     "Camera": "scene", "DirectionalLight": "scene", "Light": "scene", "Material": "scene",
     "PositionalLight": "scene", "Scene": "scene", "SceneObject": "scene", "Shading": "scene",
     "SpotLight": "scene", "Texture": "scene",
@@ -87,6 +87,7 @@ __all__ = [
     "Material",
     "Mesh",
     "MeshError",
+    "PendingFrame",
     "PositionalLight",
     "Renderer",
     "Scene",
