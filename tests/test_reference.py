@@ -82,7 +82,7 @@ def test_attenuation_floor_keeps_a_light_at_the_point_finite():
     light = PositionalLight(position=(0, 0, 0), attenuation=(0.0, 1.0, 0.0), diffuse=(0.5, 0.5, 0.5, 1))
     scene = unlit_scene(lights=(light,))
     material = Material(ambient=BLACK, diffuse=(1, 1, 1, 1))
-    point = ref.view_matrix(scene.camera)[:3, 3]  # the world origin in eye space
+    point = ref.eye_from_world(scene.camera)[:3, 3]  # the world origin in eye space
     ambient_diffuse, _ = shade_one(scene, material, point, (0, 1, 0), (0, 0, 1))
     np.testing.assert_allclose(ambient_diffuse, 0.5e20, rtol=1e-12)
     rgba = ref.combine(ambient_diffuse[None], np.zeros((1, 3)), material)
@@ -539,13 +539,13 @@ def test_flat_shading_is_constant_per_triangle_and_lit_at_the_centroid():
     material = Material(ambient=BLACK, diffuse=(1, 1, 1, 1), specular=(0.5, 0.5, 0.5, 1), shininess=8)
     scene = unlit_scene(objects=(SceneObject(mesh, material, rotate=(20, 10, 0)),), lights=(light,), camera=Camera(eye=(0, 0, 3)), shading=Shading(frequency="flat"), size=(48, 48))
     image = ref.render_reference(scene)
-    view = ref.view_matrix(scene.camera) @ ref.model_matrix(scene.objects[0])
+    view = ref.eye_from_world(scene.camera) @ ref.world_from_model(scene.objects[0])
     for triangle in np.unique(image.triangle[image.covered]):
         p = mesh.positions[mesh.indices[triangle]].astype(float)
         normal = np.linalg.inv(view[:3, :3]).T @ np.cross(p[1] - p[0], p[2] - p[0])
         normal /= np.linalg.norm(normal)
         centroid = view[:3, :3] @ p.mean(axis=0) + view[:3, 3]
-        to_light = ref.view_matrix(scene.camera)[:3, :3] @ np.array([0.5, 1.0, 2.0]) + ref.view_matrix(scene.camera)[:3, 3] - centroid
+        to_light = ref.eye_from_world(scene.camera)[:3, :3] @ np.array([0.5, 1.0, 2.0]) + ref.eye_from_world(scene.camera)[:3, 3] - centroid
         to_light /= np.linalg.norm(to_light)
         to_viewer = -centroid / np.linalg.norm(centroid)
         n_dot_l = normal @ to_light

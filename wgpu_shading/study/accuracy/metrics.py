@@ -30,7 +30,7 @@ import numpy as np
 from ...scene import Material, Scene, SceneObject
 from ...errors import AccuracyError
 from ...render.image_error import ERROR_UNIT, ErrorStats, pixel_error
-from ..reference import ReferenceImage, pixel_rays, render_analytic_sphere, shade, sphere_in_world, view_matrix, view_vectors
+from ..reference import ReferenceImage, eye_from_world, pixel_rays, render_analytic_sphere, shade, sphere_in_world, view_vectors
 
 SILHOUETTE_BAND = 1.0  # pixels inside the exact silhouette left out of the analytic comparison
 EDGE_BAND = 1.0 / 16.0  # pixels from a triangle edge left out of the same-mesh comparison
@@ -91,7 +91,7 @@ def specular_peak(scene: Scene, center, radius: float, material: Material, image
         raise AccuracyError("the analytic sphere covers no pixel")
     rays = pixel_rays(scene.camera, scene.size).reshape(-1, 3)[covered]
     points = rays * image.depth.reshape(-1)[covered, None]  # rays have z = −1: t is the depth
-    view = view_matrix(scene.camera)
+    view = eye_from_world(scene.camera)
     center_eye = view[:3, :3] @ np.asarray(center, dtype=np.float64) + view[:3, 3]
     normals = (points - center_eye) / radius
     to_viewer = view_vectors(points, normals, scene.shading.local_viewer)

@@ -31,7 +31,7 @@ building blocks of this package):
     combine(ambient_diffuse, specular, material, texel) -> rgba (clamped)
     sample_texture_bilinear(pixels, uv) -> rgba in [0, 1]
     lights_in_eye_space(scene), safe_normalize(v), guarded_power(base, exponent)
-    view_matrix(camera), model_matrix(obj), normal_matrix(model_view), pixel_rays(camera, size)
+    eye_from_world(camera), world_from_model(obj), normal_matrix(model_view), pixel_rays(camera, size)
 """
 
 from __future__ import annotations
@@ -40,15 +40,15 @@ from .analytic import render_analytic_rectangle, render_analytic_sphere
 from .image import ReferenceImage
 from .lighting import combine, guarded_power, lights_in_eye_space, safe_normalize, sample_texture_bilinear, shade, view_vectors
 from .mesh import RasterizedScene, render_reference
-from .transforms import model_matrix, normal_matrix, pixel_rays, sphere_in_world, view_matrix
+from .transforms import eye_from_world, normal_matrix, pixel_rays, sphere_in_world, world_from_model
 
 __all__ = [
     "RasterizedScene",
     "ReferenceImage",
     "combine",
+    "eye_from_world",
     "guarded_power",
     "lights_in_eye_space",
-    "model_matrix",
     "normal_matrix",
     "pixel_rays",
     "render_analytic_rectangle",
@@ -58,6 +58,6 @@ __all__ = [
     "sample_texture_bilinear",
     "shade",
     "sphere_in_world",
-    "view_matrix",
     "view_vectors",
+    "world_from_model",
 ]

@@ -12,7 +12,7 @@ import numpy as np
 from ...scene import Material, Scene
 from .image import ReferenceImage
 from .lighting import dot, combine, shade, view_vectors
-from .transforms import transform_points, pixel_rays, view_matrix
+from .transforms import eye_from_world, pixel_rays, transform_points
 
 
 def _analytic_image(
@@ -63,7 +63,7 @@ def render_analytic_sphere(scene: Scene, center, radius: float, material: Materi
     edge_margin is the angle between the pixel's ray and the silhouette cone, in pixels (as
     at the image centre), so tests can leave the rim out."""
     camera = scene.camera
-    view = view_matrix(camera)
+    view = eye_from_world(camera)
     c = transform_points(view, np.asarray(center, dtype=np.float64)[None])[0]
     rays = pixel_rays(camera, scene.size).reshape(-1, 3)
     # |t·d − c|² = r²  →  (d·d) t² − 2 (d·c) t + (c·c − r²) = 0
@@ -92,7 +92,7 @@ def render_analytic_rectangle(scene: Scene, center, half_u, half_v, material: Ma
     """Ray-cast the rectangle {center + s·half_u + t·half_v : |s|, |t| <= 1} (world space,
     half_u ⟂ half_v) with normal normalize(half_u × half_v), shaded per pixel."""
     camera = scene.camera
-    view = view_matrix(camera)
+    view = eye_from_world(camera)
     c = transform_points(view, np.asarray(center, dtype=np.float64)[None])[0]
     u = view[:3, :3] @ np.asarray(half_u, dtype=np.float64)
     v = view[:3, :3] @ np.asarray(half_v, dtype=np.float64)

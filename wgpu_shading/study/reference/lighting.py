@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...scene import DirectionalLight, Material, PositionalLight, Scene, SpotLight
-from .transforms import transform_points, view_matrix
+from .transforms import eye_from_world, transform_points
 
 # --------------------------------------------------------------------------- constants from conventions.md
 
@@ -73,7 +73,7 @@ class EyeLight:
 def lights_in_eye_space(scene: Scene) -> list[EyeLight]:
     """World → eye space once per frame: positions with the full view matrix, directions
     with its rotation only."""
-    view = view_matrix(scene.camera)
+    view = eye_from_world(scene.camera)
     rotation = view[:3, :3]
     lights = []
     for light in scene.lights:

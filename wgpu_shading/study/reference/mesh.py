@@ -14,7 +14,7 @@ from ...scene import Scene, SceneObject, Shading
 from .image import ReferenceImage
 from .lighting import FALLBACK_NORMAL, dot, clamp_vertex_colors, combine, safe_normalize, sample_texture_bilinear, shade, view_vectors
 from .raster import edge_margins, rasterize, screen_triangles, signed_area_fixed
-from .transforms import transform_points, model_matrix, normal_matrix, pixel_rays, view_matrix
+from .transforms import eye_from_world, normal_matrix, pixel_rays, transform_points, world_from_model
 
 
 @dataclass
@@ -31,7 +31,7 @@ class _PreparedObject:
 
 
 def _prepare(scene: Scene, obj: SceneObject) -> _PreparedObject:
-    model_view = view_matrix(scene.camera) @ model_matrix(obj)
+    model_view = eye_from_world(scene.camera) @ world_from_model(obj)
     normals_to_eye = normal_matrix(model_view)
     model_positions = obj.mesh.positions.astype(np.float64)
     return _PreparedObject(

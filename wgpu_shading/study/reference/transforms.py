@@ -19,7 +19,7 @@ from ...scene import Camera, SceneObject
 # --------------------------------------------------------------------------- transforms
 
 
-def view_matrix(camera: Camera) -> np.ndarray:
+def eye_from_world(camera: Camera) -> np.ndarray:
     """gluLookAt, derived here from eye/target/up: rows are the eye-space axes in world space."""
     eye = np.asarray(camera.eye, dtype=np.float64)
     forward = np.asarray(camera.target, dtype=np.float64) - eye
@@ -33,7 +33,7 @@ def view_matrix(camera: Camera) -> np.ndarray:
     return view
 
 
-def model_matrix(obj: SceneObject) -> np.ndarray:
+def world_from_model(obj: SceneObject) -> np.ndarray:
     """T · Rz · Ry · Rx · S · translate(mesh.origin): the matrix for the mesh's stored
     (origin-relative) positions, derived here from the conventions."""
     ax, ay, az = np.radians(np.asarray(obj.rotate, dtype=np.float64))
@@ -62,7 +62,7 @@ def sphere_in_world(obj: SceneObject, radius: float = 1.0) -> tuple[np.ndarray, 
     scale = np.abs(np.asarray(obj.scale, dtype=np.float64))
     if not np.allclose(scale, scale[0], rtol=1e-12, atol=0.0):
         raise ValueError(f"an analytic sphere needs a uniform scale, got {obj.scale}")
-    model = model_matrix(obj)
+    model = world_from_model(obj)
     # The model-space centre (0, 0, 0) is stored as -origin.
     center = transform_points(model, -np.asarray(obj.mesh.origin, dtype=np.float64)[None])[0]
     return center, float(radius * scale[0])
