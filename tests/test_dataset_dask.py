@@ -20,6 +20,7 @@ distributed = pytest.importorskip("distributed")  # the test extra installs it
 from wgpu_shading.cli import main  # noqa: E402
 from wgpu_shading.dataset import Outputs, mesh_jobs, render_dataset, turntable_views  # noqa: E402
 from wgpu_shading.dataset.cluster import local_cluster  # noqa: E402
+from wgpu_shading.dataset.worker import chunk_renderers  # noqa: E402
 
 MESHES = ["builtin:torus?segments=24", "builtin:sphere?slices=24&stacks=12", "builtin:cube"]
 BIN = Path(sys.executable).parent
@@ -52,7 +53,7 @@ def test_killing_a_worker_mid_run_loses_nothing(tmp_path, renderer):
             assert not run.is_alive()
             # The restarted process joined later; the plugin gave it a warm renderer too.
             client.wait_for_workers(2, timeout=30)
-            has_renderer = client.run(lambda dask_worker: (os.getpid(), bool(getattr(dask_worker, "_wgpu_shading_chunk_renderers", None))))
+            has_renderer = client.run(lambda dask_worker: (os.getpid(), bool(chunk_renderers(dask_worker))))
             assert pids[0] not in {pid for pid, _ in has_renderer.values()}
             assert all(ready for _, ready in has_renderer.values()) and len(has_renderer) == 2
     finally:

@@ -82,7 +82,7 @@ def test_extra_outputs_keep_the_target_bound(scene):
     fresh = Renderer()
     for width in range(8, 8 + 3 * TARGET_CACHE_ENTRIES):
         fresh.render_frame(replace(scene, size=(width, 8)), normals="eye", ids=True)
-    assert fresh._cache.free_target_count == TARGET_CACHE_ENTRIES  # (a test may look inside)
+    assert fresh.device_cache.free_target_count == TARGET_CACHE_ENTRIES
 
 
 def test_bad_requests_fail_before_any_work(renderer, scene):

@@ -65,9 +65,9 @@ def test_texture_coordinates_are_uploaded_when_a_textured_draw_first_needs_them(
     plain = replace(textured, objects=(replace(obj, material=replace(obj.material, texture=None)),))
     fresh = Renderer(device=renderer.device)
     untextured_first = fresh.render(plain)
-    assert fresh._cache.meshes.get(obj.mesh).uvs is None  # an untextured draw leaves them out
+    assert fresh.device_cache.meshes.get(obj.mesh).uvs is None  # an untextured draw leaves them out
     textured_image = fresh.render(textured)
-    assert fresh._cache.meshes.get(obj.mesh).uvs is not None
+    assert fresh.device_cache.meshes.get(obj.mesh).uvs is not None
     np.testing.assert_array_equal(textured_image, Renderer(device=renderer.device).render(textured))
     assert not np.array_equal(textured_image, untextured_first)
 
@@ -92,7 +92,7 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
     from wgpu_shading.scene.builtins import uv_sphere
 
     long_run = Renderer(device=renderer.device)
-    long_run._cache.pipelines = PipelineCache(renderer.device, max_entries=2)  # 4 feature sets below
+    long_run.device_cache.pipelines = PipelineCache(renderer.device, max_entries=2)  # 4 feature sets below
     kept_meshes = []  # the caller keeps every mesh alive: only eviction can free the uploads
     shadings = [Shading(frequency=f, reflection=r) for f in ("flat", "gouraud") for r in ("phong", "blinn-phong")]
 
@@ -111,8 +111,8 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
     full = frames(100, 40)
     later = frames(200, 40)
     assert later == full, f"live GPU objects still grow: {full} → {later}"
-    assert long_run._cache.free_target_count == TARGET_CACHE_ENTRIES
-    assert len(long_run._cache.meshes) == MESH_CACHE_ENTRIES and long_run._cache.meshes.evictions > 0
+    assert long_run.device_cache.free_target_count == TARGET_CACHE_ENTRIES
+    assert len(long_run.device_cache.meshes) == MESH_CACHE_ENTRIES and long_run.device_cache.meshes.evictions > 0
     assert long_run.pipeline_count == 2
 
 

@@ -37,14 +37,20 @@ class RendererPlugin(WorkerPlugin):
         renderers[self.name] = ChunkRenderer(adapter=self.adapter, parallel=self.parallel)
 
     def teardown(self, worker) -> None:
-        chunk_renderer = getattr(worker, _ATTRIBUTE, {}).pop(self.name, None)
+        chunk_renderer = chunk_renderers(worker).pop(self.name, None)
         if chunk_renderer is not None:
             chunk_renderer.close()
 
 
+def chunk_renderers(worker) -> dict[str, ChunkRenderer]:
+    """The warm renderers RendererPlugin made on this worker, by plugin name (empty before
+    its setup, or where setup failed)."""
+    return getattr(worker, _ATTRIBUTE, {})
+
+
 def render_chunk_task(jobs: list[Job], out_dir: str, plugin_name: str) -> list[dict]:
     """The Dask task: render a chunk on this worker's warm renderer."""
-    chunk_renderer = getattr(get_worker(), _ATTRIBUTE, {}).get(plugin_name)
+    chunk_renderer = chunk_renderers(get_worker()).get(plugin_name)
     if chunk_renderer is None:  # the plugin's setup failed on this worker (logged there)
         return [failed(job, "this Dask worker has no renderer: its set-up failed (see the worker's log)") for job in jobs]
     return chunk_renderer.render(jobs, out_dir)

@@ -102,6 +102,13 @@ class Renderer:
         return self._device
 
     @property
+    def device_cache(self) -> DeviceCache:
+        """What this renderer keeps between frames (pipelines, mesh and texture uploads,
+        render targets; each bounded as render/caches.py says): for measuring memory and
+        compile time, e.g. `device_cache.meshes.nbytes`. Drawing needs none of it."""
+        return self._cache
+
+    @property
     def pipeline_count(self) -> int:
         """How many pipelines this renderer has compiled (one per feature set and format)."""
         return len(self._cache.pipelines)
