@@ -134,3 +134,49 @@ def test_the_first_mip_level_is_computed_in_strips_with_the_same_values():
         np.testing.assert_array_equal(whole, exact[: max(1, height // 2), : max(1, width // 2)])
         for rows in (2, 4, 64):
             np.testing.assert_array_equal(_first_level(pixels, rows_per_strip=rows), whole)
+
+
+def test_one_byte_bound_holds_for_every_stored_format_of_an_object():
+    """A texture stored in two formats (rgba8unorm, and rgba8unorm-srgb for a linear-space
+    draw) is two entries of ONE cache, so TEXTURE_CACHE_BYTES bounds both together."""
+    import gc
+
+    from wgpu_shading.render.caches import ObjectCache
+
+    class Image:  # any weak-referenceable object
+        pass
+
+    cache: ObjectCache[int] = ObjectCache(max_entries=8, max_bytes=100, size_of=lambda value: value)
+    first, second = Image(), Image()
+    cache.put(first, 40, "rgba8unorm")
+    cache.put(first, 30, "rgba8unorm-srgb")
+    assert (cache.get(first, "rgba8unorm"), cache.get(first, "rgba8unorm-srgb"), cache.get(first)) == (40, 30, None)
+    assert len(cache) == 2 and cache.nbytes == 70
+    cache.put(second, 50, "rgba8unorm")  # 120 > 100: the least recently used entry goes
+    assert cache.nbytes == 80 and cache.get(first, "rgba8unorm") is None and cache.get(first, "rgba8unorm-srgb") == 30
+    del first
+    gc.collect()
+    assert len(cache) == 1 and cache.nbytes == 50  # a dead object's every variant goes
+
+
+def test_a_renderer_keeps_its_textures_in_one_bounded_cache(renderer, monkeypatch):
+    """Every texture upload counts against one byte bound (docs/reliability.md): a 4×4
+    texture with its mip chain (4², 2², 1² texels × 4 bytes) is 84 bytes; with a bound of
+    200 bytes, three of them leave two."""
+    from dataclasses import replace
+
+    from wgpu_shading import Renderer, Texture, load_scene
+    from wgpu_shading.render import device_cache
+    from wgpu_shading.render.caches import ObjectCache
+
+    monkeypatch.setattr(device_cache, "TEXTURE_CACHE_BYTES", 200)
+    textured = load_scene(Path(__file__).resolve().parent.parent / "examples" / "checker_sphere_modulate.toml")
+    (obj,) = textured.objects
+    fresh = Renderer(device=renderer.device)
+    textures = [Texture(np.full((4, 4, 4), 60 * (k + 1), dtype=np.uint8), name=f"t{k}") for k in range(3)]
+    for texture in textures:
+        fresh.render(replace(textured, objects=(replace(obj, material=replace(obj.material, texture=texture)),), size=(16, 16)))
+    kept = fresh.device_cache
+    assert kept.textures.nbytes == 2 * 84 and len(kept.textures) == 2 and kept.textures.evictions == 1
+    # A second cache of uploads (e.g. one per stored format) would double the bound.
+    assert [name for name, value in vars(kept).items() if isinstance(value, ObjectCache)] == ["meshes", "textures"]

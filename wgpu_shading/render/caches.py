@@ -6,7 +6,9 @@ must level off in memory. The limits (docs/reliability.md states them):
     pipelines        PIPELINE_CACHE_ENTRIES per renderer (~2 MB of compiled code each)
     render targets   TARGET_CACHE_ENTRIES sizes × formats (color, depth and readback)
     mesh uploads     MESH_CACHE_ENTRIES meshes and at most MESH_CACHE_BYTES of buffers
-    texture uploads  TEXTURE_CACHE_ENTRIES textures and at most TEXTURE_CACHE_BYTES
+    texture uploads  TEXTURE_CACHE_ENTRIES uploads and at most TEXTURE_CACHE_BYTES, for
+                     all of them: one cache, keyed (texture, stored format), so an image
+                     stored in two formats is two entries under the same bound
     uniform buffers  UNIFORM_CACHE_ENTRIES (one per object index and layout size)
     bind groups      BIND_GROUP_CACHE_ENTRIES per owner
 
@@ -99,13 +101,15 @@ class LruCache(Generic[V]):
 
 class ObjectCache(Generic[V]):
     """An LruCache keyed by the identity of objects it does not keep alive (Mesh, Texture):
-    an entry goes when its object is garbage-collected, or when it is evicted."""
+    an entry goes when its object is garbage-collected, or when it is evicted. `variant`
+    keeps several values of one object (a texture stored as rgba8unorm and as
+    rgba8unorm-srgb) as separate entries within the same bounds."""
 
     def __init__(self, max_entries: int, max_bytes: int | None = None, size_of: Callable[[V], int] | None = None):
         self._cache: LruCache[tuple[weakref.ref, V]] = LruCache(
             max_entries, max_bytes, None if size_of is None else (lambda item: size_of(item[1]))
         )
-        self._dead: list[int] = []  # ids whose objects died; purged on the next access (never from a GC callback)
+        self._dead: list[tuple] = []  # keys whose objects died; purged on the next access (never from a GC callback)
 
     def __len__(self) -> int:
         self._purge()
@@ -127,16 +131,16 @@ class ObjectCache(Generic[V]):
             if item is not None and item[0]() is None:
                 self._cache.pop(key)
 
-    def get(self, obj: object) -> V | None:
+    def get(self, obj: object, variant: Hashable = None) -> V | None:
         self._purge()
-        item = self._cache.get(id(obj))
+        item = self._cache.get((id(obj), variant))
         if item is None or item[0]() is not obj:
             return None
         return item[1]
 
-    def put(self, obj: object, value: V) -> V:
+    def put(self, obj: object, value: V, variant: Hashable = None) -> V:
         self._purge()
-        key = id(obj)
+        key = (id(obj), variant)
         dead = self._dead
         self._cache.put(key, (weakref.ref(obj, lambda _ref, key=key: dead.append(key)), value))
         return value

@@ -60,6 +60,8 @@ class DeviceCache:
         # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
         self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(device) else 0
         self.meshes: ObjectCache[GpuMesh] = ObjectCache(MESH_CACHE_ENTRIES, MESH_CACHE_BYTES, lambda m: m.nbytes)
+        # Every texture upload, in whatever format it is stored, is an entry of this one
+        # cache (keyed (texture, format)): TEXTURE_CACHE_BYTES bounds them all together.
         self.textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
         self.uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self.bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
@@ -86,9 +88,10 @@ class DeviceCache:
         return gpu_mesh
 
     def gpu_texture(self, texture: Texture) -> GpuTexture:
-        gpu_texture = self.textures.get(texture)
+        stored_as = "rgba8unorm"  # upload_texture's format: the variant key in self.textures
+        gpu_texture = self.textures.get(texture, stored_as)
         if gpu_texture is None:
-            gpu_texture = self.textures.put(texture, upload_texture(self.device, texture))
+            gpu_texture = self.textures.put(texture, upload_texture(self.device, texture), stored_as)
         return gpu_texture
 
     def sampler(self, texture: Texture) -> object:
