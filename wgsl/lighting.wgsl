@@ -24,11 +24,34 @@ const FALLBACK_NORMAL: vec3<f32> = vec3<f32>(0.0, 0.0, 1.0);
 var<private> surface_color: vec4<f32> = vec4<f32>(1.0);
 #endif
 
+#if OCCLUSION_MAP
+// The occlusion map's factor on the ambient terms at the point being shaded (glTF:
+// 1 + strength·(texel − 1)); set by the entry point before calling shade().
+var<private> ambient_occlusion: f32 = 1.0;
+#endif
+
+#if SHININESS_MAP
+// The shininess map's texel at the point being shaded: it scales the shininess.
+var<private> shininess_scale: f32 = 1.0;
+#endif
+
 fn material_ambient() -> vec3<f32> {
 #if VERTEX_COLORS
-    return object_uniforms.material.ambient.rgb * surface_color.rgb;
+    var ambient = object_uniforms.material.ambient.rgb * surface_color.rgb;
 #else
-    return object_uniforms.material.ambient.rgb;
+    var ambient = object_uniforms.material.ambient.rgb;
+#endif
+#if OCCLUSION_MAP
+    ambient *= ambient_occlusion;
+#endif
+    return ambient;
+}
+
+fn material_shininess() -> f32 {
+#if SHININESS_MAP
+    return object_uniforms.material.shininess * shininess_scale;
+#else
+    return object_uniforms.material.shininess;
 #endif
 }
 
@@ -99,12 +122,12 @@ fn specular_factor(normal: vec3<f32>, to_light: vec3<f32>, to_viewer: vec3<f32>)
 #if REFLECTION_PHONG
     // (R·V)^s with R = reflect(−L, N), unit length because L and N are.
     let reflected = reflect(-to_light, normal);
-    return guarded_power(dot(reflected, to_viewer), object_uniforms.material.shininess);
+    return guarded_power(dot(reflected, to_viewer), material_shininess());
 #else
     // (N·H)^(s·k_blinn) with H = normalize(L + V). L = −V leaves no half vector: no
     // highlight (a zero H makes N·H = 0) instead of normalize(0).
     let half_vector = safe_normalize(to_light + to_viewer, vec3<f32>(0.0));
-    let exponent = object_uniforms.material.shininess * frame_uniforms.blinn_exponent_scale;
+    let exponent = material_shininess() * frame_uniforms.blinn_exponent_scale;
     return guarded_power(dot(normal, half_vector), exponent);
 #endif
 }
@@ -156,7 +179,7 @@ fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> Li
 #else
     let material = object_uniforms.material;
     lit.ambient_diffuse = frame_uniforms.global_ambient.rgb * material_ambient();
-#if EMISSION
+#if EMISSION and not EMISSIVE_MAP
     lit.ambient_diffuse += material.emission.rgb;
 #endif
 #if DIRECTIONAL_LIGHTS

@@ -4,7 +4,7 @@
 struct VertexInput {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
-#if TEXTURE
+#if UVS
     @location(2) uv: vec2<f32>,
 #endif
 #if VERTEX_COLORS

@@ -25,6 +25,10 @@ COLOR_FORMATS = {"rgba8": wgpu.TextureFormat.rgba8unorm, "float32": wgpu.Texture
 _UNIFORM = {"type": wgpu.BufferBindingType.uniform}
 _STORAGE = {"type": wgpu.BufferBindingType.read_only_storage}
 _VERTEX_AND_FRAGMENT = wgpu.ShaderStage.VERTEX | wgpu.ShaderStage.FRAGMENT
+# Group 1 bindings of each material map's texture (its sampler is the next one): wgsl/bindings.wgsl.
+MAP_BINDINGS = {
+    "normal_map": 3, "bump_map": 5, "specular_map": 7, "shininess_map": 9, "emissive_map": 11, "occlusion_map": 13, "alpha_map": 15,
+}
 
 
 @dataclass(frozen=True)
@@ -45,10 +49,13 @@ def bind_group_entries(features: FeatureSet) -> list[tuple[tuple, ...]]:
     object_group = [(0, _VERTEX_AND_FRAGMENT, "buffer", "uniform")]
     if features.texture_mode is not None:
         object_group += [(1, wgpu.ShaderStage.FRAGMENT, "texture", "float"), (2, wgpu.ShaderStage.FRAGMENT, "sampler", "filtering")]
+    for name in features.map_flags:
+        binding = MAP_BINDINGS[name]
+        object_group += [(binding, _VERTEX_AND_FRAGMENT, "texture", "float"), (binding + 1, _VERTEX_AND_FRAGMENT, "sampler", "filtering")]
     groups.append(tuple(object_group))
     if features.frequency == "flat":
         mesh_group = [(0, wgpu.ShaderStage.VERTEX, "buffer", "storage"), (1, wgpu.ShaderStage.VERTEX, "buffer", "storage")]
-        if features.texture_mode is not None:
+        if features.uses_uvs:
             mesh_group.append((2, wgpu.ShaderStage.VERTEX, "buffer", "storage"))
         if features.vertex_colors:
             mesh_group.append((len(mesh_group), wgpu.ShaderStage.VERTEX, "buffer", "storage"))
@@ -75,7 +82,7 @@ def vertex_buffer_layouts(features: FeatureSet) -> list[dict]:
         {"array_stride": 12, "attributes": [{"format": wgpu.VertexFormat.float32x3, "offset": 0, "shader_location": 0}]},
         {"array_stride": 12, "attributes": [{"format": wgpu.VertexFormat.float32x3, "offset": 0, "shader_location": 1}]},
     ]
-    if features.texture_mode is not None:
+    if features.uses_uvs:
         layouts.append(
             {"array_stride": 8, "attributes": [{"format": wgpu.VertexFormat.float32x2, "offset": 0, "shader_location": 2}]}
         )

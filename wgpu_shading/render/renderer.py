@@ -40,6 +40,7 @@ from .caches import (
 )
 from .device import default_device, lost_device_errors, uses_direct_upload
 from .features import FeatureSet, object_features
+from .material_maps import decodes_srgb, map_textures, object_bindings
 from .pipelines import PipelineCache, PipelineEntry
 from .pipelining import render_many
 from .resources import (
@@ -92,6 +93,7 @@ class _Draw:
     sampler: object
     first_triangle: int
     triangle_count: int
+    maps: tuple = ()  # (binding, GpuTexture, sampler) per material map (material_maps.py)
 
 
 
@@ -113,9 +115,9 @@ class Renderer:
         # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
         self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(self._device) else 0
         self._meshes: ObjectCache[GpuMesh] = ObjectCache(MESH_CACHE_ENTRIES, MESH_CACHE_BYTES, lambda m: m.nbytes)
-        self._textures: ObjectCache[GpuTexture] = ObjectCache(
-            TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes
-        )
+        self._textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
+        # The same images stored as rgba8unorm-srgb (colour textures in linear colour space).
+        self._srgb_textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
         self._targets: LruCache[Target] = LruCache(TARGET_CACHE_ENTRIES)
         self._uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self._bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
@@ -217,10 +219,11 @@ class Renderer:
             upload_colors(self._device, gpu_mesh, mesh, self._mesh_usage)
         return gpu_mesh
 
-    def _gpu_texture(self, texture: Texture) -> GpuTexture:
-        gpu_texture = self._textures.get(texture)
+    def _gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:
+        cache = self._srgb_textures if srgb else self._textures
+        gpu_texture = cache.get(texture)
         if gpu_texture is None:
-            gpu_texture = self._textures.put(texture, upload_texture(self._device, texture))
+            gpu_texture = cache.put(texture, upload_texture(self._device, texture, srgb))
         return gpu_texture
 
     def _uniform_buffer(self, role: str, index: int, data: np.ndarray):
@@ -248,18 +251,21 @@ class Renderer:
                     continue
                 features = object_features(scene, obj, index, material)
                 entry = self._pipelines.get(features, color_format, mirrored, samples)
-                texture = self._gpu_texture(material.texture) if features.texture_mode else None
+                texture = self._gpu_texture(material.texture, decodes_srgb(material.texture, features)) if features.texture_mode else None
+                maps = tuple(
+                    (binding, self._gpu_texture(image, srgb), self._sampler(image))
+                    for binding, image, srgb in map_textures(material, features)
+                )
                 draw = _Draw(
                     entry=entry,
                     draw_index=len(opaque) + len(blended),
-                    gpu_mesh=self._gpu_mesh(
-                        obj.mesh, with_uvs=features.texture_mode is not None, with_colors=features.vertex_colors
-                    ),
+                    gpu_mesh=self._gpu_mesh(obj.mesh, with_uvs=features.uses_uvs, with_colors=features.vertex_colors),
                     object_data=object_uniforms(model_view, material, entry.object_dtype),
                     texture=texture,
                     sampler=self._sampler(material.texture) if texture is not None else None,
                     first_triangle=part.first,
                     triangle_count=part.count,
+                    maps=maps,
                 )
                 if features.alpha_mode == "blend":
                     centre = obj.mesh.part_centre(part)
@@ -350,7 +356,9 @@ class Renderer:
             render_pass.set_pipeline(entry.pipeline)
             render_pass.set_bind_group(0, self._bind_group(self._bind_groups, layouts[0], (frame_buffer,)))
             object_buffer = self._uniform_buffer("object", draw.draw_index, draw.object_data)
-            if draw.texture is None:
+            if draw.maps:  # several textures: the renderer's bounded cache holds the group
+                object_group = cached_bind_group(self._device, self._bind_groups, layouts[1], *object_bindings(object_buffer, draw))
+            elif draw.texture is None:
                 object_group = self._bind_group(self._bind_groups, layouts[1], (object_buffer,))
             else:
                 object_group = self._bind_group(
@@ -360,7 +368,7 @@ class Renderer:
             first_corner, corner_count = 3 * draw.first_triangle, 3 * draw.triangle_count
             if entry.features.frequency == "flat":
                 storage: tuple = (gpu_mesh.positions, gpu_mesh.indices)
-                if draw.texture is not None:
+                if entry.features.uses_uvs:
                     storage += (gpu_mesh.uvs,)
                 if entry.features.vertex_colors:
                     storage += (gpu_mesh.colors,)
@@ -370,10 +378,10 @@ class Renderer:
             else:
                 render_pass.set_vertex_buffer(0, gpu_mesh.positions)
                 render_pass.set_vertex_buffer(1, gpu_mesh.normals)
-                if draw.texture is not None:
+                if entry.features.uses_uvs:
                     render_pass.set_vertex_buffer(2, gpu_mesh.uvs)
                 if entry.features.vertex_colors:
-                    render_pass.set_vertex_buffer(2 + (draw.texture is not None), gpu_mesh.colors)
+                    render_pass.set_vertex_buffer(2 + entry.features.uses_uvs, gpu_mesh.colors)
                 render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
                 render_pass.draw_indexed(corner_count, 1, first_corner, 0, 0)
         render_pass.end()

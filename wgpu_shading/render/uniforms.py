@@ -123,6 +123,10 @@ def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtyp
         fields["emission"] = material.emission
     if "alpha_cutoff" in fields.dtype.names:
         fields["alpha_cutoff"] = material.alpha_cutoff
+    if "normal_scale" in fields.dtype.names:
+        fields["normal_scale"] = material.normal_scale
+    if "occlusion_strength" in fields.dtype.names:
+        fields["occlusion_strength"] = material.occlusion_strength
     return data
 
 
