@@ -4,7 +4,7 @@
 
 For each scene, both variants run through the same harness (same meshes, targets, render
 pass, copy and readback); only the pipeline and its uniform data differ:
-  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.pipelines)
+  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.pipeline_cache)
   uber         benchmarks/uber.wgsl: every feature compiled in, switched by uniforms
 Reported: median warm frame time (render + readback) with frames of the two variants
 interleaved (the machine is shared and noisy, so only side-by-side ratios mean anything),
@@ -43,7 +43,8 @@ from wgpu_shading.assets import load_texture  # noqa: E402
 from wgpu_shading.render.device import default_device, describe_device  # noqa: E402
 from wgpu_shading.render.features import FeatureSet, object_features  # noqa: E402
 from wgpu_shading.render.layout import Layouts  # noqa: E402
-from wgpu_shading.render.pipelines import DEPTH_FORMAT, PipelineCache, vertex_buffer_layouts  # noqa: E402
+from wgpu_shading.render.bindings import binding_plan  # noqa: E402
+from wgpu_shading.render.pipeline_cache import DEPTH_FORMAT, PipelineCache  # noqa: E402
 from wgpu_shading.render.uniforms import clip_from_eye, eye_from_model, frame_uniforms, object_uniforms  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -215,7 +216,7 @@ class Harness:
         pipeline = self.device.create_render_pipeline(
             layout="auto",
             # position, normal and UV buffers, like a textured specialized pipeline
-            vertex={"module": module, "entry_point": "vs_main", "buffers": vertex_buffer_layouts(FeatureSet(texture_mode="modulate"))},
+            vertex={"module": module, "entry_point": "vs_main", "buffers": binding_plan(FeatureSet(texture_mode="modulate")).vertex_buffer_layouts()},
             primitive={"topology": "triangle-list", "cull_mode": "none"},
             depth_stencil={"format": DEPTH_FORMAT, "depth_write_enabled": True, "depth_compare": "greater"},
             fragment={"module": module, "entry_point": "fs_main", "targets": [{"format": COLOR_FORMAT}]},

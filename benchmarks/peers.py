@@ -124,7 +124,7 @@ class RawWgslPeer(Peer):
     def __init__(self, scene: Scene, renderer: Renderer, draw: GeometryDraw, kind: str = "limit"):
         import wgpu
 
-        from wgpu_shading.render.pipelines import COLOR_FORMATS, DEPTH_FORMAT
+        from wgpu_shading.render.pipeline_cache import COLOR_FORMATS, DEPTH_FORMAT
         from wgpu_shading.render.uniforms import clip_from_eye
 
         if kind not in ("floor", "limit", "seed"):

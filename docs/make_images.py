@@ -11,7 +11,7 @@ from pathlib import Path
 
 import imageio.v3 as iio
 from wgpu_shading import Renderer, SceneError, load_scene
-from wgpu_shading.study.accuracy_pictures import contact_sheet
+from wgpu_shading.study.accuracy.pictures import contact_sheet
 from wgpu_shading.testing.golden import diff_image
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -48,7 +48,7 @@ def main() -> int:
 def bare_meshes(renderer: Renderer):
     """The README's viewer picture: sample meshes as `wgpu-shading render MESH` draws them
     (framing from the up axis, key light plus headlight), with the flags shown, MSAA 4."""
-    from wgpu_shading.cli.arguments import _load
+    from wgpu_shading.cli.arguments import scene_from_args
     from wgpu_shading.cli.main import build_parser
 
     views = [  # (label, input, flags)
@@ -59,7 +59,7 @@ def bare_meshes(renderer: Renderer):
     ]
     row = []
     for label, source, flags in views:
-        scene = _load(build_parser().parse_args(["render", source, "--size", "256", "--samples", "4", *flags]))
+        scene = scene_from_args(build_parser().parse_args(["render", source, "--size", "256", "--samples", "4", *flags]))
         row.append((label, renderer.render(scene)))
     return contact_sheet([row])
 

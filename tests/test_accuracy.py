@@ -1,4 +1,5 @@
-"""The accuracy/time study (wgpu_shading.study.accuracy) and `--shading auto`.
+"""The accuracy/time study (wgpu_shading.study.accuracy) and `--shading auto`
+(wgpu_shading.render.auto_shading).
 
 What is asserted are orders of error, never times: the machine is shared and noisy.
 """
@@ -14,7 +15,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from wgpu_shading.render.auto_shading import TIE_FRACTION, auto_shading
+from wgpu_shading.render.image_error import ErrorStats, pixel_error
 from wgpu_shading.study import accuracy as acc
+from wgpu_shading.study.accuracy.metrics import analytic_truth, highlight_error, peak_error, specular_peak
+from wgpu_shading.study.accuracy.results import ROW_FIELDS, cheapest, pareto_front
 from wgpu_shading.study import reference as ref
 from wgpu_shading.cli import main
 from wgpu_shading.scene import cube, sphere_for_triangles, torus, uv_sphere
@@ -27,28 +32,28 @@ from wgpu_shading.scene import Camera, DirectionalLight, Material, PositionalLig
 def test_pixel_error_is_the_largest_channel_difference_of_clamped_colours_in_255ths():
     image = np.array([[[0.5, 0.2, 1.3, 1.0], [0.0, 0.0, 0.0, 0.0]]])
     truth = np.array([[[0.5 + 2 / 255, 0.2 - 1 / 255, 1.0, 0.0], [-0.5, 0.0, 3 / 255, 1.0]]])
-    np.testing.assert_allclose(acc.pixel_error(image, truth), [[2.0, 3.0]], atol=1e-9)  # alpha ignored, clamp first
+    np.testing.assert_allclose(pixel_error(image, truth), [[2.0, 3.0]], atol=1e-9)  # alpha ignored, clamp first
     as_bytes = np.array([[[255, 0, 0, 255]]], dtype=np.uint8)
-    np.testing.assert_allclose(acc.pixel_error(as_bytes, np.array([[[1.0, 4 / 255, 0, 1]]])), [[4.0]], atol=1e-9)
+    np.testing.assert_allclose(pixel_error(as_bytes, np.array([[[1.0, 4 / 255, 0, 1]]])), [[4.0]], atol=1e-9)
 
 
 def test_error_statistics_and_peak_window():
     errors = np.arange(1000, dtype=float)
-    stats = acc.ErrorStats.of(errors)
+    stats = ErrorStats.of(errors)
     assert stats.max == 999 and stats.pixels == 1000
     assert stats.p999 == pytest.approx(np.percentile(errors, 99.9))
     assert stats.rmse == pytest.approx(math.sqrt(np.mean(errors**2)))
     error_map = np.zeros((5, 5))
     error_map[1, 1], error_map[4, 4] = 7.0, 9.0
     mask = np.ones((5, 5), bool)
-    assert acc.peak_error(error_map, mask, (2, 2)) == 7.0  # the 3×3 window around (2, 2)
+    assert peak_error(error_map, mask, (2, 2)) == 7.0  # the 3×3 window around (2, 2)
     mask[1, 1] = False
-    assert acc.peak_error(error_map, mask, (2, 2)) == 0.0  # only compared pixels count
+    assert peak_error(error_map, mask, (2, 2)) == 0.0  # only compared pixels count
 
 
 def test_pareto_front_keeps_only_undominated_points():
     points = [(1.0, 10.0), (2.0, 5.0), (3.0, 6.0), (4.0, 1.0), (0.5, 20.0), (5.0, 1.0)]
-    assert acc.pareto_front(points) == [4, 0, 1, 3]
+    assert pareto_front(points) == [4, 0, 1, 3]
 
 
 def test_analytic_sphere_at_an_off_centre_pixel_matches_a_closed_form_value():
@@ -100,7 +105,7 @@ def test_specular_peak_is_where_the_normal_is_the_half_vector():
             shading=Shading(reflection=reflection, local_viewer=False),
         )
         image = ref.render_analytic_sphere(scene, (0, 0, 0), 1.0, material)
-        row, col = acc.specular_peak(scene, (0, 0, 0), 1.0, material, image)
+        row, col = specular_peak(scene, (0, 0, 0), 1.0, material, image)
         point = half  # eye space = world space shifted by the eye: z − 4
         depth = 4.0 - point[2]
         tan_half = math.tan(math.radians(20))
@@ -140,9 +145,9 @@ def test_cheapest_and_headline_pick_the_fastest_row_within_budget():
         dict(row, frequency="phong", time_ms=3.0, phong_p999=0.1),
         dict(row, frequency="phong", time_ms=0.5, phong_p999=0.1, size=256),
     ]
-    assert acc.cheapest(rows, 512, 1.0)["frequency"] == "gouraud"
-    assert acc.cheapest(rows, 512, 0.5)["frequency"] == "phong"
-    assert acc.cheapest(rows, 512, 0.01) is None
+    assert cheapest(rows, 512, 1.0)["frequency"] == "gouraud"
+    assert cheapest(rows, 512, 0.5)["frequency"] == "phong"
+    assert cheapest(rows, 512, 0.01) is None
     study = acc.Study(config=acc.StudyConfig(sizes=(256, 512)), rows=rows, blinn=[], environment={}, seconds=1.0)
     text = acc.headline(study, 0.5)
     assert "at 512×512, the cheapest setting measured is **phong shading with phong reflection on 80 triangles**" in text
@@ -202,11 +207,11 @@ def test_gouraud_misses_the_highlight_of_a_coarse_sphere_and_phong_does_not(rend
     results = {}
     for frequency in ("gouraud", "phong"):
         scene = acc.study_scene(mesh, 128, acc.Variant(frequency), material)
-        truth = acc.analytic_truth(scene)
+        truth = analytic_truth(scene)
         frame = renderer.render_frame(scene, float32=True, depth=True)
         mask = truth.interior & np.isfinite(frame.depth)
-        errors = acc.pixel_error(frame.color, truth.image.color)
-        results[frequency] = (acc.peak_error(errors, mask, truth.peak), acc.highlight_error(frame.color, truth.image.color, mask))
+        errors = pixel_error(frame.color, truth.image.color)
+        results[frequency] = (peak_error(errors, mask, truth.peak), highlight_error(frame.color, truth.image.color, mask))
     gouraud_peak, gouraud_highlight = results["gouraud"]
     phong_peak, phong_highlight = results["phong"]
     assert gouraud_peak > 80 and gouraud_highlight > 80, results
@@ -231,7 +236,7 @@ def test_quick_sweep_writes_every_output(quick_study):
     rows = document["rows"]
     assert len(rows) == 3 * 3 * 2  # tessellations × frequencies × reflections
     with open(out / "results.csv") as handle:
-        assert tuple(csv.DictReader(handle).fieldnames) == acc.ROW_FIELDS
+        assert tuple(csv.DictReader(handle).fieldnames) == ROW_FIELDS
     table = (out / "table.md").read_text()
     assert table.split("## Cheapest")[0].count("\n| 96 |") == len(rows) and "cheapest setting" in table
     for name in ("seed_figure.png", "error_maps.png"):
@@ -272,7 +277,7 @@ def test_quick_sweep_orders_of_error(quick_study):
 
 def test_auto_chooses_phong_for_a_coarse_sphere_with_a_tight_budget(renderer):
     scene = replace(acc.study_scene(sphere_for_triangles(80), 96, acc.Variant("gouraud")), size=(96, 96))
-    choice = acc.auto_shading(scene, 0.5, renderer=renderer, frames=1)
+    choice = auto_shading(scene, 0.5, renderer=renderer, frames=1)
     assert choice.chosen.variant == acc.Variant("phong", "phong")
     assert choice.scene.shading.frequency == "phong" and choice.scene.shading.reflection == "phong"
     others = [c for c in choice.candidates if c.variant != choice.chosen.variant]
@@ -282,13 +287,13 @@ def test_auto_chooses_phong_for_a_coarse_sphere_with_a_tight_budget(renderer):
 
 def test_auto_may_choose_a_cheaper_frequency_for_a_fine_sphere_with_a_loose_budget(renderer):
     scene = acc.study_scene(sphere_for_triangles(100_000), 96, acc.Variant("phong"))
-    choice = acc.auto_shading(scene, 12.0, renderer=renderer, frames=1)
+    choice = auto_shading(scene, 12.0, renderer=renderer, frames=1)
     meets = {c.variant.frequency for c in choice.candidates if c.meets and c.variant.reflection == "phong"}
     assert {"gouraud", "phong"} <= meets  # ~100k triangles: Gouraud's highlight is nearly right
     fitting = [c for c in choice.candidates if c.meets]
     fastest = min(c.time_ms for c in fitting)  # the fastest of those within budget (5 % counts as a tie)
-    assert choice.chosen.time_ms <= fastest * (1 + acc.TIE_FRACTION)
-    assert all(c.p999 >= choice.chosen.p999 for c in fitting if c.time_ms <= fastest * (1 + acc.TIE_FRACTION))
+    assert choice.chosen.time_ms <= fastest * (1 + TIE_FRACTION)
+    assert all(c.p999 >= choice.chosen.p999 for c in fitting if c.time_ms <= fastest * (1 + TIE_FRACTION))
     assert choice.chosen.p999 <= 12.0
 
 
@@ -299,9 +304,9 @@ def test_auto_can_choose_flat_for_a_cube_without_specular(renderer):
         objects=(SceneObject(cube(1.0), matte, rotate=(30, 40, 0)),),
         lights=(DirectionalLight(direction=(-1, -2, -3)),), camera=Camera(eye=(0, 0, 3)), size=(64, 64),
     )
-    choice = acc.auto_shading(scene, 1.0, renderer=renderer, frames=1)
+    choice = auto_shading(scene, 1.0, renderer=renderer, frames=1)
     assert all(c.meets and c.p999 < 0.5 for c in choice.candidates), choice.report()
-    assert choice.chosen.time_ms <= min(c.time_ms for c in choice.candidates) * (1 + acc.TIE_FRACTION)
+    assert choice.chosen.time_ms <= min(c.time_ms for c in choice.candidates) * (1 + TIE_FRACTION)
 
 
 def test_render_shading_auto_from_the_command_line(tmp_path, capsys):

@@ -12,7 +12,7 @@ import pytest
 
 from wgpu_shading import Camera, PositionalLight, Renderer, Scene, SceneObject, SpotLight, DirectionalLight, load_mesh, material
 from wgpu_shading.assets.animation import write_animation
-from wgpu_shading.render.pipelining import default_parallelism
+from wgpu_shading.render.frames_in_flight import default_parallelism
 from wgpu_shading.scene.turntable import spun, turntable
 from wgpu_shading.cli import main
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from wgpu_shading.study.accuracy_progress import Progress
+from wgpu_shading.study.accuracy.progress import Progress
 
 BIN = Path(sys.executable).parent
 

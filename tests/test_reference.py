@@ -582,7 +582,10 @@ def test_chunked_rasterization_gives_the_same_image(monkeypatch):
         lights=(PositionalLight(),), camera=Camera(eye=(0.3, 0.2, 3)), size=(40, 32),
     )
     whole = ref.render_reference(scene)
-    monkeypatch.setattr(ref, "CANDIDATE_CHUNK", 97)
+    # Patched where the rasterizer reads it (the package's namespace does not hold it).
+    from wgpu_shading.study.reference import raster
+
+    monkeypatch.setattr(raster, "CANDIDATE_CHUNK", 97)
     chunked = ref.render_reference(scene)
     for field in ("color", "covered", "triangle", "object", "depth", "edge_margin"):
         np.testing.assert_array_equal(getattr(chunked, field), getattr(whole, field), err_msg=field)

@@ -74,7 +74,7 @@ BASE = FeatureSet(frequency="phong", reflection="phong", positional_lights=1)
         ({"directional_lights": 1}, ["DirectionalLight", "directional_lights"]),
         ({"attenuation": True}, ["attenuation"]),
         ({"emission": True}, ["emission"]),
-        ({"texture_mode": "modulate"}, ["textureSample", "surface_texture", "surface_sampler", "uv"]),
+        ({"texture_mode": "modulate"}, ["textureSample", "base_color_texture", "base_color_sampler", "uv"]),
         ({"two_sided": True}, ["front_facing"]),
         ({"reflection": "blinn-phong"}, ["blinn_exponent_scale", "half_vector"]),
     ],

@@ -17,7 +17,7 @@ from wgpu_shading.assets import parse_scene
 from wgpu_shading.assets.mesh_scene import mesh_scene
 from wgpu_shading.cli import main
 from wgpu_shading.cli.main import build_parser
-from wgpu_shading.cli.arguments import _load
+from wgpu_shading.cli.arguments import scene_from_args
 from wgpu_shading.errors import SceneError
 from wgpu_shading.scene.framing import parse_direction
 
@@ -110,7 +110,7 @@ def _args(*argv: str):
 def test_camera_flags_set_the_camera_and_match_the_scene_file_keys(tmp_path):
     scene_file = tmp_path / "s.toml"
     scene_file.write_text('[[objects]]\nmesh = "builtin:torus"\n')
-    flagged = _load(_args(
+    flagged = scene_from_args(_args(
         str(scene_file), "--camera-position", "1,2,5", "--camera-focal-point", "0,0.5,0", "--camera-view-up", "+Y",
         "--camera-view-angle", "30", "--camera-azimuth-angle", "20", "--camera-elevation-angle", "10",
         "--camera-orthographic",
@@ -122,12 +122,12 @@ def test_camera_flags_set_the_camera_and_match_the_scene_file_keys(tmp_path):
     }).camera
     assert flagged == keyed
     assert flagged.projection == "orthographic" and flagged.fov_y == 30
-    height = _load(_args(str(scene_file), "--camera-ortho-height", "2.5")).camera
+    height = scene_from_args(_args(str(scene_file), "--camera-ortho-height", "2.5")).camera
     assert height.projection == "orthographic" and height.view_height() == 2.5
 
 
 def test_moving_a_bare_mesh_camera_keeps_the_mesh_inside_the_depth_range():
-    scene = _load(_args("builtin:torus", "--camera-position", "0,0,40"))
+    scene = scene_from_args(_args("builtin:torus", "--camera-position", "0,0,40"))
     assert scene.camera.near < 40 - 1 and scene.camera.far > 40 + 1
     # The default lights follow the camera: the headlight travels along the view direction.
     assert scene.lights[1].direction == pytest.approx((0.0, 0.0, -1.0))
@@ -161,23 +161,23 @@ def test_reference_refuses_orthographic_cameras():
 
 
 def test_resolution_is_f3ds_name_for_size():
-    assert _load(_args("builtin:torus", "--resolution", "300,200")).size == (300, 200)
-    assert _load(_args("builtin:torus", "--size", "300x200")).size == (300, 200)
+    assert scene_from_args(_args("builtin:torus", "--resolution", "300,200")).size == (300, 200)
+    assert scene_from_args(_args("builtin:torus", "--size", "300x200")).size == (300, 200)
 
 
 def test_camera_direction_keeps_the_distance_and_yields_to_position(tmp_path):
-    base = _load(_args("builtin:torus")).camera
+    base = scene_from_args(_args("builtin:torus")).camera
     distance = np.linalg.norm(np.subtract(base.eye, base.target))
-    looking_down = _load(_args("builtin:torus", "--camera-direction=-Y", "--camera-view-up=-Z")).camera
+    looking_down = scene_from_args(_args("builtin:torus", "--camera-direction=-Y", "--camera-view-up=-Z")).camera
     assert np.subtract(looking_down.eye, looking_down.target) == pytest.approx((0.0, distance, 0.0))
-    placed = _load(_args("builtin:torus", "--camera-direction=-Y", "--camera-position", "0,0,7")).camera
+    placed = scene_from_args(_args("builtin:torus", "--camera-direction=-Y", "--camera-position", "0,0,7")).camera
     assert placed.eye == (0.0, 0.0, 7.0)
 
 
 def test_azimuth_and_elevation_without_the_angle_suffix():
-    short = _load(_args("builtin:torus", "--camera-azimuth", "30", "--camera-elevation", "10")).camera
-    long = _load(_args("builtin:torus", "--camera-azimuth-angle", "30", "--camera-elevation-angle", "10")).camera
-    assert short == long and short != _load(_args("builtin:torus")).camera
+    short = scene_from_args(_args("builtin:torus", "--camera-azimuth", "30", "--camera-elevation", "10")).camera
+    long = scene_from_args(_args("builtin:torus", "--camera-azimuth-angle", "30", "--camera-elevation-angle", "10")).camera
+    assert short == long and short != scene_from_args(_args("builtin:torus")).camera
 
 
 def test_ortho_height_without_orthographic_projection_is_an_error():

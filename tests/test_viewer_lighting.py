@@ -12,7 +12,7 @@ import pytest
 from wgpu_shading import DirectionalLight, PositionalLight
 from wgpu_shading.assets import load_scene
 from wgpu_shading.assets.mesh_scene import mesh_scene
-from wgpu_shading.cli.arguments import _load
+from wgpu_shading.cli.arguments import scene_from_args
 from wgpu_shading.cli.main import build_parser
 from wgpu_shading.cli.viewer_options import parse_light
 from wgpu_shading.errors import SceneError
@@ -58,7 +58,7 @@ def test_default_lights_are_a_key_light_and_a_headlight():
 
 def test_scene_files_keep_their_own_lights():
     args = build_parser().parse_args(["render", "example:two_lights.toml"])
-    assert _load(args).lights == load_scene("example:two_lights.toml").lights
+    assert scene_from_args(args).lights == load_scene("example:two_lights.toml").lights
 
 
 def _light(spec: str):
@@ -92,7 +92,7 @@ def test_bad_light_specs_name_the_problem(spec, message):
 
 def test_light_flags_replace_the_lights(renderer):
     args = build_parser().parse_args(["render", "builtin:sphere", "--size", "64", "--light", "directional:dir=0,0,-1:color=1,0,0"])
-    scene = _load(args)
+    scene = scene_from_args(args)
     assert len(scene.lights) == 1
     image = renderer.render(scene)
     red, green = image[32, 32, 0], image[32, 32, 1]

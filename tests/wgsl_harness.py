@@ -17,7 +17,7 @@ import wgpu
 from wgpu_shading.render.features import object_features
 from wgpu_shading.render.layout import layouts_for
 from wgpu_shading.scene import Scene
-from wgpu_shading.render.shadergen import generate_wgsl, preprocess
+from wgpu_shading.render.shadergen import generate_wgsl, preprocess, sources_for
 from wgpu_shading.render.uniforms import eye_from_model, frame_uniforms, object_uniforms
 
 
@@ -33,7 +33,7 @@ def run_kernel(device, scene: Scene, inputs: np.ndarray, body: str, outputs: int
     features = replace(object_features(scene, obj, object_index), frequency="phong", texture_mode=None)
     header = generate_wgsl(features).split("\n\n", 1)[0]  # feature comment + light-count constants
     defines = features.defines()
-    library = "\n".join(preprocess(name, defines) for name in ("structs.wgsl", "bindings.wgsl", "lighting.wgsl"))
+    library = "\n".join(preprocess(name, defines, sources_for(features)) for name in ("structs.wgsl", "bindings.wgsl", "lighting.wgsl"))
     inputs = np.ascontiguousarray(inputs, dtype=np.float32)
     rows, stride = inputs.shape
     source = f"""{header}

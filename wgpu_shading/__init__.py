@@ -2,13 +2,14 @@
 Phong shading; OpenGL-style lights and materials; textures) in WGSL, rendered offscreen
 with wgpu — on Mesa's lavapipe by default.
 
-    from wgpu_shading import Renderer, load_scene
+    from wgpu_shading import Renderer, load_scene, mesh_scene, turntable
     image = Renderer().render(load_scene("examples/gold_torus_phong.toml"))
+    frames = Renderer().render_many(turntable(mesh_scene("builtin:torus"), 36))
 
 The pipeline, one subpackage per stage (docs/architecture.md): scene/ (what to draw) and
 assets/ (files) → render/ (feature set → WGSL from wgsl/ → cached pipeline → render pass)
-→ numpy image; study/ (float64 reference, accuracy study), testing/ (golden images) and
-cli/ sit on top.
+→ numpy image; study/ (float64 reference, accuracy study), testing/ (golden images),
+dataset/ and cli/ sit on top.
 """
 
 from __future__ import annotations
@@ -18,6 +19,8 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # pragma: no cover
     from .errors import DeviceError, MeshError, SceneError, WgpuShadingError
     from .assets import load_mesh, load_scene, parse_scene
+    from .assets.mesh_scene import mesh_scene
+    from .render.auto_shading import AutoChoice, auto_shading
     from .render.features import FeatureSet
     from .render.renderer import Frame, Renderer
     from .scene import (
@@ -35,6 +38,7 @@ if TYPE_CHECKING:  # pragma: no cover
         Texture,
         material,
     )
+    from .scene.turntable import turntable
 
 __version__ = "0.1.0"
 
@@ -45,7 +49,8 @@ _LAZY = {
     "DeviceError": "errors", "MeshError": "errors", "SceneError": "errors", "WgpuShadingError": "errors",
     "FeatureSet": "render.features",
     "MATERIALS": "scene", "material": "scene", "Mesh": "scene",
-    "load_mesh": "assets", "load_scene": "assets", "parse_scene": "assets",
+    "load_mesh": "assets", "load_scene": "assets", "parse_scene": "assets", "mesh_scene": "assets.mesh_scene",
+    "AutoChoice": "render.auto_shading", "auto_shading": "render.auto_shading", "turntable": "scene.turntable",
     "Frame": "render.renderer", "Renderer": "render.renderer",
     "Camera": "scene", "DirectionalLight": "scene", "Light": "scene", "Material": "scene",
     "PositionalLight": "scene", "Scene": "scene", "SceneObject": "scene", "Shading": "scene",
@@ -66,6 +71,7 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
+    "AutoChoice",
     "Camera",
     "DeviceError",
     "DirectionalLight",
@@ -85,8 +91,11 @@ __all__ = [
     "SpotLight",
     "Texture",
     "WgpuShadingError",
+    "auto_shading",
     "load_mesh",
     "load_scene",
     "material",
+    "mesh_scene",
     "parse_scene",
+    "turntable",
 ]

@@ -52,6 +52,11 @@ class DeviceError(WgpuShadingError, RuntimeError):
     """No usable wgpu adapter or device."""
 
 
+class AccuracyError(WgpuShadingError):
+    """An accuracy study or an automatic shading choice cannot be made as asked (bad option,
+    missing plot library)."""
+
+
 def install_hint(extra: str) -> str:
     """How to install an optional extra into the Python environment running now (the venv
     that `./run` made, in a clone): its packages, installed by this very interpreter, so the

@@ -12,17 +12,8 @@
 #include "maps.wgsl"
 #include "surface.wgsl"
 
-// Group 2: the mesh itself, read by the vertex stage.
-@group(2) @binding(0) var<storage, read> mesh_positions: array<f32>;  // x, y, z per vertex (model space)
-@group(2) @binding(1) var<storage, read> mesh_indices: array<u32>;    // three per triangle
-#if UVS
-@group(2) @binding(2) var<storage, read> mesh_uvs: array<f32>;        // u, v per vertex
-#endif
-#if VERTEX_COLORS and UVS
-@group(2) @binding(3) var<storage, read> mesh_colors: array<vec4<f32>>; // r, g, b, a per vertex
-#elif VERTEX_COLORS
-@group(2) @binding(2) var<storage, read> mesh_colors: array<vec4<f32>>;
-#endif
+// Group 2 (the mesh: mesh_positions, mesh_indices, mesh_uvs, mesh_colors) is declared by
+// the binding plan (wgpu_shading/render/bindings.py).
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,

@@ -8,7 +8,6 @@
 #include "lighting.wgsl"
 #include "maps.wgsl"
 #include "surface.wgsl"
-#include "vertex_input.wgsl"
 
 
 struct Varyings {

@@ -53,7 +53,7 @@ fn final_color(lit_in: LitColor) -> vec4<f32> {
 #endif
     var alpha = surface_alpha();
 #if TEXTURE
-    let texel = textureSample(surface_texture, surface_sampler, uv);
+    let texel = textureSample(base_color_texture, base_color_sampler, uv);
 #if TEXTURE_MODULATE
     // A texture showing the real surface: it replaces the surface color under ambient and
     // diffuse light; the highlight stays the light's color. Without a material this is the

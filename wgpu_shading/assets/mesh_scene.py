@@ -7,20 +7,20 @@ import numpy as np
 from ..errors import MeshError, SceneError
 from ..scene import Material, Mesh, Scene, SceneObject, material
 from ..scene.framing import framing_camera
-from ..scene.lighting import viewer_lights
+from ..scene.viewer_lights import viewer_lights
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
 
 def mesh_scene(
     mesh_source: str,
-    size: tuple[int, int],
-    material_name: str | None,
+    size: tuple[int, int] = (512, 512),
+    material_name: str | None = None,
     *,
     crease_angle: float = DEFAULT_CREASE_ANGLE,
     up: str = "+Y",
 ):
     """A scene for a bare mesh: framed by the camera, lit by a key light and a headlight fill
-    as model viewers do (scene/lighting.py; global ambient 0.2), the file's materials or gold.
+    as model viewers do (scene/viewer_lights.py; global ambient 0.2), the file's materials or gold.
     `up` is the file's up axis: the mesh is turned so that it points up on screen, which is
     f3d's --up view (its camera turned instead: the same picture)."""
     mesh = load_mesh(mesh_source, crease_angle=crease_angle)

@@ -24,7 +24,7 @@ from typing import Any, Mapping
 
 from ..errors import MeshError, SceneError, shown
 from ..scene import BUILTIN_PREFIX
-from ..scene.materials import material as named_material
+from ..scene.material_table import material as named_material
 from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 from .textures import load_texture

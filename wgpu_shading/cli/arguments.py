@@ -28,7 +28,7 @@ def _size(text: str) -> tuple[int, int]:
     return numbers[0], numbers[1]
 
 
-def _load(args: argparse.Namespace):
+def scene_from_args(args: argparse.Namespace):
     """The scene named on the command line, with the command-line overrides applied."""
     from ..assets.mesh_scene import mesh_scene
     from ..assets.meshes import DEFAULT_CREASE_ANGLE
@@ -77,7 +77,7 @@ def _load(args: argparse.Namespace):
     return scene
 
 
-def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
+def add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "input",
         help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB), builtin:NAME, or example:NAME (`wgpu-shading examples`)",
@@ -111,14 +111,14 @@ def _add_scene_arguments(parser: argparse.ArgumentParser) -> None:
 # --------------------------------------------------------------------------- commands
 
 
-def _default_output(args: argparse.Namespace, suffix: str) -> Path:
+def default_output(args: argparse.Namespace, suffix: str) -> Path:
     """-o, or the input's name with `suffix` in the current folder (builtin:torus → torus.png)."""
     if args.output:
         return Path(args.output)
     return Path(Path(args.input.split("?")[0].replace("builtin:", "").replace("example:", "")).stem + suffix)
 
 
-def _check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
+def check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:
     output_path(path, allowed)
     if float_target and path.suffix.lower() != ".npy":
         raise SceneError(f"output {str(path)!r}: --float writes exact float32 values to .npy, not {path.suffix!r}")
@@ -150,7 +150,7 @@ def _up(text: str) -> str:
         raise argparse.ArgumentTypeError(str(error).removeprefix("--up: ")) from None
 
 
-def _fraction(text: str) -> float:
+def fraction(text: str) -> float:
     """'0.001' or '0.1%'."""
     def convert(value: str) -> float:
         return float(value[:-1]) / 100.0 if value.endswith("%") else float(value)
@@ -160,12 +160,12 @@ def _fraction(text: str) -> float:
     )
 
 
-def _unit(text: str) -> int:
+def level_255(text: str) -> int:
     """An integer 0..255."""
     return _number_in(text, int, 0, 255, "an integer 0..255 (units of 1/255)")
 
 
-def _error_budget(text: str) -> float:
+def error_budget(text: str) -> float:
     """A number >= 0 in units of 1/255 ('1', '0.5', '2/255')."""
     number = text[:-4] if text.endswith("/255") else text
     try:

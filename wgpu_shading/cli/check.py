@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .arguments import _add_scene_arguments, _fraction, _load, _unit
+from .arguments import add_scene_arguments, fraction, scene_from_args, level_255
 
 EXIT_MISMATCH = 1
 
@@ -35,7 +35,7 @@ def command_check(args: argparse.Namespace) -> int:
         max_difference=args.max_difference,
         flip_mean=args.flip,
     )
-    scene = _load(args)
+    scene = scene_from_args(args)
     if not args.update and not reference.exists():
         raise GoldenError(f"reference {args.ref!r} does not exist; run again with --update to create it")
     image = Renderer(adapter=args.adapter).render(scene)
@@ -63,18 +63,18 @@ def add_check(commands, gpu: argparse.ArgumentParser) -> None:
             "differing reference. See docs/golden-tests.md."
         ),
     )
-    _add_scene_arguments(check)
+    add_scene_arguments(check)
     check.add_argument("--ref", required=True, metavar="REFERENCE.png", help="the reference image")
     check.add_argument("--update", action="store_true", help="write the reference when it is missing or differs")
     check.add_argument(
-        "--threshold", type=_unit, default=defaults.threshold, metavar="N",
+        "--threshold", type=level_255, default=defaults.threshold, metavar="N",
         help=f"a pixel differs when a channel differs by more than N/255 (default {defaults.threshold})",
     )
     check.add_argument(
-        "--max-fraction", type=_fraction, default=defaults.max_fraction, metavar="F",
+        "--max-fraction", type=fraction, default=defaults.max_fraction, metavar="F",
         help=f"fraction of pixels allowed to differ, e.g. 0.001 or 0.1%% (default {defaults.max_fraction:g})",
     )
-    check.add_argument("--max-difference", type=_unit, metavar="N", help="also fail when any channel differs by more than N/255")
+    check.add_argument("--max-difference", type=level_255, metavar="N", help="also fail when any channel differs by more than N/255")
     check.add_argument(
         "--flip", type=float, metavar="MEAN", help="also fail when the mean NVIDIA FLIP error exceeds MEAN (needs flip-evaluator)"
     )

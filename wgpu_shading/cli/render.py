@@ -8,7 +8,7 @@ import sys
 
 from ..errors import SceneError
 from ..assets.animation import MAX_FPS, MIN_FPS
-from .arguments import _add_scene_arguments, _check_output, _default_output, _error_budget, _load
+from .arguments import add_scene_arguments, check_output, default_output, error_budget, scene_from_args
 
 
 def command_render(args: argparse.Namespace) -> int:
@@ -19,17 +19,17 @@ def command_render(args: argparse.Namespace) -> int:
 
     to_stdout = args.output == STDOUT
     # Every output is checked before the scene is even loaded: a typo costs nothing.
-    output = None if to_stdout else _default_output(args, ".png")
+    output = None if to_stdout else default_output(args, ".png")
     float_target = args.float or (output is not None and output.suffix.lower() == ".npy")
     if to_stdout and args.float:
         raise SceneError("-o - writes an 8-bit PNG to standard output; --float needs a .npy file")
     if output is not None:
-        _check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
+        check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
     depth_path = None if args.depth is None else output_path(Path(args.depth), DEPTH_SUFFIXES, "--depth")
     if depth_path is not None and output is not None and depth_path.resolve() == output.resolve():
         # Otherwise the depth image silently replaces the colour image.
         raise SceneError(f"--depth {str(depth_path)!r} is the same file as the output; give depth its own name")
-    scene = _load(args)
+    scene = scene_from_args(args)
     renderer = Renderer(adapter=args.adapter)
     scene = _auto_shading(args, scene, renderer)
     frame = renderer.render_frame(scene, float32=float_target, depth=depth_path is not None)
@@ -64,8 +64,8 @@ def command_turntable(args: argparse.Namespace) -> int:
         raise SceneError(f"--fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {args.fps}")
     if not (math.isfinite(args.degrees) and abs(args.degrees) <= 1e6):
         raise SceneError(f"--degrees must be a finite number of degrees (at most 1e6 in size), got {args.degrees}")
-    scene = _load(args)
-    output = _default_output(args, ".gif")
+    scene = scene_from_args(args)
+    output = default_output(args, ".gif")
     check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute
     renderer = Renderer(adapter=args.adapter)
     from tqdm import tqdm
@@ -89,7 +89,7 @@ def _auto_shading(args: argparse.Namespace, scene, renderer):
         return scene
     if args.frequency is not None:
         raise SceneError("--shading auto chooses the frequency itself: leave out --frequency")
-    from ..study.accuracy import auto_shading
+    from ..render.auto_shading import auto_shading
 
     choice = auto_shading(scene, 1.0 if args.max_error is None else args.max_error, renderer=renderer)
     if not args.quiet:
@@ -102,7 +102,7 @@ def command_shader(args: argparse.Namespace) -> int:
     from ..render.features import object_features
     from ..render.shadergen import generate_wgsl
 
-    scene = _load(args)
+    scene = scene_from_args(args)
     seen = set()
     for index, obj in enumerate(scene.objects):
         # One draw per part (each with its own material): print each distinct shader once.
@@ -124,7 +124,7 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
     render = commands.add_parser(
         "render", parents=[gpu], help="render a scene or a mesh to an image", description="Render a scene file or a mesh to an image."
     )
-    _add_scene_arguments(render)
+    add_scene_arguments(render)
     render.add_argument(
         "-o", "--output",
         help="output image: .png (8-bit), .npy (float32), .jpg, .tif, or - for PNG on standard output (default: INPUT.png)",
@@ -141,7 +141,7 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
         help="auto: measure every frequency/reflection on this scene and use the cheapest within --max-error",
     )
     render.add_argument(
-        "--max-error", type=_error_budget, metavar="E",
+        "--max-error", type=error_budget, metavar="E",
         help="error budget of --shading auto, in units of 1/255 (p99.9 of the pixels; default 1)",
     )
     render.set_defaults(handler=command_render)
@@ -153,7 +153,7 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
         description="Render the scene turning about the camera's up axis (camera and lights stay put) "
         "and write an animated GIF (looping) or an MP4 (needs imageio-ffmpeg: the [video] extra).",
     )
-    _add_scene_arguments(spin)
+    add_scene_arguments(spin)
     spin.add_argument("-o", "--output", help="output animation: .gif or .mp4 (default: INPUT.gif)")
     spin.add_argument("--frames", type=int, default=360, help="number of frames (default: 360, one per degree)")
     spin.add_argument("--degrees", type=float, default=360.0, help="total turn in degrees (default: 360, a loop)")
@@ -164,5 +164,5 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
 
 def add_shader(commands, gpu: argparse.ArgumentParser) -> None:
     shader = commands.add_parser("shader", help="print the WGSL generated for a scene", description="Print the WGSL generated for each object's feature set.")
-    _add_scene_arguments(shader)
+    add_scene_arguments(shader)
     shader.set_defaults(handler=command_shader)

@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import SceneError
 from ..scene import LIGHT_TYPES, Scene
 from ..scene.framing import object_depth_range, parse_direction
-from ..scene.lighting import headlight, viewer_lights
+from ..scene.viewer_lights import headlight, viewer_lights
 
 LIGHT_SYNTAX = (
     "TYPE[:KEY=VALUE]...: TYPE directional|positional|spot|headlight; keys dir=X,Y,Z (the way the light "

@@ -23,7 +23,7 @@ from pyglm import glm
 from ..errors import SceneError
 from ..scene import Camera, Scene, material
 from ..scene.framing import FRAMING_DIRECTION, object_depth_range
-from ..scene.lighting import viewer_lights
+from ..scene.viewer_lights import viewer_lights
 from .jobs import Job
 
 DEFAULT_SIZE = (512, 512)  # what `wgpu-shading render MESH` uses

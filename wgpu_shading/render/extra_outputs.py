@@ -23,7 +23,7 @@ from ..errors import SceneError
 from ..scene import Scene, SceneObject
 from ..scene.mesh import MeshPart
 from .layout import layouts_for
-from .pipelines import DEPTH_FORMAT
+from .pipeline_cache import DEPTH_FORMAT
 from .resources import padded_row_bytes, read_buffer
 from .shadergen import read_source
 from .uniforms import clip_from_eye

@@ -39,10 +39,11 @@ from .caches import (
     ObjectCache,
 )
 from .device import default_device, lost_device_errors, uses_direct_upload
+from .bindings import Binding, BindingPlan
 from .features import FeatureSet, object_features
-from .material_maps import decodes_srgb, map_textures, object_bindings
-from .pipelines import PipelineCache, PipelineEntry
-from .pipelining import render_many
+from .material_maps import decodes_srgb
+from .pipeline_cache import PipelineCache, PipelineEntry
+from .frames_in_flight import render_many
 from .resources import (
     GpuMesh,
     GpuTexture,
@@ -89,11 +90,10 @@ class _Draw:
     draw_index: int  # which object-uniform buffer it uses
     gpu_mesh: GpuMesh
     object_data: np.ndarray
-    texture: GpuTexture | None
-    sampler: object
+    textures: dict[str, object]  # the plan's *_texture and *_sampler entries: views and samplers
+    texture_owner: GpuTexture | None  # whose cache keeps the object bind group (the first texture)
     first_triangle: int
     triangle_count: int
-    maps: tuple = ()  # (binding, GpuTexture, sampler) per material map (material_maps.py)
 
 
 
@@ -121,7 +121,7 @@ class Renderer:
         self._targets: LruCache[Target] = LruCache(TARGET_CACHE_ENTRIES)
         self._uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self._bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
-        self._batch_helpers: list[Renderer] = []  # extra devices for render_many (pipelining.py)
+        self._batch_helpers: list[Renderer] = []  # extra devices for render_many (frames_in_flight.py)
         self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
 
     def _sampler(self, texture: Texture) -> object:
@@ -172,7 +172,7 @@ class Renderer:
         parallel: int | None = None,
     ) -> Iterator[Frame]:
         """Frames of many scenes, in order, each equal to render_frame(scene): faster than a
-        loop over render_frame (pipelined; on lavapipe spread over two devices). See pipelining.py."""
+        loop over render_frame (pipelined; on lavapipe spread over two devices). See frames_in_flight.py."""
         return render_many(self, scenes, float32=float32, depth=depth, in_flight=in_flight, parallel=parallel)
 
     def _helper_renderers(self, count: int) -> list["Renderer"]:
@@ -209,13 +209,14 @@ class Renderer:
     def _new_target(self, width: int, height: int, color_format: str, samples: int = 1) -> Target:
         return new_target(self._device, width, height, color_format, samples)
 
-    def _gpu_mesh(self, mesh: Mesh, *, with_uvs: bool = False, with_colors: bool = False) -> GpuMesh:
+    def _gpu_mesh(self, mesh: Mesh, plan: BindingPlan | None = None) -> GpuMesh:
+        """The mesh's upload, with the optional attributes `plan` binds (uvs, colors)."""
         gpu_mesh = self._meshes.get(mesh)
         if gpu_mesh is None:
             gpu_mesh = self._meshes.put(mesh, upload_mesh(self._device, mesh, self._mesh_usage))
-        if with_uvs:
+        if plan is not None and "uvs" in plan:
             upload_uvs(self._device, gpu_mesh, mesh, self._mesh_usage)
-        if with_colors:
+        if plan is not None and "colors" in plan:
             upload_colors(self._device, gpu_mesh, mesh, self._mesh_usage)
         return gpu_mesh
 
@@ -229,6 +230,15 @@ class Renderer:
     def _uniform_buffer(self, role: str, index: int, data: np.ndarray):
         payload = finite_uniform_bytes(data, "camera and lights" if role == "frame" else f"objects[{index}]")
         return uniform_buffer(self._device, self._uniform_buffers, (role, index, data.nbytes), payload)
+
+    def _group_cache(self, group: tuple[Binding, ...], draw: _Draw) -> LruCache:
+        """Who keeps a bind group: the mesh (its storage buffers), else the first texture it
+        binds, else the renderer, so a group goes when what it binds is evicted."""
+        if any(binding.kind == "storage" for binding in group):
+            return draw.gpu_mesh.storage_groups
+        if draw.texture_owner is not None and any(binding.kind == "texture" for binding in group):
+            return draw.texture_owner.object_groups
+        return self._bind_groups
 
     def _bind_group(self, cache: LruCache, layout, resources: tuple) -> object:
         """A bind group, cached in `cache` (see resources.cached_bind_group)."""
@@ -251,21 +261,23 @@ class Renderer:
                     continue
                 features = object_features(scene, obj, index, material)
                 entry = self._pipelines.get(features, color_format, mirrored, samples)
-                texture = self._gpu_texture(material.texture, decodes_srgb(material.texture, features)) if features.texture_mode else None
-                maps = tuple(
-                    (binding, self._gpu_texture(image, srgb), self._sampler(image))
-                    for binding, image, srgb in map_textures(material, features)
-                )
+                textures: dict[str, object] = {}
+                owner = None
+                for sampled in entry.plan.textures:
+                    texture = sampled.of_material(material)
+                    gpu_texture = self._gpu_texture(texture, sampled.color and decodes_srgb(texture, features))
+                    owner = owner or gpu_texture
+                    textures[f"{sampled.name}_texture"] = gpu_texture.view
+                    textures[f"{sampled.name}_sampler"] = self._sampler(texture)
                 draw = _Draw(
                     entry=entry,
                     draw_index=len(opaque) + len(blended),
-                    gpu_mesh=self._gpu_mesh(obj.mesh, with_uvs=features.uses_uvs, with_colors=features.vertex_colors),
+                    gpu_mesh=self._gpu_mesh(obj.mesh, entry.plan),
                     object_data=object_uniforms(model_view, material, entry.object_dtype),
-                    texture=texture,
-                    sampler=self._sampler(material.texture) if texture is not None else None,
+                    textures=textures,
+                    texture_owner=owner,
                     first_triangle=part.first,
                     triangle_count=part.count,
-                    maps=maps,
                 )
                 if features.alpha_mode == "blend":
                     centre = obj.mesh.part_centre(part)
@@ -352,36 +364,23 @@ class Renderer:
             entry = draw.entry
             assert entry.frame_dtype == frame_data.dtype
             gpu_mesh = draw.gpu_mesh
-            layouts = entry.bind_group_layouts
             render_pass.set_pipeline(entry.pipeline)
-            render_pass.set_bind_group(0, self._bind_group(self._bind_groups, layouts[0], (frame_buffer,)))
-            object_buffer = self._uniform_buffer("object", draw.draw_index, draw.object_data)
-            if draw.maps:  # several textures: the renderer's bounded cache holds the group
-                object_group = cached_bind_group(self._device, self._bind_groups, layouts[1], *object_bindings(object_buffer, draw))
-            elif draw.texture is None:
-                object_group = self._bind_group(self._bind_groups, layouts[1], (object_buffer,))
-            else:
-                object_group = self._bind_group(
-                    draw.texture.object_groups, layouts[1], (object_buffer, draw.texture.view, draw.sampler)
-                )
-            render_pass.set_bind_group(1, object_group)
+            resources = {
+                "frame": frame_buffer,
+                "object": self._uniform_buffer("object", draw.draw_index, draw.object_data),
+                **draw.textures,
+            }
+            # Every entry of the plan, by name: uniform buffers, textures, else the mesh's buffer.
+            for index, (group, layout) in enumerate(zip(entry.plan.groups, entry.bind_group_layouts)):
+                bound = tuple(resources[b.name] if b.name in resources else getattr(gpu_mesh, b.name) for b in group)
+                render_pass.set_bind_group(index, self._bind_group(self._group_cache(group, draw), layout, bound))
+            for vertex_buffer in entry.plan.vertex_buffers:
+                render_pass.set_vertex_buffer(vertex_buffer.slot, getattr(gpu_mesh, vertex_buffer.name))
             first_corner, corner_count = 3 * draw.first_triangle, 3 * draw.triangle_count
             if entry.features.frequency == "flat":
-                storage: tuple = (gpu_mesh.positions, gpu_mesh.indices)
-                if entry.features.uses_uvs:
-                    storage += (gpu_mesh.uvs,)
-                if entry.features.vertex_colors:
-                    storage += (gpu_mesh.colors,)
-                render_pass.set_bind_group(2, self._bind_group(gpu_mesh.storage_groups, layouts[2], storage))
                 # vertex_index counts from first_vertex: corner k of the whole mesh
                 render_pass.draw(corner_count, 1, first_corner, 0)
             else:
-                render_pass.set_vertex_buffer(0, gpu_mesh.positions)
-                render_pass.set_vertex_buffer(1, gpu_mesh.normals)
-                if entry.features.uses_uvs:
-                    render_pass.set_vertex_buffer(2, gpu_mesh.uvs)
-                if entry.features.vertex_colors:
-                    render_pass.set_vertex_buffer(2 + entry.features.uses_uvs, gpu_mesh.colors)
                 render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
                 render_pass.draw_indexed(corner_count, 1, first_corner, 0, 0)
         render_pass.end()

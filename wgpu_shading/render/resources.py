@@ -12,7 +12,7 @@ import wgpu
 from ..errors import SceneError
 from ..scene import Mesh, Texture
 from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
-from .pipelines import COLOR_FORMATS, DEPTH_FORMAT
+from .pipeline_cache import COLOR_FORMATS, DEPTH_FORMAT
 
 BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
 _ROW_ALIGNMENT = 256  # WebGPU's required bytes_per_row multiple for texture copies
@@ -281,7 +281,7 @@ def check_target_size(device, size: tuple[int, int], color_format: str, samples:
         )
 
 
-def cached_bind_group(device, cache: LruCache, layout, resources: tuple, bindings: tuple[int, ...] | None = None) -> object:
+def cached_bind_group(device, cache: LruCache, layout, resources: tuple) -> object:
     """A bind group, cached in `cache`: the LRU cache of whoever owns the resources (the
     renderer for uniform buffers, a GpuMesh for its buffers, a GpuTexture for its view).
     The key holds the bound objects themselves (identity-hashed), not their id()s: an
@@ -290,7 +290,7 @@ def cached_bind_group(device, cache: LruCache, layout, resources: tuple, binding
     group = cache.get(key)
     if group is None:
         entries = []
-        for binding, resource in zip(range(len(resources)) if bindings is None else bindings, resources):
+        for binding, resource in enumerate(resources):
             if isinstance(resource, wgpu.GPUBuffer):
                 resource = {"buffer": resource, "offset": 0, "size": resource.size}
             entries.append({"binding": binding, "resource": resource})

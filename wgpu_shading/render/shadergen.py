@@ -10,6 +10,10 @@ The mechanism is a tiny preprocessor, deliberately smaller than C's:
 `not` and comparisons; every name must be one of `FeatureSet.defines()` (a typo is an
 error, not a silently false branch). The generated module starts with a comment naming
 the feature set and `const` declarations for the light counts.
+
+One included file is generated, not read: "bindings.wgsl" is the binding plan's
+declarations for the feature set (bind group entries and the vertex input struct; see
+bindings.py), so the WGSL cannot disagree with the pipeline layout or the render pass.
 """
 
 from __future__ import annotations
@@ -20,12 +24,14 @@ from functools import lru_cache
 from importlib.resources import files
 from typing import Callable, Mapping
 
+from .bindings import binding_plan
 from .features import FeatureSet
 
 _DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif)\b(.*)$")
 _INCLUDE = re.compile(r'^\s*"([\w.\-/]+)"\s*$')
 
 ENTRY_FILES = {"flat": "flat.wgsl", "gouraud": "gouraud.wgsl", "phong": "phong.wgsl"}
+GENERATED_BINDINGS = "bindings.wgsl"
 
 
 class ShaderSourceError(Exception):
@@ -36,6 +42,16 @@ class ShaderSourceError(Exception):
 def read_source(name: str) -> str:
     """A file from the installed `wgsl/` folder (files never change while running)."""
     return (files("wgpu_shading.wgsl") / name).read_text(encoding="utf-8")
+
+
+def sources_for(features: FeatureSet) -> Callable[[str], str]:
+    """The reader `preprocess` uses for `features`: files of `wgsl/`, and the generated
+    binding declarations under the name "bindings.wgsl"."""
+
+    def reader(name: str) -> str:
+        return binding_plan(features).wgsl() if name == GENERATED_BINDINGS else read_source(name)
+
+    return reader
 
 
 def _evaluate(expression: str, defines: Mapping[str, int | bool], where: str) -> bool:
@@ -147,5 +163,5 @@ def generate_wgsl(features: FeatureSet) -> str:
     ):
         if count:
             header.append(f"const {constant}: u32 = {count}u;")
-    body = preprocess(ENTRY_FILES[features.frequency], features.defines())
+    body = preprocess(ENTRY_FILES[features.frequency], features.defines(), sources_for(features))
     return _tidy("\n".join(header) + "\n\n" + body)

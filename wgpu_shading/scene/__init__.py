@@ -27,7 +27,7 @@ from .builtins import BUILTIN_PREFIX, BUILTINS, builtin, cube, plane, sphere_for
 from .camera import Camera
 from .lights import LIGHT_TYPES, DirectionalLight, Light, PositionalLight, SpotLight
 from .material import Material, Texture
-from .materials import MATERIALS, canonical_name, material
+from .material_table import MATERIALS, canonical_name, material
 from .mesh import Mesh, face_normals, vertex_normals
 from .objects import Scene, SceneObject, Shading
 from .values import (

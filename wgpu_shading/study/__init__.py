@@ -1,8 +1,9 @@
-"""Measurement: the float64 reference renderer (independent of the GPU path), the
-accuracy/time study and `--shading auto`. Imports `render/`, `assets/` and `scene/`.
+"""Measurement, in two subpackages that import `render/`, `assets/` and `scene/`:
 
-`reference.py` and `accuracy.py` gather the public names of `reference_*.py` (the float64
-reference: transforms, lighting, rasterizer, same-mesh and analytic renders) and
-`accuracy_*.py` (the study: configuration, metrics, sweep, results, tables, pictures,
-writing, auto shading); their docstrings say which module holds what. The reference
-modules import only `scene/`, never a GPU module."""
+- `reference/`: the float64 reference renderer, written from docs/conventions.md
+  independently of the GPU path (it imports only `scene/`, never a GPU module);
+- `accuracy/`: the accuracy/time study (`wgpu-shading bench accuracy`, docs/accuracy.md),
+  measured against the reference.
+
+The automatic shading choice (`--shading auto`) is a renderer feature:
+`render/auto_shading.py`."""

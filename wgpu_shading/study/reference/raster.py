@@ -5,7 +5,7 @@ snapped to 1/256 pixel (done here in exact int64 arithmetic, so ties on an edge 
 exactly by the top-left rule), nearest surface wins. Triangles that cross the near plane or
 leave a wide guard band are clipped in eye space first. Coverage is vectorized over
 (triangle, candidate pixel) pairs, in chunks, so a mesh with a million triangles renders in
-seconds. Shading is not done here: see `reference_mesh`.
+seconds. Shading is not done here: see `mesh.py`.
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene import Camera
-from .reference_transforms import _window_coordinates
+from ...scene import Camera
+from .transforms import window_coordinates
 
 SUBPIXEL = 256  # lavapipe snaps window coordinates to 1/256 pixel
 # Triangles reaching further than this many pixels outside the image are clipped in eye
@@ -70,7 +70,7 @@ def _clip_polygon(polygon: list[np.ndarray], planes: list[tuple[np.ndarray, floa
 
 
 @dataclass
-class _ScreenTriangles:
+class ScreenTriangles:
     """Triangles ready for coverage tests, after clipping (one source triangle may give several).
 
     fixed:  (n, 3, 2) int64 window coordinates snapped to 1/256 pixel
@@ -85,7 +85,7 @@ class _ScreenTriangles:
     source: np.ndarray
 
 
-def _screen_triangles(eye_corners: np.ndarray, source: np.ndarray, camera: Camera, size: tuple[int, int]) -> _ScreenTriangles:
+def screen_triangles(eye_corners: np.ndarray, source: np.ndarray, camera: Camera, size: tuple[int, int]) -> ScreenTriangles:
     """Project (n, 3, 3) eye-space triangles; clip the few that cross the near plane or leave
     the guard band, so every vertex that gets snapped is in front of the camera and near the image."""
     width, height = size
@@ -101,9 +101,9 @@ def _screen_triangles(eye_corners: np.ndarray, source: np.ndarray, camera: Camer
             corners.append(np.array([polygon[0], polygon[k], polygon[k + 1]])[None])
             sources.append(source[index : index + 1])
     eye = np.concatenate(corners)
-    window = _window_coordinates(eye, camera, size)
+    window = window_coordinates(eye, camera, size)
     fixed = np.rint(window * SUBPIXEL).astype(np.int64)  # round half to even, like lrint
-    return _ScreenTriangles(fixed=fixed, window=window, depth=-eye[..., 2], source=np.concatenate(sources))
+    return ScreenTriangles(fixed=fixed, window=window, depth=-eye[..., 2], source=np.concatenate(sources))
 
 
 def _edge_coefficients(fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -126,7 +126,7 @@ def _edge_coefficients(fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
     return a, b, c
 
 
-def _signed_area_fixed(fixed: np.ndarray) -> np.ndarray:
+def signed_area_fixed(fixed: np.ndarray) -> np.ndarray:
     """Twice the signed area in snapped window coordinates (y down). The y flip reverses the
     sign: < 0 is counter-clockwise in NDC (y up), i.e. counter-clockwise as seen in the image."""
     e1 = fixed[:, 1] - fixed[:, 0]
@@ -166,14 +166,14 @@ def _candidate_boxes(fixed: np.ndarray, size: tuple[int, int]) -> tuple[np.ndarr
 
 
 @dataclass
-class _Visibility:
+class Visibility:
     """Per pixel (flattened row-major): nearest depth and the screen triangle that has it."""
 
     depth: np.ndarray
-    triangle: np.ndarray  # index into _ScreenTriangles, -1 where uncovered
+    triangle: np.ndarray  # index into ScreenTriangles, -1 where uncovered
 
 
-def _rasterize(tris: _ScreenTriangles, size: tuple[int, int], near: float, far: float) -> _Visibility:
+def rasterize(tris: ScreenTriangles, size: tuple[int, int], near: float, far: float) -> Visibility:
     """Coverage (pixel centres, top-left rule, exact integer edge functions) and a z-buffer on
     eye depth. Ties in depth go to the earlier triangle, as the `greater` depth test does."""
     width, height = size
@@ -181,14 +181,14 @@ def _rasterize(tris: _ScreenTriangles, size: tuple[int, int], near: float, far: 
     best_triangle = np.full(width * height, -1, dtype=np.int64)
 
     fixed = tris.fixed.copy()
-    area = _signed_area_fixed(fixed)
+    area = signed_area_fixed(fixed)
     negative = area < 0
     fixed[negative] = fixed[negative][:, [0, 2, 1]]  # wind every triangle so its area is > 0
     col0, col1, row0, row1 = _candidate_boxes(fixed, size)
     keep = (area != 0) & (col0 <= col1) & (row0 <= row1)
     ids = np.flatnonzero(keep)
     if len(ids) == 0:
-        return _Visibility(best_depth, best_triangle)
+        return Visibility(best_depth, best_triangle)
     edge_a, edge_b, edge_c = (e[ids] for e in _edge_coefficients(fixed))
     planes = _inverse_depth_planes(tris.window, tris.depth)[ids]
     col0, row0 = col0[ids], row0[ids]
@@ -223,7 +223,7 @@ def _rasterize(tris: _ScreenTriangles, size: tuple[int, int], near: float, far: 
         tri, depth = tri[in_range], depth[in_range]
         pixel = row[in_range] * width + col[in_range]
         _merge_nearest(best_depth, best_triangle, pixel, depth, ids[tri])
-    return _Visibility(best_depth, best_triangle)
+    return Visibility(best_depth, best_triangle)
 
 
 def _merge_nearest(best_depth, best_triangle, pixel, depth, triangle) -> None:
@@ -242,7 +242,7 @@ def _merge_nearest(best_depth, best_triangle, pixel, depth, triangle) -> None:
     best_triangle[pixel[nearer]] = triangle[nearer]
 
 
-def _edge_margins(fixed: np.ndarray, columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
+def edge_margins(fixed: np.ndarray, columns: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """Distance in pixels from pixel centres to the nearest edge of their (snapped) triangle."""
     px = (columns + 0.5) * SUBPIXEL
     py = (rows + 0.5) * SUBPIXEL

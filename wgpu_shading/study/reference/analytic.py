@@ -9,10 +9,10 @@ import math
 
 import numpy as np
 
-from ..scene import Material, Scene
-from .reference_image import ReferenceImage
-from .reference_lighting import _dot, combine, shade, view_vectors
-from .reference_transforms import _transform_points, pixel_rays, view_matrix
+from ...scene import Material, Scene
+from .image import ReferenceImage
+from .lighting import dot, combine, shade, view_vectors
+from .transforms import transform_points, pixel_rays, view_matrix
 
 
 def _analytic_image(
@@ -31,7 +31,7 @@ def _analytic_image(
         raise ValueError("analytic shapes take untextured materials")
     depth = -points[:, 2]
     # A surface seen from behind is back-facing; two-sided lighting then uses -N.
-    facing_viewer = _dot(normals, -points) > 0.0
+    facing_viewer = dot(normals, -points) > 0.0
     if shading.two_sided:
         normals = np.where(facing_viewer[:, None], normals, -normals)
     ambient_diffuse, specular = shade(
@@ -64,10 +64,10 @@ def render_analytic_sphere(scene: Scene, center, radius: float, material: Materi
     at the image centre), so tests can leave the rim out."""
     camera = scene.camera
     view = view_matrix(camera)
-    c = _transform_points(view, np.asarray(center, dtype=np.float64)[None])[0]
+    c = transform_points(view, np.asarray(center, dtype=np.float64)[None])[0]
     rays = pixel_rays(camera, scene.size).reshape(-1, 3)
     # |t·d − c|² = r²  →  (d·d) t² − 2 (d·c) t + (c·c − r²) = 0
-    a = _dot(rays, rays)
+    a = dot(rays, rays)
     b = rays @ c
     discriminant = b * b - a * (c @ c - radius * radius)
     root = np.sqrt(np.maximum(discriminant, 0.0))
@@ -93,7 +93,7 @@ def render_analytic_rectangle(scene: Scene, center, half_u, half_v, material: Ma
     half_u ⟂ half_v) with normal normalize(half_u × half_v), shaded per pixel."""
     camera = scene.camera
     view = view_matrix(camera)
-    c = _transform_points(view, np.asarray(center, dtype=np.float64)[None])[0]
+    c = transform_points(view, np.asarray(center, dtype=np.float64)[None])[0]
     u = view[:3, :3] @ np.asarray(half_u, dtype=np.float64)
     v = view[:3, :3] @ np.asarray(half_v, dtype=np.float64)
     normal = np.cross(u, v)

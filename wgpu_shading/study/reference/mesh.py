@@ -1,6 +1,6 @@
 """The same-mesh reference: the scene's own triangles, transformed to eye space, rasterized once
-in float64 (`RasterizedScene`, on `reference_raster`) and shaded per pixel at any shading
-frequency and reflection model (flat, Gouraud or Phong, through `reference_lighting`) with
+in float64 (`RasterizedScene`, on `raster.py`) and shaded per pixel at any shading
+frequency and reflection model (flat, Gouraud or Phong, through `lighting.py`) with
 perspective-correct barycentrics; `render_reference` does both for the scene's own shading."""
 
 from __future__ import annotations
@@ -10,12 +10,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..scene import Scene, SceneObject, Shading
-from .reference_image import ReferenceImage
-from .reference_lighting import FALLBACK_NORMAL, _dot, clamp_vertex_colors, combine, safe_normalize, shade, view_vectors
-from .reference_maps import color_map, combine_factors, is_linear, lighting_factors, perturb, tangent_normal
-from .reference_raster import _edge_margins, _rasterize, _screen_triangles, _signed_area_fixed
-from .reference_transforms import _transform_points, model_matrix, normal_matrix, pixel_rays, view_matrix
+from ...scene import Scene, SceneObject, Shading
+from .image import ReferenceImage
+from .lighting import FALLBACK_NORMAL, dot, clamp_vertex_colors, combine, safe_normalize, shade, view_vectors
+from .maps import color_map, combine_factors, is_linear, lighting_factors, perturb, tangent_normal
+from .raster import edge_margins, rasterize, screen_triangles, signed_area_fixed
+from .transforms import transform_points, model_matrix, normal_matrix, pixel_rays, view_matrix
 
 
 @dataclass
@@ -40,7 +40,7 @@ def _prepare(scene: Scene, obj: SceneObject) -> _PreparedObject:
         normal_matrix=normals_to_eye,
         # A mirrored transform flips the screen winding of outward-facing triangles.
         mirrored=bool(np.linalg.det(model_view[:3, :3]) < 0.0),
-        eye_positions=_transform_points(model_view, model_positions),
+        eye_positions=transform_points(model_view, model_positions),
         eye_normals=obj.mesh.normals.astype(np.float64) @ normals_to_eye.T,
         model_positions=model_positions,
         faces=obj.mesh.indices.astype(np.int64),
@@ -52,13 +52,13 @@ def _ray_barycentrics(corners: np.ndarray, rays: np.ndarray) -> np.ndarray:
     expressed in the triangle's (N, 3, 3) eye-space corners. Exact for clipped triangles too."""
     p0, p1, p2 = corners[:, 0], corners[:, 1], corners[:, 2]
     normal = np.cross(p1 - p0, p2 - p0)
-    along = _dot(normal, rays)
+    along = dot(normal, rays)
     safe_along = np.where(along != 0.0, along, 1.0)
-    point = rays * (_dot(normal, p0) / safe_along)[:, None]
-    twice_area = _dot(normal, normal)
+    point = rays * (dot(normal, p0) / safe_along)[:, None]
+    twice_area = dot(normal, normal)
     safe_area = np.where(twice_area > 0.0, twice_area, 1.0)
-    b0 = _dot(normal, np.cross(p2 - p1, point - p1)) / safe_area
-    b1 = _dot(normal, np.cross(p0 - p2, point - p2)) / safe_area
+    b0 = dot(normal, np.cross(p2 - p1, point - p1)) / safe_area
+    b1 = dot(normal, np.cross(p0 - p2, point - p2)) / safe_area
     weights = np.stack([b0, b1, 1.0 - b0 - b1], axis=1)
     degenerate = (along == 0.0) | (twice_area <= 0.0)  # cannot cover a pixel; guard anyway
     return np.where(degenerate[:, None], 1.0 / 3.0, weights)
@@ -175,8 +175,8 @@ class RasterizedScene:
             eye_corners = np.concatenate([p.eye_positions[p.faces] for p in self._prepared])
         else:
             eye_corners = np.zeros((0, 3, 3))
-        tris = _screen_triangles(eye_corners, np.arange(len(eye_corners)), camera, scene.size)
-        visibility = _rasterize(tris, scene.size, camera.near, camera.far)
+        tris = screen_triangles(eye_corners, np.arange(len(eye_corners)), camera, scene.size)
+        visibility = rasterize(tris, scene.size, camera.near, camera.far)
 
         covered_flat = visibility.triangle >= 0
         pixels = np.flatnonzero(covered_flat)
@@ -188,7 +188,7 @@ class RasterizedScene:
         rows, columns = np.divmod(pixels, width)
 
         # Facing from the winding on screen: counter-clockwise in NDC is front, flipped for mirrored objects.
-        ccw_in_ndc = _signed_area_fixed(tris.fixed[screen_triangle]) < 0
+        ccw_in_ndc = signed_area_fixed(tris.fixed[screen_triangle]) < 0
         mirrored = np.array([p.mirrored for p in self._prepared], dtype=bool)
         self._front_facing = ccw_in_ndc != mirrored[self._object_index]
 
@@ -199,7 +199,7 @@ class RasterizedScene:
         self.triangle = self._image(self._local_triangle, -1, np.int64)
         self.object = self._image(self._object_index, -1, np.int64)
         self.depth = visibility.depth.reshape(height, width)
-        self.edge_margin = self._image(_edge_margins(tris.fixed[screen_triangle], columns, rows), np.inf, np.float64)
+        self.edge_margin = self._image(edge_margins(tris.fixed[screen_triangle], columns, rows), np.inf, np.float64)
 
     def _image(self, values: np.ndarray, fill, dtype) -> np.ndarray:
         width, height = self.scene.size

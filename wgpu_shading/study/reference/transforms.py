@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from ..errors import SceneError
-from ..scene import Camera, SceneObject
+from ...errors import SceneError
+from ...scene import Camera, SceneObject
 
 # --------------------------------------------------------------------------- transforms
 
@@ -52,7 +52,7 @@ def normal_matrix(model_view: np.ndarray) -> np.ndarray:
     return np.linalg.inv(model_view[:3, :3]).T
 
 
-def _transform_points(matrix: np.ndarray, points: np.ndarray) -> np.ndarray:
+def transform_points(matrix: np.ndarray, points: np.ndarray) -> np.ndarray:
     return points @ matrix[:3, :3].T + matrix[:3, 3]
 
 
@@ -64,7 +64,7 @@ def sphere_in_world(obj: SceneObject, radius: float = 1.0) -> tuple[np.ndarray, 
         raise ValueError(f"an analytic sphere needs a uniform scale, got {obj.scale}")
     model = model_matrix(obj)
     # The model-space centre (0, 0, 0) is stored as -origin.
-    center = _transform_points(model, -np.asarray(obj.mesh.origin, dtype=np.float64)[None])[0]
+    center = transform_points(model, -np.asarray(obj.mesh.origin, dtype=np.float64)[None])[0]
     return center, float(radius * scale[0])
 
 
@@ -87,7 +87,7 @@ def pixel_rays(camera: Camera, size: tuple[int, int]) -> np.ndarray:
     return rays
 
 
-def _window_coordinates(eye_points: np.ndarray, camera: Camera, size: tuple[int, int]) -> np.ndarray:
+def window_coordinates(eye_points: np.ndarray, camera: Camera, size: tuple[int, int]) -> np.ndarray:
     """Eye space → window coordinates (x right, y down, in pixels); needs depth > 0."""
     width, height = size
     tan_half = math.tan(math.radians(camera.fov_y) / 2.0)

@@ -1,12 +1,12 @@
 """The accuracy/time sweep: `run_study` renders every size × tessellation × variant on the GPU,
-measures its errors (`accuracy_metrics`) against the analytic truth and the same-mesh float64
+measures its errors (metrics.py) against the analytic truth and the same-mesh float64
 reference, and times it; plus the Blinn-Phong comparison, the best k_blinn and the
 environment the numbers were measured on.
 
 Frame time: the median of warm frames rendered to the user-facing RGBA8 target, render and
 readback, with all shading variants of one mesh interleaved round-robin. The same-mesh
 float64 reference of each mesh is rasterized once and shaded for every variant
-(reference_mesh.RasterizedScene).
+(reference/mesh.py, RasterizedScene).
 """
 
 from __future__ import annotations
@@ -18,12 +18,14 @@ import time
 
 import numpy as np
 
-from ..scene import sphere_for_triangles
-from .accuracy_config import StudyConfig, Variant, study_scene
-from .accuracy_metrics import EDGE_BAND, ErrorStats, Truth, analytic_truth, highlight_error, peak_error, pixel_error
-from .accuracy_progress import Progress
-from .accuracy_results import Study
-from .reference_mesh import RasterizedScene
+from ...scene import sphere_for_triangles
+from ...render.auto_shading import Variant
+from .config import StudyConfig, study_scene
+from ...render.image_error import ErrorStats, pixel_error
+from .metrics import EDGE_BAND, Truth, analytic_truth, highlight_error, peak_error
+from .progress import Progress
+from .results import Study
+from ..reference import RasterizedScene
 
 
 def _weight(triangles: int, size: int) -> float:
@@ -41,7 +43,7 @@ def run_study(
     float32 target for its errors, then timed (RGBA8, warm, interleaved); the same-mesh
     reference is rasterized once and shaded for every variant."""
     if renderer is None:
-        from ..render.renderer import Renderer
+        from ...render.renderer import Renderer
 
         renderer = Renderer()
     started = time.perf_counter()
@@ -202,8 +204,8 @@ def environment(renderer) -> dict:
     """What the numbers were measured on (absolute times are not portable)."""
     import wgpu
 
-    from .. import __version__
-    from ..render.device import describe_device
+    from ... import __version__
+    from ...render.device import describe_device
 
     try:
         load = os.getloadavg()[0]

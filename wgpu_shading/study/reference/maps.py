@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scene import Material, Scene, Texture
-from ..scene.maps import height_to_normal
-from .reference_lighting import _dot, safe_normalize, sample_texture_bilinear
+from ...scene import Material, Scene, Texture
+from ...scene.maps import height_to_normal
+from .lighting import dot, safe_normalize, sample_texture_bilinear
 
 
 def is_linear(scene: Scene, material: Material) -> bool:
@@ -66,7 +66,7 @@ def perturb(normals, corners, corner_uvs, mapped, counter_clockwise, face_sign) 
     sign = (np.where(counter_clockwise, 1.0, -1.0) * face_sign)[:, None]
     tangent = sign * (across_e2 * d1[:, :1] - across_e1 * d2[:, :1])
     bitangent = sign * (across_e2 * d1[:, 1:] - across_e1 * d2[:, 1:])
-    largest = np.maximum(_dot(tangent, tangent), _dot(bitangent, bitangent))
+    largest = np.maximum(dot(tangent, tangent), dot(bitangent, bitangent))
     scale = np.where(largest > 0.0, 1.0 / np.sqrt(np.where(largest > 0.0, largest, 1.0)), 0.0)[:, None]
     turned = tangent * scale * mapped[:, :1] + bitangent * scale * mapped[:, 1:2] + normals * mapped[:, 2:3]
     return safe_normalize(turned, normals)

@@ -8,7 +8,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Sequence
 
-from .accuracy_config import StudyConfig
+from .config import StudyConfig
 
 
 @dataclass

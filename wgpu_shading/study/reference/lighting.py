@@ -1,8 +1,8 @@
 """The lighting equation of docs/conventions.md (SPEC §3) in float64, at arrays of eye-space
 points: guarded power and normalize with the conventions' limits, the lights in eye space,
 ambient + diffuse + specular per light, and the texture sampling and combine of SPEC §5
-with the final clamp. Shape-agnostic: the rasterized meshes (`reference_mesh`) and the
-analytic shapes (`reference_analytic`) both shade through `shade` and `combine`."""
+with the final clamp. Shape-agnostic: the rasterized meshes (`mesh.py`) and the
+analytic shapes (`analytic.py`) both shade through `shade` and `combine`."""
 
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene import DirectionalLight, Material, PositionalLight, Scene, SpotLight
-from .reference_transforms import _transform_points, view_matrix
+from ...scene import DirectionalLight, Material, PositionalLight, Scene, SpotLight
+from .transforms import transform_points, view_matrix
 
 # --------------------------------------------------------------------------- constants from conventions.md
 
@@ -46,7 +46,7 @@ def safe_normalize(vectors: np.ndarray, fallback: np.ndarray) -> np.ndarray:
     return np.where(usable[:, None], vectors * scale[:, None], np.broadcast_to(fallback, vectors.shape))
 
 
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise dot product of (N, 3) arrays (either may broadcast from (3,))."""
     return np.sum(a * b, axis=-1)
 
@@ -82,7 +82,7 @@ def lights_in_eye_space(scene: Scene) -> list[EyeLight]:
             towards = rotation @ -np.asarray(light.direction, dtype=np.float64)  # light travels along direction
             lights.append(EyeLight("directional", to_light=towards / np.linalg.norm(towards), **colors))
             continue
-        position = _transform_points(view, np.asarray(light.position, dtype=np.float64)[None])[0]
+        position = transform_points(view, np.asarray(light.position, dtype=np.float64)[None])[0]
         attenuation = tuple(float(c) for c in light.attenuation)
         if isinstance(light, SpotLight):
             axis = rotation @ np.asarray(light.direction, dtype=np.float64)
@@ -122,11 +122,11 @@ def view_vectors(points: np.ndarray, normals: np.ndarray, local_viewer: bool) ->
 def specular_factor(normals, to_light, to_viewer, shininess: float, reflection: str, k_blinn: float) -> np.ndarray:
     """(R·V)^s for Phong reflection, (N·H)^(s·k_blinn) for Blinn-Phong, guarded."""
     if reflection == "phong":
-        reflected = 2.0 * _dot(normals, to_light)[:, None] * normals - to_light  # reflect(-L, N)
-        return guarded_power(_dot(reflected, to_viewer), shininess)
+        reflected = 2.0 * dot(normals, to_light)[:, None] * normals - to_light  # reflect(-L, N)
+        return guarded_power(dot(reflected, to_viewer), shininess)
     # L = -V has no half vector: H = 0 makes N·H = 0, so no highlight.
     half = safe_normalize(to_light + to_viewer, np.zeros(3))
-    return guarded_power(_dot(normals, half), shininess * k_blinn)
+    return guarded_power(dot(normals, half), shininess * k_blinn)
 
 
 def shade(
@@ -164,14 +164,14 @@ def shade(
             offset = light.position - points
             # A light exactly at the point has no direction: light it as if from straight above.
             to_light = safe_normalize(offset, normals)
-            scale = attenuation_factor(light.attenuation, np.sqrt(_dot(offset, offset)))
+            scale = attenuation_factor(light.attenuation, np.sqrt(dot(offset, offset)))
             if light.kind == "spot":
                 # Open cone, tested as a squared chord between -L and the axis (exact for tiny cutoffs).
                 chord = -to_light - light.axis
-                inside = _dot(chord, chord) < light.cutoff_chord_squared
-                spot = guarded_power(_dot(-to_light, light.axis), light.exponent)
+                inside = dot(chord, chord) < light.cutoff_chord_squared
+                spot = guarded_power(dot(-to_light, light.axis), light.exponent)
                 scale = scale * np.where(inside, spot, 0.0)
-        n_dot_l = _dot(normals, to_light)
+        n_dot_l = dot(normals, to_light)
         ambient_diffuse += scale[:, None] * (
             light.ambient * m_ambient + np.maximum(n_dot_l, 0.0)[:, None] * light.diffuse * m_diffuse
         )

@@ -9,10 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene import FREQUENCIES
-from .accuracy_config import AccuracyError
-from .accuracy_results import Study, pareto_front
-from .accuracy_tables import _fmt
+from ...scene import FREQUENCIES
+from .config import AccuracyError
+from .results import Study, pareto_front
+from .tables import format_number
 
 
 def require_matplotlib():
@@ -22,7 +22,7 @@ def require_matplotlib():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        from ..errors import install_hint
+        from ...errors import install_hint
 
         raise AccuracyError(f"the Pareto plot needs matplotlib; {install_hint('plots')} (or pass --no-plot)") from None
     return plt
@@ -119,7 +119,7 @@ def error_map_sheet(study: Study) -> np.ndarray:
             image = heat_colors(errors)
             image[~mask] = (128, 128, 128)
             p999 = np.percentile(errors[mask], 99.9) if mask.any() else float("nan")
-            row.append((f"{frequency}, {triangles[n]:,} triangles\np99.9 {_fmt(p999, 1)}/255", image))
+            row.append((f"{frequency}, {triangles[n]:,} triangles\np99.9 {format_number(p999, 1)}/255", image))
         if row:
             rows.append(row)
     width = rows[0][0][1].shape[1] * max(len(r) for r in rows)

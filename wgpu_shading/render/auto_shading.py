@@ -1,6 +1,8 @@
-"""`--shading auto`: `auto_shading` measures every candidate shading (frequency × reflection
-model) of a scene for error against the most accurate one and for frame time, and picks the
-cheapest within the error budget (`AutoChoice`)."""
+"""`render --shading auto --max-error E`: `auto_shading(scene, max_error)` measures every
+candidate shading (a `Variant`: frequency × reflection model) of a scene for error against
+the most accurate one and for frame time, and returns the cheapest within the error budget
+(`AutoChoice`). docs/accuracy.md says when to use it; the error measure is image_error.py's,
+the one the accuracy study (`study/accuracy/`) reports."""
 
 from __future__ import annotations
 
@@ -10,9 +12,36 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..errors import AccuracyError
 from ..scene import FREQUENCIES, Scene, Shading
-from .accuracy_config import AccuracyError, Variant
-from .accuracy_metrics import ErrorStats, pixel_error
+from .image_error import ErrorStats, pixel_error
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One point on the shading axes: frequency × reflection model (× k_blinn)."""
+
+    frequency: str
+    reflection: str = "phong"
+    k_blinn: float = 1.0
+
+    def shading(self, base: Shading | None = None) -> Shading:
+        base = base or Shading()
+        k = self.k_blinn if self.reflection == "blinn-phong" else base.blinn_exponent_scale
+        return replace(base, frequency=self.frequency, reflection=self.reflection, blinn_exponent_scale=k)
+
+    @property
+    def reflection_label(self) -> str:
+        return "phong" if self.reflection == "phong" else f"blinn-phong k={self.k_blinn:g}"
+
+    @property
+    def label(self) -> str:
+        return f"{self.frequency} / {self.reflection_label}"
+
+    @property
+    def model(self) -> tuple[str, float]:
+        """The reflection model alone (what the analytic truth depends on)."""
+        return (self.reflection, self.k_blinn if self.reflection == "blinn-phong" else 1.0)
 
 
 TIE_FRACTION = 0.05  # frame times this close count as equal in the automatic choice
@@ -102,7 +131,7 @@ def auto_shading(
     if frames < 1:
         raise AccuracyError("frames must be at least 1")
     if renderer is None:
-        from ..render.renderer import Renderer
+        from .renderer import Renderer
 
         renderer = Renderer()
     reference, candidates = auto_candidates(scene.shading)

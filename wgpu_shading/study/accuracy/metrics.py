@@ -27,53 +27,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene import Material, Scene, SceneObject
-from .accuracy_config import AccuracyError
-from .reference_analytic import render_analytic_sphere
-from .reference_image import ReferenceImage
-from .reference_lighting import shade, view_vectors
-from .reference_transforms import pixel_rays, sphere_in_world, view_matrix
+from ...scene import Material, Scene, SceneObject
+from ...errors import AccuracyError
+from ...render.image_error import ERROR_UNIT, ErrorStats, pixel_error
+from ..reference import ReferenceImage, pixel_rays, render_analytic_sphere, shade, sphere_in_world, view_matrix, view_vectors
 
-ERROR_UNIT = 1.0 / 255.0  # errors are reported in multiples of one 8-bit step
 SILHOUETTE_BAND = 1.0  # pixels inside the exact silhouette left out of the analytic comparison
 EDGE_BAND = 1.0 / 16.0  # pixels from a triangle edge left out of the same-mesh comparison
 PEAK_WINDOW = 1  # the specular-peak error is the largest in a (2·1 + 1)² window
 
 
 # --------------------------------------------------------------------------- errors
-
-
-def pixel_error(image: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """Per pixel, max over RGB of |clamp(image) − clamp(reference)|, in units of 1/255.
-    `image` may be float (0..1) or uint8 (0..255)."""
-    image = np.asarray(image)
-    if image.dtype == np.uint8:
-        image = image.astype(np.float64) / 255.0
-    a = np.clip(np.asarray(image, dtype=np.float64)[..., :3], 0.0, 1.0)
-    b = np.clip(np.asarray(reference, dtype=np.float64)[..., :3], 0.0, 1.0)
-    return np.abs(a - b).max(axis=-1) / ERROR_UNIT
-
-
-@dataclass(frozen=True)
-class ErrorStats:
-    """Summary of per-pixel errors (1/255 units) over the compared pixels."""
-
-    rmse: float
-    p999: float
-    max: float
-    pixels: int
-
-    @classmethod
-    def of(cls, errors: np.ndarray) -> "ErrorStats":
-        errors = np.asarray(errors, dtype=np.float64).reshape(-1)
-        if errors.size == 0:
-            return cls(float("nan"), float("nan"), float("nan"), 0)
-        return cls(
-            rmse=float(np.sqrt(np.mean(errors**2))),
-            p999=float(np.percentile(errors, 99.9)),
-            max=float(errors.max()),
-            pixels=int(errors.size),
-        )
 
 
 def highlight_error(image: np.ndarray, reference: np.ndarray, mask: np.ndarray) -> float:

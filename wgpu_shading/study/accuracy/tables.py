@@ -9,10 +9,10 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-from .accuracy_results import Study, cheapest
+from .results import Study, cheapest
 
 
-def _fmt(value, digits: int = 2) -> str:
+def format_number(value, digits: int = 2) -> str:
     if value == "" or value is None:
         return ""
     if isinstance(value, (int, np.integer)):
@@ -44,9 +44,9 @@ def markdown_full_table(rows: Sequence[dict]) -> str:
     for r in rows:
         within = "–" if not math.isfinite(r["same_within"]) else f"{r['same_within']:.2%}"
         lines.append(
-            f"| {r['size']} | {r['triangles']:,} | {r['frequency']} | {_row_model(r)} | {_fmt(r['time_ms'])} | "
-            f"{_fmt(r['rmse'])} | {_fmt(r['p999'])} | {_fmt(r['max'])} | {_fmt(r['peak'])} | {_fmt(r['highlight'])} | {r['coverage']:.1%} | "
-            f"{_fmt(r['phong_p999'])} | {_fmt(r['same_p999'])} | {within} |"
+            f"| {r['size']} | {r['triangles']:,} | {r['frequency']} | {_row_model(r)} | {format_number(r['time_ms'])} | "
+            f"{format_number(r['rmse'])} | {format_number(r['p999'])} | {format_number(r['max'])} | {format_number(r['peak'])} | {format_number(r['highlight'])} | {r['coverage']:.1%} | "
+            f"{format_number(r['phong_p999'])} | {format_number(r['same_p999'])} | {within} |"
         )
     return header + "\n".join(lines) + "\n"
 
@@ -68,7 +68,7 @@ def markdown_grid(rows: Sequence[dict], size: int, reflection: str = "phong", k_
                 continue
             r = match[0]
             triangles = r["triangles"]
-            cells += [_fmt(r["time_ms"]), _fmt(r["rmse"]), _fmt(r["p999"]), _fmt(r["max"]), _fmt(r["peak"])]
+            cells += [format_number(r["time_ms"]), format_number(r["rmse"]), format_number(r["p999"]), format_number(r["max"]), format_number(r["peak"])]
         lines.append(f"| {triangles:,} | " + " | ".join(cells) + " |")
     return header + "\n".join(lines) + "\n"
 
@@ -84,10 +84,10 @@ def markdown_cheapest(rows: Sequence[dict], sizes: Iterable[int], budgets=(0.5, 
                 continue
             others = [r for r in rows if r["size"] == size and r["phong_p999"] <= budget and r is not best and math.isfinite(r["time_ms"])]
             runner = min(others, key=lambda r: r["time_ms"]) if others else None
-            runner_text = f"{runner['frequency']} / {_row_model(runner)}, {runner['triangles']:,} tri, {_fmt(runner['time_ms'])} ms" if runner else ""
+            runner_text = f"{runner['frequency']} / {_row_model(runner)}, {runner['triangles']:,} tri, {format_number(runner['time_ms'])} ms" if runner else ""
             lines.append(
                 f"| {size} | {budget:g}/255 | **{best['frequency']} / {_row_model(best)}** | {best['triangles']:,} | "
-                f"{_fmt(best['time_ms'])} | {_fmt(best['phong_p999'])} | {_fmt(best['phong_peak'])} | {runner_text} |"
+                f"{format_number(best['time_ms'])} | {format_number(best['phong_p999'])} | {format_number(best['phong_peak'])} | {runner_text} |"
             )
     return header + "\n".join(lines) + "\n"
 
@@ -102,12 +102,12 @@ def markdown_blinn(blinn: Sequence[dict], frequencies: Sequence[str]) -> str:
     best = [b for b in blinn if b.get("best")]
     for b in (b for b in blinn if not b.get("best")):
         ratios = " | ".join(f"{b[f'time_ratio_{f}']:.2f}" if math.isfinite(b[f"time_ratio_{f}"]) else "–" for f in frequencies)
-        lines.append(f"| {b['k_blinn']:g} | {_fmt(b['rmse'])} | {_fmt(b['p999'])} | {_fmt(b['max'])} | {_fmt(b['peak'])} | {ratios} |")
+        lines.append(f"| {b['k_blinn']:g} | {format_number(b['rmse'])} | {format_number(b['p999'])} | {format_number(b['max'])} | {format_number(b['peak'])} | {ratios} |")
     text = header + "\n".join(lines) + "\n"
     for b in best:
         text += (
             f"\nThe k_blinn closest to Phong reflection in this scene (least RMSE on the exact sphere, "
-            f"{b['size']}×{b['size']}) is **{b['k_blinn']:.2f}**, with RMSE {_fmt(b['rmse'])}/255.\n"
+            f"{b['size']}×{b['size']}) is **{b['k_blinn']:.2f}**, with RMSE {format_number(b['rmse'])}/255.\n"
         )
     return text
 
@@ -122,7 +122,7 @@ def markdown_same_mesh(rows: Sequence[dict]) -> str:
             continue
         worst_within = min(r["same_within"] for r in chosen)
         lines.append(
-            f"| {f} | {len(chosen)} | {_fmt(max(r['same_p999'] for r in chosen))} | {_fmt(max(r['same_max'] for r in chosen))} | "
+            f"| {f} | {len(chosen)} | {format_number(max(r['same_p999'] for r in chosen))} | {format_number(max(r['same_max'] for r in chosen))} | "
             f"{worst_within:.3%} | {'yes' if worst_within >= 0.999 else '**no**'} |"
         )
     return header + "\n".join(lines) + "\n"
@@ -139,12 +139,12 @@ def headline(study: Study, budget: float = 1.0) -> str:
     text = (
         f"For an error budget of {budget:g}/255 (99.9 % of the pixels) at {size}×{size}, the cheapest setting measured is "
         f"**{best['frequency']} shading with {_row_model(best)} reflection on {best['triangles']:,} triangles**: "
-        f"{_fmt(best['time_ms'])} ms per frame, p99.9 error {_fmt(best['phong_p999'])}/255"
+        f"{format_number(best['time_ms'])} ms per frame, p99.9 error {format_number(best['phong_p999'])}/255"
     )
     if phong_same and phong_same[0] is not best:
-        text += f" (Phong shading of the same mesh: {_fmt(phong_same[0]['time_ms'])} ms)"
+        text += f" (Phong shading of the same mesh: {format_number(phong_same[0]['time_ms'])} ms)"
     if fastest_phong and fastest_phong is not best:
-        text += f"; the cheapest Phong-shading setting within budget is {fastest_phong['triangles']:,} triangles at {_fmt(fastest_phong['time_ms'])} ms"
+        text += f"; the cheapest Phong-shading setting within budget is {fastest_phong['triangles']:,} triangles at {format_number(fastest_phong['time_ms'])} ms"
     others = []
     for frequency in study.config.frequencies:
         if frequency == best["frequency"]:
@@ -153,7 +153,7 @@ def headline(study: Study, budget: float = 1.0) -> str:
         if own is None:
             others.append(f"{frequency} shading does not get there even with {max(r['triangles'] for r in study.rows):,} triangles")
         else:
-            others.append(f"{frequency} shading needs {own['triangles']:,} triangles ({_fmt(own['time_ms'])} ms)")
+            others.append(f"{frequency} shading needs {own['triangles']:,} triangles ({format_number(own['time_ms'])} ms)")
     if others:
         text += ". With Phong reflection, " + "; ".join(others)
     return text + "."

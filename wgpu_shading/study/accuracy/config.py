@@ -1,17 +1,15 @@
 """What the accuracy/time study measures: its scene (a gold sphere under one positional light),
-the shading `Variant`s (frequency × reflection model × k_blinn), the grid `StudyConfig`
-with its checks, the `QUICK` grid, and `AccuracyError` for a study that cannot be made as asked."""
+the grid `StudyConfig` of shading `Variant`s (frequency × reflection model × k_blinn, the
+points `--shading auto` chooses among: render/auto_shading.py) with its checks, and the
+`QUICK` grid."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
-from ..errors import WgpuShadingError
-from ..scene import FREQUENCIES, Camera, Material, PositionalLight, Scene, SceneObject, Shading
-
-
-class AccuracyError(WgpuShadingError):
-    """A study or an automatic choice cannot be made as asked (bad option, missing plot library)."""
+from ...errors import AccuracyError
+from ...render.auto_shading import Variant
+from ...scene import FREQUENCIES, Camera, Material, PositionalLight, Scene, SceneObject
 
 
 # --------------------------------------------------------------------------- the study's scene
@@ -28,33 +26,6 @@ STUDY_MATERIAL = Material(
 STUDY_LIGHT = PositionalLight(position=(3.0, 3.0, 5.0))
 STUDY_CAMERA = Camera(eye=(0.0, 0.0, 3.2), target=(0.0, 0.0, 0.0), fov_y=45.0, near=0.5, far=10.0)
 STUDY_ROTATION = (25.0, 35.0, 0.0)  # no vertex or pole sits exactly under the highlight
-
-
-@dataclass(frozen=True)
-class Variant:
-    """One point on the shading axes: frequency × reflection model (× k_blinn)."""
-
-    frequency: str
-    reflection: str = "phong"
-    k_blinn: float = 1.0
-
-    def shading(self, base: Shading | None = None) -> Shading:
-        base = base or Shading()
-        k = self.k_blinn if self.reflection == "blinn-phong" else base.blinn_exponent_scale
-        return replace(base, frequency=self.frequency, reflection=self.reflection, blinn_exponent_scale=k)
-
-    @property
-    def reflection_label(self) -> str:
-        return "phong" if self.reflection == "phong" else f"blinn-phong k={self.k_blinn:g}"
-
-    @property
-    def label(self) -> str:
-        return f"{self.frequency} / {self.reflection_label}"
-
-    @property
-    def model(self) -> tuple[str, float]:
-        """The reflection model alone (what the analytic truth depends on)."""
-        return (self.reflection, self.k_blinn if self.reflection == "blinn-phong" else 1.0)
 
 
 def study_scene(mesh, size: int, variant: Variant, material: Material = STUDY_MATERIAL) -> Scene:

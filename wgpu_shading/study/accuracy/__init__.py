@@ -1,0 +1,50 @@
+"""What accuracy costs in time: the accuracy/time study (`wgpu-shading bench accuracy`,
+docs/accuracy.md).
+
+    from wgpu_shading.study import accuracy
+    study = accuracy.run_study(accuracy.QUICK)
+    accuracy.write_study(study, "accuracy-out")
+
+The modules, in the order the study runs:
+
+    config.py     the study's scene, the StudyConfig grid of shading Variants, QUICK
+    metrics.py    what "error" means against the analytic truth (silhouette band, specular
+                  peak, highlight); the per-pixel measure itself is render/image_error.py
+    sweep.py      run_study: render, measure and time every variant; Blinn-Phong k; environment
+    progress.py   the progress line of a long sweep
+    results.py    Study (the rows) and what follows from them: cheapest, pareto_front
+    tables.py     Markdown tables and the headline sentence
+    pictures.py   contact sheets, seed figure, error maps, the Pareto plot
+    write.py      write_study: CSV, JSON, table.md, pictures, docs/accuracy.md blocks
+
+Errors are in units of 1/255 against float64 references (`study/reference/`); frame times
+are medians of warm RGBA8 frames (see sweep.py). The automatic shading choice that uses
+the same error measure is a renderer feature: `wgpu_shading.auto_shading`
+(render/auto_shading.py).
+"""
+
+from __future__ import annotations
+
+from ...errors import AccuracyError
+from ...render.auto_shading import Variant
+from .config import QUICK, STUDY_MATERIAL, StudyConfig, study_scene
+from .pictures import require_matplotlib
+from .results import Study
+from .sweep import run_study
+from .tables import headline
+from .write import update_markdown, write_study
+
+__all__ = [
+    "AccuracyError",
+    "QUICK",
+    "STUDY_MATERIAL",
+    "Study",
+    "StudyConfig",
+    "Variant",
+    "headline",
+    "require_matplotlib",
+    "run_study",
+    "study_scene",
+    "update_markdown",
+    "write_study",
+]
