@@ -233,6 +233,9 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
             faces = faces[:, ::-1]  # a mirroring node keeps the outside outside
         uvs = getattr(visual, "uv", None)
         uvs = transform_uvs(np.asarray(uvs, dtype=np.float64), row["material"]) if uvs is not None and len(uvs) == len(positions) else None
+        material = materials[geometry_name]
+        if uvs is None and material is not None and material.maps:  # maps need texture coordinates
+            material = replace(material, **{key: None for key in material.maps})
         colors = None
         if row["has_color"]:
             raw = getattr(visual, "vertex_attributes", {}).get("color")
@@ -242,7 +245,7 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
                 colors = _unit_colors(np.asarray(raw))
         pieces.append(
             _Piece(positions, faces, normals, uvs, colors, all_flat=not row["has_normal"],
-                   parts=[(0, len(faces), materials[geometry_name], geometry_name)])
+                   parts=[(0, len(faces), material, geometry_name)])
         )
     return pieces
 

@@ -10,6 +10,7 @@ from typing import Sequence
 
 from ..assets.images import output_path
 from ..errors import SceneError
+from ..scene.maps import SCENE_COLOR_SPACES
 from ..scene import FREQUENCIES, REFLECTIONS, image_size
 from .viewer_options import add_viewer_arguments, apply_viewer_options
 
@@ -72,6 +73,8 @@ def scene_from_args(args: argparse.Namespace):
         overrides["two_sided"] = True
     if getattr(args, "clamp_vertex_colors", False):
         overrides["clamp_vertex_colors"] = True
+    if getattr(args, "color_space", None):
+        overrides["color_space"] = args.color_space
     if overrides:
         scene = replace(scene, shading=replace(shading, **overrides))
     return scene
@@ -104,6 +107,11 @@ def add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--clamp-vertex-colors", action="store_true",
         help="flat/Gouraud: clamp each vertex's color before interpolation, as OpenGL fixed-function does",
+    )
+    parser.add_argument(
+        "--color-space", choices=SCENE_COLOR_SPACES,
+        help="auto (default): glTF colours linear with sRGB output, others as display values (OpenGL); "
+        "display or linear for every material (docs/conventions.md)",
     )
     add_viewer_arguments(parser)
 
