@@ -128,7 +128,8 @@ def build(folder: Path) -> list[tuple[str, Path]]:
 def render(command: list[str], env: dict | None = None) -> np.ndarray:
     with tempfile.TemporaryDirectory() as scratch:
         out = Path(scratch) / "out.png"
-        subprocess.run(command + [str(out)], check=True, env=env, capture_output=True)
+        # cwd elsewhere: `python -m` puts the working directory first on sys.path.
+        subprocess.run(command + [str(out)], check=True, env=env, capture_output=True, cwd=scratch)
         return np.asarray(Image.open(out).convert("RGB").resize((SIZE, SIZE)))
 
 
@@ -142,15 +143,16 @@ def main() -> None:
         before.mkdir()
         archive = subprocess.run(["git", "-C", str(REPO), "archive", BEFORE], check=True, capture_output=True).stdout
         subprocess.run(["tar", "-x", "-C", str(before)], input=archive, check=True)
+        # pyproject maps wgsl/ into the package; a plain source tree needs it in place
+        (before / "wgsl").rename(before / "wgpu_shading" / "wgsl")
         old_env = os.environ | {"PYTHONPATH": str(before)}
         rows = []
         for label, path in build(folder):
             cli = [sys.executable, "-m", "wgpu_shading.cli.main", "render", str(path), "--size", str(SIZE), "-o"]
             pictures = [
                 render(cli, old_env),
-                render(cli, os.environ | {"PYTHONPATH": str(REPO)}),
-                render([args.f3d, str(REPO.parent / "shared/tools/f3d-render.py"), str(path), "--size", str(SIZE),
-                        "--option", "render.effect.antialiasing.enable=true"]),
+                render(cli),
+                render([args.f3d, str(REPO.parent / "shared/tools/f3d-render.py"), str(path), "--size", str(SIZE)]),
             ]
             rows.append((label, pictures))
     sheet = Image.new("RGB", (3 * SIZE + 20, len(rows) * (SIZE + 22) + 24), (255, 255, 255))

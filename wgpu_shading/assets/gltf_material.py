@@ -23,10 +23,12 @@ glTF default material) is an even grey instead of black with a white hot spot; a
 metal (r → 0) keeps all of it in the highlight.
 
 The metallic-roughness texture (metalness in blue, roughness in green) is applied per
-texel through two maps: a specular map (the highlight's colour above, texel by texel,
-relative to the material's specular colour, the largest over the texture) and a shininess
-map (the exponent above, relative to the largest). The diffuse term uses the texture's
-mean `s` (one material per part). Other maps: normalTexture (× scale), emissiveTexture
+texel: a specular map (the highlight's colour above, texel by texel, relative to the
+material's specular colour, the largest over the texture), a shininess map (the exponent
+above, relative to the largest), and the diffuse factor (1 − s) multiplied into the base
+colour texture (made from it when the material has none; resampled to the base colour
+texture's size, in linear light), which the `modulate` combine applies to the ambient
+and diffuse terms (and to a factor-only emission: that one is dimmed on metal texels). Other maps: normalTexture (× scale), emissiveTexture
 (× emissiveFactor × KHR_materials_emissive_strength), occlusionTexture (× strength).
 KHR_materials_specular's textures are not read (its factors are).
 KHR_materials_pbrSpecularGlossiness (archived, but in many older exports) is the classic
@@ -40,6 +42,7 @@ import warnings
 
 import numpy as np
 
+from ..scene.maps import srgb_decode, srgb_encode
 from ..scene.material import Material, Texture
 
 SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
@@ -96,10 +99,31 @@ def _metallic_roughness(document, info, image, base, metallic, roughness, dielec
                         np.concatenate([rgb, np.full(rgb.shape[:2] + (1,), 255, np.uint8)], axis=2))
 
     return dict(
-        diffuse=base * (1.0 - float(share.mean())), specular=top_specular, shininess=top_shininess,
+        diffuse=base, specular=top_specular, shininess=top_shininess, diffuse_factor=1.0 - share,
         specular_map=as_map(specular / top_specular, "specular from metallic-roughness"),
         shininess_map=as_map(np.repeat((shininess / top_shininess)[:, :, None], 3, axis=2), "shininess from roughness"),
     )
+
+
+def _with_diffuse_factor(texture: Texture | None, factor: np.ndarray, label: str) -> Texture:
+    """The base colour texture × the metallic-roughness texture's diffuse factor, per texel
+    (module docstring); the factor alone (linear) when there is no base colour texture."""
+    if texture is None:
+        grey = np.round(np.repeat(factor[:, :, None], 3, axis=2) * 255.0).astype(np.uint8)
+        pixels = np.concatenate([grey, np.full(grey.shape[:2] + (1,), 255, np.uint8)], axis=2)
+        return Texture(pixels, name=f"{label} (diffuse from metallic-roughness)", encoding="linear")
+    from PIL import Image
+
+    height, width = texture.pixels.shape[:2]
+    if factor.shape != (height, width):
+        factor = np.asarray(Image.fromarray(factor.astype(np.float32), mode="F").resize((width, height), Image.BILINEAR), np.float64)
+    rgb = texture.pixels[:, :, :3] / 255.0
+    if texture.encoding == "srgb":  # scale in linear light, store encoded again
+        rgb = srgb_encode(srgb_decode(rgb) * factor[:, :, None])
+    else:
+        rgb = rgb * factor[:, :, None]
+    pixels = np.concatenate([np.round(rgb * 255.0).astype(np.uint8), texture.pixels[:, :, 3:]], axis=2)
+    return Texture(pixels, name=texture.name, nearest=texture.nearest, wrap=texture.wrap, encoding=texture.encoding)
 
 
 def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Material:
@@ -154,9 +178,12 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
         # word; say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
         warnings.warn(f"{name}: material {material.get('name', '')!r}: its base colour texture could not be read; drawn untextured",
                       stacklevel=3)
+    unlit = "KHR_materials_unlit" in extensions
+    if "diffuse_factor" in fields:
+        factor = fields.pop("diffuse_factor")
+        texture = texture if unlit else _with_diffuse_factor(texture, factor, label)
     alpha_mode = str(material.get("alphaMode", "OPAQUE")).lower()
     opacity = float(np.clip(base[3], 0.0, 1.0))
-    unlit = "KHR_materials_unlit" in extensions
     return Material(
         ambient=tuple(base[:3]) + (opacity,),
         diffuse=tuple(base[:3] if unlit else fields.pop("diffuse")) + (opacity,),

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..errors import MeshError, SceneError
 from ..scene import Material, Mesh, Scene, SceneObject, material
 from ..scene.framing import framing_camera
+from ..scene.maps import linear_color
 from ..scene.viewer_lights import viewer_lights
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
@@ -38,12 +41,15 @@ def mesh_scene(
         mesh = Mesh.from_arrays(world, mesh.indices, normals=mesh.normals, name=mesh.name)
     try:
         camera = framing_camera(mesh, size)
-        return Scene(
-            objects=(placed,),
-            lights=viewer_lights(camera),
-            camera=camera,
-            size=size,
-        )
+        lights, ambient = viewer_lights(camera), Scene().ambient
+        if chosen is None and all(part.material is not None and part.material.color_space == "linear" for part in mesh.parts):
+            # glTF (linear light, sRGB output): the viewer lights' colours are display values,
+            # so they light in linear light with their decoded values. A white surface then
+            # looks as bright as under them in display values: neutral grey, as viewers show it.
+            lights = tuple(replace(light, ambient=linear_color(light.ambient), diffuse=linear_color(light.diffuse),
+                                   specular=linear_color(light.specular)) for light in lights)
+            ambient = linear_color(ambient)
+        return Scene(objects=(placed,), lights=lights, camera=camera, size=size, ambient=ambient)
     except SceneError as error:
         # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.
         lower, upper = mesh.bounds()

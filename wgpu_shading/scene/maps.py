@@ -93,3 +93,10 @@ def alpha_pixels(pixels: np.ndarray) -> np.ndarray:
         value = pixels[:, :, :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
     value = np.round(value).astype(np.uint8)
     return np.repeat(value[:, :, None], 4, axis=2)
+
+
+def linear_color(color) -> tuple[float, float, float, float]:
+    """An RGBA colour given as display values, in linear light (RGB decoded, alpha kept):
+    how the viewer lights, chosen as display values, light a linear-colour-space scene."""
+    rgb = srgb_decode(np.clip(np.asarray(color[:3], dtype=np.float64), 0.0, 1.0))
+    return (float(rgb[0]), float(rgb[1]), float(rgb[2]), float(color[3]))
