@@ -205,7 +205,7 @@ class Harness:
         features = object_features(scene, scene.objects[0])
         entry = self.pipelines.get(features)
         frame = self.buffer(frame_uniforms(scene, entry.frame_dtype), wgpu.BufferUsage.UNIFORM)
-        obj = self.buffer(object_uniforms(eye_from_model(scene, scene.objects[0]), scene.objects[0].material, entry.object_dtype), wgpu.BufferUsage.UNIFORM)
+        obj = self.buffer(object_uniforms(eye_from_model(scene, scene.objects[0]), scene.objects[0].material, entry.object_dtype, scene), wgpu.BufferUsage.UNIFORM)
         object_resources = [obj] + ([self.view, self.sampler] if features.texture_mode else [])
         groups = [self._group(entry.bind_group_layouts[0], [frame]), self._group(entry.bind_group_layouts[1], object_resources)]
         return Variant(entry.pipeline, groups, uses_uvs=features.texture_mode is not None)

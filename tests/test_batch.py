@@ -79,10 +79,10 @@ def test_render_many_rejects_bad_in_flight_and_parallel(renderer, torus_scene):
 def test_lavapipe_batches_use_two_devices(renderer, torus_scene):
     assert default_parallelism(renderer) == (2 if (os.cpu_count() or 1) >= 2 else 1)
     list(renderer.render_many(turntable(torus_scene, 4), parallel=2))
-    (helper,) = renderer._batch_helpers[:1]
+    helper = renderer.parallel_renderers(2)[1]
     assert helper.device is not renderer.device and helper.pipeline_count >= 1  # it really drew
     list(renderer.render_many(turntable(torus_scene, 4), parallel=2))
-    assert renderer._batch_helpers[0] is helper  # made once, then reused
+    assert renderer.parallel_renderers(2)[1] is helper  # made once, then reused
 
 
 def test_spinning_the_view_equals_turning_the_object(renderer, torus_scene):

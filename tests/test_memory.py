@@ -36,7 +36,7 @@ mesh = Mesh(
 )
 gc.collect()
 before = rss()
-renderer._gpu_mesh(mesh)
+renderer._cache.gpu_mesh(mesh)  # the upload alone (a test may reach inside)
 renderer.device.queue.submit([])
 renderer.device._poll_wait()  # let wgpu finish (and free) any staging copy
 print((rss() - before) / mesh.nbytes)
@@ -65,9 +65,9 @@ def test_texture_coordinates_are_uploaded_when_a_textured_draw_first_needs_them(
     plain = replace(textured, objects=(replace(obj, material=replace(obj.material, texture=None)),))
     fresh = Renderer(device=renderer.device)
     untextured_first = fresh.render(plain)
-    assert fresh._meshes.get(obj.mesh).uvs is None  # an untextured draw leaves them out
+    assert fresh._cache.meshes.get(obj.mesh).uvs is None  # an untextured draw leaves them out
     textured_image = fresh.render(textured)
-    assert fresh._meshes.get(obj.mesh).uvs is not None
+    assert fresh._cache.meshes.get(obj.mesh).uvs is not None
     np.testing.assert_array_equal(textured_image, Renderer(device=renderer.device).render(textured))
     assert not np.array_equal(textured_image, untextured_first)
 
@@ -92,7 +92,7 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
     from wgpu_shading.scene.builtins import uv_sphere
 
     long_run = Renderer(device=renderer.device)
-    long_run._pipelines = PipelineCache(renderer.device, max_entries=2)  # 4 feature sets below
+    long_run._cache.pipelines = PipelineCache(renderer.device, max_entries=2)  # 4 feature sets below
     kept_meshes = []  # the caller keeps every mesh alive: only eviction can free the uploads
     shadings = [Shading(frequency=f, reflection=r) for f in ("flat", "gouraud") for r in ("phong", "blinn-phong")]
 
@@ -111,8 +111,8 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
     full = frames(100, 40)
     later = frames(200, 40)
     assert later == full, f"live GPU objects still grow: {full} → {later}"
-    assert len(long_run._targets) == TARGET_CACHE_ENTRIES
-    assert len(long_run._meshes) == MESH_CACHE_ENTRIES and long_run._meshes.evictions > 0
+    assert long_run._cache.free_target_count == TARGET_CACHE_ENTRIES
+    assert len(long_run._cache.meshes) == MESH_CACHE_ENTRIES and long_run._cache.meshes.evictions > 0
     assert long_run.pipeline_count == 2
 
 

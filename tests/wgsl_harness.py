@@ -62,7 +62,7 @@ fn harness_main(@builtin(global_invocation_id) id: vec3<u32>) {{
 """
     layouts = layouts_for(generate_wgsl(features))
     frame = frame_uniforms(scene, layouts.dtype("FrameUniforms"))
-    object_data = object_uniforms(eye_from_model(scene, obj), obj.material, layouts.dtype("ObjectUniforms"))
+    object_data = object_uniforms(eye_from_model(scene, obj), obj.material, layouts.dtype("ObjectUniforms"), scene)
     pipeline = device.create_compute_pipeline(
         layout="auto", compute={"module": device.create_shader_module(code=source), "entry_point": "harness_main"}
     )

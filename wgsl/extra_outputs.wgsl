@@ -13,12 +13,9 @@ struct ExtraUniforms {
     object_id: f32,
 }
 
-@group(0) @binding(0) var<uniform> extra_uniforms: ExtraUniforms;
-
-struct ExtraVertexInput {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-}
+// extra_uniforms (group 0) and VertexInput (position, normal): render/bindings.py's
+// extra_outputs_plan.
+#include "bindings.wgsl"
 
 struct ExtraVaryings {
     @builtin(position) clip_position: vec4<f32>,
@@ -26,7 +23,7 @@ struct ExtraVaryings {
 }
 
 @vertex
-fn vs_main(vertex: ExtraVertexInput) -> ExtraVaryings {
+fn vs_main(vertex: VertexInput) -> ExtraVaryings {
     let eye_position = extra_uniforms.eye_from_model * vec4<f32>(vertex.position, 1.0);
     var out: ExtraVaryings;
     out.clip_position = extra_uniforms.clip_from_eye * eye_position;

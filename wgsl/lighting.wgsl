@@ -24,6 +24,16 @@ const FALLBACK_NORMAL: vec3<f32> = vec3<f32>(0.0, 0.0, 1.0);
 var<private> surface_color: vec4<f32> = vec4<f32>(1.0);
 #endif
 
+// What multiplies the material's ambient and diffuse colors at this point (vertex colors);
+// the light × material products themselves come precomputed per draw (LightProducts).
+fn surface_tint() -> vec3<f32> {
+#if VERTEX_COLORS
+    return surface_color.rgb;
+#else
+    return vec3<f32>(1.0);
+#endif
+}
+
 #if OCCLUSION_MAP
 // The occlusion map's factor on the ambient terms at the point being shaded (glTF:
 // 1 + strength·(texel − 1)); set by the entry point before calling shade().
@@ -35,18 +45,6 @@ var<private> ambient_occlusion: f32 = 1.0;
 var<private> shininess_scale: f32 = 1.0;
 #endif
 
-fn material_ambient() -> vec3<f32> {
-#if VERTEX_COLORS
-    var ambient = object_uniforms.material.ambient.rgb * surface_color.rgb;
-#else
-    var ambient = object_uniforms.material.ambient.rgb;
-#endif
-#if OCCLUSION_MAP
-    ambient *= ambient_occlusion;
-#endif
-    return ambient;
-}
-
 fn material_shininess() -> f32 {
 #if SHININESS_MAP
     return object_uniforms.material.shininess * shininess_scale;
@@ -56,11 +54,7 @@ fn material_shininess() -> f32 {
 }
 
 fn material_diffuse() -> vec3<f32> {
-#if VERTEX_COLORS
-    return object_uniforms.material.diffuse.rgb * surface_color.rgb;
-#else
-    return object_uniforms.material.diffuse.rgb;
-#endif
+    return object_uniforms.material.diffuse.rgb * surface_tint();
 }
 
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -133,26 +127,26 @@ fn specular_factor(normal: vec3<f32>, to_light: vec3<f32>, to_viewer: vec3<f32>)
 }
 #endif
 
-// One light's terms, all scaled by `scale` (attenuation × spot factor).
+// One light's terms, all scaled by `scale` (attenuation × spot factor); `products` holds
+// the light's colors already multiplied by the material's (LightProducts in structs.wgsl).
 fn light_contribution(
     scale: f32,
-    ambient: vec4<f32>,
-    diffuse: vec4<f32>,
-    specular: vec4<f32>,
+    products: LightProducts,
     normal: vec3<f32>,
     to_light: vec3<f32>,
     to_viewer: vec3<f32>,
 ) -> LitColor {
-    let material = object_uniforms.material;
     let n_dot_l = dot(normal, to_light);
     var result: LitColor;
-    result.ambient_diffuse = scale * (ambient.rgb * material_ambient()
-        + max(n_dot_l, 0.0) * diffuse.rgb * material_diffuse());
+#if OCCLUSION_MAP
+    result.ambient_diffuse = scale * (products.ambient.rgb * ambient_occlusion + max(n_dot_l, 0.0) * products.diffuse.rgb) * surface_tint();
+#else
+    result.ambient_diffuse = scale * (products.ambient.rgb + max(n_dot_l, 0.0) * products.diffuse.rgb) * surface_tint();
+#endif
 #if SPECULAR
     // f_i: no highlight on the side the light does not reach.
     if (n_dot_l > 0.0) {
-        result.specular = scale * specular_factor(normal, to_light, to_viewer)
-            * specular.rgb * material.specular.rgb;
+        result.specular = scale * specular_factor(normal, to_light, to_viewer) * products.specular.rgb;
     }
 #endif
     return result;
@@ -177,15 +171,17 @@ fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> Li
     // KHR_materials_unlit: the surface color as it is.
     lit.ambient_diffuse = material_diffuse();
 #else
-    let material = object_uniforms.material;
-    lit.ambient_diffuse = frame_uniforms.global_ambient.rgb * material_ambient();
+    lit.ambient_diffuse = object_uniforms.global_ambient_product.rgb * surface_tint();
+#if OCCLUSION_MAP
+    lit.ambient_diffuse *= ambient_occlusion;
+#endif
 #if EMISSION and not EMISSIVE_MAP
-    lit.ambient_diffuse += material.emission.rgb;
+    lit.ambient_diffuse += object_uniforms.material.emission.rgb;
 #endif
 #if DIRECTIONAL_LIGHTS
     for (var i = 0u; i < DIRECTIONAL_LIGHT_COUNT; i++) {
         let light = frame_uniforms.directional_lights[i];
-        lit = add_lit(lit, light_contribution(1.0, light.ambient, light.diffuse, light.specular,
+        lit = add_lit(lit, light_contribution(1.0, object_uniforms.directional_products[i],
                                               normal, light.direction_to_light, to_viewer));
     }
 #endif
@@ -200,7 +196,7 @@ fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> Li
 #else
         let scale = 1.0;
 #endif
-        lit = add_lit(lit, light_contribution(scale, light.ambient, light.diffuse, light.specular,
+        lit = add_lit(lit, light_contribution(scale, object_uniforms.positional_products[i],
                                               normal, to_light, to_viewer));
     }
 #endif
@@ -220,7 +216,7 @@ fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> Li
             scale *= attenuation_factor(light.attenuation, length(offset));
 #endif
         }
-        lit = add_lit(lit, light_contribution(scale, light.ambient, light.diffuse, light.specular,
+        lit = add_lit(lit, light_contribution(scale, object_uniforms.spot_products[i],
                                               normal, to_light, to_viewer));
     }
 #endif

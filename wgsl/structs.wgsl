@@ -91,6 +91,18 @@ struct FrameUniforms {
 #endif
 }
 
+// One light's colors times the object's material colors (ambient_i·ambient_m,
+// diffuse_i·diffuse_m, specular_i·specular_m), multiplied once per draw on the CPU
+// (wgpu_shading/render/uniforms.py) instead of once per fragment. Besides the multiplies,
+// this saves uniform reads, which are the expensive part: Mesa 22.3's llvmpipe/lavapipe
+// gathers every uniform component a fragment shader reads lane by lane, with a bounds check
+// per lane (docs/performance.md, "Why the same shader was slower").
+struct LightProducts {
+    ambient: vec4<f32>,
+    diffuse: vec4<f32>,
+    specular: vec4<f32>,
+}
+
 // Group 1: one per object.
 struct ObjectUniforms {
     eye_from_model: mat4x4<f32>,
@@ -98,4 +110,18 @@ struct ObjectUniforms {
     // stay perpendicular under non-uniform scale and stay outward under mirroring.
     eye_normal_from_model: mat3x3<f32>,
     material: Material,
+#if not UNLIT
+    // global_ambient · material ambient, and each light's LightProducts (same order as the
+    // FrameUniforms light arrays).
+    global_ambient_product: vec4<f32>,
+#if DIRECTIONAL_LIGHTS
+    directional_products: array<LightProducts, DIRECTIONAL_LIGHT_COUNT>,
+#endif
+#if POSITIONAL_LIGHTS
+    positional_products: array<LightProducts, POSITIONAL_LIGHT_COUNT>,
+#endif
+#if SPOT_LIGHTS
+    spot_products: array<LightProducts, SPOT_LIGHT_COUNT>,
+#endif
+#endif
 }

@@ -49,7 +49,7 @@ from wgpu_shading.render.renderer import Renderer  # noqa: E402
 
 renderer = Renderer(device=device)
 mark("import renderer + Renderer()")
-renderer._pipelines.get(renderer.features(scene)[0])
+renderer._cache.pipelines.get(renderer.features(scene)[0])
 mark("first pipeline (WGSL -> SPIR-V -> NIR)")
 image = renderer.render(scene)
 mark("first draw + readback (LLVM JIT of shader variants)")

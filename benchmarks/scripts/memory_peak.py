@@ -32,7 +32,7 @@ size = int(sys.argv[2])
 renderer = Renderer()
 small = mesh_scene("builtin:sphere", (size, size), None)
 renderer.render(small)
-small_uploaded = renderer._meshes.nbytes
+small_uploaded = renderer._cache.meshes.nbytes
 gc.collect()
 baseline = status("VmRSS")
 arrays = np.load(sys.argv[1])
@@ -50,5 +50,5 @@ print(json.dumps({
     "peak": status("VmHWM"),
     "after": status("VmRSS"),
     # Our GPU buffers for the mesh (driver memory; on lavapipe the buffers are host memory).
-    "uploaded": renderer._meshes.nbytes - small_uploaded,
+    "uploaded": renderer._cache.meshes.nbytes - small_uploaded,
 }))

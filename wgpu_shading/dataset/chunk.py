@@ -14,9 +14,9 @@ import time
 from collections import OrderedDict, deque
 from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
-from typing import Iterable
 
 from ..errors import WgpuShadingError
+from ..render.extra_outputs import ExtraFrame
 from ..render.renderer import Renderer
 from .cameras import camera_record, id_legend
 from .jobs import Job
@@ -42,7 +42,7 @@ def failed(job: Job, error: BaseException | str) -> dict:
 
 
 class ChunkRenderer:
-    """One per process (or Dask worker): a warm Renderer, the extra-outputs pass, encoders.
+    """One per process (or Dask worker): a warm Renderer and the encoders.
     Calls of render() from several threads (a Dask worker with --nthreads above 1) take
     turns: a Renderer is used by one thread at a time.
 
@@ -55,18 +55,10 @@ class ChunkRenderer:
         self.parallel = parallel
         self._kept: OrderedDict[tuple, object] = OrderedDict()  # load_key → base scene, newest last
         self._lock = threading.Lock()
-        self._extra = None
         self._encoders = ThreadPoolExecutor(max_workers=encoder_threads, thread_name_prefix="wgpu-shading-encode")
 
     def close(self) -> None:
         self._encoders.shutdown(wait=True)
-
-    def _extra_outputs(self):
-        if self._extra is None:
-            from ..render.extra_outputs import ExtraOutputs
-
-            self._extra = ExtraOutputs(self.renderer)
-        return self._extra
 
     def _base_scene(self, job: Job):
         """The job's base scene, kept for the next chunks; a load error is returned (it fails
@@ -108,7 +100,7 @@ class ChunkRenderer:
                 scene = job_scene(base, job)
                 # Checked here, so a size the adapter cannot render fails this job only.
                 float_target = job.outputs.color == "png16" or job.outputs.normals != "none" or job.outputs.ids
-                self.renderer._check_size(scene.size, "float32" if float_target else "rgba8")
+                self.renderer.check_size(scene.size, float32=float_target)
                 ready.append((job, scene))
             except Exception as error:  # noqa: BLE001
                 records[job.id] = failed(job, error)
@@ -125,15 +117,20 @@ class ChunkRenderer:
 
     def _render_stream(self, items, out_dir, color, depth, normals, ids, writes, records) -> None:
         scenes = [scene for _, scene in items]
-        frames: Iterable = [None] * len(items)
-        extras: Iterable = [None] * len(items)
-        if color != "none" or depth != "none":
-            frames = self.renderer.render_many(scenes, float32=color == "png16", depth=depth != "none", parallel=self.parallel)
-        if normals != "none" or ids:
-            extras = self._extra_outputs().render_many(scenes, normals if normals != "none" else "eye")
+        # One pipelined stream: each frame's colour pass (when colour or depth is written)
+        # and its normals-and-ids pass are encoded together (render/extra_outputs.py).
+        extras = normals != "none" or ids
+        frames = self.renderer.render_many(
+            scenes, float32=color == "png16", depth=depth != "none",
+            normals=(normals if normals != "none" else "eye") if extras else None, ids=ids,
+            color=color != "none" or depth != "none", parallel=self.parallel,
+        )
         done = 0
         try:
-            for (job, scene), frame, extra in zip(items, frames, extras):
+            for (job, scene), frame in zip(items, frames):
+                extra = ExtraFrame(normals=frame.normals, ids=frame.ids) if extras else None
+                if frame.color is None:
+                    frame = None  # only normals and ids were asked for
                 camera = camera_record(scene)
                 if ids:
                     camera["ids"] = id_legend(scene)

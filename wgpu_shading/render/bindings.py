@@ -190,7 +190,7 @@ class BindingPlan:
     """The bind groups (each a tuple of Bindings, numbered from 0) and vertex buffers of
     one feature set."""
 
-    features: FeatureSet
+    features: FeatureSet | None  # None: the extra outputs pass (normals and ids)
     groups: tuple[tuple[Binding, ...], ...]
     vertex_buffers: tuple[VertexBuffer, ...]
     textures: tuple[SampledTexture, ...]  # what fills the *_texture/*_sampler entries
@@ -220,23 +220,27 @@ class BindingPlan:
         return "\n".join(lines) + "\n"
 
 
+def _plan(features: FeatureSet | None, candidates: list, attributes: list[VertexAttribute]) -> BindingPlan:
+    groups: list[list[Binding]] = [[] for _ in range(1 + max(candidate[0] for candidate in candidates))]
+    for group, name, kind, variable, wgsl_type, stages, comment in candidates:
+        groups[group].append(Binding(name, group, len(groups[group]), kind, variable, wgsl_type, stages, comment))
+    vertex_buffers = tuple(
+        VertexBuffer(a.name, slot, a.field, a.wgsl_type, a.vertex_format, a.stride) for slot, a in enumerate(attributes)
+    )
+    textures = () if features is None else tuple(t for t in SAMPLED_TEXTURES if t.when(features))
+    return BindingPlan(features, tuple(tuple(group) for group in groups), vertex_buffers, textures)
+
+
 @lru_cache(maxsize=256)
 def binding_plan(features: FeatureSet) -> BindingPlan:
     """The plan for one feature set (cached: a FeatureSet is hashable)."""
-    groups: list[list[Binding]] = [[], [], []] if flat(features) else [[], []]
-    for group, name, kind, variable, wgsl_type, stages, comment in _candidate_bindings(features):
-        groups[group].append(Binding(name, group, len(groups[group]), kind, variable, wgsl_type, stages, comment))
-    vertex_buffers: list[VertexBuffer] = []
-    if not flat(features):
-        for attribute in VERTEX_ATTRIBUTES:
-            if attribute.when(features):
-                vertex_buffers.append(
-                    VertexBuffer(attribute.name, len(vertex_buffers), attribute.field, attribute.wgsl_type,
-                                 attribute.vertex_format, attribute.stride)
-                )
-    return BindingPlan(
-        features=features,
-        groups=tuple(tuple(group) for group in groups),
-        vertex_buffers=tuple(vertex_buffers),
-        textures=tuple(texture for texture in SAMPLED_TEXTURES if texture.when(features)),
-    )
+    attributes = [] if flat(features) else [a for a in VERTEX_ATTRIBUTES if a.when(features)]
+    return _plan(features, _candidate_bindings(features), attributes)
+
+
+@lru_cache(maxsize=1)
+def extra_outputs_plan() -> BindingPlan:
+    """The normals-and-ids pass (extra_outputs.py): one uniform block per object part and
+    the mesh's positions and normals."""
+    candidates = [(0, "object", "uniform", "extra_uniforms", "ExtraUniforms", VERTEX_AND_FRAGMENT, "One per object part.")]
+    return _plan(None, candidates, [a for a in VERTEX_ATTRIBUTES if a.name in ("positions", "normals")])

@@ -62,6 +62,10 @@ class LruCache(Generic[V]):
     def values(self) -> list[V]:
         return list(self._entries.values())
 
+    def peek(self, key: Hashable) -> V | None:
+        """The value, without making it the most recently used."""
+        return self._entries.get(key)
+
     def get(self, key: Hashable) -> V | None:
         value = self._entries.get(key)
         if value is not None:
@@ -119,7 +123,7 @@ class ObjectCache(Generic[V]):
     def _purge(self) -> None:
         while self._dead:
             key = self._dead.pop()
-            item = self._cache._entries.get(key)
+            item = self._cache.peek(key)
             if item is not None and item[0]() is None:
                 self._cache.pop(key)
 

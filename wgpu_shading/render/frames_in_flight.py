@@ -7,36 +7,48 @@ the caller, so the driver never waits for Python. And on lavapipe, frames altern
 between two devices: each lavapipe device does its vertex processing and triangle binning
 on a single queue thread and only rasterizes on all cores, so one device leaves a core
 idle during binning; a second device fills it. Each frame in flight has its own render
-target and readback buffers; pipelines, meshes, bind groups and uniform buffers are
-shared per device (`queue.write_buffer` is ordered with submissions, so rewriting a
-uniform buffer for the next frame cannot change one already submitted).
+target and readback buffers (Renderer.submit lends them, Renderer.read gives them back);
+pipelines, meshes, bind groups and uniform buffers are shared per device
+(`queue.write_buffer` is ordered with submissions, so rewriting a uniform buffer for the
+next frame cannot change one already submitted). Only the Renderer's public frame API is
+used here: `parallel_renderers`, `check_size`, `submit`, `read`.
 """
 
 from __future__ import annotations
 
 import os
 from collections import deque
-from typing import TYPE_CHECKING, Iterable, Iterator
+from typing import Iterable, Iterator, Protocol
 
 from ..scene import Scene
 from ..scene.objects import check_scene_argument
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .renderer import Frame, Renderer
-
-
 DEFAULT_IN_FLIGHT = 2
 
 
+class FrameSource(Protocol):
+    """What render_many needs of a Renderer (renderer.py), without importing it."""
+
+    device: object
+
+    def parallel_renderers(self, count: int) -> list: ...
+    def check_size(self, size: tuple[int, int], *, float32: bool = False, samples: int = 1) -> None: ...
+    def submit(self, scene: Scene, **outputs) -> object: ...
+    def read(self, pending) -> object: ...
+
+
 def render_many(
-    renderer: "Renderer",
+    renderer: FrameSource,
     scenes: Iterable[Scene],
     *,
     float32: bool = False,
     depth: bool = False,
+    normals: str | None = None,
+    ids: bool = False,
+    color: bool = True,
     in_flight: int = DEFAULT_IN_FLIGHT,
     parallel: int | None = None,
-) -> Iterator["Frame"]:
+) -> Iterator:
     """Frames of `scenes`, in order, each equal to `renderer.render_frame(scene, ...)`.
 
     Up to `in_flight` frames per device are submitted before the oldest is read back.
@@ -51,36 +63,27 @@ def render_many(
         parallel = default_parallelism(renderer)
     if parallel < 1:
         raise ValueError(f"parallel must be at least 1, got {parallel}")
-    workers = [renderer, *renderer._helper_renderers(parallel - 1)]
-    color_format = "float32" if float32 else "rgba8"
-    free_targets: dict[tuple[int, tuple[int, int], int], list] = {}
-    pending: deque = deque()  # (worker, scene, target) submitted but not yet read, oldest first
-
-    def read_oldest() -> "Frame":
-        worker, scene, target = pending.popleft()
-        with worker._lock, worker._device_errors():
-            frame = worker._read(target, scene, read_depth=depth)
-        free_targets[(id(worker), scene.size, scene.samples)].append(target)
-        return frame
-
+    workers = renderer.parallel_renderers(parallel)
+    outputs = {"float32": float32, "depth": depth, "normals": normals, "ids": ids, "color": color}
+    pending: deque = deque()  # (worker, PendingFrame) submitted but not yet read, oldest first
     for index, scene in enumerate(scenes):
         check_scene_argument(scene, f"render_many: scene {index}")
         worker = workers[index % len(workers)]
-        worker._check_size(scene.size, color_format, scene.samples)
+        # Checked before waiting on older frames: a size this adapter cannot render fails here.
+        if color or depth:
+            worker.check_size(scene.size, float32=float32, samples=scene.samples)
+        if normals is not None or ids:
+            worker.check_size(scene.size, float32=True)
         if len(pending) >= in_flight * len(workers):
-            yield read_oldest()
-        slots = free_targets.setdefault((id(worker), scene.size, scene.samples), [])
-        target = slots.pop() if slots else worker._new_target(scene.size[0], scene.size[1], color_format, scene.samples)
-        # Under the worker's lock: another thread's render_frame on the same renderer must
-        # not rewrite the uniform buffers between this frame's writes and its submit.
-        with worker._lock, worker._device_errors():
-            worker._submit(scene, target, read_depth=depth)
-        pending.append((worker, scene, target))
+            oldest_worker, oldest = pending.popleft()
+            yield oldest_worker.read(oldest)
+        pending.append((worker, worker.submit(scene, **outputs)))
     while pending:
-        yield read_oldest()
+        oldest_worker, oldest = pending.popleft()
+        yield oldest_worker.read(oldest)
 
 
-def default_parallelism(renderer: "Renderer") -> int:
+def default_parallelism(renderer: FrameSource) -> int:
     """2 devices on a CPU adapter (lavapipe) with at least 2 cores, else 1.
 
     Why: lavapipe runs each device's vertex processing and triangle binning on one queue

@@ -15,11 +15,11 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
-from .bindings import Binding, BindingPlan, binding_plan
+from .bindings import Binding, BindingPlan, binding_plan, extra_outputs_plan
 from .caches import PIPELINE_CACHE_ENTRIES, LruCache
 from .features import FeatureSet
 from .layout import Layouts, layouts_for
-from .shadergen import generate_wgsl
+from .shadergen import generate_extra_outputs_wgsl, generate_wgsl
 
 DEPTH_FORMAT = wgpu.TextureFormat.depth32float
 COLOR_FORMATS = {"rgba8": wgpu.TextureFormat.rgba8unorm, "float32": wgpu.TextureFormat.rgba32float}
@@ -27,13 +27,13 @@ COLOR_FORMATS = {"rgba8": wgpu.TextureFormat.rgba8unorm, "float32": wgpu.Texture
 
 @dataclass(frozen=True)
 class PipelineEntry:
-    features: FeatureSet
+    features: FeatureSet | None  # None: the extra outputs pass
     pipeline: object  # wgpu.GPURenderPipeline
     plan: BindingPlan  # what each bind group and vertex buffer holds, by name
     bind_group_layouts: tuple  # one GPUBindGroupLayout per group of the plan
     source: str
-    frame_dtype: np.dtype
-    object_dtype: np.dtype
+    frame_dtype: np.dtype | None
+    object_dtype: np.dtype  # the per-draw uniform block (ExtraUniforms for the extra outputs)
 
 
 # alphaMode BLEND: "over" compositing (premultiplied by the source alpha), and the
@@ -71,6 +71,31 @@ class PipelineCache:
         if entry is None:
             entry = self._pipelines.put(key, self._create(features, color_format, mirrored, samples))
         return entry
+
+    def extra_outputs(self) -> PipelineEntry:
+        """The normals-and-ids pipeline (extra_outputs.py), cached with the others."""
+        key = ("extra outputs",)
+        entry = self._pipelines.get(key)
+        if entry is None:
+            entry = self._pipelines.put(key, self._create_extra_outputs())
+        return entry
+
+    def _create_extra_outputs(self) -> PipelineEntry:
+        source = generate_extra_outputs_wgsl()
+        plan = extra_outputs_plan()
+        group_layouts = tuple(self.group_layout(group) for group in plan.groups)
+        module = self._device.create_shader_module(label="extra outputs", code=source)
+        pipeline = self._device.create_render_pipeline(
+            label="extra outputs",
+            layout=self._device.create_pipeline_layout(bind_group_layouts=list(group_layouts)),
+            vertex={"module": module, "entry_point": "vs_main", "buffers": plan.vertex_buffer_layouts()},
+            primitive={"topology": wgpu.PrimitiveTopology.triangle_list, "cull_mode": wgpu.CullMode.none},
+            depth_stencil={"format": DEPTH_FORMAT, "depth_write_enabled": True, "depth_compare": wgpu.CompareFunction.greater},
+            multisample={"count": 1},
+            fragment={"module": module, "entry_point": "fs_main", "targets": [{"format": COLOR_FORMATS["float32"]}]},
+        )
+        dtype = layouts_for(source).dtype("ExtraUniforms")
+        return PipelineEntry(None, pipeline, plan, group_layouts, source, frame_dtype=None, object_dtype=dtype)
 
     def _create(self, features: FeatureSet, color_format: str, mirrored: bool, samples: int) -> PipelineEntry:
         source = generate_wgsl(features)

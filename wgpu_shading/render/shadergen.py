@@ -24,7 +24,7 @@ from functools import lru_cache
 from importlib.resources import files
 from typing import Callable, Mapping
 
-from .bindings import binding_plan
+from .bindings import BindingPlan, binding_plan, extra_outputs_plan
 from .features import FeatureSet
 
 _DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif)\b(.*)$")
@@ -44,12 +44,13 @@ def read_source(name: str) -> str:
     return (files("wgpu_shading.wgsl") / name).read_text(encoding="utf-8")
 
 
-def sources_for(features: FeatureSet) -> Callable[[str], str]:
-    """The reader `preprocess` uses for `features`: files of `wgsl/`, and the generated
-    binding declarations under the name "bindings.wgsl"."""
+def sources_for(features: FeatureSet | None) -> Callable[[str], str]:
+    """The reader `preprocess` uses for `features` (None: the extra outputs pass): files of
+    `wgsl/`, and the generated binding declarations under the name "bindings.wgsl"."""
+    plan: BindingPlan = extra_outputs_plan() if features is None else binding_plan(features)
 
     def reader(name: str) -> str:
-        return binding_plan(features).wgsl() if name == GENERATED_BINDINGS else read_source(name)
+        return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
 
     return reader
 
@@ -165,3 +166,9 @@ def generate_wgsl(features: FeatureSet) -> str:
             header.append(f"const {constant}: u32 = {count}u;")
     body = preprocess(ENTRY_FILES[features.frequency], features.defines(), sources_for(features))
     return _tidy("\n".join(header) + "\n\n" + body)
+
+
+@lru_cache(maxsize=1)
+def generate_extra_outputs_wgsl() -> str:
+    """The normals-and-ids shader (wgsl/extra_outputs.wgsl with its generated bindings)."""
+    return _tidy(preprocess("extra_outputs.wgsl", {}, sources_for(None)))

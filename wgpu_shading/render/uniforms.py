@@ -75,7 +75,7 @@ def _fill_light_colors(lights: np.ndarray, index: int, light: object) -> None:
 def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: glm.dmat4 | None = None) -> np.ndarray:
     """The FrameUniforms buffer contents for `scene` (pass the view matrix if you have it)."""
     data = np.zeros((), dtype)
-    view = scene.camera.view_matrix() if eye_from_world is None else glm.dmat4(eye_from_world)
+    view = glm.dmat4(scene.camera.eye_from_world() if eye_from_world is None else eye_from_world)
     rotation = glm.dmat3(view)
     width, height = scene.size
     data["clip_from_eye"] = clip_from_eye(scene.camera, width / height).T  # column-major
@@ -104,11 +104,16 @@ def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: glm.dmat4 | No
 
 def eye_from_model(scene: Scene, obj: SceneObject) -> glm.dmat4:
     """The model-view matrix in double precision (formed before any rounding to float32)."""
-    return scene.camera.view_matrix() * obj.model_matrix()
+    return glm.dmat4(scene.camera.eye_from_world()) * obj.model_matrix()
 
 
-def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtype: np.dtype) -> np.ndarray:
-    """The ObjectUniforms buffer contents for one object, from its double-precision model-view."""
+def object_uniforms(
+    model_view: glm.dmat4 | np.ndarray, material: Material, dtype: np.dtype, scene: Scene | None = None
+) -> np.ndarray:
+    """The ObjectUniforms buffer contents for one object, from its double-precision model-view.
+
+    `scene` supplies the global ambient and the lights for the light × material products
+    (LightProducts in wgsl/structs.wgsl); it is required whenever the layout has them."""
     model_view = glm.dmat4(model_view)
     data = np.zeros((), dtype)
     data["eye_from_model"] = np.array(model_view).T  # column-major
@@ -127,7 +132,26 @@ def object_uniforms(model_view: glm.dmat4 | np.ndarray, material: Material, dtyp
         fields["normal_scale"] = material.normal_scale
     if "occlusion_strength" in fields.dtype.names:
         fields["occlusion_strength"] = material.occlusion_strength
+    if "global_ambient_product" in dtype.names:
+        if scene is None:
+            raise ValueError("object_uniforms: this layout has light × material products; pass the scene")
+        _fill_light_products(data, material, scene)
     return data
+
+
+def _fill_light_products(data: np.ndarray, material: Material, scene: Scene) -> None:
+    """Light colors times material colors, in float64 then rounded once: the shader reads
+    these instead of multiplying the two uniforms per fragment (docs/performance.md)."""
+    ambient, diffuse, specular = (np.asarray(c, np.float64) for c in (material.ambient, material.diffuse, material.specular))
+    data["global_ambient_product"] = np.asarray(scene.ambient, np.float64) * ambient
+    counters = {"directional": 0, "positional": 0, "spot": 0}
+    for light in scene.lights:
+        index = counters[light.kind]
+        counters[light.kind] += 1
+        products = data[f"{light.kind}_products"]
+        products["ambient"][index] = np.asarray(light.ambient, np.float64) * ambient
+        products["diffuse"][index] = np.asarray(light.diffuse, np.float64) * diffuse
+        products["specular"][index] = np.asarray(light.specular, np.float64) * specular
 
 
 def _unit_scaled(normal_matrix: np.ndarray) -> np.ndarray:

@@ -9,7 +9,7 @@ import numpy as np
 from pyglm import glm
 
 from ..errors import SceneError
-from .values import MAX_COORDINATE, Vec3, _set, choice, direction, number, vec3
+from .values import MAX_COORDINATE, Vec3, set_fields, choice, direction, number, vec3
 
 PROJECTIONS: tuple[str, ...] = ("perspective", "orthographic")
 
@@ -79,7 +79,7 @@ class Camera:
                 raise SceneError(
                     f"camera.ortho_height ({ortho_height:g}) needs projection = \"orthographic\" (projection is {projection!r})"
                 )
-        _set(self, eye=eye, target=target, up=up, fov_y=fov_y, near=near, far=far,
+        set_fields(self, eye=eye, target=target, up=up, fov_y=fov_y, near=near, far=far,
              projection=projection, ortho_height=ortho_height)
 
     @property
@@ -111,14 +111,18 @@ class Camera:
             offset, up = turn * offset, turn * up
         return replace(self, eye=tuple(target + offset), up=tuple(up))
 
-    def view_matrix(self) -> glm.dmat4:
-        """The view matrix (gluLookAt, right-handed), in double precision: camera-relative
-        rendering forms model-view in float64 before anything is rounded to float32."""
-        return glm.lookAtRH(glm.dvec3(*self.eye), glm.dvec3(*self.target), glm.dvec3(*self.up))
-
     def eye_from_world(self) -> np.ndarray:
-        """The view matrix as a float64 4x4 numpy array (column vectors: p_eye = M @ p_world)."""
-        return np.array(self.view_matrix())
+        """The view matrix (gluLookAt, right-handed) as a float64 4x4 numpy array (column
+        vectors: p_eye = M @ p_world). Double precision matters: camera-relative rendering
+        forms model-view in float64 before anything is rounded to float32."""
+        return np.array(glm.lookAtRH(glm.dvec3(*self.eye), glm.dvec3(*self.target), glm.dvec3(*self.up)))
+
+    def view_matrix(self) -> glm.dmat4:
+        """Deprecated: `glm.dmat4(camera.eye_from_world())` (one name per matrix)."""
+        import warnings
+
+        warnings.warn("Camera.view_matrix() is deprecated; use Camera.eye_from_world()", DeprecationWarning, stacklevel=2)
+        return glm.dmat4(self.eye_from_world())
 
     def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Unit right, up and backward (eye-space +x, +y, +z) axes in world space, float64:

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from typing import Union
 
 from ..errors import SceneError
-from .values import MAX_COORDINATE, MAX_EXPONENT, Color, Vec3, _numbers, _set, color, direction, number, vec3
+from .values import MAX_COORDINATE, MAX_EXPONENT, Color, Vec3, finite_numbers, set_fields, color, direction, number, vec3
 
 
 def _light_colors(light: object, prefix: str) -> dict[str, Color]:
@@ -16,7 +16,7 @@ def _light_colors(light: object, prefix: str) -> dict[str, Color]:
 
 
 def _attenuation(value: object, name: str) -> Vec3:
-    coefficients = _numbers(value, name, (3,))
+    coefficients = finite_numbers(value, name, (3,))
     if min(coefficients) < 0.0:
         raise SceneError(f"{name}: coefficients must be >= 0, got {list(coefficients)}")
     if max(coefficients) > MAX_COORDINATE:
@@ -40,7 +40,7 @@ class DirectionalLight:
     kind = "directional"
 
     def __post_init__(self) -> None:
-        _set(self, direction=direction(self.direction, "light.direction"), **_light_colors(self, "light"))
+        set_fields(self, direction=direction(self.direction, "light.direction"), **_light_colors(self, "light"))
 
 
 @dataclass(frozen=True)
@@ -56,7 +56,7 @@ class PositionalLight:
     kind = "positional"
 
     def __post_init__(self) -> None:
-        _set(
+        set_fields(
             self,
             position=vec3(self.position, "light.position"),
             attenuation=_attenuation(self.attenuation, "light.attenuation"),
@@ -84,7 +84,7 @@ class SpotLight:
     kind = "spot"
 
     def __post_init__(self) -> None:
-        _set(
+        set_fields(
             self,
             position=vec3(self.position, "light.position"),
             direction=direction(self.direction, "light.direction"),

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import SceneError
 from .maps import COLOR_SPACES, MAP_FIELDS, TEXTURE_ENCODINGS
-from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureMode, _set, choice, color, number
+from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureMode, set_fields, choice, color, number
 
 
 # Texture side limit: WebGPU's default max-texture-dimension-2d; the renderer also checks
@@ -31,12 +31,12 @@ class Texture:
     encoding: str = "srgb"
 
     def __post_init__(self) -> None:
-        _set(self, encoding=choice(self.encoding, f"texture {self.name!r}.encoding", TEXTURE_ENCODINGS))
+        set_fields(self, encoding=choice(self.encoding, f"texture {self.name!r}.encoding", TEXTURE_ENCODINGS))
         if not isinstance(self.nearest, bool):
             raise SceneError(f"texture {self.name!r}.nearest: expected true or false, got {self.nearest!r}")
         if isinstance(self.wrap, str) or len(tuple(self.wrap)) != 2:
             raise SceneError(f"texture {self.name!r}.wrap: expected two of {', '.join(WRAP_MODES)} (u, v), got {self.wrap!r}")
-        _set(self, wrap=tuple(choice(mode, f"texture {self.name!r}.wrap", WRAP_MODES) for mode in self.wrap))
+        set_fields(self, wrap=tuple(choice(mode, f"texture {self.name!r}.wrap", WRAP_MODES) for mode in self.wrap))
         pixels = np.asarray(self.pixels)
         if pixels.ndim == 2:
             pixels = np.repeat(pixels[:, :, None], 3, axis=2)
@@ -71,7 +71,7 @@ class Texture:
             pixels = np.concatenate([pixels, np.full(pixels.shape[:2] + (1,), 255, np.uint8)], axis=2)
         pixels = np.ascontiguousarray(pixels)
         pixels.setflags(write=False)
-        _set(self, pixels=pixels)
+        set_fields(self, pixels=pixels)
 
 
 ALPHA_MODES = ("opaque", "mask", "blend")
@@ -116,7 +116,7 @@ class Material:
 
     def __post_init__(self) -> None:
         prefix = f"material {self.name!r}" if self.name else "material"
-        _set(
+        set_fields(
             self,
             ambient=color(self.ambient, f"{prefix}.ambient"),
             diffuse=color(self.diffuse, f"{prefix}.diffuse"),

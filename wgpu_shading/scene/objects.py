@@ -25,7 +25,7 @@ from .values import (
     Frequency,
     Reflection,
     Vec3,
-    _set,
+    set_fields,
     choice,
     color,
     image_size,
@@ -86,7 +86,7 @@ class SceneObject:
             raise SceneError(f"object.mesh: expected a Mesh, got {type(self.mesh).__name__}: {shown(self.mesh)}")
         if self.material is not None and not isinstance(self.material, Material):
             raise SceneError(f"object.material: expected a Material, got {type(self.material).__name__}")
-        _set(self, up=up_axis(self.up, "object.up"))
+        set_fields(self, up=up_axis(self.up, "object.up"))
         scale = vec3(self.scale, "object.scale")
         if min(abs(s) for s in scale) == 0.0:
             raise SceneError(f"object.scale: components must be non-zero (the object would be flat), got {list(scale)}")
@@ -95,7 +95,7 @@ class SceneObject:
                 f"object.scale: components must be between {MIN_SCALE:g} and {MAX_SCALE:g} in size "
                 f"(float32 model and normal matrices), got {list(scale)}"
             )
-        _set(
+        set_fields(
             self,
             translate=vec3(self.translate, "object.translate"),
             rotate=vec3(self.rotate, "object.rotate"),
@@ -165,7 +165,7 @@ class Shading:
         for key in ("local_viewer", "two_sided", "clamp_vertex_colors"):
             if not isinstance(getattr(self, key), bool):
                 raise SceneError(f"shading.{key}: expected true or false, got {getattr(self, key)!r}")
-        _set(
+        set_fields(
             self,
             frequency=choice(self.frequency, "shading.frequency", FREQUENCIES),
             reflection=choice(self.reflection, "shading.reflection", REFLECTIONS),
@@ -193,7 +193,7 @@ class Scene:
         if self.samples not in SAMPLE_COUNTS or isinstance(self.samples, bool):
             raise SceneError(f"output.samples: expected 1 (no antialiasing) or 4 (MSAA), got {shown(self.samples)}")
         # 4.0 and numpy integers compare equal to 4 but wgpu needs a Python int.
-        _set(self, samples=int(self.samples))
+        set_fields(self, samples=int(self.samples))
         for key in ("objects", "lights"):
             value = getattr(self, key)
             if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
@@ -218,7 +218,7 @@ class Scene:
         background = color(self.background, "output.background")
         if max(background) > 1.0:
             raise SceneError(f"output.background: components must be between 0 and 1, got {list(background)}")
-        _set(
+        set_fields(
             self,
             objects=objects,
             lights=lights,
@@ -231,7 +231,7 @@ class Scene:
     def _check_eye_space(self) -> None:
         """Every object's bounding box, seen from the camera, within ±MAX_EYE_COORDINATE:
         the GPU works in float32 eye space, where farther coordinates overflow."""
-        view = np.array(self.camera.view_matrix())
+        view = self.camera.eye_from_world()
         for index, obj in enumerate(self.objects):
             lower, upper = obj.mesh.relative_bounds
             corners = np.array(

@@ -39,7 +39,7 @@ MAX_LIGHTS = 256  # all kinds together: the frame uniforms must fit WebGPU's 64 
 # --------------------------------------------------------------------------- validation
 
 
-def _numbers(value: object, name: str, lengths: Sequence[int]) -> tuple[float, ...]:
+def finite_numbers(value: object, name: str, lengths: Sequence[int]) -> tuple[float, ...]:
     """A tuple of finite floats of one of the allowed lengths, or a SceneError naming `name`."""
     expected = " or ".join(str(n) for n in lengths)
     if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__"):
@@ -63,7 +63,7 @@ def _numbers(value: object, name: str, lengths: Sequence[int]) -> tuple[float, .
 
 def color(value: object, name: str = "color") -> Color:
     """RGBA from RGB or RGBA; components >= 0, alpha <= 1."""
-    numbers = _numbers(value, name, (3, 4))
+    numbers = finite_numbers(value, name, (3, 4))
     if len(numbers) == 3:
         numbers = numbers + (1.0,)
     if min(numbers) < 0.0:
@@ -76,7 +76,7 @@ def color(value: object, name: str = "color") -> Color:
 
 
 def vec3(value: object, name: str) -> Vec3:
-    numbers = _numbers(value, name, (3,))
+    numbers = finite_numbers(value, name, (3,))
     if max(abs(n) for n in numbers) > MAX_COORDINATE:
         raise SceneError(f"{name}: coordinates must be within ±{MAX_COORDINATE:g}, got {list(numbers)}")
     return numbers  # type: ignore[return-value]
@@ -111,7 +111,7 @@ def choice(value: object, name: str, options: Sequence[str]) -> str:
     return str(value)
 
 
-def _set(instance: object, **values: object) -> None:
+def set_fields(instance: object, **values: object) -> None:
     """Assign normalized values on a frozen dataclass during __post_init__."""
     for key, value in values.items():
         object.__setattr__(instance, key, value)
@@ -119,7 +119,7 @@ def _set(instance: object, **values: object) -> None:
 
 
 def image_size(value: object, name: str = "output.size") -> tuple[int, int]:
-    numbers = _numbers(value, name, (2,))
+    numbers = finite_numbers(value, name, (2,))
     if any(n != int(n) for n in numbers):
         raise SceneError(f"{name}: expected whole numbers of pixels, got {list(numbers)}")
     width, height = int(numbers[0]), int(numbers[1])
