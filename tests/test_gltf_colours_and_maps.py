@@ -117,3 +117,18 @@ def test_metallic_roughness_texture_applies_per_texel(renderer, tmp_path):
     # 0.04 for the dielectric, 0.8 · (1 − 0.235²) for the smooth metal.
     assert image[24, 12, 0] == pytest.approx(0.04, abs=0.01)
     assert image[24, 36, 0] == pytest.approx(0.8 * (1 - (60 / 255) ** 2), abs=0.01)
+
+
+def test_a_bare_gltf_gets_the_viewer_lights_in_linear_light_unless_its_materials_are_replaced(tmp_path):
+    from wgpu_shading.assets.views import load_view
+    from wgpu_shading.scene.maps import srgb_decode
+    from wgpu_shading.scene.view_options import ViewOptions
+    from wgpu_shading.scene.viewer_lights import KEY_DIFFUSE
+
+    path = write_gltf(tmp_path / "plain.gltf", [[square()]])
+    for options in (ViewOptions(), ViewOptions(camera_position=(0.0, 0.0, 5.0))):  # the lights follow the camera
+        scene = load_view(str(path), options)
+        assert scene.lights[0].diffuse[0] == pytest.approx(srgb_decode(KEY_DIFFUSE[0]))
+        assert scene.ambient[0] == pytest.approx(srgb_decode(0.2))
+    gold = load_view(str(path), ViewOptions(material="gold"))  # a classic material: display values
+    assert gold.lights[0].diffuse[0] == pytest.approx(KEY_DIFFUSE[0]) and gold.ambient[0] == pytest.approx(0.2)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading import MeshError, SceneError, load_mesh, load_scene
+from wgpu_shading.errors import UsageError
 from wgpu_shading.cli.main import main
 from wgpu_shading.dataset import read_manifest
 from wgpu_shading.scene import Scene
@@ -99,7 +100,7 @@ def test_bad_manifests_are_one_line_errors(tmp_path, capsys, name, data, words):
     path.write_bytes(data)
     code, err = _run(capsys, "batch", str(path), "-o", str(tmp_path / "ds"), "-q")
     line = _one_line(code, err, *words)
-    with pytest.raises(SceneError) as error:
+    with pytest.raises(UsageError) as error:  # a manifest is how the work is asked for, not a scene
         read_manifest(path)
     assert line == f"wgpu-shading: error: {error.value}"
 
@@ -136,7 +137,7 @@ def test_a_bad_manifest_value_is_bad_input_before_anything_renders(tmp_path, cap
 def test_a_json_boolean_is_not_an_angle(tmp_path):
     path = tmp_path / "jobs.jsonl"
     path.write_text('{"mesh": "builtin:cube", "azimuth": true}\n')
-    with pytest.raises(SceneError, match="azimuth: expected a number, got True"):
+    with pytest.raises(UsageError, match="azimuth: expected a number, got True"):
         read_manifest(path)
 
 

@@ -48,6 +48,11 @@ class MeshError(WgpuShadingError, ValueError):
     """A mesh cannot be loaded or holds invalid data (NaN vertices, bad indices, ...)."""
 
 
+class UsageError(WgpuShadingError, ValueError):
+    """A command-line flag, a manifest, an output path or a worker count is invalid: how the
+    package was asked to work, not what it was asked to draw (SceneError, MeshError)."""
+
+
 class DeviceError(WgpuShadingError, RuntimeError):
     """No usable wgpu adapter or device."""
 

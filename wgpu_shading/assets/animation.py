@@ -12,7 +12,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
-from ..errors import SceneError
+from ..errors import SceneError, UsageError
 from .images import output_path
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
@@ -30,7 +30,7 @@ def check_animation_path(path: Path) -> None:
         except ImportError:
             from ..errors import install_hint
 
-            raise SceneError(
+            raise UsageError(
                 f"output {str(path)!r}: writing MP4 needs imageio-ffmpeg ({install_hint('video')}), or write a .gif"
             ) from None
 
@@ -51,7 +51,7 @@ def write_animation(
     path = Path(path)
     check_animation_path(path)
     if not (isinstance(fps, (int, float)) and MIN_FPS <= fps <= MAX_FPS):
-        raise SceneError(f"fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {fps!r}")
+        raise UsageError(f"fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {fps!r}")
     encoder = _GifEncoder(path, fps) if path.suffix.lower() == ".gif" else _Mp4Encoder(path, fps)
     work: queue.Queue = queue.Queue(maxsize=4)  # bounded: rendering may run ahead only a little
     failure: list[BaseException] = []

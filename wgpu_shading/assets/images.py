@@ -8,7 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..errors import SceneError
+from ..errors import UsageError
 
 IMAGE_SUFFIXES = (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
 DEPTH_SUFFIXES = (".npy", ".png", ".tif", ".tiff")
@@ -20,38 +20,38 @@ def output_path(path: os.PathLike[str] | str, suffixes: Sequence[str], what: str
     (checked before any work, so a typo does not cost a render and an OS error is a sentence)."""
     path = Path(path)
     if path.suffix.lower() not in suffixes:
-        raise SceneError(f"{what} {str(path)!r}: unsupported format; use one of {', '.join(suffixes)}")
+        raise UsageError(f"{what} {str(path)!r}: unsupported format; use one of {', '.join(suffixes)}")
     if not path.parent.exists():
-        raise SceneError(f"{what} {str(path)!r}: folder {str(path.parent)!r} does not exist")
+        raise UsageError(f"{what} {str(path)!r}: folder {str(path.parent)!r} does not exist")
     check_writable(path, what)
     return path
 
 
 def check_writable(path: Path, what: str = "output") -> None:
-    """Raise a one-line SceneError unless `path` can be written. The only reliable test is
+    """Raise a one-line UsageError unless `path` can be written. The only reliable test is
     to try (permissions, read-only mounts, /proc, ...): an existing file is opened for
     appending (nothing changes), a new one is created and removed again."""
     if path.is_dir():
-        raise SceneError(f"{what} {str(path)!r} is a folder, not a file")
+        raise UsageError(f"{what} {str(path)!r} is a folder, not a file")
     existed = path.exists()
     try:
         with open(path, "ab"):
             pass
     except OSError as error:
-        raise SceneError(f"{what} {str(path)!r} cannot be written: {error.strerror or error}") from None
+        raise UsageError(f"{what} {str(path)!r} cannot be written: {error.strerror or error}") from None
     if not existed:
         path.unlink(missing_ok=True)
 
 
 def check_folder_writable(folder: Path, what: str) -> None:
-    """Raise a one-line SceneError unless files can be created in `folder` (tried, not guessed)."""
+    """Raise a one-line UsageError unless files can be created in `folder` (tried, not guessed)."""
     import tempfile
 
     try:
         with tempfile.TemporaryFile(dir=folder):
             pass
     except OSError as error:
-        raise SceneError(f"{what} {str(folder)!r}: files cannot be written there: {error.strerror or error}") from None
+        raise UsageError(f"{what} {str(folder)!r}: files cannot be written there: {error.strerror or error}") from None
 
 
 def png_bytes(image: np.ndarray) -> bytes:

@@ -2,15 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from ..errors import MeshError, SceneError
 from ..scene import Material, Mesh, Scene, SceneObject, material
 from ..scene.framing import framing_camera
-from ..scene.maps import linear_color
-from ..scene.viewer_lights import viewer_lights
+from ..scene.maps import bare_mesh_lighting
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
 
@@ -37,18 +34,11 @@ def mesh_scene(
         chosen = material("gold")
     placed = SceneObject(mesh, chosen, up=up)
     if placed.up != "+Y":  # frame the turned mesh: a mesh with the turn baked in, for framing only
-        world = mesh.world_positions() @ np.array(placed.model_matrix())[:3, :3].T
+        world = mesh.world_positions() @ placed.world_from_model()[:3, :3].T
         mesh = Mesh.from_arrays(world, mesh.indices, normals=mesh.normals, name=mesh.name)
     try:
         camera = framing_camera(mesh, size)
-        lights, ambient = viewer_lights(camera), Scene().ambient
-        if chosen is None and all(part.material is not None and part.material.color_space == "linear" for part in mesh.parts):
-            # glTF (linear light, sRGB output): the viewer lights' colours are display values,
-            # so they light in linear light with their decoded values. A white surface then
-            # looks as bright as under them in display values: neutral grey, as viewers show it.
-            lights = tuple(replace(light, ambient=linear_color(light.ambient), diffuse=linear_color(light.diffuse),
-                                   specular=linear_color(light.specular)) for light in lights)
-            ambient = linear_color(ambient)
+        lights, ambient = bare_mesh_lighting((placed,), camera)  # decoded for a bare glTF (scene/maps.py)
         return Scene(objects=(placed,), lights=lights, camera=camera, size=size, ambient=ambient)
     except SceneError as error:
         # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.

@@ -22,7 +22,8 @@ import tomllib
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..errors import MeshError, SceneError, shown
+from ..errors import MeshError, SceneError, UsageError, shown
+from ..scene.view_options import OPTIONS_BY_NAME, ViewOptions, place_camera
 from ..scene import BUILTIN_PREFIX
 from ..scene.material_table import material as named_material
 from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
@@ -44,7 +45,7 @@ _TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
 _SECTIONS = {
     "output": {"size", "background", "samples", "transparent"},
     "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided", "clamp_vertex_colors", "color_space"},
-    "camera": {"eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height", "azimuth", "elevation"},
+    "camera": {"eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height", "azimuth", "elevation", "direction", "distance"},
     "ambient": {"color"},
 }
 _LIGHT_KEYS = {
@@ -190,17 +191,26 @@ def _background(output: Mapping[str, Any], default) -> Any:
     return (*background[:3], 0.0)
 
 
+# [camera] keys that move the camera after the others placed it, as the view options of the
+# same names do (scene/view_options.py place_camera): f3d's --camera-direction,
+# --camera-azimuth-angle, --camera-elevation-angle, then the eye's distance to the target.
+_CAMERA_MOVES = {"direction": "camera_direction", "azimuth": "camera_azimuth", "elevation": "camera_elevation", "distance": "camera_distance"}
+
+
 def _camera(table: Mapping[str, Any]) -> Camera:
-    """[camera]: azimuth and elevation (degrees) turn the camera about its target after the
-    other keys placed it, as f3d's --camera-azimuth-angle/--camera-elevation-angle do."""
-    keys = {key: value for key, value in table.items() if key not in ("azimuth", "elevation")}
-    turns = {}
-    for key in ("azimuth", "elevation"):
-        value = table.get(key, 0.0)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise SceneError(f"camera.{key}: expected a number of degrees, got {value!r}")
-        turns[key] = float(value)
-    return Camera(**keys).orbited(**turns)
+    """[camera]: direction, azimuth, elevation (degrees) and distance move the camera after
+    the other keys placed it, as f3d's --camera-direction/--camera-azimuth-angle/... do."""
+    keys = {key: value for key, value in table.items() if key not in _CAMERA_MOVES}
+    if "direction" in table and "eye" in table:
+        raise SceneError("camera: give eye or direction (the eye along it at the same distance), not both")
+    moves = {}
+    for key, name in _CAMERA_MOVES.items():
+        if key in table:
+            try:
+                moves[name] = OPTIONS_BY_NAME[name].read(table[key], f"camera.{key}")
+            except UsageError as error:
+                raise SceneError(str(error)) from None
+    return place_camera(Camera(**keys), ViewOptions(**moves))
 
 
 def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".", *, crease_angle: float | None = None) -> Scene:

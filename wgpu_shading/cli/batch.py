@@ -5,45 +5,56 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..errors import SceneError
-from ..scene import FREQUENCIES, REFLECTIONS
+from dataclasses import replace
+
+from ..errors import UsageError
+from ..scene.view_options import OPTIONS_BY_NAME, ViewOptions
+from .viewer_options import add_view_arguments, view_options_from_args
+
+
+def _columns(options: ViewOptions) -> dict:
+    """The options as manifest columns (the defaults of every row)."""
+    return {OPTIONS_BY_NAME[name].column: value for name, value in options.given().items()}
+
 
 def command_batch(args: argparse.Namespace) -> int:
     from ..dataset import Outputs, mesh_jobs, read_manifest, render_dataset, sphere_views, turntable_views
 
     if (args.manifest is None) == (not args.meshes):
-        raise SceneError("batch: give a MANIFEST (.csv or .jsonl) or --meshes PATTERN, not both")
+        raise UsageError("batch: give a MANIFEST (.csv or .jsonl) or --meshes PATTERN, not both")
     if args.workers < 1:
-        raise SceneError(f"--workers must be at least 1, got {args.workers}")
+        raise UsageError(f"--workers must be at least 1, got {args.workers}")
     if args.workers != 1 and args.scheduler:
-        raise SceneError("--workers starts a local cluster, --scheduler uses an existing one: give one of them")
+        raise UsageError("--workers starts a local cluster, --scheduler uses an existing one: give one of them")
     if args.chunk < 1:
-        raise SceneError(f"--chunk must be at least 1, got {args.chunk}")
+        raise UsageError(f"--chunk must be at least 1, got {args.chunk}")
     outputs = Outputs(
         color=args.color, depth=args.depth, normals=args.normals, ids=args.ids, compress_level=args.compression
     )
-    defaults = {
-        key: value
-        for key, value in (
-            ("size", args.size),
-            ("material", args.material),
-            ("frequency", args.frequency),
-            ("reflection", args.reflection),
-        )
-        if value is not None
-    }
+    options = view_options_from_args(args)
     if args.manifest is not None:
         if args.views is not None or args.layout is not None or args.elevation is not None:
-            raise SceneError("--views, --layout and --elevation go with --meshes; a manifest gives each job's view")
-        jobs = read_manifest(args.manifest, outputs, defaults)
+            raise UsageError("--views, --layout and --elevation go with --meshes; a manifest gives each job's view")
+        # The flags are defaults: a manifest row's own columns win.
+        jobs = read_manifest(args.manifest, outputs, _columns(options))
     else:
         count = 24 if args.views is None else args.views
+        if args.elevation is not None and options.camera_elevation is not None:
+            raise UsageError("--elevation and --camera-elevation-angle say the same; give one")
+        elevation = args.elevation if args.elevation is not None else options.camera_elevation
         if args.layout == "sphere":
             if args.elevation is not None:
-                raise SceneError("--elevation goes with --layout turntable")
+                raise UsageError("--elevation goes with --layout turntable")
             views = sphere_views(count)
         else:
-            views = turntable_views(count, args.elevation)
+            views = turntable_views(count, elevation)
+        # Every view turns on from the flags' camera: --camera-azimuth-angle 30 --views 4 is
+        # 30°, 120°, 210°, 300°, each the picture of `render --camera-azimuth-angle A`.
+        for view in views:
+            view["azimuth"] += options.camera_azimuth or 0.0
+            if args.layout == "sphere" and options.camera_elevation:
+                view["elevation"] += options.camera_elevation
+        defaults = _columns(replace(options, camera_azimuth=None, camera_elevation=None))
         jobs = mesh_jobs(args.meshes, views, outputs, defaults)
     show_progress = not args.quiet and sys.stderr.isatty()
     if args.scheduler:
@@ -89,10 +100,6 @@ def add_batch(commands, gpu: argparse.ArgumentParser) -> None:
     batch.add_argument("--views", type=int, help="views per mesh with --meshes (default: 24)")
     batch.add_argument("--layout", choices=["turntable", "sphere"], help="turntable (default): azimuths around the up axis; sphere: spread evenly over the sphere")
     batch.add_argument("--elevation", type=float, help="turntable: turn every view up by DEG, as render's --camera-elevation (default 0: the framed view, 19.3° above the horizon)")
-    batch.add_argument("--size", help="image size, WIDTHxHEIGHT or SIZE (default: the scene's, or 512)")
-    batch.add_argument("--material", help="material name for every object (see `wgpu-shading materials`)")
-    batch.add_argument("--frequency", choices=FREQUENCIES, help="shading frequency (overrides the scene)")
-    batch.add_argument("--reflection", choices=REFLECTIONS, help="reflection model (overrides the scene)")
     batch.add_argument("--color", choices=["png", "png16", "none"], default="png", help="colour image: 8-bit PNG (default), 16-bit PNG or none")
     batch.add_argument("--depth", choices=["none", "npy", "png16"], default="none", help="depth: float32 .npy (eye-space Z, inf = background) or 16-bit PNG (0 = background, 1..65535 = near..far)")
     batch.add_argument("--normals", choices=["none", "eye", "world"], default="none", help="surface normals as float32 .npy in eye or world space")
@@ -105,4 +112,5 @@ def add_batch(commands, gpu: argparse.ArgumentParser) -> None:
     batch.add_argument("--scheduler", metavar="ADDRESS", help="run on an existing Dask cluster: tcp://host:port or a scheduler file")
     batch.add_argument("--chunk", type=int, default=16, help="views of one mesh per task (default 16)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar and no summary")
+    add_view_arguments(batch)  # every view option `render` takes: defaults for every job
     batch.set_defaults(handler=command_batch)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import logging
 import os
+import re
 import sys
 import warnings
 from typing import Sequence
@@ -36,10 +37,12 @@ EXIT_INTERNAL = 3
 
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line usage errors (its own put the whole usage text first): the
-    same "wgpu-shading ...: error: ..." line and exit status 2 as every other bad input."""
+    same "wgpu-shading: error: ..." line and exit status 2 as every other bad input."""
 
     def error(self, message: str):  # type: ignore[override]
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {shorten(message)} (see {self.prog} --help)\n")
+        # "argument --size/--resolution: ..." → "--size: ...", as the errors raised later name flags
+        message = re.sub(r"^argument ([^/:\s]+)(/[^:\s]+)*: ", r"\1: ", message)
+        self.exit(EXIT_USAGE, f"wgpu-shading: error: {shorten(message)} (see {self.prog} --help)\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -75,7 +78,12 @@ def _option_name(destination: str) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exit_:  # a usage error, printed already (--help and --version exit 0)
+        if not exit_.code:
+            raise
+        return EXIT_USAGE
     # trimesh logs file problems it works around (e.g. a PLY's missing texture image) with
     # tracebacks through Python's last-resort handler; the CLI reports files its own way.
     trimesh_log = logging.getLogger("trimesh")

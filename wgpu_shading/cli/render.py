@@ -6,7 +6,7 @@ import argparse
 import math
 import sys
 
-from ..errors import SceneError
+from ..errors import UsageError
 from ..assets.animation import MAX_FPS, MIN_FPS
 from .arguments import add_scene_arguments, check_output, default_output, error_budget, scene_from_args
 
@@ -22,13 +22,13 @@ def command_render(args: argparse.Namespace) -> int:
     output = None if to_stdout else default_output(args, ".png")
     float_target = args.float or (output is not None and output.suffix.lower() == ".npy")
     if to_stdout and args.float:
-        raise SceneError("-o - writes an 8-bit PNG to standard output; --float needs a .npy file")
+        raise UsageError("-o - writes an 8-bit PNG to standard output; --float needs a .npy file")
     if output is not None:
         check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
     depth_path = None if args.depth is None else output_path(Path(args.depth), DEPTH_SUFFIXES, "--depth")
     if depth_path is not None and output is not None and depth_path.resolve() == output.resolve():
         # Otherwise the depth image silently replaces the colour image.
-        raise SceneError(f"--depth {str(depth_path)!r} is the same file as the output; give depth its own name")
+        raise UsageError(f"--depth {str(depth_path)!r} is the same file as the output; give depth its own name")
     scene = scene_from_args(args)
     renderer = Renderer(adapter=args.adapter)
     scene = _auto_shading(args, scene, renderer)
@@ -59,11 +59,11 @@ def command_turntable(args: argparse.Namespace) -> int:
     from ..render.renderer import Renderer
 
     if args.frames < 1:
-        raise SceneError(f"--frames must be at least 1, got {args.frames}")
+        raise UsageError(f"--frames must be at least 1, got {args.frames}")
     if not (MIN_FPS <= args.fps <= MAX_FPS):
-        raise SceneError(f"--fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {args.fps}")
+        raise UsageError(f"--fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {args.fps}")
     if not (math.isfinite(args.degrees) and abs(args.degrees) <= 1e6):
-        raise SceneError(f"--degrees must be a finite number of degrees (at most 1e6 in size), got {args.degrees}")
+        raise UsageError(f"--degrees must be a finite number of degrees (at most 1e6 in size), got {args.degrees}")
     scene = scene_from_args(args)
     output = default_output(args, ".gif")
     check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute
@@ -85,10 +85,10 @@ def _auto_shading(args: argparse.Namespace, scene, renderer):
     """`--shading auto`: measure the candidates, print what was chosen, return the scene with it."""
     if args.shading != "auto":
         if args.max_error is not None:
-            raise SceneError("--max-error goes with --shading auto")
+            raise UsageError("--max-error goes with --shading auto")
         return scene
     if args.frequency is not None:
-        raise SceneError("--shading auto chooses the frequency itself: leave out --frequency")
+        raise UsageError("--shading auto chooses the frequency itself: leave out --frequency")
     from ..render.auto_shading import auto_shading
 
     choice = auto_shading(scene, 1.0 if args.max_error is None else args.max_error, renderer=renderer)

@@ -18,7 +18,7 @@ import uuid
 from pathlib import Path
 from typing import Iterator
 
-from ..errors import SceneError, WgpuShadingError
+from ..errors import UsageError, WgpuShadingError
 from .jobs import Job
 
 
@@ -112,7 +112,7 @@ def _connect(distributed, scheduler: str):
         return distributed.Client(scheduler, timeout=30)
     except (ValueError, OSError, TimeoutError) as error:  # OSError covers refused connections
         message = str(error).splitlines()[0] if str(error) else type(error).__name__
-        raise SceneError(f"--scheduler {scheduler!r}: cannot connect to a Dask scheduler there ({message})") from None
+        raise UsageError(f"--scheduler {scheduler!r}: cannot connect to a Dask scheduler there ({message})") from None
 
 
 def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distributed) -> Iterator[list[dict]]:

@@ -13,18 +13,24 @@ import json
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from ..errors import SceneError
+from ..errors import UsageError
+from ..scene.view_options import VIEW_OPTIONS, ViewOptions
 
 COLOR_FORMATS = ("png", "png16", "none")
 DEPTH_FORMATS = ("none", "npy", "png16")
 NORMAL_SPACES = ("none", "eye", "world")
 
-# Scene overrides a job may carry: the same names and meaning as `wgpu-shading render`'s flags.
-OVERRIDE_KEYS = ("material", "frequency", "reflection", "blinn_exponent_scale", "infinite_viewer", "two_sided")
-# Camera keys of a job (the scene file's [camera] names), and the orbit around the target.
-CAMERA_KEYS = ("eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height")
-ORBIT_KEYS = ("azimuth", "elevation", "distance")
-
+# Where a job keeps each view option (scene/view_options.py): the image size; the camera
+# under the scene file's [camera] names; the turns about the target; the rest (material,
+# shading, lights, ...) under the option's name. Stable names keep the digests of rows
+# written before the options were unified, so reruns still skip their finished jobs.
+CAMERA_FIELDS = {
+    "camera_position": "eye", "camera_focal_point": "target", "camera_view_up": "up", "camera_view_angle": "fov_y",
+    "camera_near": "near", "camera_far": "far", "camera_projection": "projection", "camera_ortho_height": "ortho_height",
+}
+ORBIT_FIELDS = {"camera_azimuth": "azimuth", "camera_elevation": "elevation", "camera_distance": "distance"}
+# The options that decide what is loaded (one mesh load and upload per distinct key).
+LOAD_OPTIONS = tuple(option.name for option in VIEW_OPTIONS if option.load)
 
 @dataclass(frozen=True)
 class Outputs:
@@ -53,11 +59,11 @@ class Outputs:
             ("normals", self.normals, NORMAL_SPACES),
         ):
             if value not in allowed:
-                raise SceneError(f"outputs.{name}: expected one of {', '.join(allowed)}, got {value!r}")
+                raise UsageError(f"outputs.{name}: expected one of {', '.join(allowed)}, got {value!r}")
         if not (isinstance(self.compress_level, int) and 0 <= self.compress_level <= 9):
-            raise SceneError(f"outputs.compress_level: expected an integer 0..9, got {self.compress_level!r}")
+            raise UsageError(f"outputs.compress_level: expected an integer 0..9, got {self.compress_level!r}")
         if self.color == "none" and self.depth == "none" and self.normals == "none" and not self.ids:
-            raise SceneError("outputs: nothing to write (color, depth, normals and ids are all off)")
+            raise UsageError("outputs: nothing to write (color, depth, normals and ids are all off)")
 
     def file_names(self, name: str) -> list[str]:
         """The files a view called `name` gets, in its mesh's folder."""
@@ -81,9 +87,10 @@ class Job:
             current folder of the worker)
     folder/name: outputs go to OUTPUT/folder/name*.png|npy, plus name.json (camera, row hash)
     size: (width, height); None = the scene file's size, or 512² for a mesh (like `render`)
-    camera: scene-file camera keys (eye, target, up, fov_y, near, far) replacing the scene's
-    orbit: azimuth, elevation (degrees), distance: see views.posed_scene
-    overrides: `render` flags (material, frequency, reflection, ...) applied to the scene
+    camera: scene-file camera keys (eye, target, up, fov_y, near, far, projection, ortho_height)
+    orbit: azimuth, elevation (degrees), distance (see scene/view_options.py place_camera)
+    overrides: the other view options by name (material, frequency, lights, ...)
+    Together they are the job's ViewOptions (view_options()): what `render` would be given.
     """
 
     id: str
@@ -96,9 +103,37 @@ class Job:
     overrides: dict[str, Any] = field(default_factory=dict)
     outputs: Outputs = field(default_factory=Outputs)
 
+    @classmethod
+    def with_view(cls, options: ViewOptions, **fields: Any) -> "Job":
+        """A job rendering `options` (each option stored where Job keeps it)."""
+        camera, orbit, overrides = {}, {}, {}
+        size = None
+        for name, value in options.given().items():
+            if name == "size":
+                size = value
+            elif name in CAMERA_FIELDS:
+                camera[CAMERA_FIELDS[name]] = value
+            elif name in ORBIT_FIELDS:
+                orbit[ORBIT_FIELDS[name]] = value
+            else:
+                overrides[name] = value
+        return cls(size=size, camera=camera, orbit=orbit, overrides=overrides, **fields)
+
+    def view_options(self) -> ViewOptions:
+        """The options `wgpu-shading render SOURCE` needs to draw this job's view."""
+        values: dict[str, Any] = dict(self.overrides)
+        values.update({name: self.camera[key] for name, key in CAMERA_FIELDS.items() if key in self.camera})
+        values.update({name: self.orbit[key] for name, key in ORBIT_FIELDS.items() if key in self.orbit})
+        if self.size is not None:
+            values["size"] = self.size
+        if "infinite_viewer" in values:  # a Job made before local_viewer was its name
+            values["local_viewer"] = not values.pop("infinite_viewer")
+        return ViewOptions(**values)
+
     def load_key(self) -> tuple:
         """Jobs with the same key share one loaded base scene (one mesh load and upload)."""
-        return (self.source, self.size, self.overrides.get("material"))
+        options = self.view_options()
+        return (self.source, *(getattr(options, name) for name in LOAD_OPTIONS))
 
     def digest(self) -> str:
         """A hash of everything that decides this job's files: a rerun skips the job only
@@ -119,7 +154,7 @@ def chunks(jobs: list[Job], size: int) -> list[list[Job]]:
     """Jobs grouped by what they load (one mesh load per chunk), at most `size` per chunk,
     in manifest order of each group's first job."""
     if size < 1:
-        raise SceneError(f"chunk size must be at least 1, got {size}")
+        raise UsageError(f"chunk size must be at least 1, got {size}")
     groups: dict[tuple, list[Job]] = {}
     for job in jobs:
         groups.setdefault(job.load_key(), []).append(job)

@@ -5,13 +5,12 @@ Columns / keys (all but the first optional):
                                  are relative to the manifest's folder
     id, folder, name             job id (default FOLDER/NAME), output folder (default: the
                                  mesh's stem) and file stem (default view_000, view_001, ... per folder)
-    azimuth, elevation, distance the view: render's --camera-azimuth-angle/--camera-elevation-angle turns
-                                 of the scene's camera, then the eye's distance (views.py)
-    eye, target, up, fov_y, near, far, projection, ortho_height
-                                 camera keys as in a scene file ("1 2 3" in CSV)
-    size                         512 or 640x480
-    material, frequency, reflection, blinn_exponent_scale, infinite_viewer, two_sided
-                                 the `render` flags of the same names, per job
+    every view option's column   size, material, up, eye, azimuth, lights, ...: the table in
+                                 scene/view_options.py (docs/view-options.md), read by the
+                                 option's own reader ("1 2 3" or "1,2,3" for a vector in CSV)
+Older manifests keep working: `infinite_viewer` (true = local_viewer false), and `up` holding
+a vector (the camera's up vector, now `camera_up`; `up` holding an axis such as +Z is the
+model's up axis, as `--up`).
 """
 
 from __future__ import annotations
@@ -20,25 +19,22 @@ import csv
 import glob
 import hashlib
 import json
-import math
 from pathlib import Path
 from typing import Any, Iterable
 
-from ..errors import SceneError
-from ..scene import BUILTIN_PREFIX, BUILTINS, image_size, material
-from ..scene.camera import PROJECTIONS
-from ..scene.values import FREQUENCIES, REFLECTIONS
-from .jobs import CAMERA_KEYS, ORBIT_KEYS, OVERRIDE_KEYS, Job, Outputs
+from ..errors import UsageError
+from ..scene import BUILTIN_PREFIX, BUILTINS
+from ..scene.view_options import COLUMNS, ViewOptions
+from ..scene.view_values import read_bool, read_vector
+from .jobs import Job, Outputs
 
 SOURCE_KEYS = ("mesh", "scene", "source")
 _NAMED_SOURCES = ("builtin:", "example:")  # built-in meshes and the shipped examples
-KNOWN_KEYS = set(SOURCE_KEYS) | {"id", "folder", "name", "size"} | set(CAMERA_KEYS) | set(ORBIT_KEYS) | set(OVERRIDE_KEYS)
-_BOOL_KEYS = ("infinite_viewer", "two_sided")
-_VECTOR_KEYS = ("eye", "target", "up")
-_NUMBER_KEYS = ("fov_y", "near", "far", "ortho_height", "blinn_exponent_scale") + ORBIT_KEYS
-# Checked when the manifest is read, so that a typo is bad input (exit 2) before anything
-# renders, not a failed job found after the rest of the dataset.
-_CHOICE_KEYS = {"frequency": FREQUENCIES, "reflection": REFLECTIONS, "projection": PROJECTIONS}
+_JOB_KEYS = ("id", "folder", "name")
+_LEGACY_KEYS = ("infinite_viewer",)
+# Every value is read (and checked) when the manifest is read, so that a typo is bad input
+# (exit 2) before anything renders, not a failed job found after the rest of the dataset.
+KNOWN_KEYS = set(SOURCE_KEYS) | set(_JOB_KEYS) | set(COLUMNS) | set(_LEGACY_KEYS)
 
 
 def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: dict[str, Any] | None = None) -> list[Job]:
@@ -47,13 +43,13 @@ def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: di
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".csv", ".jsonl", ".ndjson"):
-        raise SceneError(f"manifest {str(path)!r}: expected a .csv or .jsonl file")
+        raise UsageError(f"manifest {str(path)!r}: expected a .csv or .jsonl file")
     try:
         text = path.read_text(encoding="utf-8-sig")  # spreadsheets write "CSV UTF-8" with a BOM
     except OSError as error:
-        raise SceneError(f"manifest {str(path)!r}: {error.strerror or error}") from None
+        raise UsageError(f"manifest {str(path)!r}: {error.strerror or error}") from None
     except UnicodeDecodeError as error:
-        raise SceneError(
+        raise UsageError(
             f"manifest {str(path)!r}: not UTF-8 text (byte {error.object[error.start]:#04x} at offset {error.start}); "
             "save it as UTF-8"
         ) from None
@@ -67,14 +63,14 @@ def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: di
             try:
                 row = json.loads(line)
             except json.JSONDecodeError as error:
-                raise SceneError(f"manifest {str(path)!r} line {number}: not JSON ({error.msg})") from None
+                raise UsageError(f"manifest {str(path)!r} line {number}: not JSON ({error.msg})") from None
             except RecursionError:
-                raise SceneError(f"manifest {str(path)!r} line {number}: JSON nested too deeply") from None
+                raise UsageError(f"manifest {str(path)!r} line {number}: JSON nested too deeply") from None
             if not isinstance(row, dict):
-                raise SceneError(f"manifest {str(path)!r} line {number}: expected a JSON object")
+                raise UsageError(f"manifest {str(path)!r} line {number}: expected a JSON object")
             rows.append((number, row))
     if not rows:
-        raise SceneError(f"manifest {str(path)!r}: no jobs")
+        raise UsageError(f"manifest {str(path)!r}: no jobs")
     base = path.parent
     return jobs_from_rows(((f"{path} line {number}", row) for number, row in rows), base, outputs or Outputs(), defaults or {})
 
@@ -86,14 +82,14 @@ def _csv_rows(text: str, path: Path) -> list[tuple[int, dict]]:
     header = next(reader, None) or []
     repeated = sorted({column for column in header if header.count(column) > 1})
     if repeated:
-        raise SceneError(f"manifest {str(path)!r} line 1: column {repeated[0]!r} appears twice")
+        raise UsageError(f"manifest {str(path)!r} line 1: column {repeated[0]!r} appears twice")
     rows = []
     for cells in reader:
         number = reader.line_num
         if not any(cell.strip() for cell in cells):
             continue
         if len(cells) > len(header):
-            raise SceneError(
+            raise UsageError(
                 f"manifest {str(path)!r} line {number}: {len(cells)} cells, but the header has {len(header)} columns"
             )
         rows.append((number, dict(zip(header, cells))))
@@ -110,14 +106,14 @@ def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Output
         row = {key: value for key, value in {**defaults, **raw}.items() if value not in ("", None)}
         unknown = sorted(set(row) - KNOWN_KEYS)
         if unknown:
-            raise SceneError(f"{where}: unknown column {unknown[0]!r}; expected some of {', '.join(sorted(KNOWN_KEYS))}")
+            raise UsageError(f"{where}: unknown column {unknown[0]!r}; expected some of {', '.join(sorted(KNOWN_KEYS))}")
         sources = [key for key in SOURCE_KEYS if key in row]
         if len(sources) != 1:
-            raise SceneError(f"{where}: expected exactly one of mesh, scene, source")
+            raise UsageError(f"{where}: expected exactly one of mesh, scene, source")
         source = _resolve(str(row[sources[0]]), base)
         if source.startswith(BUILTIN_PREFIX) and source[len(BUILTIN_PREFIX):].partition("?")[0] not in BUILTINS:
             # A typo in a built-in's name is bad input, found before anything renders.
-            raise SceneError(f"{where}: unknown built-in mesh {source!r}; available: {', '.join(BUILTIN_PREFIX + n for n in BUILTINS)}")
+            raise UsageError(f"{where}: unknown built-in mesh {source!r}; available: {', '.join(BUILTIN_PREFIX + n for n in BUILTINS)}")
         folder = str(row.get("folder") or folder_of_source.get(source) or _folder_for(source, folder_of_source))
         folder_of_source.setdefault(source, folder)
         index = names_per_folder.get(folder, 0)
@@ -127,21 +123,18 @@ def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Output
         _check_name(folder, where, "folder")
         job_id = str(row.get("id", f"{folder}/{name}"))
         if job_id in ids:
-            raise SceneError(f"{where}: job id {job_id!r} appears twice (two rows would write the same files)")
+            raise UsageError(f"{where}: job id {job_id!r} appears twice (two rows would write the same files)")
         ids.add(job_id)
         if (folder, name) in outputs_of:
-            raise SceneError(f"{where}: folder {folder!r} name {name!r} is also job {outputs_of[folder, name]!r}'s (both would write the same files)")
+            raise UsageError(f"{where}: folder {folder!r} name {name!r} is also job {outputs_of[folder, name]!r}'s (both would write the same files)")
         outputs_of[folder, name] = job_id
         jobs.append(
-            Job(
+            Job.with_view(
+                row_view_options(row, where),
                 id=job_id,
                 source=source,
                 folder=folder,
                 name=name,
-                size=image_size(_parse_size(row["size"], where), f"{where}: size") if "size" in row else None,
-                camera={key: _value(key, row[key], where) for key in CAMERA_KEYS if key in row},
-                orbit={key: _value(key, row[key], where) for key in ORBIT_KEYS if key in row},
-                overrides={key: _value(key, row[key], where) for key in OVERRIDE_KEYS if key in row},
                 outputs=outputs,
             )
         )
@@ -163,7 +156,7 @@ def mesh_jobs(
             continue
         matches = sorted(glob.glob(pattern, recursive=True))
         if not matches:
-            raise SceneError(f"--meshes {pattern!r}: no file matches")
+            raise UsageError(f"--meshes {pattern!r}: no file matches")
         sources.extend(matches)
     rows = ((f"mesh {source}", {"mesh": source, **view}) for source in dict.fromkeys(sources) for view in views)
     return jobs_from_rows(rows, Path.cwd(), outputs or Outputs(), defaults or {})
@@ -186,61 +179,33 @@ def _folder_for(source: str, taken: dict[str, str]) -> str:
 
 def _check_name(name: str, where: str, key: str) -> None:
     if not name or name in (".", "..") or "/" in name or "\\" in name:
-        raise SceneError(f"{where}: {key} {name!r} must be a plain file name (no folders)")
+        raise UsageError(f"{where}: {key} {name!r} must be a plain file name (no folders)")
 
 
-def _parse_size(value: Any, where: str) -> Any:
-    if isinstance(value, str):
-        parts = value.lower().replace("×", "x").split("x")
-        try:
-            numbers = [int(part) for part in parts]
-        except ValueError:
-            raise SceneError(f"{where}: size: expected WIDTHxHEIGHT or SIZE, got {value!r}") from None
-        return numbers * 2 if len(numbers) == 1 else numbers
-    if isinstance(value, (int, float)):
-        return [value, value]
-    return value
+def _is_vector(value: Any) -> bool:
+    """Three numbers ("0 0 1", "0,0,1", [0, 0, 1]), not an axis name such as +Z."""
+    try:
+        read_vector(value, "up")
+    except UsageError:
+        return False
+    return True
 
 
-def _value(key: str, value: Any, where: str) -> Any:
-    """A CSV string or a JSON value, converted to what the key needs."""
-    if key in _BOOL_KEYS:
-        if isinstance(value, bool):
-            return value
-        text = str(value).strip().lower()
-        if text in ("1", "true", "yes"):
-            return True
-        if text in ("0", "false", "no"):
-            return False
-        raise SceneError(f"{where}: {key}: expected true or false, got {value!r}")
-    if key in _VECTOR_KEYS:
-        if isinstance(value, str):
-            value = value.replace(",", " ").split()
-        try:
-            numbers = [float(v) for v in value]
-        except (TypeError, ValueError):
-            raise SceneError(f"{where}: {key}: expected 3 numbers such as \"0 1 3\", got {value!r}") from None
-        if len(numbers) != 3 or not all(math.isfinite(v) for v in numbers):
-            raise SceneError(f"{where}: {key}: expected 3 finite numbers, got {value!r}")
-        return tuple(numbers)
-    if key in _NUMBER_KEYS:
-        try:
-            if isinstance(value, bool):  # JSON true is not 1 degree
-                raise TypeError
-            number = float(value)
-        except (TypeError, ValueError):
-            raise SceneError(f"{where}: {key}: expected a number, got {value!r}") from None
-        if not math.isfinite(number):
-            raise SceneError(f"{where}: {key}: expected a finite number, got {value!r}")
-        if key == "distance" and not number > 0.0:
-            raise SceneError(f"{where}: distance: expected a positive number, got {value!r}")
-        return number
-    text = str(value)
-    if key in _CHOICE_KEYS and text not in _CHOICE_KEYS[key]:
-        raise SceneError(f"{where}: {key}: expected one of {', '.join(_CHOICE_KEYS[key])}, got {value!r}")
-    if key == "material":
-        try:
-            material(text)
-        except SceneError as error:
-            raise SceneError(f"{where}: {error}") from None
-    return text
+def row_view_options(row: dict[str, Any], where: str) -> ViewOptions:
+    """The view options of one manifest row (its other keys are the job's source and names)."""
+    values: dict[str, Any] = {}
+    for key, value in row.items():
+        if key in SOURCE_KEYS or key in _JOB_KEYS:
+            continue
+        if key == "up" and _is_vector(value):  # older manifests: the camera's up vector
+            if "camera_up" in row:
+                raise UsageError(f"{where}: up {value!r} is a camera up vector and camera_up is given too; keep one")
+            values["camera_view_up"] = COLUMNS["camera_up"].read(value, f"{where}: up")
+        elif key == "infinite_viewer":
+            if "local_viewer" in row:
+                raise UsageError(f"{where}: give local_viewer or infinite_viewer, not both")
+            values["local_viewer"] = not read_bool(value, f"{where}: infinite_viewer")
+        else:
+            option = COLUMNS[key]
+            values[option.name] = option.read(value, f"{where}: {key}")
+    return ViewOptions(**values)

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterator
 
-from ..errors import SceneError
+from ..errors import UsageError
 from .cameras import CONVENTION
 from .jobs import Job, chunks
 from .writer import atomic_write, finished, remove_stale_temporaries
@@ -64,14 +64,14 @@ def render_dataset(
     `parallel`: its render_many devices (None: 2 on lavapipe). Dask workers use one each.
     """
     if not jobs:
-        raise SceneError("batch: no jobs")
+        raise UsageError("batch: no jobs")
     if workers < 1:
-        raise SceneError(f"--workers must be at least 1, got {workers}")
+        raise UsageError(f"--workers must be at least 1, got {workers}")
     out_dir = Path(output)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as error:
-        raise SceneError(f"output folder {str(out_dir)!r}: {error.strerror or error}") from None
+        raise UsageError(f"output folder {str(out_dir)!r}: {error.strerror or error}") from None
     start = time.perf_counter()
     remove_stale_temporaries(out_dir)
     result = BatchResult(total=len(jobs))

@@ -56,7 +56,7 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
     opaque: list[Draw] = []
     blended: list[tuple[float, Draw]] = []
     for index, obj in enumerate(scene.objects):
-        model_view = eye_from_world * obj.model_matrix()  # double precision, once per object
+        model_view = eye_from_world * glm.dmat4(obj.world_from_model())  # double precision, once per object
         mirrored = is_mirrored(model_view)
         materials = obj.part_materials()
         for part, material in zip(obj.mesh.parts, materials):

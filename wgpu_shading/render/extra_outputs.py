@@ -71,7 +71,7 @@ def encode_extra_outputs(cache: DeviceCache, encoder, scene: Scene, space: str, 
     )
     render_pass.set_pipeline(entry.pipeline)
     for segment, (obj, part) in enumerate(segments(scene), 1):
-        model = obj.model_matrix()
+        model = glm.dmat4(obj.world_from_model())
         model_view = eye_from_world * model
         normal_from_model = glm.inverseTranspose(glm.dmat3(model_view if space == "eye" else model))
         data = np.zeros((), entry.object_dtype)

@@ -4,8 +4,8 @@
 the struct declarations of a generated shader and computes WGSL's host-shareable
 layout (alignment and size rules of the WGSL spec, §"Memory Layout") as a numpy
 structured dtype, so Python fills buffers by field name and can never drift from the
-shader. A GPU test (tests/test_layout_gpu.py) proves the offsets by reading every field
-back through a compute shader.
+shader. A GPU test (tests/test_layout.py, test_layout_on_the_gpu) proves the offsets by
+reading every field back through a compute shader.
 
 Matrices are column-major with each column padded to its vector alignment; numpy sees
 matCxR<f32> as shape (C, padded R): store `matrix.T` of a row-major numpy matrix.

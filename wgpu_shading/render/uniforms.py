@@ -104,7 +104,7 @@ def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: glm.dmat4 | No
 
 def eye_from_model(scene: Scene, obj: SceneObject) -> glm.dmat4:
     """The model-view matrix in double precision (formed before any rounding to float32)."""
-    return glm.dmat4(scene.camera.eye_from_world()) * obj.model_matrix()
+    return glm.dmat4(scene.camera.eye_from_world()) * glm.dmat4(obj.world_from_model())
 
 
 def object_uniforms(

@@ -58,7 +58,7 @@ def object_depth_range(eye, obj: "SceneObject") -> tuple[float, float]:
     """near and far planes that enclose a placed object seen from `eye`: its mesh's bounding
     sphere moved by the object's model matrix (which may turn the mesh, e.g. `--up`)."""
     center, radius = bounding_sphere(obj.mesh)
-    model = obj.model_matrix()
+    model = glm.dmat4(obj.world_from_model())
     center = glm.dvec3(model * glm.dvec4(*(center - np.asarray(obj.mesh.origin)), 1.0))
     radius *= abs(glm.determinant(glm.dmat3(model))) ** (1.0 / 3.0)
     return depth_range(eye, np.array(center), radius)

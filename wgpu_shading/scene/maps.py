@@ -100,3 +100,24 @@ def linear_color(color) -> tuple[float, float, float, float]:
     how the viewer lights, chosen as display values, light a linear-colour-space scene."""
     rgb = srgb_decode(np.clip(np.asarray(color[:3], dtype=np.float64), 0.0, 1.0))
     return (float(rgb[0]), float(rgb[1]), float(rgb[2]), float(color[3]))
+
+
+def bare_mesh_lighting(objects, camera) -> tuple[tuple, tuple[float, float, float, float]]:
+    """The viewer lights and global ambient of a bare mesh (scene/viewer_lights.py; 0.2).
+
+    A bare glTF (every part drawn with its file's linear-colour-space material) gets them
+    decoded to linear light: they were chosen as display values, and decoding keeps a white
+    surface as bright as in display values (neutral grey, as viewers show it)."""
+    from dataclasses import replace
+
+    from .viewer_lights import viewer_lights
+
+    lights, ambient = viewer_lights(camera), (0.2, 0.2, 0.2, 1.0)
+    linear = bool(objects) and all(
+        obj.material is None and all(part.material is not None and part.material.color_space == "linear" for part in obj.mesh.parts)
+        for obj in objects
+    )
+    if not linear:
+        return lights, ambient
+    return tuple(replace(light, ambient=linear_color(light.ambient), diffuse=linear_color(light.diffuse),
+                         specular=linear_color(light.specular)) for light in lights), linear_color(ambient)

@@ -102,13 +102,14 @@ class SceneObject:
             scale=scale,
         )
 
-    def model_matrix(self) -> glm.dmat4:
-        # (pyglm converts a *tuple* through float32: glm.dvec3(t) loses digits, glm.dvec3(*t) does not.)
-        """translate · Rz · Ry · Rx · scale · translate(mesh.origin), in double precision.
+    def world_from_model(self) -> np.ndarray:
+        """The model matrix as a float64 4x4 numpy array (column vectors: p_world = M @
+        p_model): translate · Rz · Ry · Rx · scale · translate(mesh.origin), in double precision.
 
         Rotations are about fixed axes, X first. Mesh positions are stored relative to
         mesh.origin (float32 keeps their precision that way); the last factor puts the
         origin back, in float64."""
+        # (pyglm converts a *tuple* through float32: glm.dvec3(t) loses digits, glm.dvec3(*t) does not.)
         model = glm.translate(glm.dmat4(1.0), glm.dvec3(*self.translate))
         for degrees, axis in zip(reversed(self.rotate), _AXES_ZYX):
             if degrees:  # skip exact zeros so unrotated objects stay bit-exact
@@ -117,7 +118,14 @@ class SceneObject:
         up_rotation = _UP_ROTATIONS[self.up]
         if up_rotation is not None:
             model = glm.rotate(model, math.radians(up_rotation[0]), glm.dvec3(*up_rotation[1]))
-        return glm.translate(model, glm.dvec3(*self.mesh.origin))
+        return np.array(glm.translate(model, glm.dvec3(*self.mesh.origin)))
+
+    def model_matrix(self) -> glm.dmat4:
+        """Deprecated: `glm.dmat4(obj.world_from_model())` (one name per matrix)."""
+        import warnings
+
+        warnings.warn("SceneObject.model_matrix() is deprecated; use world_from_model()", DeprecationWarning, stacklevel=2)
+        return glm.dmat4(self.world_from_model())
 
     def part_materials(self) -> tuple[Material, ...]:
         """The material each part of the mesh is drawn with (see `material`)."""
@@ -130,9 +138,6 @@ class SceneObject:
         """The material of the first part: the one material of a single-material object."""
         return self.part_materials()[0]
 
-    def world_from_model(self) -> np.ndarray:
-        """The model matrix as a float64 4x4 numpy array (column vectors)."""
-        return np.array(self.model_matrix())
 
 
 _DEFAULT_MATERIAL = Material()
@@ -238,7 +243,7 @@ class Scene:
                 [[x, y, z, 1.0] for x in (lower[0], upper[0]) for y in (lower[1], upper[1]) for z in (lower[2], upper[2])]
             ).T
             with np.errstate(all="ignore"):  # an overflow is caught just below, underflow is harmless
-                eye = (view @ np.array(obj.model_matrix())) @ corners
+                eye = (view @ obj.world_from_model()) @ corners
                 reach = float(np.abs(eye[:3]).max())
             if not reach <= MAX_EYE_COORDINATE:
                 raise SceneError(

@@ -1,0 +1,38 @@
+"""The one loader of a view: what `wgpu-shading render SOURCE [flags]` draws, and what a
+`batch` job, the live viewer and `turntable` start from."""
+
+from __future__ import annotations
+
+from ..scene.view_options import ViewOptions, apply_view_options
+
+DEFAULT_SIZE = (512, 512)  # a bare mesh's image when no size is given
+
+
+def is_scene_file(source: str) -> bool:
+    return source.lower().endswith(".toml")
+
+
+def load_source(source: str, options: ViewOptions):
+    """The scene file or the framed bare mesh, read with the options that act when a file is
+    read (crease_angle; a bare mesh is framed for its up axis and image size). Load it once
+    and apply several ViewOptions to it: load_view(source, o) == apply_view_options(
+    load_source(source, o), o, follow_camera=not is_scene_file(source))."""
+    from .mesh_scene import mesh_scene
+    from .meshes import DEFAULT_CREASE_ANGLE
+    from .scenefile import load_scene
+
+    if is_scene_file(source):
+        return load_scene(source, crease_angle=options.crease_angle)
+    return mesh_scene(
+        source,
+        options.size or DEFAULT_SIZE,
+        None,  # the material, like every option that does not change what is read, is applied after
+        crease_angle=DEFAULT_CREASE_ANGLE if options.crease_angle is None else options.crease_angle,
+        up=options.up or "+Y",
+    )
+
+
+def load_view(source: str, options: ViewOptions = ViewOptions()):
+    """The Scene `wgpu-shading render SOURCE` with these options draws: a scene file (.toml),
+    a mesh file, builtin:NAME or example:NAME, with every option applied."""
+    return apply_view_options(load_source(source, options), options, follow_camera=not is_scene_file(source))
