@@ -132,3 +132,46 @@ def test_a_bare_gltf_gets_the_viewer_lights_in_linear_light_unless_its_materials
         assert scene.ambient[0] == pytest.approx(srgb_decode(0.2))
     gold = load_view(str(path), ViewOptions(material="gold"))  # a classic material: display values
     assert gold.lights[0].diffuse[0] == pytest.approx(KEY_DIFFUSE[0]) and gold.ambient[0] == pytest.approx(0.2)
+
+
+def test_khr_materials_specular_textures_colour_the_highlight_per_texel(renderer, tmp_path):
+    pixels = np.zeros((8, 8, 3), np.uint8)
+    pixels[:, :4] = (255, 0, 0)
+    pixels[:, 4:] = (0, 0, 255)
+    material = {"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.3},
+                "extensions": {"KHR_materials_specular": {"specularColorFactor": [10, 10, 10], "specularColorTexture": {"index": 0}}}}
+    path = _write_textured(tmp_path, "specular", material, pixels)
+    loaded = load_mesh(str(path)).parts[0].material
+    assert loaded.specular_map is not None
+    light = DirectionalLight(direction=(0, 0, -1), diffuse=(0, 0, 0, 1), specular=(1, 1, 1, 1))
+    image = renderer.render(facing_scene(path, lights=(light,), color_space="display", local_viewer=False), float32=True)
+    # f0 = min(0.04 · 10 · texel, 1): 0.4 red on the left, 0.4 blue on the right, R·V = 1.
+    np.testing.assert_allclose(image[24, 12, :3], [0.4, 0, 0], atol=0.01)
+    np.testing.assert_allclose(image[24, 36, :3], [0, 0, 0.4], atol=0.01)
+
+
+def test_extension_textures_are_read_from_a_glb_binary_chunk(tmp_path):
+    """A GLB keeps its images in bufferViews of the binary chunk (document_image reads them)."""
+    import base64
+    import json
+    import struct
+
+    pixels = np.full((4, 4, 3), (0, 255, 0), np.uint8)
+    material = {"pbrMetallicRoughness": {"metallicFactor": 0.0},
+                "extensions": {"KHR_materials_specular": {"specularColorTexture": {"index": 0}}}}
+    document = json.loads(_write_textured(tmp_path, "s", material, pixels).read_text())
+    blob = base64.b64decode(document["buffers"][0]["uri"].split(",", 1)[1])
+    png = base64.b64decode(document["images"][0]["uri"].split(",", 1)[1])
+    blob += b"\0" * (-len(blob) % 4)
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(png)})
+    blob += png + b"\0" * (-len(png) % 4)
+    document["images"] = [{"bufferView": len(document["bufferViews"]) - 1, "mimeType": "image/png"}]
+    document["buffers"] = [{"byteLength": len(blob)}]
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    glb = b"glTF" + struct.pack("<II", 2, 12 + 8 + len(text) + 8 + len(blob))
+    glb += struct.pack("<I", len(text)) + b"JSON" + text + struct.pack("<I", len(blob)) + b"BIN\0" + blob
+    (tmp_path / "s.glb").write_bytes(glb)
+    loaded = load_mesh(str(tmp_path / "s.glb")).parts[0].material
+    assert loaded.specular_map is not None
+    assert loaded.specular[1] == pytest.approx(0.04) and loaded.specular[0] == pytest.approx(0.0, abs=1e-5)

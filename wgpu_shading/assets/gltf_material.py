@@ -30,7 +30,8 @@ colour texture (made from it when the material has none; resampled to the base c
 texture's size, in linear light), which the `modulate` combine applies to the ambient
 and diffuse terms (and to a factor-only emission: that one is dimmed on metal texels). Other maps: normalTexture (× scale), emissiveTexture
 (× emissiveFactor × KHR_materials_emissive_strength), occlusionTexture (× strength).
-KHR_materials_specular's textures are not read (its factors are).
+KHR_materials_specular's specularTexture (alpha) and specularColorTexture (sRGB) make f0
+per texel (read from the document by `document_image`: trimesh does not decode them).
 KHR_materials_pbrSpecularGlossiness (archived, but in many older exports) is the classic
 model already: diffuse = ambient = diffuseFactor (× diffuseTexture), specular =
 specularFactor, roughness = 1 − glossinessFactor (specularGlossinessTexture ignored).
@@ -80,13 +81,19 @@ def shininess_of(roughness):
 
 def _metallic_roughness(document, info, image, base, metallic, roughness, dielectric, name) -> dict:
     """Material fields for the metallic-roughness model; per-texel maps from `image`."""
-    if image is None:
+    if image is None and np.ndim(dielectric) == 1:
         share = metallic * (1.0 - roughness**2)
         return dict(diffuse=base * (1.0 - share), specular=dielectric * (1.0 - metallic) + base * share,
                     shininess=float(shininess_of(roughness)))
-    pixels = np.asarray(image.convert("RGBA"), dtype=np.float64) / 255.0
-    texel_metallic = metallic * pixels[:, :, 2]
-    texel_roughness = roughness * pixels[:, :, 1]
+    if image is not None:
+        pixels = np.asarray(image.convert("RGBA"), dtype=np.float64) / 255.0
+        texel_metallic = metallic * pixels[:, :, 2]
+        texel_roughness = roughness * pixels[:, :, 1]
+        if np.ndim(dielectric) == 3:  # KHR_materials_specular textures, on the same texels
+            dielectric = _resized(dielectric, texel_metallic.shape)
+    else:  # f0 from KHR_materials_specular textures, metallic and roughness from factors
+        texel_metallic = np.full(dielectric.shape[:2], metallic)
+        texel_roughness = np.full(dielectric.shape[:2], roughness)
     share = texel_metallic * (1.0 - texel_roughness**2)
     specular = dielectric * (1.0 - texel_metallic)[:, :, None] + base * share[:, :, None]
     shininess = shininess_of(texel_roughness)
@@ -103,6 +110,66 @@ def _metallic_roughness(document, info, image, base, metallic, roughness, dielec
         specular_map=as_map(specular / top_specular, "specular from metallic-roughness"),
         shininess_map=as_map(np.repeat((shininess / top_shininess)[:, :, None], 3, axis=2), "shininess from roughness"),
     )
+
+
+def _resized(values: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    """An (H, W) or (H, W, C) float array resampled bilinearly to `shape`[:2]."""
+    from PIL import Image
+
+    if values.shape[:2] == tuple(shape[:2]):
+        return values
+    size = (shape[1], shape[0])
+    channels = [values] if values.ndim == 2 else [values[:, :, k] for k in range(values.shape[2])]
+    resized = [np.asarray(Image.fromarray(c.astype(np.float32), mode="F").resize(size, Image.BILINEAR), np.float64) for c in channels]
+    return resized[0] if values.ndim == 2 else np.stack(resized, axis=2)
+
+
+def document_image(document: dict, path, info: dict | None):
+    """The PIL image a texture reference names, read from the document itself (trimesh
+    does not decode extension textures): a data: URI, a file beside the glTF, or a
+    bufferView of a GLB's binary chunk. None (with a warning) when it cannot be read."""
+    import base64
+    import io
+    import struct
+    from urllib.parse import unquote
+
+    from PIL import Image
+
+    try:
+        image = document["images"][document["textures"][info["index"]]["source"]]
+        if "uri" in image:
+            uri = image["uri"]
+            data = base64.b64decode(uri.split(",", 1)[1]) if uri.startswith("data:") else (path.parent / unquote(uri)).read_bytes()
+        else:
+            view = document["bufferViews"][image["bufferView"]]
+            raw = path.read_bytes()
+            json_length = struct.unpack_from("<I", raw, 12)[0]
+            binary = raw[20 + json_length + 8 :]  # the BIN chunk after its 8-byte header
+            data = binary[view.get("byteOffset", 0) : view.get("byteOffset", 0) + view["byteLength"]]
+        return Image.open(io.BytesIO(data))
+    except Exception as error:  # a hostile or broken reference: the map is left out
+        warnings.warn(f"{path.name}: texture {info!r} cannot be read ({type(error).__name__}: {error}); ignored", stacklevel=3)
+        return None
+
+
+def _specular_extension(document: dict, path, extension: dict) -> np.ndarray:
+    """KHR_materials_specular's dielectric f0 = min(0.04 · specularColorFactor (× the sRGB
+    specularColorTexture), 1) · specularFactor (× specularTexture's alpha): (3,), or
+    (H, W, 3) per texel when it has textures (read with `document_image`)."""
+    color = np.array(extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
+    factor = float(extension.get("specularFactor", 1.0))
+    color_image = document_image(document, path, extension["specularColorTexture"]) if path and "specularColorTexture" in extension else None
+    factor_image = document_image(document, path, extension["specularTexture"]) if path and "specularTexture" in extension else None
+    if color_image is None and factor_image is None:
+        return np.minimum(0.04 * color, 1.0) * factor
+    shape = (color_image if color_image is not None else factor_image).size[::-1]
+    texel_color = np.broadcast_to(color, shape + (3,))
+    if color_image is not None:
+        texel_color = color * srgb_decode(np.asarray(color_image.convert("RGB"), np.float64) / 255.0)
+    texel_factor = np.full(shape, factor)
+    if factor_image is not None:
+        texel_factor = factor * _resized(np.asarray(factor_image.convert("RGBA"), np.float64)[:, :, 3] / 255.0, shape)
+    return np.minimum(0.04 * texel_color, 1.0) * texel_factor[:, :, None]
 
 
 def _with_diffuse_factor(texture: Texture | None, factor: np.ndarray, label: str) -> Texture:
@@ -126,7 +193,7 @@ def _with_diffuse_factor(texture: Texture | None, factor: np.ndarray, label: str
     return Texture(pixels, name=texture.name, nearest=texture.nearest, wrap=texture.wrap, encoding=texture.encoding)
 
 
-def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Material:
+def gltf_material(document: dict, row: dict, trimesh_material, name: str, path=None) -> Material:
     """The classic material of one primitive (module docstring); a primitive without a
     material gets the glTF default material."""
     material = row["material"]
@@ -146,11 +213,7 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str) -> Mat
     else:
         base = np.array(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
         specular_extension = extensions.get("KHR_materials_specular")
-        if specular_extension is not None:
-            color = np.array(specular_extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
-            dielectric = np.minimum(0.04 * color, 1.0) * float(specular_extension.get("specularFactor", 1.0))
-        else:
-            dielectric = np.full(3, 0.04)
+        dielectric = np.full(3, 0.04) if specular_extension is None else _specular_extension(document, path, specular_extension)
         fields = _metallic_roughness(
             document, pbr.get("metallicRoughnessTexture"), image_of("metallicRoughnessTexture"), base[:3],
             float(pbr.get("metallicFactor", 1.0)), float(pbr.get("roughnessFactor", 1.0)), dielectric, label,

@@ -216,7 +216,7 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
         trimesh_material = getattr(visual, "material", None)
         if geometry_name not in materials:
             try:
-                materials[geometry_name] = gltf_material(document, row, trimesh_material, path.name)
+                materials[geometry_name] = gltf_material(document, row, trimesh_material, path.name, path)
             except (SceneError, AttributeError, TypeError, ValueError, KeyError, IndexError) as error:
                 # A hostile document's material (a list where an object belongs, a string
                 # factor, a colour beyond the limits): one line naming the file.
