@@ -47,7 +47,7 @@ fn final_color(lit_in: LitColor, uv: vec2<f32>) -> vec4<f32> {
 fn final_color(lit_in: LitColor) -> vec4<f32> {
 #endif
     var lit = lit_in;
-#if SPECULAR_MAP
+#if SPECULAR_MAP and SPECULAR
     // The specular map colours the highlight (map_Ks: × the specular colour).
     lit.specular *= textureSample(specular_map_texture, specular_map_sampler, uv).rgb;
 #endif
@@ -73,7 +73,7 @@ fn final_color(lit_in: LitColor) -> vec4<f32> {
 #else
     var rgb = total_light(lit);
 #endif
-#if EMISSIVE_MAP
+#if EMISSIVE_MAP and EMISSION
     // Light the surface gives off, patterned by the map: added after the texture combine.
     rgb += object_uniforms.material.emission.rgb * textureSample(emissive_map_texture, emissive_map_sampler, uv).rgb;
 #endif
