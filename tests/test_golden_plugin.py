@@ -247,3 +247,19 @@ def test_bad_scenes_and_references_are_test_failures_with_the_message_not_traceb
     result = run(pytester, "--update-golden", "-k", "corrupt")
     result.assert_outcomes(passed=1)
     assert (pytester.path / "refs" / "corrupt.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_the_failure_summary_comes_back_from_xdist_workers(pytester, monkeypatch):
+    """Under `pytest -n 2` the tests run in worker processes; their golden failures and
+    written references still reach the end-of-run sections the controller prints."""
+    pytest.importorskip("xdist")
+    pytester.makepyfile(test_user=USER_TEST)
+    args = ("-p", "no:hypothesispytest", "-p", "no:cacheprovider", "-n", "2")
+    _value(monkeypatch, 200)
+    result = pytester.runpytest_subprocess(*args, "--update-golden")
+    result.assert_outcomes(passed=1)
+    result.stdout.fnmatch_lines(["*golden references written*", "created *square.png"])
+    _value(monkeypatch, 120)
+    result = pytester.runpytest_subprocess(*args, f"--golden-output={pytester.path / 'out'}")
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(["*golden-image failures*", "test_user.py::test_array: *out*", "*--update-golden*"])

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from wgpu_shading.assets.images import read_depth_png
 from wgpu_shading.assets.mesh_scene import mesh_scene
 from wgpu_shading.cli import main
 
@@ -48,9 +49,36 @@ def test_depth_by_extension(tmp_path, renderer):
     levels = np.asarray(png)
     assert levels.dtype == np.uint16
     covered = np.isfinite(exact)
-    assert np.all(levels[~covered] == 65535)
-    decoded = near + levels[covered] / 65535.0 * (far - near)  # the stated mapping
-    assert np.abs(decoded - exact[covered]).max() <= (far - near) / 65535.0
+    assert np.all(levels[~covered] == 0) and np.all(levels[covered] >= 1)  # 0 = background
+    decoded = near + (levels[covered] - 1.0) / 65534.0 * (far - near)  # the stated mapping (docs/conventions.md)
+    assert np.abs(decoded - exact[covered]).max() <= (far - near) / 65534.0
+    assert "0 = background" in png.text["depth_encoding"]
+
+
+def test_render_and_batch_write_the_same_depth_png(tmp_path):
+    """One 16-bit depth encoding: `render --depth d.png` and `batch --depth png16` write the
+    same values and the same text chunks for the same view."""
+    assert main(["render", "builtin:torus", "--size", "48x32", "-q", "-o", str(tmp_path / "c.png"),
+                 "--camera-azimuth-angle", "30", "--depth", str(tmp_path / "d.png")]) == 0
+    assert main(["batch", "--meshes", "builtin:torus", "--views", "1", "--size", "48x32", "--camera-azimuth-angle", "30",
+                 "--depth", "png16", "-o", str(tmp_path / "out"), "-q"]) == 0
+    rendered, batched = Image.open(tmp_path / "d.png"), Image.open(tmp_path / "out" / "torus" / "view_000_depth.png")
+    assert np.array_equal(np.asarray(rendered), np.asarray(batched))
+    assert rendered.text == batched.text and set(rendered.text) == {"near", "far", "depth_encoding"}
+    levels = np.asarray(rendered)
+    assert levels.min() == 0 and 1 <= levels[levels > 0].min() < levels.max() <= 65535
+    decoded = read_depth_png(tmp_path / "d.png")
+    exact = np.load(_npy_depth(tmp_path))
+    assert np.array_equal(np.isinf(decoded), np.isinf(exact))
+    near, far = float(rendered.text["near"]), float(rendered.text["far"])
+    assert np.abs(decoded[np.isfinite(exact)] - exact[np.isfinite(exact)]).max() <= (far - near) / 65534.0
+
+
+def _npy_depth(folder):
+    path = folder / "d.npy"
+    assert main(["render", "builtin:torus", "--size", "48x32", "-q", "-o", str(folder / "c.png"),
+                 "--camera-azimuth-angle", "30", "--depth", str(path)]) == 0
+    return path
 
 
 @pytest.mark.parametrize(

@@ -17,7 +17,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .errors import DeviceError, MeshError, SceneError, WgpuShadingError
+    from .errors import DeviceError, MeshError, SceneError, UsageError, WgpuShadingError
+    from .assets.views import load_view
+    from .scene.view_options import ViewOptions, apply_view_options, render_command
     from .assets import load_mesh, load_scene, parse_scene
     from .assets.mesh_scene import mesh_scene
     from .render.auto_shading import AutoChoice, auto_shading
@@ -46,7 +48,9 @@ __version__ = "0.1.0"
 # golden-image plugin in any project that installs this package) costs nothing, and
 # numpy (~0.1 s) and wgpu (~0.1 s) load only when something needs them.
 _LAZY = {
-    "DeviceError": "errors", "MeshError": "errors", "SceneError": "errors", "WgpuShadingError": "errors",
+    "DeviceError": "errors", "MeshError": "errors", "SceneError": "errors", "UsageError": "errors", "WgpuShadingError": "errors",
+    "ViewOptions": "scene.view_options", "apply_view_options": "scene.view_options", "render_command": "scene.view_options",
+    "load_view": "assets.views",
     "FeatureSet": "render.features",
     "MATERIALS": "scene", "material": "scene", "Mesh": "scene",
     "load_mesh": "assets", "load_scene": "assets", "parse_scene": "assets", "mesh_scene": "assets.mesh_scene",
@@ -90,12 +94,17 @@ __all__ = [
     "Shading",
     "SpotLight",
     "Texture",
+    "UsageError",
+    "ViewOptions",
     "WgpuShadingError",
+    "apply_view_options",
     "auto_shading",
     "load_mesh",
     "load_scene",
+    "load_view",
     "material",
     "mesh_scene",
     "parse_scene",
+    "render_command",
     "turntable",
 ]

@@ -67,14 +67,56 @@ def png_bytes(image: np.ndarray) -> bytes:
     return buffer.getvalue()
 
 
+# The one 16-bit depth PNG encoding (`render --depth d.png` and `batch --depth png16`):
+# 0 marks the background, so that nothing drawn is never read as a depth.
+DEPTH_PNG_CONVENTION = (
+    "uint16: 0 = background (nothing drawn); 1..65535 = eye-space depth from near to far, linearly: "
+    "depth = near + (value - 1) / 65534 * (far - near)"
+)
+
+
+def depth_png_levels(depth: np.ndarray, near: float, far: float) -> np.ndarray:
+    """Eye-space depth (inf where nothing was drawn) as DEPTH_PNG_CONVENTION's uint16 values."""
+    covered = np.isfinite(depth)
+    clipped = np.clip(np.where(covered, depth, near).astype(np.float64), near, far)
+    levels = np.round(1.0 + (clipped - near) / (far - near) * 65534.0)
+    return np.where(covered, levels, 0).astype(np.uint16)
+
+
+def save_depth_png(target, depth: np.ndarray, near: float, far: float, compress_level: int = 6) -> None:
+    """Write depth as a 16-bit grey PNG to a path or a binary file, with near, far and the
+    convention in its text chunks (tEXt `near`, `far`: repr of the floats; `depth_encoding`)."""
+    from PIL import Image
+    from PIL.PngImagePlugin import PngInfo
+
+    info = PngInfo()
+    info.add_text("near", repr(float(near)))
+    info.add_text("far", repr(float(far)))
+    info.add_text("depth_encoding", DEPTH_PNG_CONVENTION)
+    image = Image.fromarray(np.ascontiguousarray(depth_png_levels(depth, near, far)))
+    image.save(target, format="png", pnginfo=info, compress_level=compress_level)
+
+
+def read_depth_png(path: os.PathLike[str] | str) -> np.ndarray:
+    """A depth PNG written by save_depth_png back as float32 eye-space depth (inf = background),
+    to within (far - near) / 65534."""
+    from PIL import Image
+
+    with Image.open(path) as image:
+        near, far = float(image.text["near"]), float(image.text["far"])
+        levels = np.asarray(image).astype(np.float64)
+    depth = near + (levels - 1.0) / 65534.0 * (far - near)
+    return np.where(levels == 0, np.inf, depth).astype(np.float32)
+
+
 def write_depth(path: Path, depth: np.ndarray, near: float, far: float) -> str:
     """Eye-space depth (distance along the view axis, inf where nothing was drawn) by suffix;
     returns how the values are stored, for the user.
 
     .npy   float32 distances, inf = background
     .tiff  the same float32 values as a 32-bit float TIFF
-    .png   16-bit grey, linear in distance: 0 = the near plane, 65535 = the far plane and the
-           background; near and far are also written into the PNG's text chunks
+    .png   16-bit grey, DEPTH_PNG_CONVENTION (0 = background, 1..65535 = near..far); near and
+           far are also written into the PNG's text chunks
     """
     suffix = path.suffix.lower()
     distances = depth.astype(np.float32)
@@ -86,16 +128,8 @@ def write_depth(path: Path, depth: np.ndarray, near: float, far: float) -> str:
     if suffix in (".tif", ".tiff"):
         Image.fromarray(np.ascontiguousarray(distances)).save(path)  # float32 → mode F
         return "32-bit float eye-space distance, inf = background"
-    from PIL.PngImagePlugin import PngInfo
-
-    scaled = np.where(np.isfinite(depth), (depth - near) / (far - near), 1.0)
-    levels = np.round(np.clip(scaled, 0.0, 1.0) * 65535.0).astype(np.uint16)
-    info = PngInfo()
-    info.add_text("near", repr(float(near)))
-    info.add_text("far", repr(float(far)))
-    info.add_text("mapping", "value / 65535 = (eye distance - near) / (far - near); background = 65535")
-    Image.fromarray(np.ascontiguousarray(levels)).save(path, pnginfo=info)
-    return f"16-bit, linear: 0 = near plane ({near:g}), 65535 = far plane ({far:g}) and background"
+    save_depth_png(path, depth, near, far)
+    return f"16-bit, linear: 0 = background, 1..65535 = near plane ({near:g}) .. far plane ({far:g})"
 
 
 def write_image(path: Path, image: np.ndarray) -> None:

@@ -94,7 +94,10 @@ def add_batch(commands, gpu: argparse.ArgumentParser) -> None:
         "one folder per mesh, with cameras.json and report.json. A rerun skips jobs whose outputs exist "
         "and match their row. Exit status 1 when some jobs failed (see report.json).",
     )
-    batch.add_argument("manifest", nargs="?", help="a .csv or .jsonl manifest (see docs/datasets.md)")
+    batch.add_argument("manifest", nargs="?", help="a .csv or .jsonl manifest: a header row (CSV) or one object a line (JSON); one job a row: "
+                       "mesh (a file, builtin:NAME or a scene .toml), optional folder, name, id, and any view option's "
+                       "column (size, material, up, eye, azimuth, elevation, lights, ...: the view flags below without "
+                       "the dashes, camera keys as in a scene file)")
     batch.add_argument("-o", "--output", required=True, help="output folder (created)")
     batch.add_argument("--meshes", action="append", metavar="PATTERN", help="mesh files (a glob such as 'dir/*.obj', or builtin:NAME); repeatable")
     batch.add_argument("--views", type=int, help="views per mesh with --meshes (default: 24)")

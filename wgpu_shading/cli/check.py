@@ -60,7 +60,13 @@ def add_check(commands, gpu: argparse.ArgumentParser) -> None:
             "Render a scene and compare it with a reference PNG. Prints the metrics; exits 0 when they "
             "match, 1 when they differ (writes NAME.actual.png, NAME.expected.png and NAME.diff.png next "
             "to the reference or in --output-dir), 2 on a usage error. --update writes a missing or "
-            "differing reference. See docs/golden-tests.md."
+            "differing reference. "
+            "How it compares: a pixel differs when one of its channels differs by more than --threshold/255 "
+            "(lavapipe and GPUs round a few values differently, so 0 is too strict); the images match when "
+            "at most --max-fraction of the pixels differ, no channel by more than --max-difference (if given) "
+            "and the mean FLIP error is at most --flip (if given). The diff image shows where they differ. "
+            "In pytest the same check is the assert_golden fixture of the wgpu-shading plugin "
+            "(`pytest --update-golden` writes references)."
         ),
     )
     add_scene_arguments(check)

@@ -133,7 +133,7 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
     render.add_argument(
         "--depth", metavar="DEPTH",
         help="also save eye-space depth: .npy or .tiff (float32, inf = background) or .png "
-        "(16-bit, 0 = near plane, 65535 = far plane and background, linear)",
+        "(16-bit, 0 = background, 1..65535 = near..far plane linearly, as batch --depth png16)",
     )
     render.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     render.add_argument(

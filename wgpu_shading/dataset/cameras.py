@@ -67,7 +67,7 @@ CONVENTION = {
     "camera_to_world_opengl": "camera pose in OpenGL axes (x right, y up, looking down -z); "
     "world_to_camera_opencv = diag(1,-1,-1,1) @ inverse(camera_to_world_opengl)",
     "depth": "*_depth.npy: float32 Z in the OpenCV camera frame (inf = background); "
-    "*_depth.png: uint16, 0 = background, 1..65535 = near..far linearly in Z",
+    "*_depth.png: uint16, 0 = background, 1..65535 = near..far linearly in Z (near, far also in its text chunks)",
     "normals": "*_normals_eye.npy: OpenGL eye space (x right, y up, z toward the camera); "
     "*_normals_world.npy: world space; float32 unit vectors, 0 = background",
     "ids": "*_ids.png: uint16, 0 = background, k = the entry with id k of the view's 'ids' list "

@@ -13,6 +13,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..assets.images import save_depth_png
+
 from ..render.extra_outputs import ExtraFrame
 from ..render.renderer import Frame
 from .jobs import Job
@@ -71,11 +73,9 @@ def color16(color: np.ndarray) -> np.ndarray:
     return np.round(np.clip(color, 0.0, 1.0) * 65535.0).astype(np.uint16)
 
 
-def depth16(depth: np.ndarray, near: float, far: float) -> np.ndarray:
-    """Eye-space depth as uint16: 0 = background, 1..65535 = near..far linearly."""
-    covered = np.isfinite(depth)
-    scaled = np.round(1.0 + (np.clip(np.where(covered, depth, near), near, far) - near) / (far - near) * 65534.0)
-    return np.where(covered, scaled, 0).astype(np.uint16)
+def _depth_png(depth: np.ndarray, near: float, far: float, level: int) -> Callable[[object], None]:
+    # The encoding of `render --depth d.png` (assets/images.py), near and far in its text chunks.
+    return lambda file: save_depth_png(file, depth, near, far, level)
 
 
 def write_view(
@@ -96,7 +96,7 @@ def write_view(
             if outputs.depth == "npy":
                 write = _npy(frame.depth.astype(np.float32))
             else:
-                write = _png16_gray(depth16(frame.depth, camera["near"], camera["far"]), level)
+                write = _depth_png(frame.depth, camera["near"], camera["far"], level)
         elif "_normals_" in file_name:
             assert extra is not None
             write = _npy(extra.normals)

@@ -59,6 +59,8 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
         model_view = eye_from_world * glm.dmat4(obj.world_from_model())  # double precision, once per object
         mirrored = is_mirrored(model_view)
         materials = obj.part_materials()
+        # Blended parts keep their triangle order in the upload (they blend in index order).
+        blended_parts = frozenset(k for k, m in enumerate(materials) if m.alpha_mode == "blend")
         for part, material in zip(obj.mesh.parts, materials):
             if part.count == 0:
                 continue
@@ -75,7 +77,7 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
             draw = Draw(
                 entry=entry,
                 draw_index=len(opaque) + len(blended),
-                gpu_mesh=cache.gpu_mesh(obj.mesh, entry.plan),
+                gpu_mesh=cache.gpu_mesh(obj.mesh, entry.plan, blended_parts),
                 object_data=object_uniforms(model_view, material, entry.object_dtype, scene),
                 textures=textures,
                 texture_owner=owner,

@@ -71,11 +71,16 @@ class DeviceCache:
 
     # ------------------------------------------------------------------ uploads
 
-    def gpu_mesh(self, mesh: Mesh, plan: BindingPlan | None = None) -> GpuMesh:
-        """The mesh's upload, with the optional attributes `plan` binds (uvs, colors)."""
+    def gpu_mesh(self, mesh: Mesh, plan: BindingPlan | None = None, in_order: frozenset[int] = frozenset()) -> GpuMesh:
+        """The mesh's upload, with the optional attributes `plan` binds (uvs, colors).
+        `in_order`: parts whose triangles must keep their order (blended ones); an upload
+        that reordered one of them is replaced (the same mesh drawn with other materials)."""
         gpu_mesh = self.meshes.get(mesh)
+        if gpu_mesh is not None and gpu_mesh.order is not None and not in_order <= gpu_mesh.order.in_order:
+            in_order = in_order | gpu_mesh.order.in_order
+            gpu_mesh = None
         if gpu_mesh is None:
-            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage))
+            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order))
         if plan is not None and "uvs" in plan:
             upload_uvs(self.device, gpu_mesh, mesh, self._mesh_usage)
         if plan is not None and "colors" in plan:

@@ -4,6 +4,7 @@ and texture uploads, and reading a mapped buffer back into numpy."""
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -13,6 +14,7 @@ from ..errors import SceneError
 from ..scene import Mesh, Texture
 from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
 from .pipeline_cache import COLOR_FORMATS, DEPTH_FORMAT
+from .vertex_order import VertexOrder, cache_order
 
 BYTES_PER_PIXEL = {"rgba8": 4, "float32": 16}
 _ROW_ALIGNMENT = 256  # WebGPU's required bytes_per_row multiple for texture copies
@@ -28,6 +30,8 @@ class GpuMesh:
     colors: object | None = None
     # flat shading's vertex-pulling bind groups (one per layout: a handful)
     storage_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
+    # the vertex-cache order the buffers hold (render/vertex_order.py); None: the mesh's own
+    order: VertexOrder | None = None
 
     @property
     def nbytes(self) -> int:
@@ -167,20 +171,56 @@ def new_target(device, width: int, height: int, color_format: str, samples: int 
 
 
 
-def upload_mesh(device, mesh: Mesh, extra_usage: int) -> GpuMesh:
+def vertex_order_enabled() -> bool:
+    """Meshes are uploaded in vertex-cache order unless WGPU_SHADING_VERTEX_ORDER=0 (for
+    A/B measurements and the test that the pixels do not change)."""
+    return os.environ.get("WGPU_SHADING_VERTEX_ORDER", "1") != "0"
+
+
+def upload_mesh(device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] = frozenset()) -> GpuMesh:
     """Positions, normals and indices of `mesh` in GPU buffers. One upload serves every
     frequency: vertex buffers for Gouraud/Phong, storage buffers for flat shading's vertex
-    pulling. `extra_usage` is MAP_WRITE where the device writes such buffers in place."""
+    pulling. `extra_usage` is MAP_WRITE where the device writes such buffers in place.
+
+    The triangles of every part not in `in_order` (the alpha-blended parts) are uploaded in
+    vertex-cache order, and the vertices in first-use order (render/vertex_order.py: same
+    pixels, less vertex work). The vertices are written into their buffers in the new order
+    a chunk at a time, and the reordered indices live in scratch memory that is handed back
+    right after their upload: the upload still leaves one copy of the mesh (the driver's)."""
     usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
+    index_usage = wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | extra_usage
+    if not vertex_order_enabled():
+        return GpuMesh(
+            positions=device.create_buffer_with_data(data=mesh.positions, usage=usage),
+            normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX | extra_usage),
+            indices=device.create_buffer_with_data(data=mesh.indices, usage=index_usage),
+            uvs=None,
+            triangle_count=mesh.triangle_count,
+        )
+    scratch, order = cache_order(mesh.indices, mesh.vertex_count, mesh.parts, in_order)
+    try:
+        indices = device.create_buffer_with_data(data=scratch.array, usage=index_usage)
+    finally:
+        scratch.close()
     return GpuMesh(
-        positions=device.create_buffer_with_data(data=mesh.positions, usage=usage),
-        normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX | extra_usage),
-        indices=device.create_buffer_with_data(
-            data=mesh.indices, usage=wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | extra_usage
-        ),
+        positions=_reordered_buffer(device, mesh.positions, order, usage),
+        normals=_reordered_buffer(device, mesh.normals, order, wgpu.BufferUsage.VERTEX | extra_usage),
+        indices=indices,
         uvs=None,
         triangle_count=mesh.triangle_count,
+        order=order,
     )
+
+
+def _reordered_buffer(device, array: np.ndarray, order: VertexOrder | None, usage: int):
+    """A buffer holding `array` (per-vertex rows) in the upload's vertex order."""
+    if order is None:
+        return device.create_buffer_with_data(data=array, usage=usage)
+    row_bytes = array.itemsize * int(np.prod(array.shape[1:]))
+    buffer = device.create_buffer(size=(len(order.gather) * row_bytes + 3) & ~3, usage=usage, mapped_at_creation=True)
+    order.write_vertices(buffer, array)
+    buffer.unmap()
+    return buffer
 
 
 def upload_uvs(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
@@ -188,14 +228,14 @@ def upload_uvs(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
     untextured, and a big mesh's uvs are a seventh of its memory."""
     if gpu_mesh.uvs is None and mesh.uvs is not None:
         usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
-        gpu_mesh.uvs = device.create_buffer_with_data(data=mesh.uvs, usage=usage)
+        gpu_mesh.uvs = _reordered_buffer(device, mesh.uvs, gpu_mesh.order, usage)
 
 
 def upload_colors(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
     """Vertex colors (float32 RGBA), once a draw needs them."""
     if gpu_mesh.colors is None and mesh.colors is not None:
         usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
-        gpu_mesh.colors = device.create_buffer_with_data(data=mesh.colors, usage=usage)
+        gpu_mesh.colors = _reordered_buffer(device, mesh.colors, gpu_mesh.order, usage)
 
 
 def srgb_mip_chain(pixels: np.ndarray) -> list[np.ndarray]:

@@ -54,9 +54,36 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addini("golden_max_fraction", "assert_golden: fraction of pixels allowed over the threshold (default 0.001)", default=None)
 
 
+# What a test did to its references travels in the test's report (user_properties), not in
+# this process's memory: under pytest-xdist (`pytest -n 2`) the tests run in worker processes
+# and only their reports reach the controller that prints the end-of-run summary.
+_PROPERTY = "wgpu_shading_golden"
+
+
 def pytest_configure(config: pytest.Config) -> None:
     config.stash[_STASH_WRITTEN] = []
     config.stash[_STASH_FAILED] = []
+    config.pluginmanager.register(_GoldenReports(config), "wgpu-shading-golden-reports")
+
+
+def _record(request: pytest.FixtureRequest, kind: str, line: str) -> None:
+    request.node.user_properties.append((_PROPERTY, f"{kind}\t{line}"))
+
+
+class _GoldenReports:
+    """Collects the golden lines of each finished test, whether it ran in this process or in
+    an xdist worker (its teardown report carries every property the test recorded)."""
+
+    def __init__(self, config: pytest.Config):
+        self.config = config
+
+    def pytest_runtest_logreport(self, report: pytest.TestReport) -> None:
+        if report.when != "teardown":
+            return
+        for name, value in report.user_properties:
+            if name == _PROPERTY:
+                kind, _, line = str(value).partition("\t")
+                self.config.stash[_STASH_WRITTEN if kind == "written" else _STASH_FAILED].append(line)
 
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config: pytest.Config) -> None:
@@ -173,7 +200,7 @@ class GoldenChecker:
         output_dir = self._output_dir(reference)
         if not update and not reference.exists():
             written = write_failure_images(image, None, reference, output_dir)
-            self._config.stash[_STASH_FAILED].append(f"{self._request.node.nodeid}: {output_dir}")
+            _record(self._request, "failed", f"{self._request.node.nodeid}: {output_dir}")
             pytest.fail(
                 f"golden reference {reference} does not exist\n"
                 f"the actual image is at {written[0]}\n"
@@ -189,10 +216,10 @@ class GoldenChecker:
             amplification=amplification if amplification is not None else DEFAULT_AMPLIFICATION,
         )
         if result.status in ("created", "updated"):
-            self._config.stash[_STASH_WRITTEN].append(f"{result.status} {reference}")
+            _record(self._request, "written", f"{result.status} {reference}")
             return result
         if result.status == "failed":
-            self._config.stash[_STASH_FAILED].append(f"{self._request.node.nodeid}: {output_dir}")
+            _record(self._request, "failed", f"{self._request.node.nodeid}: {output_dir}")
             comparison = result.comparison
             lines = [f"golden image mismatch: {reference}", comparison.message, f"tolerance: {tolerance.describe()}"]
             lines.append("images: " + ", ".join(str(p) for p in result.written))

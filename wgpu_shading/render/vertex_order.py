@@ -1,0 +1,112 @@
+"""Triangles and vertices reordered for the vertex stage before upload (same pixels).
+
+llvmpipe/lavapipe shade vertices on one thread and keep a small cache of recently
+transformed vertices, so the order of the index buffer decides how often a shared vertex
+is transformed again; scans and exported meshes are rarely in a cache-friendly order.
+meshoptimizer's `optimize_vertex_cache` (after Forsyth, "Linear-Speed Vertex Cache
+Optimisation", 2006; https://github.com/zeux/meshoptimizer#vertex-cache-optimization) reorders the
+triangles of each part, then `optimize_vertex_fetch_remap` renumbers the vertices in
+first-use order so the vertex fetches walk memory forwards. Measured in
+docs/performance.md ("Vertex-cache order").
+
+What stays the same, so images are bit-identical (tests/test_vertex_order.py):
+- every triangle keeps its three corners in their order (winding, and the rasterizer's
+  edge setup, are unchanged), and every vertex keeps its attribute values;
+- each part keeps its triangle range (first, count), so per-part draws and materials
+  are untouched; parts listed in `in_order` (alpha-blended ones, whose triangles blend
+  in index order) keep their triangle order as well.
+Only which triangle of an opaque part is drawn first changes: with the depth test, that
+decides nothing unless two triangles of one part cover a pixel at exactly equal depth.
+"""
+
+from __future__ import annotations
+
+import mmap
+from dataclasses import dataclass
+
+import numpy as np
+
+_UNUSED = np.uint32(0xFFFFFFFF)  # meshoptimizer's remap value for a vertex no triangle uses
+_CHUNK = 1 << 16  # vertices or indices handled per step when writing into a GPU buffer
+
+
+@dataclass(frozen=True)
+class VertexOrder:
+    """How the uploaded vertices are ordered: kept with the upload so that attributes
+    uploaded later (texture coordinates, colors) are reordered the same way."""
+
+    gather: np.ndarray  # uint32: new vertex k is old vertex gather[k] (unused vertices are dropped)
+    in_order: frozenset[int]  # the part indices whose triangle order was kept
+
+    def vertices(self, array: np.ndarray) -> np.ndarray:
+        """A per-vertex array (positions, normals, uvs, colors) in the new vertex order."""
+        return np.ascontiguousarray(array[self.gather])
+
+    def write_vertices(self, buffer, array: np.ndarray) -> None:
+        """Write `array` in the new vertex order into a buffer mapped at creation, a chunk at
+        a time, so no reordered copy of the whole array is ever made."""
+        row = array.itemsize * int(np.prod(array.shape[1:]))
+        for start in range(0, len(self.gather), _CHUNK):
+            buffer.write_mapped(np.ascontiguousarray(array[self.gather[start : start + _CHUNK]]), start * row)
+
+
+class ScratchIndices:
+    """The reordered index buffer, in an anonymous memory map: released to the system as
+    soon as it is uploaded (close()), so the upload leaves no freed-but-kept heap behind."""
+
+    def __init__(self, count: int):
+        self._map = mmap.mmap(-1, max(4 * count, 1))
+        self.array = np.frombuffer(self._map, np.uint32, count)
+
+    def close(self) -> None:
+        self.array = None
+        try:
+            self._map.close()
+        except BufferError:  # a view is still alive somewhere: the map goes with it
+            pass
+
+
+def cache_order(
+    indices: np.ndarray, vertex_count: int, parts, in_order: frozenset[int] = frozenset()
+) -> tuple[ScratchIndices, VertexOrder]:
+    """Reorder the triangles of every part not in `in_order` for the post-transform vertex
+    cache, then the vertices for fetch locality. `parts` are (first, count) triangle ranges
+    (MeshPart) covering `indices`. Returns the new index buffer (flat uint32, in scratch
+    memory: close it after the upload) and the vertex order."""
+    import meshoptimizer  # imported on first upload: a mesh-less process never pays for it
+
+    flat = np.ascontiguousarray(indices, dtype=np.uint32).reshape(-1)
+    scratch = ScratchIndices(flat.size)
+    ordered = scratch.array
+    ordered[:] = flat
+    for number, part in enumerate(parts):
+        if number in in_order or part.count < 2:
+            continue
+        start, stop = 3 * part.first, 3 * (part.first + part.count)
+        meshoptimizer.optimize_vertex_cache(ordered[start:stop], flat[start:stop], stop - start, vertex_count)
+    remap = np.empty(vertex_count, np.uint32)
+    used = meshoptimizer.optimize_vertex_fetch_remap(remap, ordered, ordered.size, vertex_count)
+    for start in range(0, ordered.size, _CHUNK):  # renumber in place, a chunk at a time
+        ordered[start : start + _CHUNK] = remap[ordered[start : start + _CHUNK]]
+    referenced = remap != _UNUSED
+    gather = np.empty(used, np.uint32)
+    gather[remap[referenced]] = np.flatnonzero(referenced)
+    del remap, referenced
+    if flat.nbytes >= _TRIM_BYTES:
+        _return_freed_memory()
+    return scratch, VertexOrder(gather=gather, in_order=frozenset(in_order))
+
+
+# meshoptimizer's working arrays for a big mesh (several times its index buffer) are freed
+# onto glibc's heap, which keeps them: the process would look a mesh copy bigger after the
+# upload than before (tests/test_memory.py measures that). malloc_trim hands them back.
+_TRIM_BYTES = 4 << 20
+
+
+def _return_freed_memory() -> None:
+    try:
+        import ctypes
+
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):  # not glibc: nothing to do
+        pass
