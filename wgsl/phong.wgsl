@@ -48,12 +48,16 @@ fn fs_main(
 ) -> @location(0) vec4<f32> {
     // The interpolated normal can pass through zero (opposite normals on one triangle).
     var normal = safe_normalize(in.eye_normal, FALLBACK_NORMAL);
+#if NORMAL_MAP or BUMP_MAP
     var face_sign = 1.0;
+#endif
 #if TWO_SIDED
     // GL_LIGHT_MODEL_TWO_SIDE: back faces are lit with the flipped normal.
     if (!front_facing) {
         normal = -normal;
+#if NORMAL_MAP or BUMP_MAP
         face_sign = -1.0;
+#endif
     }
 #endif
 #if NORMAL_MAP or BUMP_MAP
