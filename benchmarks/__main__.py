@@ -46,6 +46,7 @@ SMOKE_SCRIPTS = {
     "golden_noise": ("golden_noise.py", "--smoke"),
     "loading": ("bench_loading.py", "--smoke"),
     "antialiasing": ("bench_antialiasing.py", "--smoke"),
+    "live": ("bench_live.py", "--smoke"),
 }
 
 

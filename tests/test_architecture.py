@@ -13,7 +13,7 @@ import pytest
 PACKAGE = Path(__file__).resolve().parent.parent / "wgpu_shading"
 
 # Stage order: a module may import its own stage or a lower one (errors.py: anyone).
-STAGE_RANK = {"scene": 0, "assets": 1, "render": 2, "study": 3, "testing": 3, "dataset": 3, "cli": 4}
+STAGE_RANK = {"scene": 0, "assets": 1, "render": 2, "study": 3, "testing": 3, "dataset": 3, "live": 3, "cli": 4}
 MAX_MODULE_LINES = 400
 
 

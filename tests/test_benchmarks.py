@@ -83,7 +83,7 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 
 SMOKE_STEPS = (
     "warm", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference", "golden_noise",
-    "loading", "antialiasing", "report",
+    "loading", "antialiasing", "live", "report",
 )
 
 

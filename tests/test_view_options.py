@@ -57,7 +57,10 @@ SAMPLES = {
     "lights": (["--light", "directional:dir=-1,-1,-1:color=1,0.5,0.5"], "directional:dir=-1,-1,-1:color=1,0.5,0.5",
                ("directional:dir=-1,-1,-1:color=1,0.5,0.5",),
                "[[lights]]\ntype = \"directional\"\ndirection = [-1, -1, -1]\ndiffuse = [1, 0.5, 0.5]\nspecular = [1, 0.5, 0.5]"),
+    # glTF files' own lights (tests/test_gltf_lights.py): nothing to change on an OBJ box or in a scene file
+    "viewer_lights": (["--viewer-lights"], "true", True, ""),
 }
+_NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")
 BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)) + "".join(
     f"f {a} {b} {c}\n" for a, b, c in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
                                        (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4))
@@ -122,7 +125,7 @@ def test_the_scene_file_key_means_what_the_option_means(option, box):
     with_key = load_scene(_scene_file(box.parent, toml))
     with_option = load_view(str(_scene_file(box.parent, "")), ViewOptions(**{option.name: value}))
     assert _view(with_key) == _view(with_option)
-    assert _view(with_key) != _view(load_scene(_scene_file(box.parent, ""))) or option.name == "crease_angle"
+    assert _view(with_key) != _view(load_scene(_scene_file(box.parent, ""))) or option.name in ("crease_angle", "viewer_lights")
 
 
 def _pixels(path: Path) -> np.ndarray:
@@ -141,7 +144,7 @@ def test_render_and_a_one_job_batch_draw_the_same_pixels(option, box, tmp_path):
     assert np.array_equal(rendered, _pixels(tmp_path / "batch" / "box" / "view_000.png"))
     plain = tmp_path / "plain.png"
     assert main(["render", str(box), *size, "-o", str(plain), "-q"]) == 0
-    if option.name not in ("two_sided", "clamp_vertex_colors"):  # a closed box without vertex colours
+    if option.name not in _NO_EFFECT_ON_THE_BOX:  # a closed box without vertex colours or file lights
         assert not np.array_equal(rendered, _pixels(plain)), "the sample value should change the picture"
 
 

@@ -59,6 +59,7 @@ _LAZY = {
     "Camera": "scene", "DirectionalLight": "scene", "Light": "scene", "Material": "scene",
     "PositionalLight": "scene", "Scene": "scene", "SceneObject": "scene", "Shading": "scene",
     "SpotLight": "scene", "Texture": "scene",
+    "view": "live.widget",  # a notebook widget (the [view] extra; docs/viewer.md)
 }
 
 
@@ -107,4 +108,5 @@ __all__ = [
     "parse_scene",
     "render_command",
     "turntable",
+    "view",
 ]

@@ -31,7 +31,7 @@ texture's size, in linear light), which the `modulate` combine applies to the am
 and diffuse terms (and to a factor-only emission: that one is dimmed on metal texels). Other maps: normalTexture (× scale), emissiveTexture
 (× emissiveFactor × KHR_materials_emissive_strength), occlusionTexture (× strength).
 KHR_materials_specular's specularTexture (alpha) and specularColorTexture (sRGB) make f0
-per texel (read from the document by `document_image`: trimesh does not decode them).
+per texel.
 KHR_materials_pbrSpecularGlossiness (archived, but in many older exports) is the classic
 model already: diffuse = ambient = diffuseFactor (× diffuseTexture), specular =
 specularFactor, roughness = 1 − glossinessFactor (specularGlossinessTexture ignored).
@@ -124,42 +124,14 @@ def _resized(values: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
     return resized[0] if values.ndim == 2 else np.stack(resized, axis=2)
 
 
-def document_image(document: dict, path, info: dict | None):
-    """The PIL image a texture reference names, read from the document itself (trimesh
-    does not decode extension textures): a data: URI, a file beside the glTF, or a
-    bufferView of a GLB's binary chunk. None (with a warning) when it cannot be read."""
-    import base64
-    import io
-    import struct
-    from urllib.parse import unquote
-
-    from PIL import Image
-
-    try:
-        image = document["images"][document["textures"][info["index"]]["source"]]
-        if "uri" in image:
-            uri = image["uri"]
-            data = base64.b64decode(uri.split(",", 1)[1]) if uri.startswith("data:") else (path.parent / unquote(uri)).read_bytes()
-        else:
-            view = document["bufferViews"][image["bufferView"]]
-            raw = path.read_bytes()
-            json_length = struct.unpack_from("<I", raw, 12)[0]
-            binary = raw[20 + json_length + 8 :]  # the BIN chunk after its 8-byte header
-            data = binary[view.get("byteOffset", 0) : view.get("byteOffset", 0) + view["byteLength"]]
-        return Image.open(io.BytesIO(data))
-    except Exception as error:  # a hostile or broken reference: the map is left out
-        warnings.warn(f"{path.name}: texture {info!r} cannot be read ({type(error).__name__}: {error}); ignored", stacklevel=3)
-        return None
-
-
-def _specular_extension(document: dict, path, extension: dict) -> np.ndarray:
+def _specular_extension(extension: dict, images) -> np.ndarray:
     """KHR_materials_specular's dielectric f0 = min(0.04 · specularColorFactor (× the sRGB
     specularColorTexture), 1) · specularFactor (× specularTexture's alpha): (3,), or
-    (H, W, 3) per texel when it has textures (read with `document_image`)."""
+    (H, W, 3) per texel when it has textures (decoded by gltf_mesh.material_images)."""
     color = np.array(extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
     factor = float(extension.get("specularFactor", 1.0))
-    color_image = document_image(document, path, extension["specularColorTexture"]) if path and "specularColorTexture" in extension else None
-    factor_image = document_image(document, path, extension["specularTexture"]) if path and "specularTexture" in extension else None
+    color_image = getattr(images, "specularColorTexture", None)
+    factor_image = getattr(images, "specularTexture", None)
     if color_image is None and factor_image is None:
         return np.minimum(0.04 * color, 1.0) * factor
     shape = (color_image if color_image is not None else factor_image).size[::-1]
@@ -193,17 +165,18 @@ def _with_diffuse_factor(texture: Texture | None, factor: np.ndarray, label: str
     return Texture(pixels, name=texture.name, nearest=texture.nearest, wrap=texture.wrap, encoding=texture.encoding)
 
 
-def gltf_material(document: dict, row: dict, trimesh_material, name: str, path=None) -> Material:
-    """The classic material of one primitive (module docstring); a primitive without a
-    material gets the glTF default material."""
+def gltf_material(document: dict, row: dict, images, name: str) -> Material:
+    """The classic material of one primitive (module docstring); `images` holds its decoded
+    textures (gltf_mesh.material_images). A primitive without a material gets the glTF
+    default material."""
     material = row["material"]
     if material is None:
-        material, trimesh_material = DEFAULT_MATERIAL, None
+        material, images = DEFAULT_MATERIAL, None
     label = f"{name}:{material.get('name', '')}"
     pbr = material.get("pbrMetallicRoughness", {})
     extensions = material.get("extensions", {})
     glossiness = extensions.get(SPECULAR_GLOSSINESS)
-    image_of = lambda key: getattr(trimesh_material, key, None)  # noqa: E731 (trimesh's decoded PIL images)
+    image_of = lambda key: getattr(images, key, None)  # noqa: E731 (the reader's decoded PIL images, gltf_mesh.material_images)
     if glossiness is not None:  # the classic model already (module docstring)
         base = np.array(glossiness.get("diffuseFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
         roughness = 1.0 - float(np.clip(glossiness.get("glossinessFactor", 1.0), 0.0, 1.0))
@@ -213,7 +186,7 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str, path=N
     else:
         base = np.array(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
         specular_extension = extensions.get("KHR_materials_specular")
-        dielectric = np.full(3, 0.04) if specular_extension is None else _specular_extension(document, path, specular_extension)
+        dielectric = np.full(3, 0.04) if specular_extension is None else _specular_extension(specular_extension, images)
         fields = _metallic_roughness(
             document, pbr.get("metallicRoughnessTexture"), image_of("metallicRoughnessTexture"), base[:3],
             float(pbr.get("metallicFactor", 1.0)), float(pbr.get("roughnessFactor", 1.0)), dielectric, label,
@@ -237,8 +210,8 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str, path=N
     if image_of("baseColorTexture") is not None:
         texture = _texture(document, image_of("baseColorTexture"), base_texture_info, label)
     elif base_texture_info is not None:
-        # trimesh drops an image it cannot load (missing, a folder, not an image) without a
-        # word; say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
+        # The reader gives None for an image it cannot load (missing, a folder, a FIFO, not
+        # an image); say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
         warnings.warn(f"{name}: material {material.get('name', '')!r}: its base colour texture could not be read; drawn untextured",
                       stacklevel=3)
     unlit = "KHR_materials_unlit" in extensions
@@ -258,6 +231,7 @@ def gltf_material(document: dict, row: dict, trimesh_material, name: str, path=N
         alpha_mode=alpha_mode if alpha_mode in ("opaque", "mask", "blend") else "opaque",
         alpha_cutoff=float(np.clip(material.get("alphaCutoff", 0.5), 0.0, 1.0)),
         unlit=unlit,
+        double_sided=material.get("doubleSided", False) is True,
         color_space="linear",
         **(fields if not unlit else {}),
         **(maps if not unlit else {}),

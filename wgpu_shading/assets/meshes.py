@@ -1,7 +1,8 @@
 """Mesh files (OBJ/MTL, PLY, STL, OFF, glTF/GLB) into one Mesh with one part per material.
 
 OBJ is read by obj.py (trimesh's OBJ reader mis-resolves relative indices and drops
-smoothing groups); PLY, STL and OFF by trimesh; glTF by trimesh plus its JSON (gltf.py).
+smoothing groups); OFF by off.py (a token stream: trimesh wanted one face per line);
+PLY and STL by trimesh; glTF by our own accessor reader (gltf_data.py, gltf_mesh.py).
 Every format ends as "pieces" (vertex arrays with their parts), whose normals follow
 SPEC §12: the file's normals win; glTF primitives without NORMAL are flat; otherwise
 vertices are welded by position and split at the crease angle (scene/normals.py).
@@ -72,6 +73,11 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
             pieces = [_Piece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
         elif suffix in (".glb", ".gltf"):
             pieces = _gltf_pieces(path)
+        elif suffix == ".off":
+            from .off import read_off
+
+            off = read_off(path, file_size)
+            pieces = [_Piece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])]
         else:
             pieces = [_trimesh_piece(path, file_size)]
         pieces = [p for p in pieces if len(p.faces)]
@@ -189,63 +195,45 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
 
 
 def _gltf_pieces(path: Path) -> list[_Piece]:
-    import trimesh
+    from .gltf import check_extensions, gltf_material, transform_uvs
+    from .gltf_data import GltfData
+    from .gltf_mesh import gltf_pieces, material_images
 
-    from .gltf import check_extensions, gltf_material, primitive_table, read_gltf_json, transform_uvs, without_specular_glossiness
-
-    document = read_gltf_json(path)
-    check_extensions(document, path)
-    scene = _load_trimesh(path, content=without_specular_glossiness(path, document), force="scene")
-    rows = primitive_table(document)
-    names = list(scene.geometry)
-    if len(rows) != len(names):
-        raise MeshError(f"mesh file {str(path)!r}: {len(rows)} glTF primitives but {len(names)} geometries were read")
-    row_of = dict(zip(names, rows))
-    materials: dict[str, Material | None] = {}
+    data = GltfData(path)
+    check_extensions(data.document, path)
+    materials: dict[tuple[int, int], Material | None] = {}
     pieces = []
-    # The graph's node set has no order: draw instances in the file's primitive order.
-    position = {name: index for index, name in enumerate(names)}
-    instances = sorted(((scene.graph[node][1], str(node)) for node in scene.graph.nodes_geometry), key=lambda i: (position[i[0]], i[1]))
-    for geometry_name, node in instances:
-        world_from_node, _ = scene.graph[node]
-        geometry = scene.geometry[geometry_name]
-        if not isinstance(geometry, trimesh.Trimesh) or not len(geometry.faces):
-            continue
-        row = row_of[geometry_name]
-        visual = geometry.visual
-        trimesh_material = getattr(visual, "material", None)
-        if geometry_name not in materials:
+    for piece in gltf_pieces(data):
+        attributes = piece.primitive["attributes"]
+        index = piece.primitive.get("material")
+        document_material = None if index is None else data.item("materials", index, f"meshes[{piece.key[0]}].primitives[{piece.key[1]}].material")
+        row = {"has_normal": "NORMAL" in attributes, "has_color": "COLOR_0" in attributes, "material": document_material}
+        if piece.key not in materials:
             try:
-                materials[geometry_name] = gltf_material(document, row, trimesh_material, path.name, path)
+                images = material_images(data, document_material, path.name) if document_material is not None else None
+                materials[piece.key] = gltf_material(data.document, row, images, path.name)
             except (SceneError, AttributeError, TypeError, ValueError, KeyError, IndexError) as error:
+                if isinstance(error, MeshError):
+                    raise
                 # A hostile document's material (a list where an object belongs, a string
                 # factor, a colour beyond the limits): one line naming the file.
                 detail = str(error) if isinstance(error, SceneError) else f"{type(error).__name__}: {error}"
-                raise MeshError(f"mesh file {str(path)!r}: material of {geometry_name!r}: {detail}") from None
-        matrix = np.asarray(world_from_node, dtype=np.float64)
-        linear = matrix[:3, :3]
-        positions = np.asarray(geometry.vertices, dtype=np.float64) @ linear.T + matrix[:3, 3]
-        faces = np.asarray(geometry.faces, dtype=np.int64)
-        normals = _file_normals(geometry) if row["has_normal"] else None
-        if normals is not None:
-            normals = normals @ np.linalg.inv(linear)  # the inverse transpose, applied to rows
-        if np.linalg.det(linear) < 0:
-            faces = faces[:, ::-1]  # a mirroring node keeps the outside outside
-        uvs = getattr(visual, "uv", None)
-        uvs = transform_uvs(np.asarray(uvs, dtype=np.float64), row["material"]) if uvs is not None and len(uvs) == len(positions) else None
-        material = materials[geometry_name]
+                raise MeshError(f"mesh file {str(path)!r}: material of {piece.name!r}: {detail}") from None
+        uvs = piece.uvs
+        if uvs is not None:
+            try:
+                uvs = transform_uvs(uvs, document_material)
+            except (AttributeError, TypeError, ValueError, KeyError, IndexError) as error:
+                raise MeshError(f"mesh file {str(path)!r}: KHR_texture_transform of {piece.name!r}: {type(error).__name__}: {error}") from None
+            if not np.isfinite(uvs).all():
+                raise MeshError(f"mesh file {str(path)!r}: KHR_texture_transform of {piece.name!r}: the texture coordinates become non-finite")
+        normals = piece.normals if row["has_normal"] else None
+        material = materials[piece.key]
         if uvs is None and material is not None and material.maps:  # maps need texture coordinates
             material = replace(material, **{key: None for key in material.maps})
-        colors = None
-        if row["has_color"]:
-            raw = getattr(visual, "vertex_attributes", {}).get("color")
-            if raw is None and isinstance(visual, trimesh.visual.ColorVisuals) and visual.kind == "vertex":
-                raw = visual.vertex_colors
-            if raw is not None and len(raw) == len(positions):
-                colors = _unit_colors(np.asarray(raw))
         pieces.append(
-            _Piece(positions, faces, normals, uvs, colors, all_flat=not row["has_normal"],
-                   parts=[(0, len(faces), material, geometry_name)])
+            _Piece(piece.positions, piece.faces, normals, uvs, piece.colors, all_flat=not row["has_normal"],
+                   parts=[(0, len(piece.faces), material, piece.name)])
         )
     return pieces
 

@@ -351,6 +351,9 @@ def read_obj(path: Path) -> ObjData:
     else:
         counts = np.array([len(faces)])
     parts, start = [], 0
+    named = [m for m in names if m]
+    if named and not libraries:  # f3d and Blender draw these faces plain too, but say why
+        warnings.warn(f"{name}: 'usemtl {named[0]}' but the file names no material library (mtllib); drawn without materials", stacklevel=2)
     for material_name, count in zip(names, counts):
         if material_name and materials and material_name not in materials:  # (a missing library warned already)
             warnings.warn(f"{name}: 'usemtl {material_name}' names no material of {', '.join(libraries)}; its faces drawn without it", stacklevel=2)

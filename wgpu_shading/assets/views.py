@@ -29,6 +29,7 @@ def load_source(source: str, options: ViewOptions):
         None,  # the material, like every option that does not change what is read, is applied after
         crease_angle=DEFAULT_CREASE_ANGLE if options.crease_angle is None else options.crease_angle,
         up=options.up or "+Y",
+        file_lights=not options.viewer_lights,
     )
 
 

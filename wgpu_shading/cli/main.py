@@ -12,6 +12,7 @@
     wgpu-shading materials                  the material table
     wgpu-shading examples                   the example scenes and sample meshes (example:NAME)
     wgpu-shading info                       adapters and versions
+    wgpu-shading view MESH [--compare frequency]   a live window (mouse and keys as in f3d)
 
 Errors a user can cause (missing file, bad key, bad value, no adapter) print one line on
 stderr and exit with status 2; no traceback.
@@ -29,7 +30,7 @@ from typing import Sequence
 
 from .. import __version__
 from ..errors import WgpuShadingError, shorten
-from . import batch, bench, check, info, render
+from . import batch, bench, check, info, render, view
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
@@ -65,6 +66,7 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_batch(commands, gpu)
     render.add_shader(commands, gpu)
     info.add_info(commands, gpu)
+    view.add_view(commands, gpu)
     return parser
 
 

@@ -24,7 +24,7 @@ from ..scene import Scene, SceneObject
 from ..scene.mesh import MeshPart
 from .device_cache import DeviceCache
 from .resources import Target, read_buffer
-from .uniforms import clip_from_eye
+from .uniforms import clip_from_eye, is_mirrored
 
 NORMAL_SPACES = ("eye", "world")
 TARGET_FORMAT = "float32"  # an rgba32float target, like `render --float`'s: the same pool
@@ -69,10 +69,13 @@ def encode_extra_outputs(cache: DeviceCache, encoder, scene: Scene, space: str, 
             "depth_store_op": wgpu.StoreOp.discard,
         },
     )
-    render_pass.set_pipeline(entry.pipeline)
+    materials = {id(obj): dict(zip(map(id, obj.mesh.parts), obj.part_materials())) for obj in scene.objects}
     for segment, (obj, part) in enumerate(segments(scene), 1):
         model = glm.dmat4(obj.world_from_model())
         model_view = eye_from_world * model
+        # the back faces the lit pass culls (glTF doubleSided false) are culled here too
+        cull = materials[id(obj)][id(part)].double_sided is False and not scene.shading.two_sided
+        render_pass.set_pipeline(cache.pipelines.extra_outputs(cull, is_mirrored(model_view)).pipeline)
         normal_from_model = glm.inverseTranspose(glm.dmat3(model_view if space == "eye" else model))
         data = np.zeros((), entry.object_dtype)
         data["clip_from_eye"] = clip

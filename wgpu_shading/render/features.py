@@ -26,6 +26,7 @@ class FeatureSet:
     emission: bool = False
     texture_mode: str | None = None  # None | modulate | modulate_all | blend
     two_sided: bool = False
+    cull_back: bool = False  # glTF doubleSided false: back faces are not drawn
     local_viewer: bool = True
     clamp_vertex_colors: bool = False  # flat/Gouraud: OpenGL's per-vertex clamp (SPEC §13)
     vertex_colors: bool = False  # the mesh has colors: they multiply ambient and diffuse
@@ -126,6 +127,8 @@ class FeatureSet:
             parts.append("srgb_output=True")
         if self.map_flags:
             parts.append(f"maps=[{', '.join(self.map_flags)}]")
+        if self.cull_back:
+            parts.append("cull_back=True")
         return " ".join(parts)
 
     def scene_part(self) -> "FeatureSet":
@@ -176,7 +179,10 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         specular=specular,
         emission=material.has_emission and not material.unlit,
         texture_mode=texture_mode,
-        two_sided=scene.shading.two_sided,
+        # --two-sided (the scene's) draws and lights both sides of everything; otherwise a
+        # glTF material's doubleSided decides (culled when false), and classic ones follow the scene.
+        two_sided=scene.shading.two_sided or material.double_sided is True,
+        cull_back=material.double_sided is False and not scene.shading.two_sided,
         local_viewer=scene.shading.local_viewer,
         # Phong shading has no vertex colors: leaving the flag out keeps one pipeline for both.
         clamp_vertex_colors=scene.shading.clamp_vertex_colors and scene.shading.frequency != "phong",

@@ -72,15 +72,16 @@ class PipelineCache:
             entry = self._pipelines.put(key, self._create(features, color_format, mirrored, samples))
         return entry
 
-    def extra_outputs(self) -> PipelineEntry:
-        """The normals-and-ids pipeline (extra_outputs.py), cached with the others."""
-        key = ("extra outputs",)
+    def extra_outputs(self, cull_back: bool = False, mirrored: bool = False) -> PipelineEntry:
+        """The normals-and-ids pipeline (extra_outputs.py), cached with the others;
+        `cull_back` for the parts the lit pass culls (glTF doubleSided false)."""
+        key = ("extra outputs", cull_back, mirrored and cull_back)
         entry = self._pipelines.get(key)
         if entry is None:
-            entry = self._pipelines.put(key, self._create_extra_outputs())
+            entry = self._pipelines.put(key, self._create_extra_outputs(*key[1:]))
         return entry
 
-    def _create_extra_outputs(self) -> PipelineEntry:
+    def _create_extra_outputs(self, cull_back: bool = False, mirrored: bool = False) -> PipelineEntry:
         source = generate_extra_outputs_wgsl()
         plan = extra_outputs_plan()
         group_layouts = tuple(self.group_layout(group) for group in plan.groups)
@@ -89,7 +90,9 @@ class PipelineCache:
             label="extra outputs",
             layout=self._device.create_pipeline_layout(bind_group_layouts=list(group_layouts)),
             vertex={"module": module, "entry_point": "vs_main", "buffers": plan.vertex_buffer_layouts()},
-            primitive={"topology": wgpu.PrimitiveTopology.triangle_list, "cull_mode": wgpu.CullMode.none},
+            primitive={"topology": wgpu.PrimitiveTopology.triangle_list,
+                       "front_face": wgpu.FrontFace.cw if mirrored else wgpu.FrontFace.ccw,
+                       "cull_mode": wgpu.CullMode.back if cull_back else wgpu.CullMode.none},
             depth_stencil={"format": DEPTH_FORMAT, "depth_write_enabled": True, "depth_compare": wgpu.CompareFunction.greater},
             multisample={"count": 1},
             fragment={"module": module, "entry_point": "fs_main", "targets": [{"format": COLOR_FORMATS["float32"]}]},
@@ -112,8 +115,9 @@ class PipelineCache:
                 # A mirrored model-view reverses the winding on screen; flip what counts as
                 # front so `front_facing` still means "the outward side faces the viewer".
                 "front_face": wgpu.FrontFace.cw if mirrored else wgpu.FrontFace.ccw,
-                # No culling, like OpenGL's default: open meshes show their inside.
-                "cull_mode": wgpu.CullMode.none,
+                # No culling, like OpenGL's default: open meshes show their inside; a glTF
+                # material with doubleSided false culls its back faces (glTF 2.0 §3.9.6).
+                "cull_mode": wgpu.CullMode.back if features.cull_back else wgpu.CullMode.none,
             },
             depth_stencil={
                 "format": DEPTH_FORMAT,

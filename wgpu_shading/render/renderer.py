@@ -113,12 +113,12 @@ class Renderer:
         return self.render_frame(scene, float32=float32).color
 
     def render_frame(
-        self, scene: Scene, *, float32: bool = False, depth: bool = False, normals: str | None = None, ids: bool = False
+        self, scene: Scene, *, float32: bool = False, depth: bool = False, normals: str | None = None,
+        ids: bool = False, color: bool = True,
     ) -> Frame:
         """Color and, on request, eye-space depth, normals ("eye" or "world") and object ids
-        of one frame. Safe to call from several threads: frames on one renderer are
-        serialised (see the module docstring)."""
-        return self.read(self.submit(scene, float32=float32, depth=depth, normals=normals, ids=ids))
+        of one frame (see submit). Safe to call from several threads (module docstring)."""
+        return self.read(self.submit(scene, float32=float32, depth=depth, normals=normals, ids=ids, color=color))
 
     def submit(
         self, scene: Scene, *, float32: bool = False, depth: bool = False, normals: str | None = None,

@@ -113,6 +113,9 @@ class Material:
     # "display" (OpenGL: colours are what the screen shows) or "linear" (glTF: linear light,
     # sRGB-encoded output); Shading.color_space may override it for the whole scene.
     color_space: str = "display"
+    # glTF doubleSided (§3.9.6): False culls back faces, True lights both sides (the back
+    # with the flipped normal); None (classic materials) follows the scene's two_sided.
+    double_sided: bool | None = None
 
     def __post_init__(self) -> None:
         prefix = f"material {self.name!r}" if self.name else "material"
@@ -137,6 +140,8 @@ class Material:
                 raise SceneError(f"{prefix}.{key}: expected a Texture, got {type(value).__name__}")
         if not isinstance(self.unlit, bool):
             raise SceneError(f"{prefix}.unlit: expected true or false, got {self.unlit!r}")
+        if self.double_sided is not None and not isinstance(self.double_sided, bool):
+            raise SceneError(f"{prefix}.double_sided: expected true, false or None, got {self.double_sided!r}")
         if self.texture is not None and not isinstance(self.texture, Texture):
             raise SceneError(f"{prefix}.texture: expected a Texture, got {type(self.texture).__name__}")
 

@@ -24,6 +24,7 @@ from pyglm import glm
 from ..errors import SceneError, UsageError
 from .camera import PROJECTIONS, Camera
 from .framing import object_depth_range
+from .viewer_lights import viewer_lights
 from .material_table import material as named_material
 from .maps import SCENE_COLOR_SPACES, bare_mesh_lighting
 from .objects import Scene
@@ -157,6 +158,11 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        flags=("--camera-distance",), metavar="D", group="camera"),
     _O("lights", read_lights, "lights", "[[lights]]", f"replace the lights (repeat for more): {LIGHT_SYNTAX}",
        flags=("--light",), metavar="SPEC", group="lights", repeated=True),
+    _O("viewer_lights", read_bool, "viewer_lights", "(none: a scene file lists its [[lights]])",
+       "a glTF file with its own lights (KHR_lights_punctual) is lit by them; true: by the viewer's key light and headlight instead",
+       switches=(("--viewer-lights", True, "light a glTF file that has its own lights with the viewer's key light and headlight instead"),
+                 ("--file-lights", False, "light a glTF file with its own KHR_lights_punctual lights when it has them (the default)")),
+       group="lights", load=True),
 )
 OPTIONS_BY_NAME = {option.name: option for option in VIEW_OPTIONS}
 
@@ -194,6 +200,7 @@ class ViewOptions:
     camera_elevation: float | None = None
     camera_distance: float | None = None
     lights: tuple[str, ...] | None = None
+    viewer_lights: bool | None = None
 
     def __post_init__(self) -> None:
         for option in VIEW_OPTIONS:
@@ -271,9 +278,12 @@ def apply_view_options(scene: Scene, options: ViewOptions, *, follow_camera: boo
         changes["camera"] = camera
     if options.lights is not None:
         changes["lights"] = tuple(parse_light(spec, camera) for spec in options.lights)
-    elif follow_camera and (camera is not scene.camera or "objects" in changes):
-        # A bare mesh's viewer lights follow the camera, and the materials' colour space
-        # (a glTF keeps them decoded to linear light unless --material replaced its own).
+    elif follow_camera and (camera is not scene.camera or "objects" in changes) and (
+        scene.lights in (viewer_lights(scene.camera), bare_mesh_lighting(scene.objects, scene.camera)[0])
+    ):
+        # A bare mesh's viewer lights follow the camera and the materials' colour space (a
+        # glTF keeps them decoded to linear light unless --material replaced its own); a
+        # glTF file's own lights stay where they are.
         changes["lights"], changes["ambient"] = bare_mesh_lighting(changes.get("objects", scene.objects), camera)
     if not changes:
         return scene

@@ -99,7 +99,9 @@ def _shade_pixels(
     shading = scene.shading
     material = obj.surface_material
     faces = prepared.faces[triangles]
-    back = shading.two_sided & ~front_facing  # back faces are lit with -N only when two-sided
+    # back faces are lit with -N only when two-sided (the scene's, or a glTF doubleSided material's)
+    two_sided = shading.two_sided or material.double_sided is True
+    back = two_sided & ~front_facing
     flip = np.where(back, -1.0, 1.0)[:, None]
 
     uvs = None
@@ -135,7 +137,7 @@ def _shade_pixels(
         used = np.unique(faces)
         vertex_uv = None if uvs is None else uvs[used]
         front = vertex_color(prepared.eye_positions[used], vertex_normals[used], vertex_uv)
-        back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used], vertex_uv) if shading.two_sided else front
+        back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used], vertex_uv) if two_sided else front
         slot = np.searchsorted(used, faces)  # (N, 3) rows of `used`
         parts = []
         for k in range(2):

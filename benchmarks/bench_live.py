@@ -1,0 +1,130 @@
+"""Frame time of the live viewer (`wgpu-shading view`): an orbiting drag over the Stanford
+bunny at 800×600, each frame = one pointer move + scene update + render + readback +
+present of the bitmap to a rendercanvas canvas.
+
+    python benchmarks/bench_live.py                 # the bunny (/work/shared/models or --mesh), 800×600
+    python benchmarks/bench_live.py --smoke         # builtin torus, 64×48, 3 frames: does it still run?
+    xvfb-run -a python benchmarks/bench_live.py --window   # also through a real glfw window
+
+The offscreen canvas measures what the viewer itself costs per frame; --window adds
+rendercanvas's upload of the bitmap into a glfw window's swap chain (a second wgpu device on
+lavapipe). Also timed: the frame after a key that changes the shading frequency (its
+pipeline compiled once, then cached). Results: docs/viewer.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+BUNNY = Path(os.environ.get("WGPU_SHADING_MODELS", "/work/shared/models")) / "stanford-bunny.obj"
+
+
+def drag_frames(view, canvas, frames: int, draw) -> list[float]:
+    """Seconds per frame of a left drag across the window, one pointer move per frame."""
+    width, height = view.size()
+    view.handle_event({"event_type": "pointer_down", "x": width / 4, "y": height / 2, "button": 1})
+    times = []
+    for index in range(frames):
+        start = time.perf_counter()
+        view.handle_event({"event_type": "pointer_move", "x": width / 4 + 3 * (index + 1), "y": height / 2 + (index % 5)})
+        draw()
+        times.append(time.perf_counter() - start)
+    view.handle_event({"event_type": "pointer_up", "x": 0, "y": 0, "button": 1})
+    return times
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--mesh", default=str(BUNNY))
+    parser.add_argument("--size", default="800x600")
+    parser.add_argument("--frames", type=int, default=60)
+    parser.add_argument("--window", action="store_true", help="also time a real glfw window (needs a display)")
+    parser.add_argument("--smoke", action="store_true", help="builtin torus, 64×48, 3 frames")
+    args = parser.parse_args()
+    if args.smoke:
+        args.mesh, args.size, args.frames = "builtin:torus", "64x48", 3
+    elif not Path(args.mesh).exists():
+        print(f"skipped: {args.mesh} not found (pass --mesh)")
+        return 0
+
+    try:
+        import rendercanvas.offscreen as offscreen
+    except ImportError:
+        print("skipped: rendercanvas is not installed (the [view] extra)")
+        return 0
+
+    from wgpu_shading import Renderer
+    from wgpu_shading.live.canvas import attach
+    from wgpu_shading.live.session import LiveView
+    from wgpu_shading.scene.view_options import ViewOptions
+
+    width, height = (int(v) for v in args.size.split("x"))
+    renderer = Renderer()
+    started = time.perf_counter()
+    view = LiveView(args.mesh, ViewOptions(size=(width, height)), renderer=renderer, out=lambda text: None)
+    canvas = offscreen.RenderCanvas(size=view.size())
+    attach(view, canvas)
+    canvas.draw()
+    opened = time.perf_counter() - started
+    triangles = view.scenes()[0].objects[0].mesh.triangle_count
+    print(f"{Path(args.mesh).name}: {triangles:,} triangles, {width}×{height}, {renderer.device.adapter.summary}, "
+          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}")
+    print(f"open (read the mesh, first frame, pipeline): {opened:.2f} s\n")
+    rows = []
+    times = drag_frames(view, canvas, args.frames, canvas.draw)
+    rows.append(("orbit drag, offscreen canvas", times))
+    # The floor: the same scene rendered and read back with nothing around it, interleaved
+    # with nothing (the machine's load hits both runs alike only roughly: compare medians).
+    scene = view.scenes()[0]
+    floor = []
+    for _ in range(args.frames):
+        start = time.perf_counter()
+        renderer.render_frame(scene)
+        floor.append(time.perf_counter() - start)
+    rows.append(("Renderer.render_frame alone (the floor)", floor))
+    start = time.perf_counter()
+    view.press("f")  # flat: a pipeline not compiled yet
+    canvas.draw()
+    first_flat = time.perf_counter() - start
+    for _ in range(2):
+        view.press("f")
+        canvas.draw()
+    start = time.perf_counter()
+    view.press("f")  # flat again: from the cache
+    canvas.draw()
+    cached_flat = time.perf_counter() - start
+    view.press("f")
+    view.press("f")  # back to Phong
+    if args.window:
+        from wgpu_shading.live.window import glfw_backend, open_window
+
+        backend = glfw_backend()
+        window = open_window(view)
+
+        def window_draw():
+            window.force_draw()
+            backend.poll_glfw_briefly(0.0)
+
+        window_draw()
+        rows.append(("orbit drag, glfw window", drag_frames(view, window, args.frames, window_draw)))
+        window.close()
+    print("| frames | median ms | p90 ms | frames/s (median) |")
+    print("|---|---:|---:|---:|")
+    for label, values in rows:
+        median = statistics.median(values)
+        p90 = sorted(values)[int(0.9 * (len(values) - 1))]
+        print(f"| {label} ({len(values)}) | {median * 1e3:.1f} | {p90 * 1e3:.1f} | {1 / median:.1f} |")
+    print(f"\nkey F to a new frequency: {first_flat * 1e3:.0f} ms the first time (pipeline compiled), "
+          f"{cached_flat * 1e3:.0f} ms later (cached); pipelines: {renderer.pipeline_count}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,68 @@
+"""OFF read as a token stream (assets/off.py): faces over several lines (libigl's writer),
+counts on the keyword's line, comments, face colours, COFF/NOFF vertices, bad files."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from wgpu_shading import MeshError, load_mesh
+
+SQUARE = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+
+
+def _load(tmp_path, text: str, name: str = "m.off"):
+    path = tmp_path / name
+    path.write_text(text)
+    return load_mesh(path)
+
+
+def test_a_face_spread_over_several_lines_is_one_face(tmp_path):
+    # libigl breaks long faces over lines: "4" on one line, the indices on the next ones.
+    mesh = _load(tmp_path, "OFF\n4 1 0\n" + SQUARE + "4\n0 1\n2 3\n")
+    assert mesh.triangle_count == 2
+    assert np.isclose(np.ptp(mesh.world_positions(), axis=0)[:2], 1.0).all()
+
+
+def test_counts_on_the_keyword_line_comments_and_face_colours(tmp_path):
+    text = "OFF 4 2 0 # counts here\n# a comment line\n" + SQUARE + "3 0 1 2 255 0 0\n3 0 2 3 0.5 0.5 0.5 1\n"
+    mesh = _load(tmp_path, text)
+    assert mesh.triangle_count == 2
+
+
+def test_a_whole_file_on_one_line_is_read(tmp_path):
+    mesh = _load(tmp_path, "OFF 3 1 0 0 0 0 1 0 0 0 1 0 3 0 1 2")
+    assert mesh.triangle_count == 1
+
+
+def test_coff_vertex_colours_and_noff_normals(tmp_path):
+    text = "COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n3 0 1 2\n"
+    mesh = _load(tmp_path, text, "c.off")
+    assert mesh.colors is not None and np.allclose(sorted(map(tuple, mesh.colors[:, :3].round(3))), [(0, 0, 1), (0, 1, 0), (1, 0, 0)])
+    text = "NOFF\n3 1 0\n0 0 0 0 0 -1\n1 0 0 0 0 -1\n0 1 0 0 0 -1\n3 0 1 2\n"
+    assert np.allclose(_load(tmp_path, text, "n.off").normals, [0, 0, -1])
+
+
+@pytest.mark.parametrize("text, words", [
+    ("OFF\n4 1 0\n" + SQUARE + "4 0 1\n", "truncated"),
+    ("OFF\n3 1 0\n0 0 0\n1 0 0\n", "truncated"),
+    ("OFF\n4 1 0\n" + SQUARE + "3 0 1 9\n", "vertex 9"),
+    ("OFF\n4 1 0\n" + SQUARE + "3 0 x 2\n", "integer"),
+    ("PLY\n", "not an OFF file"),
+])
+def test_bad_off_files_are_one_line_errors(tmp_path, text, words):
+    with pytest.raises(MeshError, match=words):
+        _load(tmp_path, text)
+
+
+def test_usemtl_without_any_mtllib_is_a_warning(tmp_path):
+    path = tmp_path / "plain.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n")
+    with pytest.warns(UserWarning, match="usemtl red.*no material library"):
+        load_mesh(path)
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_mesh(path)
