@@ -36,7 +36,7 @@ import time
 import traceback
 from pathlib import Path
 
-SECTIONS = ("warm", "breakdown", "cold", "batch", "memory", "scaling", "dataset")
+SECTIONS = ("warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset")
 HERE = Path(__file__).resolve().parent
 # --smoke only: the standalone benchmarks, each with its own smallest arguments. None of
 # them is given an output file (bench_specialization.py --output would rewrite docs/).
@@ -47,6 +47,7 @@ SMOKE_SCRIPTS = {
     "loading": ("bench_loading.py", "--smoke"),
     "antialiasing": ("bench_antialiasing.py", "--smoke"),
     "live": ("bench_live.py", "--smoke"),
+    "callgrind": ("scripts/callgrind_frames.py", "ours", "--smoke"),
 }
 
 
@@ -154,6 +155,7 @@ def main(argv: list[str] | None = None) -> int:
     skipped: list[str] = []
     moderngl = not smoke or _peer_usable("moderngl", skipped)
     pygfx = not args.no_pygfx and (not smoke or _peer_usable("pygfx", skipped))
+    pyrender = _pyrender_usable(skipped) if {"depth", "dataset"} & set(chosen) else False
     out = args.out or (Path(tempfile.mkdtemp(prefix="wgpu-shading-bench-smoke-")) if smoke else HERE / "results")
     ran: list[str] = []
     failed: list[str] = []
@@ -187,6 +189,13 @@ def main(argv: list[str] | None = None) -> int:
             )
             print(report.warm_table(rows), flush=True)
             results["warm"] = rows
+    if "depth" in chosen:
+        with step("depth"):
+            from .depth import depth_table, run_depth
+
+            rows = run_depth(renderer, s.warm_sizes, rounds=s.warm_rounds, frames=s.warm_frames, tiny=s.tiny, pyrender=pyrender)
+            print(depth_table(rows), flush=True)
+            results["depth"] = rows
     if "breakdown" in chosen:
         with step("breakdown"):
             from .warm import run_breakdown
@@ -242,7 +251,8 @@ def main(argv: list[str] | None = None) -> int:
 
             meshes = list(SMOKE_MESHES) if s.tiny else default_meshes()
             dataset = run_dataset_benchmark(
-                renderer, meshes, s.dataset_views, s.dataset_sizes, s.dataset_passes, chunk=2 if s.tiny else 16
+                renderer, meshes, s.dataset_views, s.dataset_sizes, s.dataset_passes, chunk=2 if s.tiny else 16,
+                pyrender=pyrender,
             )
             print("## Dataset rendering (benchmarks/dataset.py)\n\n" + table(dataset) + "\n", flush=True)
             results["dataset"] = dataset
@@ -262,6 +272,8 @@ def main(argv: list[str] | None = None) -> int:
         if "scaling" in results:
             report.plot_scaling(results["scaling"], out)
     if not smoke:
+        if skipped:
+            print(f"skipped: {'; '.join(skipped)}", file=sys.stderr)
         print(f"\n{elapsed / 60:.1f} min; load average {results['load_average_at_start']} → "
               f"{results['load_average_at_end']}; written to {out}", file=sys.stderr)
         return 0
@@ -324,6 +336,21 @@ def _peer_usable(name: str, skipped: list[str]) -> bool:
         except Exception as error:  # no EGL / no OpenGL 4.3 on this machine
             skipped.append(f"the moderngl peer (no headless OpenGL: {str(error).splitlines()[0]})")
             return False
+    return True
+
+
+def _pyrender_usable(skipped: list[str]) -> bool:
+    """pyrender (the [bench] extra) with OSMesa (apt: libosmesa6)? If not, say why in `skipped`
+    (a real run too: the colour + depth table needs it, the rest does not)."""
+    if not _importable("pyrender"):
+        skipped.append("the pyrender peer (not installed: pip install -e '.[bench]')")
+        return False
+    from .pyrender_peer import pyrender_unusable
+
+    reason = pyrender_unusable()
+    if reason is not None:
+        skipped.append(f"the pyrender peer (no offscreen OpenGL through OSMesa: apt install libosmesa6; {reason})")
+        return False
     return True
 
 

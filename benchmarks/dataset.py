@@ -10,6 +10,9 @@ Modes, every one writing the same colour PNGs (zlib level 1) of the same 192 job
     in-process, 1 device   the same with render_many(parallel=1): what one Dask worker runs
     dask 1 worker    render_dataset on a warm LocalCluster of 1 process (LP_NUM_THREADS = cores)
     dask 2 workers   a warm LocalCluster of 2 processes (LP_NUM_THREADS = cores / 2 each)
+    naive, colour + depth     the naive loop with render_frame(depth=True) (depth kept in memory)
+    pyrender, colour + depth  the same loop with pyrender (OSMesa) instead (benchmarks/pyrender_peer.py);
+                     only when pyrender can run here
 
 Dask's clusters are started (and warmed by one small batch: worker start, plugin, pipeline
 compilation) before timing; their start-up is reported separately.
@@ -47,7 +50,11 @@ MODELS = next(
 REAL_MESHES = ("stanford-bunny.obj", "teapot.obj", "suzanne.obj", "cow.obj")
 BUILTIN_MESHES = ("builtin:torus", "builtin:sphere", "builtin:cube", "builtin:torus?segments=96")
 SMOKE_MESHES = ("builtin:torus?segments=16", "builtin:cube")
-MODES = ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers")
+MODES = (
+    "naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers",
+    "naive, colour + depth", "pyrender, colour + depth",
+)
+LOOPS = ("naive", "naive, colour + depth", "pyrender, colour + depth")  # plain loops: no chunks to time inside
 
 
 @dataclass
@@ -87,22 +94,32 @@ def default_meshes() -> list[str]:
     return list(BUILTIN_MESHES)
 
 
-def naive_loop(renderer: Renderer, jobs, out_dir: Path, level: int) -> None:
-    """What a user writes first: one scene after the other, render, then write the file."""
+def naive_loop(renderer: Renderer, jobs, out_dir: Path, level: int, *, depth: bool = False, pyrender=None) -> None:
+    """What a user writes first: one scene after the other, render, then write the file.
+    depth: colour and eye depth (the depth stays in memory); pyrender: a PyrenderScenes
+    draws instead of `renderer` (colour and depth, like pyrender's render())."""
     bases: dict = {}
     for job in jobs:
         key = job.load_key()
         if key not in bases:
             bases[key] = base_scene(job)
-        image = renderer.render(job_scene(bases[key], job))
+        scene = job_scene(bases[key], job)
+        if pyrender is not None:
+            image, _ = pyrender.render(scene)
+        elif depth:
+            image = renderer.render_frame(scene, depth=True).color
+        else:
+            image = renderer.render(scene)
         folder = out_dir / job.folder
         folder.mkdir(parents=True, exist_ok=True)
         Image.fromarray(image).save(folder / f"{job.name}.png", compress_level=level)
 
 
 def run_dataset_benchmark(
-    renderer: Renderer, meshes: list[str], views: int, sizes: tuple[int, ...], passes: int, *, dask: bool = True, chunk: int = 16
+    renderer: Renderer, meshes: list[str], views: int, sizes: tuple[int, ...], passes: int, *, dask: bool = True, chunk: int = 16,
+    pyrender: bool = False,
 ) -> list[DatasetResult]:
+    """pyrender: also time pyrender's colour + depth loop (benchmarks/pyrender_peer.py)."""
     from wgpu_shading.dataset.cluster import local_cluster
 
     results = []
@@ -130,7 +147,14 @@ def run_dataset_benchmark(
                 "naive": lambda out: naive_loop(renderer, jobs, out, 1),
                 "in-process": lambda out: render_dataset(jobs, out, progress=False, renderer=renderer, chunk_size=chunk),
                 "in-process, 1 device": lambda out: render_dataset(jobs, out, progress=False, renderer=renderer, chunk_size=chunk, parallel=1),
+                "naive, colour + depth": lambda out: naive_loop(renderer, jobs, out, 1, depth=True),
             }
+            if pyrender:
+                from .pyrender_peer import PyrenderScenes
+
+                scenes = PyrenderScenes()
+                naive_loop(renderer, jobs[:2], scratch / "warmup3", 1, pyrender=scenes)
+                runs["pyrender, colour + depth"] = lambda out: naive_loop(renderer, jobs, out, 1, pyrender=scenes)
             for workers, (cluster, _) in clusters.items():
                 runs[f"dask {workers} worker{'s' if workers > 1 else ''}"] = lambda out, c=cluster: render_dataset(
                     jobs, out, scheduler=c.scheduler_address, progress=False, chunk_size=chunk
@@ -192,12 +216,15 @@ def table(results: list[DatasetResult]) -> str:
             f"{result.dask_overhead_ms():+.2f} ms ({result.dask_overhead_percent():+.1f} %)" if "dask 1 worker" in result.seconds else "–"
         )
         lines.append(f"| {result.size}² | " + " | ".join(cells) + f" | {result.fps('in-process') / result.fps('naive'):.2f}× | {overhead} |")
+    if "pyrender, colour + depth" in results[0].seconds:
+        lines += ["", "colour + depth, naive loops: ours ÷ pyrender in time per frame (≤ 0.5 is issue #21's target): "
+                  + ", ".join(f"{r.size}² {r.fps('pyrender, colour + depth') / r.fps('naive, colour + depth'):.2f}×" for r in results)]
     lines += [
         "",
         "milliseconds per frame inside chunks (loading, rendering, writing; summed over workers) / outside them",
         "(planning, skip checks, cameras.json, report; on Dask also submitting, scheduling, collecting), median pass:",
         "",
-        "| size | " + " | ".join(mode for mode in MODES if mode != "naive") + " |",
+        "| size | " + " | ".join(mode for mode in MODES if mode not in LOOPS) + " |",
         "|---|" + "---|" * (len(MODES) - 1),
     ]
     for result in results:
@@ -206,7 +233,7 @@ def table(results: list[DatasetResult]) -> str:
             # Several workers' chunks overlap in time: wall − their sum means nothing there.
             + (f"{1000 * statistics.median(result.outside[mode]) / result.frames:.2f}" if "2 workers" not in mode else "–")
             if mode in result.busy else "–"
-            for mode in MODES if mode != "naive"
+            for mode in MODES if mode not in LOOPS
         ]
         lines.append(f"| {result.size}² | " + " | ".join(cells) + " |")
     lines += [
@@ -236,10 +263,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--passes", type=int, default=3)
     args = parser.parse_args(argv)
     renderer = Renderer()
+    from .pyrender_peer import pyrender_unusable
+
+    pyrender = pyrender_unusable() is None
     if args.smoke:
-        results = run_dataset_benchmark(renderer, list(SMOKE_MESHES), 4, (32,), 1, chunk=2)
+        results = run_dataset_benchmark(renderer, list(SMOKE_MESHES), 4, (32,), 1, chunk=2, pyrender=pyrender)
     else:
-        results = run_dataset_benchmark(renderer, default_meshes(), args.views, (256, 512), args.passes)
+        results = run_dataset_benchmark(renderer, default_meshes(), args.views, (256, 512), args.passes, pyrender=pyrender)
     print(table(results))
     return 0
 

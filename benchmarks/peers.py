@@ -231,6 +231,23 @@ def TrivialLimitPeer(scene: Scene, renderer: Renderer, draw: GeometryDraw) -> Ra
 from .seed_glsl import SEED_FRAGMENT_SHADER, SEED_VERTEX_SHADER  # noqa: E402
 
 _MODERNGL_CONTEXT = None
+_OTHER_GL_CONTEXT = False
+
+
+def note_other_gl_context() -> None:
+    """Another OpenGL context lives in this process (pyrender's OSMesa): Mesa's GL dispatch
+    is shared, so moderngl must make its own EGL context current again before each frame."""
+    global _OTHER_GL_CONTEXT
+    _OTHER_GL_CONTEXT = True
+
+
+def _make_current(ctx) -> None:
+    """Our EGL context current again if another GL context may have taken the dispatch.
+    EGL still reports ours current then, so entering alone would be a no-op: release first."""
+    if _OTHER_GL_CONTEXT:
+        ctx.__enter__()
+        ctx.__exit__(None, None, None)
+        ctx.__enter__()
 
 
 def moderngl_context():
@@ -250,6 +267,7 @@ class ModernGLPeer(Peer):
         import moderngl
 
         ctx = self.ctx = moderngl_context()
+        _make_current(ctx)
         self.program = ctx.program(vertex_shader=SEED_VERTEX_SHADER, fragment_shader=SEED_FRAGMENT_SHADER)
         self.draw = draw
         self._set("globalAmbient", draw.global_ambient)
@@ -285,6 +303,7 @@ class ModernGLPeer(Peer):
 
     def render(self) -> np.ndarray:
         ctx, draw = self.ctx, self.draw
+        _make_current(ctx)
         # Matrices every frame, like an application that animates (and like our render()).
         model_view = draw.eye_from_model
         self.program["mv_matrix"].write(np.ascontiguousarray(model_view.T, dtype="f4").tobytes())

@@ -229,6 +229,10 @@ def everything(results: dict) -> str:
     parts = [f"command: `{results['command']}`", f"machine: {results['machine']}", ""]
     if "warm" in results:
         parts.append(warm_table(results["warm"]))
+    if "depth" in results:
+        from .depth import depth_table
+
+        parts.append(depth_table(results["depth"]))
     if "breakdown" in results:
         parts.append(breakdown_table(results["breakdown"]))
     if "cold" in results:

@@ -82,8 +82,8 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 # --------------------------------------------------------------------------- python -m benchmarks --smoke
 
 SMOKE_STEPS = (
-    "warm", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference", "golden_noise",
-    "loading", "antialiasing", "live", "report",
+    "warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference",
+    "golden_noise", "loading", "antialiasing", "live", "callgrind", "report",
 )
 
 
@@ -157,8 +157,24 @@ def test_smoke_runs_every_benchmark_and_says_so(smoke):
     assert seconds < 120, f"the smoke run took {seconds} s: inputs no longer tiny?"
     assert "smoke: all ran; results.md and results.json written to a temporary folder, removed" in smoke
     skipped = next(line for line in smoke.splitlines() if line.startswith("smoke: skipped: "))
-    for peer, usable in (("moderngl", _moderngl_usable()), ("pygfx", _importable("pygfx"))):
+    for peer, usable in (("moderngl", _moderngl_usable()), ("pygfx", _importable("pygfx")), ("pyrender", _pyrender_usable())):
         assert (f"the {peer} peer" in skipped) != usable, skipped
+
+
+def _pyrender_usable() -> bool:
+    if not _importable("pyrender"):
+        return False
+    from benchmarks.pyrender_peer import pyrender_unusable
+
+    return pyrender_unusable() is None
+
+
+def test_smoke_depth_times_colour_and_depth_against_pyrender(smoke):
+    (rows,) = _tables(_section(smoke, "depth"))
+    assert [(row["scene"], row["size"]) for row in rows] == [("torus 128", "64²"), ("sphere 2K", "64²")]
+    for row in rows:
+        assert _positive(row["wgpu-shading"]) and _positive(row["wgpu-shading + depth"])
+        assert _positive(row["pyrender (colour + depth)"]) == _pyrender_usable()
 
 
 def _importable(name: str) -> bool:
@@ -237,8 +253,31 @@ def test_smoke_dataset_times_every_mode_and_the_dask_overhead(smoke):
     fps, inside_outside, cpu = _tables(_section(smoke, "dataset"))
     (row,) = fps
     assert row["size"] == "32²"
-    for mode in ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers"):
+    for mode in ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers", "naive, colour + depth"):
         assert _positive(row[mode]), mode
+    assert _positive(row["pyrender, colour + depth"]) == _pyrender_usable()
     assert _positive(row["in-process ÷ naive"]) and re.search(r"ms \([+-]?[\d.]+ %\)", row["Dask overhead per frame"])
     assert all(_positive(cell) for cell in list(inside_outside[0].values())[1:])
     assert all(_positive(cell) for cell in list(cpu[0].values())[1:])
+
+
+def test_pyrender_peer_covers_the_same_pixels_and_returns_eye_depth(renderer, small_torus):
+    pytest.importorskip("pyrender")
+    from benchmarks.pyrender_peer import PyrenderPeer, WgpuShadingDepthPeer, pyrender_unusable
+
+    reason = pyrender_unusable()
+    if reason is not None:
+        pytest.skip(f"pyrender cannot render offscreen here (apt install libosmesa6): {reason}")
+    peer = PyrenderPeer(small_torus)
+    image = peer.render()
+    depth = peer.depth
+    peer.close()
+    ours = WgpuShadingDepthPeer(small_torus, renderer)
+    ours_image = ours.render()
+    assert image.shape[:2] == (96, 96)
+    seen = depth > 0  # pyrender: 0 where nothing was drawn
+    assert seen.mean() > 0.1
+    assert (seen != np.isfinite(ours.depth)).mean() < 0.02  # the same silhouette, give or take edges
+    assert (covered(image) == covered(ours_image)).mean() > 0.98
+    both = seen & np.isfinite(ours.depth)
+    np.testing.assert_allclose(depth[both], ours.depth[both], rtol=1e-3)  # both are eye-space distances

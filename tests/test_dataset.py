@@ -185,13 +185,13 @@ def test_rerun_skips_finished_jobs_and_redoes_changed_or_missing_ones(tmp_path, 
     assert sorted(first.rendered) == sorted(job.id for job in jobs) and not first.skipped
     stamp = {path: path.stat().st_mtime_ns for path in out.rglob("view_*")}
     (out / "torus" / "view_002_depth.png").unlink()  # a lost file
-    (out / "sphere" / ".view_001.png.123.wgpu-shading.tmp").write_bytes(b"partial")  # a killed writer
+    (out / "sphere" / ".view_001.png.wgpu-shading-tmp-batch-123-ab12cd34-0.png").write_bytes(b"partial")  # a killed writer
     changed = mesh_jobs([TORUS, "builtin:sphere?slices=12&stacks=6"], turntable_views(3), Outputs(depth="png16"), {"size": 40})
     changed[0] = type(changed[0])(**{**changed[0].__dict__, "overrides": {"material": "ruby"}})  # an edited row
     second = render_dataset(changed, out, progress=False, renderer=renderer)
     assert sorted(second.rendered) == ["torus/view_000", "torus/view_002"]
     assert len(second.skipped) == 4 and not second.failed
-    assert not list(out.rglob("*.tmp"))
+    assert not list(out.rglob("*wgpu-shading-tmp*"))
     untouched = [path for path in stamp if "torus/view_000" not in str(path) and "torus/view_002" not in str(path)]
     assert all(path.stat().st_mtime_ns == stamp[path] for path in untouched)
     report = json.loads((out / "report.json").read_text())

@@ -77,6 +77,17 @@ def test_left_drag_orbits_about_the_up_vector_as_f3d(live):
     assert after.eye[0] < before.eye[0] - 0.5
 
 
+def test_a_stretched_window_turns_by_the_same_fraction_of_its_width(live):
+    before = live.state.camera
+    live.handle_event({"event_type": "resize", "width": 320.0, "height": 240.0, "pixel_ratio": 1.0})
+    drag(live, 1, (100, 120), (180, 120), steps=1)  # a quarter of the 320-wide window
+    turned = np.subtract(live.state.camera.eye, live.state.camera.target)
+    start = np.subtract(before.eye, before.target)
+    horizontal = lambda v: np.array([v[0], v[2]])  # noqa: E731  (the turn is about +Y here)
+    cosine = horizontal(turned) @ horizontal(start) / np.linalg.norm(horizontal(turned)) / np.linalg.norm(horizontal(start))
+    assert math.isclose(math.degrees(math.acos(cosine)), 50.0, abs_tol=1e-6)  # as 40 px of the 160-wide picture
+
+
 def test_vertical_drag_raises_the_camera_and_keeps_up_orthogonal(live):
     before = live.state.camera
     drag(live, 1, (80, 40), (80, 70), steps=1)  # 30 px down: Elevation(+50 degrees): seen from higher
@@ -225,8 +236,12 @@ def test_compare_shows_each_frequency_side_by_side_with_one_camera(renderer, tmp
 def test_a_scene_file_and_a_reread_mesh_reproduce_too(renderer, tmp_path):
     """A scene file (its own camera and lights: nothing follows the camera) and a key that
     re-reads the file (C, the crease angle) still print a command that draws what is shown."""
-    for source, keys in (("example:gold_torus_phong.toml", ("b", "]")), ("example:knot.obj", ("c", "c", "f", "f"))):
-        view = LiveView(source, ViewOptions(size=SIZE), renderer=renderer, out=lambda text: None)
+    for source, options, keys in (
+        ("example:gold_torus_phong.toml", ViewOptions(size=SIZE), ("b", "]")),
+        ("example:knot.obj", ViewOptions(size=SIZE), ("c", "c", "f", "f")),
+        ("example:knot.obj", ViewOptions(size=SIZE, up="+Z"), ("m",)),  # an option read with the file
+    ):
+        view = LiveView(source, options, renderer=renderer, out=lambda text: None)
         canvas = offscreen.RenderCanvas(size=view.size())
         attach(view, canvas)
         drag(view, 1, (30, 40), (70, 55))
@@ -251,3 +266,24 @@ def test_view_command_says_what_is_missing(monkeypatch, capsys):
     assert main(["view", "builtin:torus"]) == 2
     err = capsys.readouterr().err.strip()
     assert "no display" in err and "xvfb-run -a" in err and len(err.splitlines()) == 1
+
+
+def test_file_or_viewer_lights_are_read_with_the_file(renderer, tmp_path):
+    """--viewer-lights acts when a glTF file is read: the live view reads the file with it."""
+    from gltf_builder import quad, write_gltf
+
+    positions, indices = quad(-1, -1, 2)
+    path = write_gltf(
+        tmp_path / "lit.gltf", [[{"positions": positions, "indices": indices, "normals": np.tile([0, 0, 1], (4, 1))}]],
+        nodes=[{"mesh": 0}, {"extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        extra={"extensionsUsed": ["KHR_lights_punctual"], "scenes": [{"nodes": [0, 1]}],
+               "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "color": [1, 0, 0]}]}}},
+    )
+    pictures = []
+    for viewer_lights in (None, True):  # the file's red light, then the viewer's white ones
+        view = LiveView(str(path), ViewOptions(size=SIZE, viewer_lights=viewer_lights), renderer=renderer, out=lambda t: None)
+        (argv,) = view.commands()
+        shown = view.frame().color
+        assert np.array_equal(shown, rendered(tmp_path, argv[1:])), argv
+        pictures.append(shown)
+    assert not np.array_equal(*pictures)

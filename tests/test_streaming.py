@@ -46,8 +46,10 @@ def test_turntable_degrees_and_frames_are_checked(small_scene):
 
 
 def test_gif_frames_are_on_disk_before_the_sequence_ends(tmp_path, renderer, small_scene):
-    """The first frames of a (practically endless) turntable reach the file while rendering
-    goes on; 8 frames of 100,000,000 are taken and the file holds exactly those."""
+    """The first frames of a (practically endless) turntable reach the disk while rendering
+    goes on (in the temporary file beside the output, renamed at the end: the output name
+    itself never holds a partial GIF); 8 frames of 100,000,000 are taken and the file holds
+    exactly those."""
     path = tmp_path / "spin.gif"
     sizes: list[int] = []
     rendered: list[np.ndarray] = []
@@ -55,13 +57,17 @@ def test_gif_frames_are_on_disk_before_the_sequence_ends(tmp_path, renderer, sma
     def frames():
         views = turntable(small_scene, 100_000_000)
         for frame in renderer.render_many(itertools.islice(iter(views), 8), parallel=1):
-            if path.exists():
-                sizes.append(path.stat().st_size)
+            assert not path.exists()
+            temporaries = list(tmp_path.glob(".spin.gif.wgpu-shading-tmp-*.gif"))
+            if temporaries:
+                sizes.append(temporaries[0].stat().st_size)
             rendered.append(frame.color)
             yield frame.color
 
     assert write_animation(path, frames(), fps=20) == 8
-    assert sizes[-1] > sizes[0] > 0  # the file grew while frames were still coming
+    grown = [size for size in sizes if size > 0]  # (the first look may come before the header is written)
+    assert len(grown) >= 2 and grown[-1] > grown[0]  # the file grew while frames were still coming
+    assert [p.name for p in tmp_path.iterdir()] == ["spin.gif"]
     with Image.open(path) as gif:
         assert gif.n_frames == 8 and gif.info["loop"] == 0 and gif.info["duration"] == 50
         read = [np.array(frame.convert("RGB")) for frame in ImageSequence.Iterator(gif)]

@@ -74,9 +74,17 @@ def box(tmp_path_factory) -> Path:
     return path
 
 
+HEADS = {
+    "render": ["render", "x.obj"],
+    "batch": ["batch", "--meshes", "x.obj", "-o", "out"],
+    "turntable": ["turntable", "x.obj"],
+    "check": ["check", "x.obj", "--ref", "r.png"],
+    "shader": ["shader", "x.obj"],
+}
+
+
 def _parse(command: str, words: list[str]):
-    head = ["render", "x.obj"] if command == "render" else ["batch", "--meshes", "x.obj", "-o", "out"]
-    return view_options_from_args(build_parser().parse_args(head + words))
+    return view_options_from_args(build_parser().parse_args(HEADS[command] + words))
 
 
 def test_every_option_has_a_sample_and_four_spellings():
@@ -88,7 +96,7 @@ def test_every_option_has_a_sample_and_four_spellings():
 @pytest.mark.parametrize("option", VIEW_OPTIONS, ids=lambda option: option.name)
 def test_render_flag_batch_flag_and_manifest_column_read_the_same_value(option):
     words, cell, value, _ = SAMPLES[option.name]
-    for command in ("render", "batch"):
+    for command in HEADS:  # every command that renders takes every view flag
         assert getattr(_parse(command, words), option.name) == value, command
     assert getattr(row_view_options({option.column: cell}, "row"), option.name) == value
     # every flag of the option is accepted by both commands (aliases included)
@@ -189,6 +197,9 @@ def test_a_manifest_up_column_means_the_model_axis_and_a_vector_the_camera_up(tm
     axis, vector = (job.view_options() for job in read_manifest(manifest))
     assert axis.up == "+Z" and axis.camera_view_up is None
     assert vector.up is None and vector.camera_view_up == (0.0, 0.0, 1.0)
+    manifest.write_text('mesh,up\nbuiltin:cube,"0 0 1"\n')
+    (job,) = read_manifest(manifest, defaults={"up": "+Z"})  # `batch --up +Z` with an old manifest
+    assert job.view_options().up == "+Z" and job.view_options().camera_view_up == (0.0, 0.0, 1.0)
     manifest.write_text('mesh,up,camera_up\nbuiltin:cube,"0 0 1","0 1 0"\n')
     with pytest.raises(UsageError, match="camera_up"):
         read_manifest(manifest)
@@ -199,3 +210,18 @@ def test_batch_turns_the_meshes_views_on_from_the_camera_flags(tmp_path, box):
                  "-o", str(tmp_path / "a"), "-q"]) == 0
     assert main(["render", str(box), "--size", "24", "--camera-azimuth-angle", "210", "-o", str(tmp_path / "b.png"), "-q"]) == 0
     assert np.array_equal(_pixels(tmp_path / "a" / "box" / "view_001.png"), _pixels(tmp_path / "b.png"))
+
+
+def test_the_readme_batch_example_stands_the_z_up_gear_up(tmp_path):
+    """README's `batch --meshes example:gear.ply --up +Z --views 8`: with its up axis the gear
+    turns about its own axis, so every view covers about as much of the image; without it
+    (the old example) two of the eight views were edge-on slivers."""
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    assert "wgpu-shading batch --meshes example:gear.ply --up +Z --views 8" in readme
+    covered = {}
+    for up in ("+Z", "+Y"):
+        out = tmp_path / up
+        assert main(["batch", "--meshes", "example:gear.ply", "--up", up, "--views", "4", "--size", "32", "-o", str(out), "-q"]) == 0
+        covered[up] = [int((_pixels(out / "gear" / f"view_{i:03d}.png")[..., :3].max(axis=2) > 0).sum()) for i in range(4)]
+    assert min(covered["+Z"]) > 0.8 * max(covered["+Z"]), covered
+    assert min(covered["+Y"]) < 0.5 * max(covered["+Y"]), covered  # the sliver the issue saw

@@ -13,6 +13,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from ..errors import SceneError, UsageError
+from .atomic import atomic_path
 from .images import output_path
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
@@ -47,12 +48,21 @@ def write_animation(
     Frames are encoded on a worker thread while the next ones are rendered: GIF palette
     quantization (Pillow) and the H.264 encoder (a separate ffmpeg process) both run
     outside the GIL. Returns the number of frames written.
+
+    The frames stream into a temporary file beside `path` (atomic.py), renamed over `path`
+    once the last frame is written: a failure or an interrupt leaves the previous file (or
+    none) and removes the temporary.
     """
     path = Path(path)
     check_animation_path(path)
     if not (isinstance(fps, (int, float)) and MIN_FPS <= fps <= MAX_FPS):
         raise UsageError(f"fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {fps!r}")
-    encoder = _GifEncoder(path, fps) if path.suffix.lower() == ".gif" else _Mp4Encoder(path, fps)
+    with atomic_path(path) as temporary:
+        encoder = _GifEncoder(temporary, fps, path) if path.suffix.lower() == ".gif" else _Mp4Encoder(temporary, fps, path)
+        return _stream(encoder, frames, progress)
+
+
+def _stream(encoder, frames: Iterable[np.ndarray], progress: Callable[[int], None] | None) -> int:
     work: queue.Queue = queue.Queue(maxsize=4)  # bounded: rendering may run ahead only a little
     failure: list[BaseException] = []
 
@@ -83,7 +93,7 @@ def write_animation(
             raise failure[0]
         encoder.close()
     except BaseException:
-        getattr(encoder, "abort", lambda: None)()  # no half-written file left behind
+        encoder.abort()  # the temporary is removed by atomic_path
         raise
     return count
 
@@ -95,8 +105,8 @@ class _GifEncoder:
     Each frame is quantized and LZW-encoded by Pillow as a one-frame GIF; its palette
     becomes the frame's local color table and its image block is appended to the file."""
 
-    def __init__(self, path: Path, fps: float):
-        self.path = path
+    def __init__(self, path: Path, fps: float, shown: Path):
+        self.path, self.shown = path, shown  # the temporary written, the name the user gave
         self.delay = min(65535, max(1, round(100.0 / fps)))  # GIF counts in hundredths of a second
         self.file = None
         self.size: tuple[int, int] | None = None
@@ -118,7 +128,7 @@ class _GifEncoder:
             self.file.write(b"GIF89a" + struct.pack("<HHBBB", width, height, 0x70, 0, 0))  # no global table
             self.file.write(b"\x21\xff\x0bNETSCAPE2.0\x03\x01\x00\x00\x00")  # loop forever
         elif (width, height) != self.size:
-            raise SceneError(f"{self.path}: frame {self.count + 1} is {width}×{height}, the first was {self.size[0]}×{self.size[1]}")
+            raise SceneError(f"{self.shown}: frame {self.count + 1} is {width}×{height}, the first was {self.size[0]}×{self.size[1]}")
         # Graphic control extension: no disposal, the frame's delay, no transparency.
         self.file.write(b"\x21\xf9\x04\x04" + struct.pack("<H", self.delay) + b"\x00\x00")
         self.file.write(image_block[:9])  # image separator, position and size
@@ -131,14 +141,13 @@ class _GifEncoder:
 
     def close(self) -> None:
         if self.file is None:
-            raise SceneError(f"{self.path}: no frames to write")
+            raise SceneError(f"{self.shown}: no frames to write")
         self.file.write(b"\x3b")
         self.file.close()
 
     def abort(self) -> None:
         if self.file is not None:
             self.file.close()
-            self.path.unlink(missing_ok=True)
 
 
 def _split_single_frame_gif(data: bytes) -> tuple[bytes, bytes]:
@@ -172,16 +181,69 @@ def _split_single_frame_gif(data: bytes) -> tuple[bytes, bytes]:
 
 
 class _Mp4Encoder:
-    def __init__(self, path: Path, fps: float):
-        import imageio.v2 as imageio
+    """H.264 in an MP4 by the ffmpeg that imageio-ffmpeg ships, fed raw RGB frames on its
+    standard input. ffmpeg is run here rather than through imageio's writer so that its
+    diagnostics go to a file, not the terminal: a failure (a full disk) is one line naming
+    the output, with ffmpeg's last line as the reason."""
 
-        # yuv420p needs even sides; ffmpeg pads odd ones (macro_block_size=2) instead of scaling.
-        self.writer = imageio.get_writer(
-            path, format="FFMPEG", mode="I", fps=fps, codec="libx264", quality=8, macro_block_size=2
-        )
+    def __init__(self, path: Path, fps: float, shown: Path):
+        self.path, self.shown, self.fps = path, shown, fps
+        self.process = None
+        self.log = None
+        self.size: tuple[int, int] | None = None
+
+    def _start(self, width: int, height: int) -> None:
+        import subprocess
+        import tempfile
+        from fractions import Fraction
+
+        import imageio_ffmpeg
+
+        rate = str(Fraction(self.fps).limit_denominator())
+        command = [
+            imageio_ffmpeg.get_ffmpeg_exe(), "-nostdin", "-y", "-v", "error",
+            "-f", "rawvideo", "-vcodec", "rawvideo", "-s", f"{width}x{height}", "-pix_fmt", "rgb24", "-r", rate, "-i", "-",
+            "-an", "-vcodec", "libx264", "-pix_fmt", "yuv420p", "-crf", "10",
+            # yuv420p needs even sides: odd ones are padded by a row or column (not scaled).
+            "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+            "-f", "mp4", str(self.path),
+        ]  # fmt: skip
+        self.log = tempfile.TemporaryFile()
+        self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self.log)
+        self.size = (width, height)
 
     def add(self, rgb: np.ndarray) -> None:
-        self.writer.append_data(rgb)
+        height, width = rgb.shape[:2]
+        if self.process is None:
+            self._start(width, height)
+        elif (width, height) != self.size:
+            raise SceneError(f"{self.shown}: frame {width}×{height} differs from the first, {self.size[0]}×{self.size[1]}")
+        try:
+            self.process.stdin.write(np.ascontiguousarray(rgb, dtype=np.uint8).tobytes())
+        except (BrokenPipeError, OSError):
+            self.process.wait()
+            raise UsageError(f"output {str(self.shown)!r} could not be written: {self._reason()}") from None
 
     def close(self) -> None:
-        self.writer.close()
+        if self.process is None:
+            raise SceneError(f"{self.shown}: no frames to write")
+        try:
+            self.process.stdin.close()
+        except OSError:
+            pass
+        if self.process.wait() != 0:
+            raise UsageError(f"output {str(self.shown)!r} could not be written: {self._reason()}")
+        self.log.close()
+
+    def abort(self) -> None:
+        if self.process is not None:
+            self.process.kill()
+            self.process.wait()
+        if self.log is not None:
+            self.log.close()
+
+    def _reason(self) -> str:
+        """ffmpeg's last line of diagnostics (its earlier lines repeat it), e.g. "No space left on device"."""
+        self.log.seek(0)
+        lines = [line.strip() for line in self.log.read()[-4096:].decode("utf-8", "replace").splitlines() if line.strip()]
+        return f"ffmpeg failed: {lines[-1]}" if lines else f"ffmpeg exited with status {self.process.returncode}"

@@ -9,6 +9,7 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import UsageError
+from .atomic import atomic_open, atomic_path, check_target
 
 IMAGE_SUFFIXES = (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
 DEPTH_SUFFIXES = (".npy", ".png", ".tif", ".tiff")
@@ -17,30 +18,21 @@ STDOUT = "-"  # `-o -`: the PNG goes to standard output
 
 def output_path(path: os.PathLike[str] | str, suffixes: Sequence[str], what: str = "output") -> Path:
     """A file to write: one of `suffixes`, in a folder that exists and can be written
-    (checked before any work, so a typo does not cost a render and an OS error is a sentence)."""
+    (checked before any work, so a typo does not cost a render and an OS error is a sentence).
+    A symbolic link is written through to its target (see atomic.py)."""
     path = Path(path)
     if path.suffix.lower() not in suffixes:
         raise UsageError(f"{what} {str(path)!r}: unsupported format; use one of {', '.join(suffixes)}")
-    if not path.parent.exists():
+    if not path.is_symlink() and not path.parent.exists():
         raise UsageError(f"{what} {str(path)!r}: folder {str(path.parent)!r} does not exist")
     check_writable(path, what)
     return path
 
 
 def check_writable(path: Path, what: str = "output") -> None:
-    """Raise a one-line UsageError unless `path` can be written. The only reliable test is
-    to try (permissions, read-only mounts, /proc, ...): an existing file is opened for
-    appending (nothing changes), a new one is created and removed again."""
-    if path.is_dir():
-        raise UsageError(f"{what} {str(path)!r} is a folder, not a file")
-    existed = path.exists()
-    try:
-        with open(path, "ab"):
-            pass
-    except OSError as error:
-        raise UsageError(f"{what} {str(path)!r} cannot be written: {error.strerror or error}") from None
-    if not existed:
-        path.unlink(missing_ok=True)
+    """Raise a one-line UsageError unless `path` can be written (atomic.check_target: tried
+    with a temporary beside it; nothing is created at the target, a link stays a link)."""
+    check_target(path, what, UsageError)
 
 
 def check_folder_writable(folder: Path, what: str) -> None:
@@ -121,27 +113,39 @@ def write_depth(path: Path, depth: np.ndarray, near: float, far: float) -> str:
     suffix = path.suffix.lower()
     distances = depth.astype(np.float32)
     if suffix == ".npy":
-        np.save(path, distances)
+        with atomic_open(path, "--depth") as file:
+            np.save(file, distances)
         return "float32 eye-space distance, inf = background"
     from PIL import Image
 
     if suffix in (".tif", ".tiff"):
-        Image.fromarray(np.ascontiguousarray(distances)).save(path)  # float32 → mode F
+        with atomic_path(path, "--depth") as temporary:
+            Image.fromarray(np.ascontiguousarray(distances)).save(temporary, format="TIFF")  # float32 → mode F
         return "32-bit float eye-space distance, inf = background"
-    save_depth_png(path, depth, near, far)
+    with atomic_path(path, "--depth") as temporary:
+        save_depth_png(temporary, depth, near, far)
     return f"16-bit, linear: 0 = background, 1..65535 = near plane ({near:g}) .. far plane ({far:g})"
 
 
-def write_image(path: Path, image: np.ndarray) -> None:
+_PIL_FORMATS = {".png": "PNG", ".jpg": "JPEG", ".jpeg": "JPEG", ".bmp": "BMP", ".tif": "TIFF", ".tiff": "TIFF"}
+
+
+def write_image(path: Path, image: np.ndarray, what: str = "output") -> None:
     """.npy keeps float32 exactly; image formats get the 8-bit image, written by Pillow
-    directly (imageio's plugin discovery would add ~0.1 s to every cold start)."""
-    if path.suffix.lower() == ".npy":
-        np.save(path, image)
+    directly (imageio's plugin discovery would add ~0.1 s to every cold start). Written
+    atomically (atomic.py): a failure or an interrupt leaves the previous file."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".npy":
+        with atomic_open(path, what) as file:
+            np.save(file, image)
         return
     from PIL import Image
 
-    if path.suffix.lower() in (".jpg", ".jpeg"):
+    if suffix in (".jpg", ".jpeg"):
         # JPEG has no alpha. The color is already over the background; alpha only marks
         # translucent materials, which an opaque framebuffer (OpenGL's default) shows as RGB.
         image = image[:, :, :3]
-    Image.fromarray(np.ascontiguousarray(image)).save(path)
+    picture = Image.fromarray(np.ascontiguousarray(image))
+    with atomic_path(path, what) as temporary:
+        picture.save(temporary, format=_PIL_FORMATS.get(suffix))

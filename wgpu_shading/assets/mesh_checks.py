@@ -14,6 +14,7 @@ from pathlib import Path
 
 from ..errors import MeshError
 from ..scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from .files import read_text_bytes
 
 MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format
 _TEXT_FORMATS = (".obj", ".off")  # always text: decoded here, handed to trimesh as UTF-8
@@ -113,7 +114,7 @@ def text_source(path: Path, where: str, file_size: int) -> io.BytesIO | None:
     binary-capable formats, which trimesh reads from the path."""
     if path.suffix.lower() not in _TEXT_FORMATS:
         return None
-    data = path.read_bytes()
+    data = read_text_bytes(path, where, MeshError)  # a NUL byte: refused at once, not after reading 2 GB
     try:
         text = data.decode("utf-8")
         utf8 = True
@@ -133,6 +134,12 @@ def describe_load_error(error: BaseException, path: Path) -> str:
         return f"not a valid {path.suffix.lstrip('.').upper()} file (neither its binary form nor UTF-8 text)"
     if isinstance(error, MemoryError):
         return "not enough memory to read it"
+    text = str(error).strip()
+    escape = re.match(r"'(.*)' escapes resolver root '(.*)'", text)
+    if escape:  # trimesh's advice names its own API (FilePathResolver(path, allow_anywhere=True))
+        return f"it refers to {escape.group(1)!r}, outside its folder {escape.group(2)!r}; only files beside it or below are read"
+    if isinstance(error, AssertionError) or not text:  # a parser's internal check: "AssertionError: " says nothing
+        return f"not a valid {path.suffix.lstrip('.').upper()} file (its reader found an inconsistency it could not describe)"
     return f"cannot be read ({type(error).__name__}: {error})"
 
 

@@ -23,6 +23,7 @@ from ..scene.material import Material
 from ..scene.mesh import Mesh, MeshPart, face_normals
 from ..scene.normals import crease_normals
 from .examples import resolve_example
+from .files import check_regular_file
 from .mesh_checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
@@ -59,8 +60,7 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     path = Path(text)
     if not path.exists():
         raise MeshError(f"mesh file {text!r} not found")
-    if path.is_dir():
-        raise MeshError(f"mesh file {text!r} is a directory")
+    check_regular_file(path, f"mesh file {text!r}", MeshError)  # a folder, FIFO or device: refused unread
     suffix = path.suffix.lower()
     if suffix not in MESH_SUFFIXES:
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")
@@ -73,6 +73,8 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
             pieces = [_Piece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
         elif suffix in (".glb", ".gltf"):
             pieces = _gltf_pieces(path)
+        elif suffix == ".stl" and (binary := _binary_stl(path, file_size)) is not None:
+            pieces = [binary]
         elif suffix == ".off":
             from .off import read_off
 
@@ -122,6 +124,23 @@ def _file_normals(geometry) -> np.ndarray | None:
     if normals is not None and np.shape(normals) == np.shape(geometry.vertices):
         return np.asarray(normals, dtype=np.float64)
     return None
+
+
+def _binary_stl(path: Path, file_size: int) -> _Piece | None:
+    """A binary STL read with numpy (stl.py); None for ASCII STL (read by trimesh)."""
+    from .stl import binary_stl_count, read_binary_stl
+
+    where = f"mesh file {str(path)!r}"
+    try:
+        count = binary_stl_count(path, where, file_size)
+        if count is None:
+            return None
+        positions, faces = read_binary_stl(path, count)
+    except OSError as error:
+        raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
+    except MemoryError:
+        raise MeshError(f"{where}: not enough memory to read {file_size} bytes of STL") from None
+    return _Piece(positions, faces, parts=[(0, len(faces), None, path.name)])
 
 
 def _trimesh_piece(path: Path, file_size: int) -> _Piece:

@@ -23,6 +23,8 @@ import numpy as np
 
 from ..errors import MeshError
 from ..scene.material import Material
+from ..scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from .files import read_text_bytes
 from .mtl import read_mtl_files
 
 
@@ -253,8 +255,7 @@ def _with_newlines(data: bytes) -> bytes:
 
 
 def read_obj(path: Path) -> ObjData:
-    data = _without_indentation(_with_newlines(_without_byte_order_mark(path.read_bytes())))
-    lines = data.decode("utf-8", errors="replace").split("\n")
+    data = _without_indentation(_with_newlines(_without_byte_order_mark(read_text_bytes(path, f"mesh file {str(path)!r}", MeshError))))
     name = str(path)
     # Classify every line by its first two bytes, in numpy (a Python loop over millions of
     # lines would cost more than the rest of the reading).
@@ -267,6 +268,11 @@ def read_obj(path: Path) -> ObjData:
     is_vn = (first == ord("v")) & (second == ord("n"))
     is_f = (first == ord("f")) & blank
     v_count, vt_count, vn_count = np.cumsum(is_v), np.cumsum(is_vt), np.cumsum(is_vn)
+    # Counted before the text is split into lines (a Python string per line: ~60 bytes each).
+    vertices, polygons = int(v_count[-1]) if len(v_count) else 0, int(is_f.sum())
+    if vertices > MAX_VERTICES or polygons > MAX_TRIANGLES:
+        raise MeshError(f"mesh file {name!r}: {vertices} vertices and {polygons} faces; at most {MAX_VERTICES} of each are supported")
+    lines = data.decode("utf-8", errors="replace").split("\n")
     # The few state lines, in order: usemtl, s, mtllib.
     state_lines = np.flatnonzero((first == ord("u")) | (first == ord("s")) | (first == ord("m")))
     libraries: list[str] = []

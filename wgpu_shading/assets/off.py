@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import MeshError
+from .files import read_text_bytes
 from .mesh_checks import off_declared_counts
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF")
@@ -35,7 +36,7 @@ class OffData:
 
 def read_off(path: Path, file_size: int) -> OffData:
     where = f"mesh file {str(path)!r}"
-    data = path.read_bytes()
+    data = read_text_bytes(path, where, MeshError)  # a NUL byte: refused at once (2 GB of NULs took minutes)
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError:

@@ -30,6 +30,8 @@ from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 from ..scene.maps import MAP_FIELDS, alpha_pixels
 from ..scene.material import Texture
+from ..scene.values import MAX_LIGHTS, MAX_OBJECTS
+from .files import check_regular_file
 from .textures import load_texture
 from ..scene import (
     LIGHT_TYPES,
@@ -224,6 +226,10 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".",
     shading = _table(document, "shading")
     camera = _table(document, "camera")
     ambient = _table(document, "ambient")
+    for key, limit in (("lights", MAX_LIGHTS), ("objects", MAX_OBJECTS)):  # counted before any is built or loaded
+        count = len(document.get(key) or ()) if isinstance(document.get(key), list) else 0
+        if count > limit:
+            raise SceneError(f"[[{key}]]: {count} {key}; at most {limit} are supported")
     lights = [_light(table, i) for i, table in enumerate(_array_of_tables(document, "lights"))]
     objects = [_object(table, i, base_path, crease_angle) for i, table in enumerate(_array_of_tables(document, "objects"))]
     defaults = Scene()
@@ -244,6 +250,7 @@ def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = Non
     if not isinstance(path, (str, os.PathLike)):
         raise SceneError(f"load_scene: expected a path to a scene file, got {type(path).__name__}")
     path = Path(resolve_example(str(path)))
+    check_regular_file(path, f"scene file {str(path)!r}", SceneError)  # a FIFO would block open()
     try:
         with open(path, "rb") as file:
             data = file.read(MAX_SCENE_FILE_BYTES + 1)

@@ -4,15 +4,52 @@ from __future__ import annotations
 
 import io
 import os
+import threading
+from contextlib import contextmanager
+from typing import Iterator
 
 import numpy as np
 
 from ..errors import SceneError
 from ..scene.material import MAX_TEXTURE_SIDE, Texture
+from .files import check_regular_file
 
 # An image file bigger than this is refused before it is read (a 16384² RGBA PNG of noise
 # is ~1 GiB; nothing sensible is bigger).
 MAX_TEXTURE_FILE_BYTES = 1 << 30
+
+
+_limit_lock = threading.Lock()
+_limit_users = 0
+_limit_saved: int | None = None
+
+
+@contextmanager
+def decoding_limits(pixels: int = MAX_TEXTURE_SIDE * MAX_TEXTURE_SIDE) -> Iterator[None]:
+    """Pillow's decompression-bomb limit raised to `pixels` while we decode.
+
+    Pillow warns above `Image.MAX_IMAGE_PIXELS` (89 M pixels) and refuses above twice that,
+    which contradicted our documented 16384-pixel sides (16384×6000 warned, 16384×10923 was
+    refused). Our own limit is checked from the header before decoding, so Pillow's need
+    only not be lower. The global is raised, never lowered, and restored when the last
+    decode of ours ends (a count under a lock, so concurrent decodes do not restore it
+    under each other); an application's own higher limit or None is left alone."""
+    from PIL import Image
+
+    global _limit_users, _limit_saved
+    with _limit_lock:
+        if _limit_users == 0:
+            _limit_saved = Image.MAX_IMAGE_PIXELS
+            if Image.MAX_IMAGE_PIXELS is not None and Image.MAX_IMAGE_PIXELS < pixels:
+                Image.MAX_IMAGE_PIXELS = pixels
+        _limit_users += 1
+    try:
+        yield
+    finally:
+        with _limit_lock:
+            _limit_users -= 1
+            if _limit_users == 0:
+                Image.MAX_IMAGE_PIXELS = _limit_saved
 
 
 def load_texture(path: str | os.PathLike[str]) -> Texture:
@@ -25,6 +62,7 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
     from PIL import Image
 
     where = f"texture {str(path)!r}"
+    check_regular_file(path, where, SceneError)  # a FIFO would block open() forever
     try:
         with open(path, "rb") as file:
             data = file.read(MAX_TEXTURE_FILE_BYTES + 1)
@@ -35,10 +73,10 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
     if len(data) > MAX_TEXTURE_FILE_BYTES:
         raise SceneError(f"{where}: the file is larger than {MAX_TEXTURE_FILE_BYTES >> 20} MiB")
     try:
-        with Image.open(io.BytesIO(data)) as header:  # reads the header only
+        with decoding_limits(), Image.open(io.BytesIO(data)) as header:  # reads the header only
             width, height = header.size
-    except Image.DecompressionBombError as error:  # far beyond MAX_TEXTURE_SIDE² pixels
-        raise SceneError(f"{where}: too large ({error}); at most {MAX_TEXTURE_SIDE} pixels per side are supported") from None
+    except Image.DecompressionBombError:  # far beyond MAX_TEXTURE_SIDE² pixels (Pillow's text says "DOS attack")
+        raise SceneError(f"{where}: too large (over {2 * MAX_TEXTURE_SIDE * MAX_TEXTURE_SIDE} pixels); at most {MAX_TEXTURE_SIDE} pixels per side are supported") from None
     except Image.UnidentifiedImageError:  # its text names the BytesIO object and its address
         raise SceneError(f"{where}: not an image Pillow can read (no known image format; {len(data)} bytes)") from None
     except Exception as error:  # not an image format Pillow reads (PNG, JPEG, BMP, TIFF, GIF, WebP, ...)
@@ -48,7 +86,8 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
     try:
         # Decoded by Pillow alone: imageio would otherwise try every other plugin on a
         # damaged file (legacy DICOM, tifffile, ...), with deprecation warnings on the way.
-        pixels = iio.imread(data, plugin="pillow")
+        with decoding_limits():
+            pixels = iio.imread(data, plugin="pillow")
     except Exception as error:  # imageio raises many kinds for unreadable files
         raise SceneError(f"{where}: cannot read image ({type(error).__name__}: {error})") from None
     if pixels.ndim == 4:  # animated formats: first frame

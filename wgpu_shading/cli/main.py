@@ -24,7 +24,9 @@ import argparse
 import logging
 import os
 import re
+import signal
 import sys
+import threading
 import warnings
 from typing import Sequence
 
@@ -78,7 +80,30 @@ def _option_name(destination: str) -> str:
     return "input" if destination in ("input", "manifest") else "--" + destination.replace("_", "-")
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised like Ctrl-C so that every clean-up runs (a file being written is left
+    as it was: its temporary is removed; see assets/atomic.py). Python's default for SIGTERM
+    is to die at once, leaving temporaries and child processes behind."""
+
+
+def _terminate(signum, frame) -> None:
+    raise Terminated()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    if threading.current_thread() is not threading.main_thread():
+        return _main(argv)
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        return _main(argv)
+    except Terminated:  # arrived after _main's own handlers
+        print("wgpu-shading: terminated", file=sys.stderr)
+        return 143
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -110,6 +135,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as error:  # unwritable output, full disk, ...
         print(f"wgpu-shading: error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except Terminated:
+        print("wgpu-shading: terminated", file=sys.stderr)
+        return 143  # 128 + SIGTERM, as a shell reports a process it killed
     except KeyboardInterrupt:
         print("wgpu-shading: interrupted", file=sys.stderr)
         return 130

@@ -23,6 +23,8 @@ def command_render(args: argparse.Namespace) -> int:
     float_target = args.float or (output is not None and output.suffix.lower() == ".npy")
     if to_stdout and args.float:
         raise UsageError("-o - writes an 8-bit PNG to standard output; --float needs a .npy file")
+    if to_stdout:
+        _check_stdout()
     if output is not None:
         check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
     depth_path = None if args.depth is None else output_path(Path(args.depth), DEPTH_SUFFIXES, "--depth")
@@ -34,8 +36,7 @@ def command_render(args: argparse.Namespace) -> int:
     scene = _auto_shading(args, scene, renderer)
     frame = renderer.render_frame(scene, float32=float_target, depth=depth_path is not None)
     if to_stdout:
-        sys.stdout.buffer.write(png_bytes(frame.color))
-        sys.stdout.buffer.flush()
+        _write_stdout(png_bytes(frame.color))
     else:
         write_image(output, frame.color)
     report = sys.stderr if to_stdout else sys.stdout  # standard output carries the PNG
@@ -51,6 +52,38 @@ def command_render(args: argparse.Namespace) -> int:
             file=report,
         )
     return 0
+
+
+def _check_stdout() -> None:
+    """`-o -` needs an open standard output (checked before rendering)."""
+    import os
+
+    try:
+        if sys.stdout is None:
+            raise OSError("closed")
+        os.fstat(sys.stdout.fileno())
+    except (OSError, ValueError):
+        raise UsageError("-o -: standard output is closed; give a file name with -o") from None
+
+
+def _write_stdout(data: bytes) -> None:
+    """The PNG to standard output; a reader that went away (broken pipe, `| head -c 10`) is one
+    line and exit 2. Standard output is then pointed at /dev/null so that Python's flush at
+    exit does not print a second error."""
+    import os
+
+    try:
+        sys.stdout.buffer.write(data)
+        sys.stdout.buffer.flush()
+    except (OSError, ValueError) as error:
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            os.close(devnull)
+        except (OSError, ValueError):
+            pass
+        reason = "the reader closed the pipe" if isinstance(error, BrokenPipeError) else (getattr(error, "strerror", None) or str(error))
+        raise UsageError(f"-o -: the PNG could not be written to standard output: {reason}") from None
 
 
 def command_turntable(args: argparse.Namespace) -> int:

@@ -22,6 +22,7 @@ import json
 from pathlib import Path
 from typing import Any, Iterable
 
+from ..assets.files import check_regular_file
 from ..errors import UsageError
 from ..scene import BUILTIN_PREFIX, BUILTINS
 from ..scene.view_options import COLUMNS, ViewOptions
@@ -44,6 +45,7 @@ def read_manifest(path: str | Path, outputs: Outputs | None = None, defaults: di
     suffix = path.suffix.lower()
     if suffix not in (".csv", ".jsonl", ".ndjson"):
         raise UsageError(f"manifest {str(path)!r}: expected a .csv or .jsonl file")
+    check_regular_file(path, f"manifest {str(path)!r}", UsageError)  # a FIFO would block the read
     try:
         text = path.read_text(encoding="utf-8-sig")  # spreadsheets write "CSV UTF-8" with a BOM
     except OSError as error:
@@ -103,7 +105,8 @@ def jobs_from_rows(rows: Iterable[tuple[str, dict]], base: Path, outputs: Output
     ids: set[str] = set()
     outputs_of: dict[tuple[str, str], str] = {}  # (folder, name) → the job id that writes there
     for where, raw in rows:
-        row = {key: value for key, value in {**defaults, **raw}.items() if value not in ("", None)}
+        given = {key: value for key, value in raw.items() if value not in ("", None)}
+        row = {**defaults, **_current_columns(given, where)}
         unknown = sorted(set(row) - KNOWN_KEYS)
         if unknown:
             raise UsageError(f"{where}: unknown column {unknown[0]!r}; expected some of {', '.join(sorted(KNOWN_KEYS))}")
@@ -191,21 +194,28 @@ def _is_vector(value: Any) -> bool:
     return True
 
 
+def _current_columns(row: dict[str, Any], where: str) -> dict[str, Any]:
+    """The row with the columns older manifests used under their current names: `up` holding
+    a vector was the camera's up vector (`camera_up`); `infinite_viewer` is `local_viewer`
+    inverted. (Before the command line's defaults fill the row, so `--up +Z` still applies.)"""
+    row = dict(row)
+    if "up" in row and _is_vector(row["up"]):
+        if "camera_up" in row:
+            raise UsageError(f"{where}: up {row['up']!r} is a camera up vector and camera_up is given too; keep one")
+        row["camera_up"] = row.pop("up")
+    if "infinite_viewer" in row:
+        if "local_viewer" in row:
+            raise UsageError(f"{where}: give local_viewer or infinite_viewer, not both")
+        row["local_viewer"] = not read_bool(row.pop("infinite_viewer"), f"{where}: infinite_viewer")
+    return row
+
+
 def row_view_options(row: dict[str, Any], where: str) -> ViewOptions:
     """The view options of one manifest row (its other keys are the job's source and names)."""
     values: dict[str, Any] = {}
-    for key, value in row.items():
+    for key, value in _current_columns(row, where).items():
         if key in SOURCE_KEYS or key in _JOB_KEYS:
             continue
-        if key == "up" and _is_vector(value):  # older manifests: the camera's up vector
-            if "camera_up" in row:
-                raise UsageError(f"{where}: up {value!r} is a camera up vector and camera_up is given too; keep one")
-            values["camera_view_up"] = COLUMNS["camera_up"].read(value, f"{where}: up")
-        elif key == "infinite_viewer":
-            if "local_viewer" in row:
-                raise UsageError(f"{where}: give local_viewer or infinite_viewer, not both")
-            values["local_viewer"] = not read_bool(value, f"{where}: infinite_viewer")
-        else:
-            option = COLUMNS[key]
-            values[option.name] = option.read(value, f"{where}: {key}")
+        option = COLUMNS[key]
+        values[option.name] = option.read(value, f"{where}: {key}")
     return ViewOptions(**values)

@@ -13,6 +13,8 @@ from typing import Iterator
 from ..errors import UsageError
 from .cameras import CONVENTION
 from .jobs import Job, chunks
+from .lock import folder_lock
+from .names import CAMERAS_FILE, REPORT_FILE, check_output_names
 from .writer import atomic_write, finished, remove_stale_temporaries
 
 DEFAULT_CHUNK = 16  # views of one mesh per task: spreads Dask's 2-5 ms a task over many frames
@@ -67,13 +69,19 @@ def render_dataset(
         raise UsageError("batch: no jobs")
     if workers < 1:
         raise UsageError(f"--workers must be at least 1, got {workers}")
+    check_output_names(jobs)  # before anything is made: two jobs never write one file
     out_dir = Path(output)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as error:
         raise UsageError(f"output folder {str(out_dir)!r}: {error.strerror or error}") from None
+    with folder_lock(out_dir):  # one run per folder: its clean-up removes nothing of another's
+        return _run(jobs, out_dir, workers, scheduler, chunk_size, progress, adapter, lavapipe_threads, renderer, parallel)
+
+
+def _run(jobs, out_dir: Path, workers, scheduler, chunk_size, progress, adapter, lavapipe_threads, renderer, parallel) -> BatchResult:
     start = time.perf_counter()
-    remove_stale_temporaries(out_dir)
+    remove_stale_temporaries(out_dir)  # left by killed runs: no other run writes here now
     result = BatchResult(total=len(jobs))
     todo = []
     for job in jobs:
@@ -146,7 +154,7 @@ def _write_cameras(out_dir: Path, jobs: list[Job]) -> None:
     for folder, views in folders.items():
         if views:
             data = {"convention": CONVENTION, "views": views}
-            atomic_write(out_dir / folder / "cameras.json", lambda file, data=data: file.write(json.dumps(data, indent=1).encode()))
+            atomic_write(out_dir / folder / CAMERAS_FILE, lambda file, data=data: file.write(json.dumps(data, indent=1).encode()))
 
 
 def _write_report(out_dir: Path, result: BatchResult) -> None:
@@ -158,5 +166,5 @@ def _write_report(out_dir: Path, result: BatchResult) -> None:
         "seconds": round(result.seconds, 3),
         "frames_per_second": round(result.frames_per_second, 2),
     }
-    atomic_write(out_dir / "report.json", lambda file: file.write(json.dumps(report, indent=1).encode()))
+    atomic_write(out_dir / REPORT_FILE, lambda file: file.write(json.dumps(report, indent=1).encode()))
 

@@ -1,46 +1,35 @@
-"""Writing one view's files: every file atomically (a temporary name in the same folder, then
-os.replace), the job's record (name.json: row digest, files, camera) last, so a record on
-disk means every file it lists is complete. A process killed mid-write leaves only a
-`.NAME.*.tmp` file, which the next run removes (remove_stale_temporaries)."""
+"""Writing one view's files: every file atomically (assets/atomic.py: a temporary name in the
+same folder, then os.replace), the job's record (name.json: row digest, files, camera) last,
+so a record on disk means every file it lists is complete. A process killed mid-write leaves
+only a `.NAME.wgpu-shading-tmp-batch-*` file, which the next run removes
+(remove_stale_temporaries) while it holds the folder's lock (dataset/ownership.py)."""
 
 from __future__ import annotations
 
 import json
-import os
-import threading
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
+from ..assets import atomic
 from ..assets.images import save_depth_png
-
 from ..render.extra_outputs import ExtraFrame
 from ..render.renderer import Frame
 from .jobs import Job
 
-TEMPORARY_SUFFIX = ".wgpu-shading.tmp"
+BATCH_TAG = "batch-"  # marks the temporaries of dataset runs (removed by the next run only)
 
 
-def atomic_write(path: Path, write: Callable[[object], None]) -> None:
+def atomic_write(path: Path, write: Callable[[object], object]) -> None:
     """Write through `write(file)` to a temporary file beside `path`, then rename it into place."""
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}{TEMPORARY_SUFFIX}")
-    try:
-        with open(temporary, "wb") as file:
-            write(file)
-        os.replace(temporary, path)
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
+    atomic.atomic_write(path, write, "batch output", tag=BATCH_TAG)
 
 
 def remove_stale_temporaries(folder: Path) -> int:
-    """Delete temporaries left by killed writers under `folder` (only while no run writes there)."""
-    removed = 0
-    for path in folder.glob(f"*/.*{TEMPORARY_SUFFIX}"):
-        path.unlink(missing_ok=True)
-        removed += 1
-    return removed
+    """Delete the dataset temporaries left by killed writers in `folder` and its mesh folders
+    (only while this run holds the folder's lock: no other run writes there)."""
+    return atomic.remove_temporaries(folder, BATCH_TAG)
 
 
 def _png8(image: np.ndarray, level: int) -> Callable[[object], None]:

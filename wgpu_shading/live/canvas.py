@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .session import LiveView
 
-EVENT_TYPES = ("pointer_down", "pointer_move", "pointer_up", "wheel", "key_down")
+EVENT_TYPES = ("pointer_down", "pointer_move", "pointer_up", "wheel", "key_down", "resize")
 
 
 def attach(view: LiveView, canvas) -> None:

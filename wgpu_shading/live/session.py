@@ -30,7 +30,7 @@ from ..assets.views import is_scene_file, load_source
 from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
-from ..scene.view_options import ViewOptions, apply_view_options, render_command
+from ..scene.view_options import VIEW_OPTIONS, ViewOptions, apply_view_options, render_command
 from .state import Settings, ViewState, help_text
 
 COMPARE_AXES = {"frequency": FREQUENCIES, "reflection": REFLECTIONS}
@@ -70,6 +70,7 @@ class LiveView:
         self.out = out or (lambda text: print(text, flush=True))
         self._loaded: dict[tuple, Scene] = {}
         self._drag: tuple[float, float, int] | None = None  # pointer position and button
+        self.shown_size: tuple[float, float] | None = None  # the canvas's, when it differs
         self.frame_ms: float | None = None
         self.closed = False
         self.on_quit: Callable[[], None] = lambda: None  # the window's close (canvas.attach)
@@ -134,9 +135,11 @@ class LiveView:
     def _scene_for(self, options: ViewOptions) -> Scene:
         if isinstance(self.source, Scene):
             return apply_view_options(self.source, options)
-        # Only the options that act when a file is read select (and key) the loaded scene.
-        load = ViewOptions(size=options.size, crease_angle=options.crease_angle, up=options.up)
-        key = (load.size, load.crease_angle, load.up)
+        # Only the options that act when a file is read (the table's `load` ones: size, crease
+        # angle, up axis, file or viewer lights) select, and key, the scene read.
+        loading = {option.name: getattr(options, option.name) for option in VIEW_OPTIONS if option.load}
+        load = ViewOptions(**loading)
+        key = tuple(sorted(loading.items()))
         base = self._loaded.get(key)
         if base is None:
             base = load_source(self.source, load)
@@ -166,7 +169,10 @@ class LiveView:
             self.out(f"wgpu-shading: {error}; back to the last view")
             self.state.settings = self._drawn
             scenes = self.scenes()
-        frames = [self.renderer.render_frame(scene) for scene in scenes]
+        # All panels submitted before the first is read: lavapipe draws one while the next is
+        # encoded (each pending frame holds its own target until it is read).
+        pending = [self.renderer.submit(scene) for scene in scenes]
+        frames = [self.renderer.read(frame) for frame in pending]
         self._drawn = self.state.settings
         self.frame_ms = (time.perf_counter() - start) * 1000.0
         if len(frames) == 1:
@@ -216,10 +222,19 @@ class LiveView:
         if kind == "pointer_up":
             self._drag = None
             return False
+        if kind == "resize":  # the window's size in logical pixels (rendercanvas scales the picture)
+            self.shown_size = (float(event["width"]), float(event["height"]))
+            return False
         if kind == "pointer_move" and self._drag is not None:
             x0, y0, button = self._drag
             self._drag = (event["x"], event["y"], button)
-            return self.state.drag(button, event["x"] - x0, event["y"] - y0, self._panel)
+            # Pointer motion in picture pixels: a window stretched to twice the picture's size
+            # turns the view by the same angle for the same fraction of its width.
+            width, height = self.size()
+            shown_width, shown_height = self.shown_size or (width, height)
+            dx = (event["x"] - x0) * width / max(shown_width, 1.0)
+            dy = (event["y"] - y0) * height / max(shown_height, 1.0)
+            return self.state.drag(button, dx, dy, self._panel)
         if kind == "wheel":
             return self.state.wheel(event.get("dy", 0.0))
         if kind == "key_down":

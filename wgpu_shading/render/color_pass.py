@@ -21,7 +21,7 @@ from .device_cache import DeviceCache
 from .features import object_features
 from .material_maps import decodes_srgb
 from .pipeline_cache import PipelineEntry
-from .resources import GpuMesh, GpuTexture, Target, read_buffer
+from .resources import GpuMesh, GpuTexture, Target, read_buffer, read_mapped_rows
 from .uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
 
 
@@ -199,7 +199,9 @@ def read_color_frame(target: Target, camera: Camera, *, read_depth: bool) -> tup
     )
     depth = None
     if read_depth:
-        raw = read_buffer(target.depth_readback, target.depth_row_bytes, target.height, target.width, np.float32, 1)
-        depth = linear_depth(raw[:, :, 0], camera)
+        depth = read_mapped_rows(
+            target.depth_readback, target.depth_row_bytes, target.height, target.width, np.float32,
+            lambda rows: linear_depth(rows, camera),
+        )
     return color, depth
 

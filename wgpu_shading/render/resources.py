@@ -299,6 +299,20 @@ def read_buffer(buffer, row_bytes: int, height: int, width: int, dtype, channels
     return image
 
 
+def read_mapped_rows(buffer, row_bytes: int, height: int, width: int, dtype, convert):
+    """`convert` applied to the (height, width) single-channel rows of a readback buffer,
+    read straight from the mapping (no copy of the padded rows first); `convert` must
+    return a new array, since the mapping goes away afterwards. The depth readback uses it:
+    eye depth is computed from the mapped float32 rows in one pass (uniforms.linear_depth)."""
+    map_for_reading(buffer)
+    try:
+        itemsize = np.dtype(dtype).itemsize
+        rows = np.frombuffer(buffer.read_mapped(copy=False), dtype=dtype).reshape(height, row_bytes // itemsize)
+        return convert(rows[:, :width])
+    finally:
+        buffer.unmap()
+
+
 def check_target_size(device, size: tuple[int, int], color_format: str, samples: int = 1) -> None:
     """A clear error for an output the adapter cannot render or read back."""
     if samples > 1 and color_format != "rgba8":

@@ -37,6 +37,7 @@ class Texture:
         if isinstance(self.wrap, str) or len(tuple(self.wrap)) != 2:
             raise SceneError(f"texture {self.name!r}.wrap: expected two of {', '.join(WRAP_MODES)} (u, v), got {self.wrap!r}")
         set_fields(self, wrap=tuple(choice(mode, f"texture {self.name!r}.wrap", WRAP_MODES) for mode in self.wrap))
+        given = self.pixels
         pixels = np.asarray(self.pixels)
         if pixels.ndim == 2:
             pixels = np.repeat(pixels[:, :, None], 3, axis=2)
@@ -69,7 +70,11 @@ class Texture:
             pixels = np.concatenate([np.repeat(pixels[:, :, :1], 3, axis=2), pixels[:, :, 1:]], axis=2)
         if pixels.shape[2] == 3:
             pixels = np.concatenate([pixels, np.full(pixels.shape[:2] + (1,), 255, np.uint8)], axis=2)
-        pixels = np.ascontiguousarray(pixels)
+        # A snapshot: renderers cache the upload by identity, so the pixels must never change;
+        # the caller's array is copied, never frozen behind its back.
+        private = pixels.flags.owndata and not (isinstance(given, np.ndarray) and np.may_share_memory(pixels, given))
+        if not pixels.flags.c_contiguous or not (private or (pixels.flags.owndata and not pixels.flags.writeable)):
+            pixels = np.array(pixels, order="C", copy=True)
         pixels.setflags(write=False)
         set_fields(self, pixels=pixels)
 

@@ -38,6 +38,26 @@ MAX_EXTENT = 1e9
 MAX_ORIGIN = 1e15  # where the mesh sits (kept in float64)
 
 
+def owned(array: np.ndarray) -> np.ndarray:
+    """`array` as a read-only array no one else can write: itself when it is already
+    read-only and owns its memory, else a read-only copy (the caller's array stays writable)."""
+    array = np.asarray(array)
+    if array.flags.writeable or not array.flags.owndata or not array.flags.c_contiguous:
+        array = np.array(array, order="C", copy=True)
+    array.setflags(write=False)
+    return array
+
+
+def _private(array: np.ndarray | None, *inputs: object) -> np.ndarray | None:
+    """Mark an array computed here read-only (so Mesh keeps it without a copy), unless it
+    may still share memory with one of the caller's `inputs` (then Mesh copies it)."""
+    if array is None:
+        return None
+    if array.flags.owndata and not any(isinstance(i, np.ndarray) and np.may_share_memory(array, i) for i in inputs):
+        array.setflags(write=False)
+    return array
+
+
 @dataclass(frozen=True)
 class MeshPart:
     """Triangles first .. first + count - 1 of a mesh, with the material the file gave them
@@ -74,9 +94,13 @@ class Mesh:
     parts: tuple[MeshPart, ...] = field(default=(), repr=False)
 
     def __post_init__(self) -> None:
-        for array in (self.positions, self.normals, self.indices, self.uvs, self.colors):
+        # A Mesh is a snapshot: renderers cache its upload by identity, so its arrays must
+        # never change. The caller's arrays are copied (and left writable); arrays that are
+        # read-only and own their memory (made by from_arrays or a loader) are kept as they are.
+        for key in ("positions", "normals", "indices", "uvs", "colors"):
+            array = getattr(self, key)
             if array is not None:
-                array.setflags(write=False)  # shared with GPU caches: must not change under them
+                object.__setattr__(self, key, owned(array))
         parts = tuple(self.parts) or (MeshPart(0, len(self.indices)),)
         if sum(part.count for part in parts) != len(self.indices):
             raise MeshError(f"{self.name}: parts cover {sum(p.count for p in parts)} of {len(self.indices)} triangles")
@@ -162,6 +186,7 @@ class Mesh:
     def _from_arrays(
         cls, positions, indices, normals, uvs, *, name: str, material, colors, parts, crease_angle, flat_faces
     ) -> "Mesh":
+        caller_positions, caller_uvs, caller_colors = positions, uvs, colors
         try:
             positions = np.asarray(positions, dtype=np.float64)
         except (TypeError, ValueError) as error:
@@ -238,14 +263,15 @@ class Mesh:
         origin = (lower + upper) / 2.0
         if np.all(np.abs(origin) <= 1e-3 * max(float((upper - lower).max()), 1e-30)):
             origin = np.zeros(3)  # keep meshes that are already centred bit-exact
+        given = (caller_positions, indices, normals, caller_uvs, caller_colors)
         return cls(
-            positions=np.ascontiguousarray(positions - origin, dtype=np.float32),
-            normals=np.ascontiguousarray(unit_normals, dtype=np.float32),
-            indices=faces,
-            uvs=uvs,
+            positions=_private(np.ascontiguousarray(positions - origin, dtype=np.float32), *given),
+            normals=_private(np.ascontiguousarray(unit_normals, dtype=np.float32), *given),
+            indices=_private(faces, *given),
+            uvs=_private(uvs, *given),
             origin=tuple(float(v) for v in origin),
             name=name,
-            colors=colors,
+            colors=_private(colors, *given),
             parts=tuple(parts) or (MeshPart(0, len(faces), material, name),),
         )
 

@@ -18,6 +18,7 @@ from .values import (
     FREQUENCIES,
     MAX_EXPONENT,
     MAX_LIGHTS,
+    MAX_OBJECTS,
     MAX_SCALE,
     MIN_SCALE,
     REFLECTIONS,
@@ -210,6 +211,8 @@ class Scene:
                 f"lights: {len(lights)} lights; at most {MAX_LIGHTS} are supported "
                 "(their uniforms must fit the GPU's 64 KiB uniform buffer)"
             )
+        if len(objects) > MAX_OBJECTS:
+            raise SceneError(f"objects: {len(objects)} objects; at most {MAX_OBJECTS} are supported (one draw each)")
         for index, obj in enumerate(objects):
             if not isinstance(obj, SceneObject):
                 raise SceneError(f"objects[{index}]: expected a SceneObject, got {type(obj).__name__}")

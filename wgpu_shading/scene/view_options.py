@@ -344,19 +344,7 @@ def place_camera(camera: Camera, options: ViewOptions) -> Camera:
     return placed
 
 
-def options_from_mapping(values: dict[str, Any], where: str, by: str = "name") -> ViewOptions:
-    """ViewOptions from {name or column: value}; `by` is "name" or "column". An unknown key
-    or a bad value is a UsageError naming `where` and the key."""
-    options = {}
-    for key, value in values.items():
-        option = OPTIONS_BY_NAME.get(key) if by == "name" else COLUMNS.get(key)
-        if option is None:
-            raise UsageError(f"{where}: unknown view option {key!r}")
-        options[option.name] = option.read(value, f"{where}: {key}")
-    return ViewOptions(**options)
-
-
-COLUMNS = {option.column: option for option in VIEW_OPTIONS}
+COLUMNS = {option.column: option for option in VIEW_OPTIONS}  # manifest column → option
 
 
 def spellings_table() -> str:

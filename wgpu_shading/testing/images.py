@@ -58,6 +58,7 @@ def size_text(image: np.ndarray) -> str:
 
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+MAX_REFERENCE_PIXELS = 16384 * 16384  # the largest image the renderer makes
 
 
 def read_reference(path: str | os.PathLike[str]) -> tuple[np.ndarray, bool]:
@@ -66,8 +67,12 @@ def read_reference(path: str | os.PathLike[str]) -> tuple[np.ndarray, bool]:
     oddities Pillow reads as something else, a damaged file) is a GoldenError that says so."""
     import imageio.v3 as iio
 
+    from ..assets.files import check_regular_file
+    from ..assets.textures import decoding_limits
+
     path = Path(path)
     where = f"reference {str(path)!r}"
+    check_regular_file(path, where, GoldenError)  # a FIFO would block the read
     if not path.is_file():
         raise GoldenError(f"{where} does not exist")
     with open(path, "rb") as file:
@@ -75,8 +80,16 @@ def read_reference(path: str | os.PathLike[str]) -> tuple[np.ndarray, bool]:
     if not data.startswith(PNG_SIGNATURE):
         kind = "JPEG data" if data.startswith(b"\xff\xd8") else "data that is not PNG"
         raise GoldenError(f"{where}: references are 8-bit PNGs; this file holds {kind} (rewrite it with --update)")
+    if data[12:16] == b"IHDR" and len(data) >= 26:
+        # Pillow reads a 16-bit RGB(A) PNG as 8-bit without a word: the header decides.
+        width, height = int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+        if data[24] == 16:
+            raise GoldenError(f"{where}: references are 8-bit PNGs; this one has uint16 pixels (16 bits per channel; rewrite it with --update)")
+        if width * height > MAX_REFERENCE_PIXELS:
+            raise GoldenError(f"{where}: {width}×{height} pixels; references of at most {MAX_REFERENCE_PIXELS} pixels are read")
     try:
-        image = iio.imread(data, plugin="pillow")
+        with decoding_limits():
+            image = iio.imread(data, plugin="pillow")
     except Exception as error:  # Pillow raises many kinds for damaged files
         raise GoldenError(f"{where}: a damaged PNG ({type(error).__name__}: {error}); rewrite it with --update") from None
     if image.dtype != np.uint8:
@@ -94,16 +107,25 @@ def read_image(path: str | os.PathLike[str]) -> np.ndarray:
 
 def write_image(path: str | os.PathLike[str], image, note: str | None = None) -> Path:
     """Write an image as an 8-bit RGBA PNG, creating the folder; `note` goes into the PNG's
-    text chunk "Comment" (a diff image states its scale there)."""
+    text chunk "Comment" (a diff image states its scale there). Written atomically
+    (assets/atomic.py): a test reading the reference meanwhile (`pytest -n`) sees the old
+    file or the new one, and a failure or an interrupt leaves the old one."""
     from PIL import Image
     from PIL.PngImagePlugin import PngInfo
 
+    from ..assets.atomic import atomic_path
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise GoldenError(f"{str(path)!r}: folder {str(path.parent)!r} cannot be made: {error.strerror or error}") from None
     info = PngInfo()
     if note:
         info.add_text("Comment", note)
-    Image.fromarray(as_rgba8(image)).save(path, format="PNG", pnginfo=info)
+    picture = Image.fromarray(as_rgba8(image))
+    with atomic_path(path, "image", GoldenError) as temporary:
+        picture.save(temporary, format="PNG", pnginfo=info)
     return path
 
 

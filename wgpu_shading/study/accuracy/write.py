@@ -15,6 +15,7 @@ from typing import Sequence
 
 import numpy as np
 
+from ...assets.atomic import atomic_path, atomic_write
 from .pictures import error_map_sheet, pareto_plot, seed_figure
 from .progress import format_duration
 from .results import ROW_FIELDS, Study
@@ -22,7 +23,7 @@ from .tables import headline, markdown_blinn, markdown_cheapest, markdown_full_t
 
 
 def write_csv(rows: Sequence[dict], path: Path) -> None:
-    with open(path, "w", newline="") as handle:
+    with atomic_path(path) as temporary, open(temporary, "w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=ROW_FIELDS)
         writer.writeheader()
         for r in rows:
@@ -78,7 +79,7 @@ def update_markdown(path: Path, blocks: dict[str, str]) -> None:
             text = pattern.sub(lambda m: m.group(1) + content + m.group(2), text)
         else:
             text += f"\n<!-- accuracy:{name} -->\n{content}<!-- /accuracy:{name} -->\n"
-    path.write_text(text)
+    atomic_write(path, text.encode())
 
 
 def write_study(study: Study, out_dir: str | os.PathLike, markdown: str | os.PathLike | None = None, plot: bool = True) -> list[Path]:
@@ -92,13 +93,13 @@ def write_study(study: Study, out_dir: str | os.PathLike, markdown: str | os.Pat
         command=study.command, seconds=study.seconds, environment=study.environment,
         config=asdict(study.config), error_unit="1/255", rows=study.rows, blinn=study.blinn,
     )
-    (out / "results.json").write_text(json.dumps(_json_ready(document), indent=None, separators=(",", ":")).replace("},{", "},\n{") + "\n")
+    atomic_write(out / "results.json", (json.dumps(_json_ready(document), indent=None, separators=(",", ":")).replace("},{", "},\n{") + "\n").encode())
     written += [out / "results.csv", out / "results.json"]
     blocks = generated_blocks(study, "")
     table = "# Accuracy/time sweep\n\n" + blocks["run"] + "\n" + blocks["headline"] + "\n## Every point\n\n" + markdown_full_table(study.rows)
     table += "\n## Cheapest settings\n\n" + blocks["cheapest"] + "\n## Blinn-Phong against Phong reflection\n\n" + blocks["blinn"]
     table += "\n## GPU against the same-mesh float64 reference\n\n" + blocks["same-mesh"]
-    (out / "table.md").write_text(table)
+    atomic_write(out / "table.md", table.encode())
     written.append(out / "table.md")
     if study.frames:
         written.append(_save(seed_figure(study), out / "seed_figure.png"))
@@ -121,5 +122,6 @@ def _save(image: np.ndarray, path: Path, colors: int | None = None) -> Path:
     picture = Image.fromarray(image)
     if colors:
         picture = picture.quantize(colors=colors, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
-    picture.save(path, optimize=True)
+    with atomic_path(path) as temporary:
+        picture.save(temporary, format="PNG", optimize=True)
     return path

@@ -1,0 +1,281 @@
+"""Files written completely or not at all (assets/atomic.py): a failure, a full disk or a
+signal leaves the previous file and no temporary; messages name the file; links are written
+through; `-o -` to a closed or broken standard output is one line and exit 2."""
+
+from __future__ import annotations
+
+import errno
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+import uuid
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from wgpu_shading.assets.animation import write_animation
+from wgpu_shading.assets.images import check_writable, write_depth, write_image
+from wgpu_shading.cli.main import main
+from wgpu_shading.errors import UsageError
+from wgpu_shading.testing.golden import GoldenError, check_image
+
+OLD = b"the previous file, intact"
+
+
+def leftovers(folder: Path) -> list[str]:
+    return sorted(p.name for p in folder.rglob("*wgpu-shading-tmp*"))
+
+
+def size(path: Path) -> int:
+    """A file's size, 0 when it went away meanwhile (the writability check's probe does)."""
+    try:
+        return path.stat().st_size
+    except FileNotFoundError:
+        return 0
+
+
+def noise(height: int, width: int, channels: int = 4, seed: int = 0) -> np.ndarray:
+    """Incompressible pixels: the encoded file is as large as the image."""
+    return np.random.default_rng(seed).integers(0, 256, (height, width, channels), dtype=np.uint8)
+
+
+@pytest.fixture
+def full_disk():
+    """A 256 KiB tmpfs: writing more than that fails with ENOSPC, as on a full disk."""
+    folder = Path(f"/tmp/wgpu-shading-full-{uuid.uuid4().hex[:8]}")
+    folder.mkdir()
+    result = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", str(folder)], capture_output=True, text=True)
+    if result.returncode != 0:
+        folder.rmdir()
+        pytest.skip(f"cannot mount a small tmpfs to fill ({result.stderr.strip() or 'mount failed'}; needs root)")
+    try:
+        yield folder
+    finally:
+        subprocess.run(["umount", str(folder)], capture_output=True)
+        folder.rmdir()
+
+
+# --------------------------------------------------------------------------- failures
+
+
+@pytest.mark.parametrize("name", ["t.png", "t.jpg", "t.tif", "t.bmp", "t.npy"])
+def test_a_full_disk_keeps_the_previous_image_and_names_the_file(full_disk, name):
+    path = full_disk / name
+    path.write_bytes(OLD)
+    with pytest.raises(UsageError) as caught:
+        write_image(path, noise(1000, 1000))  # 4 MB of noise (a 0.6 MB JPEG) > 256 KiB
+    message = str(caught.value)
+    assert repr(str(path)) in message and "No space left on device" in message and "unchanged" in message
+    assert path.read_bytes() == OLD and leftovers(full_disk) == []
+
+
+@pytest.mark.parametrize("name", ["d.npy", "d.tiff", "d.png"])
+def test_a_full_disk_keeps_the_previous_depth(full_disk, name):
+    path = full_disk / name
+    path.write_bytes(OLD)
+    depth = np.random.default_rng(1).uniform(1.0, 9.0, (600, 600))
+    with pytest.raises(UsageError, match="No space left on device"):
+        write_depth(path, depth, 0.5, 10.0)
+    assert path.read_bytes() == OLD and leftovers(full_disk) == []
+
+
+@pytest.mark.parametrize("name", ["spin.gif", "spin.mp4"])
+def test_a_full_disk_keeps_the_previous_animation_and_ffmpeg_stays_quiet(full_disk, name, capfd):
+    if name.endswith(".mp4"):
+        pytest.importorskip("imageio_ffmpeg")
+    path = full_disk / name
+    path.write_bytes(OLD)
+    frames = (noise(128, 128, 3, seed) for seed in range(60))
+    with pytest.raises(UsageError) as caught:
+        write_animation(path, frames, fps=10)
+    assert repr(str(path)) in str(caught.value) and "No space left on device" in str(caught.value)
+    assert path.read_bytes() == OLD and leftovers(full_disk) == []
+    captured = capfd.readouterr()
+    assert captured.err == "" and captured.out == ""  # ffmpeg's own error lines are not shown
+
+
+def test_a_full_disk_keeps_the_golden_reference(full_disk):
+    reference = full_disk / "golden.png"
+    old = noise(40, 40)
+    Image.fromarray(old).save(reference)
+    before = reference.read_bytes()
+    with pytest.raises(GoldenError, match="golden.png.*No space left on device"):
+        check_image(noise(300, 300, seed=5), reference, update=True)
+    assert reference.read_bytes() == before and leftovers(full_disk) == []
+
+
+def test_cli_render_on_a_full_disk_is_one_line_naming_the_file(full_disk, capsys):
+    path = full_disk / "t.npy"
+    path.write_bytes(OLD)
+    assert main(["render", "builtin:cube", "--size", "200x200", "-o", str(path), "-q"]) == 2  # 640 KB of float32
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(path) in err and "No space left on device" in err and "Errno" not in err
+    assert path.read_bytes() == OLD and leftovers(full_disk) == []
+
+
+def test_an_encoder_failure_leaves_the_previous_file(tmp_path, monkeypatch):
+    path = tmp_path / "t.png"
+    path.write_bytes(OLD)
+
+    def broken_save(self, fp, format=None, **params):
+        Path(fp).write_bytes(b"\x89PNG half")
+        raise OSError(errno.EIO, "Input/output error")
+
+    monkeypatch.setattr(Image.Image, "save", broken_save)
+    with pytest.raises(UsageError, match=r"t.png' could not be written: Input/output error \(the file that was there is unchanged\)"):
+        write_image(path, noise(8, 8))
+    assert path.read_bytes() == OLD and leftovers(tmp_path) == []
+
+
+def test_a_new_file_keeps_the_umask_mode_and_a_replaced_one_its_mode(tmp_path):
+    fresh = tmp_path / "fresh.png"
+    write_image(fresh, noise(4, 4))
+    umask = os.umask(0)
+    os.umask(umask)
+    assert fresh.stat().st_mode & 0o777 == 0o666 & ~umask
+    kept = tmp_path / "kept.png"
+    kept.write_bytes(OLD)
+    kept.chmod(0o640)
+    write_image(kept, noise(4, 4))
+    assert kept.stat().st_mode & 0o777 == 0o640
+
+
+# --------------------------------------------------------------------------- links
+
+
+def test_a_dangling_link_is_neither_filled_nor_replaced_by_the_check(tmp_path):
+    (tmp_path / "elsewhere").mkdir()
+    link = tmp_path / "out.png"
+    link.symlink_to(tmp_path / "elsewhere" / "target.png")
+    check_writable(link)
+    assert link.is_symlink() and not (tmp_path / "elsewhere" / "target.png").exists()
+    assert leftovers(tmp_path) == []
+
+
+def test_render_writes_through_a_link_and_keeps_it(tmp_path, renderer):
+    (tmp_path / "elsewhere").mkdir()
+    link = tmp_path / "out.png"
+    link.symlink_to(tmp_path / "elsewhere" / "target.png")
+    assert main(["render", "builtin:cube", "--size", "16", "-o", str(link), "-q"]) == 0
+    assert link.is_symlink() and os.readlink(link) == str(tmp_path / "elsewhere" / "target.png")
+    assert Image.open(tmp_path / "elsewhere" / "target.png").size == (16, 16)
+
+
+def test_a_link_into_a_missing_folder_is_refused_before_rendering(tmp_path, capsys):
+    link = tmp_path / "out.png"
+    link.symlink_to(tmp_path / "nowhere" / "target.png")
+    assert main(["render", "builtin:cube", "-o", str(link)]) == 2
+    err = capsys.readouterr().err
+    assert "a link to" in err and "does not exist" in err and link.is_symlink()
+
+
+def test_a_device_output_is_refused_not_replaced(tmp_path):
+    with pytest.raises(UsageError, match="not a regular file"):
+        check_writable(Path("/dev/null"))
+    link = tmp_path / "null.png"
+    link.symlink_to("/dev/null")
+    with pytest.raises(UsageError, match="not a regular file"):
+        check_writable(link)
+
+
+# --------------------------------------------------------------------------- signals
+
+# A child process whose PNG encoder writes half a file, says so, then waits to be killed:
+# the signal arrives mid-write every time.
+_SLOW_WRITER = textwrap.dedent(
+    """
+    import sys, time
+    from pathlib import Path
+    from PIL import Image
+
+    def slow_save(self, fp, format=None, **params):
+        Path(fp).write_bytes(b"\\x89PNG half of it")
+        print("writing", flush=True)
+        time.sleep(60)
+
+    Image.Image.save = slow_save
+    from wgpu_shading.cli.main import main
+    sys.exit(main(sys.argv[1:]))
+    """
+)
+
+
+@pytest.mark.parametrize("signum, status", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
+def test_a_signal_during_the_write_leaves_the_previous_png(tmp_path, signum, status):
+    path = tmp_path / "t.png"
+    path.write_bytes(OLD)
+    child = subprocess.Popen(
+        [sys.executable, "-c", _SLOW_WRITER, "render", "builtin:cube", "--size", "16", "-o", str(path)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    try:
+        assert child.stdout.readline() == "writing\n"
+        assert leftovers(tmp_path)  # the half-written temporary is there now
+        child.send_signal(signum)
+        _, err = child.communicate(timeout=30)
+    finally:
+        child.kill()
+    assert child.returncode == status, err
+    assert err.strip() in ("wgpu-shading: terminated", "wgpu-shading: interrupted")
+    assert path.read_bytes() == OLD and leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize("name", ["spin.gif", "spin.mp4"])
+def test_sigterm_during_a_turntable_leaves_no_partial_animation(tmp_path, name):
+    if name.endswith(".mp4"):
+        pytest.importorskip("imageio_ffmpeg")
+    path = tmp_path / name
+    path.write_bytes(OLD)
+    executable = Path(sys.executable).parent / "wgpu-shading"
+    child = subprocess.Popen(
+        [str(executable), "turntable", "builtin:cube", "--size", "32", "--frames", "1000000", "-o", str(path), "-q"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not any(size(p) > 0 for p in tmp_path.glob(f".{name}.wgpu-shading-tmp-*")):
+            assert time.monotonic() < deadline and child.poll() is None, child.stderr.read() if child.poll() is not None else "timeout"
+            time.sleep(0.05)
+        child.send_signal(signal.SIGTERM)
+        _, err = child.communicate(timeout=30)
+    finally:
+        child.kill()
+    assert child.returncode == 143 and err.strip() == "wgpu-shading: terminated", err
+    assert path.read_bytes() == OLD and leftovers(tmp_path) == []
+
+
+# --------------------------------------------------------------------------- standard output
+
+
+def _render_to_stdout(tmp_path: Path, shell_redirect: str) -> subprocess.CompletedProcess:
+    executable = Path(sys.executable).parent / "wgpu-shading"
+    return subprocess.run(
+        ["sh", "-c", f"'{executable}' render builtin:cube --size 16 -o - {shell_redirect}"],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )
+
+
+def test_render_to_a_closed_stdout_is_one_line_and_exit_2(tmp_path):
+    result = _render_to_stdout(tmp_path, ">&-")
+    assert result.returncode == 2, result.stderr
+    assert result.stderr == "wgpu-shading: error: -o -: standard output is closed; give a file name with -o\n"
+
+
+def test_render_to_a_broken_pipe_is_one_line_and_exit_2(tmp_path):
+    executable = Path(sys.executable).parent / "wgpu-shading"
+    read, write = os.pipe()
+    os.close(read)  # nobody will read: the write fails with EPIPE
+    try:
+        result = subprocess.run(
+            [str(executable), "render", "builtin:cube", "--size", "16", "-o", "-"],
+            stdout=write, stderr=subprocess.PIPE, text=True, timeout=120,
+        )
+    finally:
+        os.close(write)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.count("\n") == 1 and "standard output" in result.stderr and "closed the pipe" in result.stderr

@@ -1,0 +1,225 @@
+"""Inputs bounded by their headers and sizes, not by luck: binary STL counts checked against
+the file size before allocating, text meshes of NULs refused at once, scene files with too
+many objects refused before anything loads, special files (FIFOs, devices, folders) refused
+without being opened, and Pillow's decompression-bomb limit matching our documented 16384."""
+
+from __future__ import annotations
+
+import os
+import struct
+import warnings
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from wgpu_shading import load_mesh, load_scene
+from wgpu_shading.assets.textures import decoding_limits, load_texture
+from wgpu_shading.cli.main import main
+from wgpu_shading.errors import MeshError, SceneError
+from wgpu_shading.scene.values import MAX_OBJECTS
+
+RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+
+
+def binary_stl(path: Path, corners: np.ndarray, header: bytes = b"binary", count: int | None = None) -> Path:
+    records = np.zeros(len(corners), RECORD)
+    records["corners"] = corners
+    path.write_bytes(header.ljust(80, b" ") + struct.pack("<I", len(corners) if count is None else count) + records.tobytes())
+    return path
+
+
+def tetrahedron() -> np.ndarray:
+    p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], np.float32)
+    return p[np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])]
+
+
+# --------------------------------------------------------------------------- STL
+
+
+def test_a_binary_stl_header_claiming_40m_triangles_is_refused_before_allocating(tmp_path):
+    path = binary_stl(tmp_path / "liar.stl", tetrahedron(), count=40_000_000)
+    with pytest.raises(MeshError, match=r"liar.stl': not a valid STL file: its header declares 40000000 triangles"):
+        load_mesh(path)
+
+
+def test_a_truncated_binary_stl_is_refused(tmp_path):
+    path = binary_stl(tmp_path / "cut.stl", tetrahedron(), count=5)
+    with pytest.raises(MeshError, match=r"declares 5 triangles, which need 334 bytes, but the file has 284 \(truncated\?\)"):
+        load_mesh(path)
+
+
+def test_a_binary_stl_is_read_with_shared_vertices_like_trimesh_reads_it(tmp_path):
+    import trimesh
+
+    path = binary_stl(tmp_path / "tet.stl", tetrahedron(), header=b"solid exported by a CAD tool")  # binary despite "solid"
+    mesh = load_mesh(path)
+    reference = trimesh.load(str(path), process=False)  # every corner its own vertex
+    ours = np.sort((mesh.positions.astype(np.float64) + mesh.origin)[mesh.indices].reshape(-1, 3), axis=0)
+    theirs = np.sort(np.asarray(reference.vertices)[np.asarray(reference.faces)].reshape(-1, 3), axis=0)
+    np.testing.assert_allclose(ours, theirs, atol=1e-7)
+    assert mesh.triangle_count == 4 and mesh.vertex_count == 12  # every edge a crease: each face flat
+    # Each triangle keeps its winding: the normals point out of the tetrahedron.
+    centre = np.float64([0.25, 0.25, 0.25])
+    corners = mesh.positions.astype(np.float64)[mesh.indices] + mesh.origin
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    assert (np.einsum("ij,ij->i", normals, corners.mean(axis=1) - centre) > 0).all()
+
+
+def test_an_ascii_stl_is_still_read(tmp_path):
+    facets = "".join(
+        "facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {x} {y} {z}\n" for x, y, z in triangle) + "endloop\nendfacet\n"
+        for triangle in tetrahedron().tolist()
+    )
+    path = tmp_path / "tet.stl"
+    path.write_text(f"solid tet\n{facets}endsolid tet\n")
+    assert load_mesh(path).triangle_count == 4
+
+
+# --------------------------------------------------------------------------- text meshes
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".off"])
+def test_a_huge_text_mesh_of_nuls_is_refused_at_once(tmp_path, suffix):
+    path = tmp_path / f"zeros{suffix}"
+    with open(path, "wb") as file:
+        file.truncate((2 << 30) - 1)  # 2 GiB of NULs (sparse: nothing is written to disk)
+    with pytest.raises(MeshError, match=rf"zeros{suffix}': not a text file \(a NUL byte at offset 0\)"):
+        load_mesh(path)
+
+
+def test_an_obj_with_more_vertices_than_supported_is_refused_before_parsing(tmp_path, monkeypatch):
+    from wgpu_shading.assets import obj
+
+    monkeypatch.setattr(obj, "MAX_VERTICES", 3)
+    path = tmp_path / "many.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n")
+    with pytest.raises(MeshError, match="4 vertices and 1 faces; at most 3 of each are supported"):
+        load_mesh(path)
+
+
+# --------------------------------------------------------------------------- scene files
+
+
+def test_a_scene_file_with_too_many_objects_is_refused_before_loading(tmp_path, capsys):
+    path = tmp_path / "crowd.toml"
+    path.write_text('[[objects]]\nmesh = "no-such-file.obj"\n' * (MAX_OBJECTS + 1))  # none is loaded
+    with pytest.raises(SceneError, match=rf"\[\[objects\]\]: {MAX_OBJECTS + 1} objects; at most {MAX_OBJECTS} are supported"):
+        load_scene(path)
+
+
+def test_a_scene_file_with_too_many_lights_is_refused(tmp_path):
+    path = tmp_path / "lights.toml"
+    path.write_text('[[objects]]\nmesh = "builtin:cube"\n' + '[[lights]]\ntype = "directional"\n' * 257)
+    with pytest.raises(SceneError, match=r"\[\[lights\]\]: 257 lights; at most 256"):
+        load_scene(path)
+
+
+# --------------------------------------------------------------------------- special files
+
+
+@pytest.fixture
+def fifo(tmp_path):
+    def make(name: str) -> Path:
+        path = tmp_path / name
+        os.mkfifo(path)
+        return path
+
+    return make
+
+
+def test_fifos_are_refused_without_being_opened(tmp_path, fifo):
+    """Each would block open() forever; the test would hang, not fail, if one were opened."""
+    with pytest.raises(MeshError, match=r"pipe.obj' is a FIFO \(named pipe\), not a regular file"):
+        load_mesh(fifo("pipe.obj"))
+    with pytest.raises(SceneError, match=r"pipe.png' is a FIFO"):
+        load_texture(fifo("pipe.png"))
+    with pytest.raises(SceneError, match=r"scene file .*pipe.toml' is a FIFO"):
+        load_scene(fifo("pipe.toml"))
+    fifo("fifo.png")
+    scene = tmp_path / "textured.toml"
+    scene.write_text('[[objects]]\nmesh = "builtin:cube"\nmaterial = { texture = "fifo.png" }\n')
+    with pytest.raises(SceneError, match=r"fifo.png' is a FIFO"):
+        load_scene(scene)
+
+
+def test_an_mtl_texture_that_is_a_fifo_is_refused(tmp_path, fifo):
+    fifo("wood.png")
+    (tmp_path / "m.mtl").write_text("newmtl wood\nKd 1 1 1\nmap_Kd wood.png\n")
+    (tmp_path / "m.obj").write_text("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl wood\nf 1/1 2/2 3/3\n")
+    with pytest.raises((SceneError, MeshError), match=r"wood.png' is a FIFO"):
+        load_mesh(tmp_path / "m.obj")
+
+
+def test_a_manifest_that_is_a_fifo_is_one_line(tmp_path, fifo, capsys):
+    assert main(["batch", str(fifo("jobs.csv")), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is a FIFO" in err
+
+
+@pytest.mark.parametrize("path, kind", [("/dev/zero", "a character device"), (".", "a folder")])
+def test_devices_and_folders_are_refused_as_meshes(path, kind, tmp_path):
+    target = tmp_path / "dev.stl"
+    target.symlink_to(Path(path).resolve())
+    with pytest.raises(MeshError, match=f"is {kind}, not a regular file"):
+        load_mesh(target)
+
+
+# --------------------------------------------------------------------------- textures
+
+
+def header_only_png(path: Path, width: int, height: int, bit_depth: int = 8, colour: int = 2) -> Path:
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    header = struct.pack(">IIBBBBB", width, height, bit_depth, colour, 0, 0, 0)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IEND", b""))
+    return path
+
+
+@pytest.mark.parametrize("height", [6000, 10923, 16384])
+def test_pillow_neither_warns_nor_refuses_within_the_documented_16384(tmp_path, height):
+    path = header_only_png(tmp_path / "big.png", 16384, height)
+    before = Image.MAX_IMAGE_PIXELS
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a DecompressionBombWarning would fail here
+        with decoding_limits(), Image.open(path) as image:
+            assert image.size == (16384, height)
+        with pytest.raises(SceneError) as caught:
+            load_texture(path)  # no pixel data: a read error, never "too large" or "DOS attack"
+    assert "cannot read image" in str(caught.value) and "DOS" not in str(caught.value)
+    assert Image.MAX_IMAGE_PIXELS == before  # restored
+
+
+def test_a_texture_beyond_16384_is_refused_from_its_header(tmp_path):
+    path = header_only_png(tmp_path / "wide.png", 16385, 16)
+    with pytest.raises(SceneError, match="16385×16 pixels; at most 16384 per side"):
+        load_texture(path)
+
+
+def test_a_16_bit_rgb_reference_is_refused(tmp_path):
+    import png
+
+    from wgpu_shading.testing.golden import GoldenError, check_image
+
+    path = tmp_path / "ref.png"
+    pixels = np.full((4, 4 * 3), 40000, np.uint16)
+    with open(path, "wb") as file:
+        png.Writer(4, 4, greyscale=False, bitdepth=16).write(file, pixels)
+    with pytest.raises(GoldenError, match="references are 8-bit PNGs; this one has uint16 pixels"):
+        check_image(np.zeros((4, 4, 4), np.uint8), path)
+
+
+# --------------------------------------------------------------------------- messages
+
+
+def test_trimesh_internals_are_not_leaked_into_messages():
+    from wgpu_shading.assets.mesh_checks import describe_load_error
+
+    escape = ValueError("'../secret.bin' escapes resolver root '/data/m' — pass `FilePathResolver(path, allow_anywhere=True)` to allow it")
+    text = describe_load_error(escape, Path("m.gltf"))
+    assert "FilePathResolver" not in text and "'../secret.bin'" in text and "outside its folder" in text
+    text = describe_load_error(AssertionError(), Path("m.ply"))
+    assert "AssertionError" not in text and "not a valid PLY file" in text

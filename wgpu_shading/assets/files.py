@@ -1,0 +1,81 @@
+"""Input files: what may be opened for reading at all.
+
+A FIFO (named pipe) blocks `open()` until some other process writes to it, a character
+device such as /dev/zero or /dev/urandom never ends, and a folder raises an OSError whose
+message does not say which input it was. Every file input (meshes, textures, scene files,
+manifests, glTF buffers and images) is checked here first, with `os.stat` only: nothing is
+opened, so a FIFO cannot block the check itself.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+
+from ..errors import WgpuShadingError
+
+_KINDS = (
+    (stat.S_ISDIR, "a folder"),
+    (stat.S_ISFIFO, "a FIFO (named pipe)"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISSOCK, "a socket"),
+)
+
+
+def special_kind(path: str | os.PathLike[str]) -> str | None:
+    """What `path` is when it is not a regular file ("a FIFO (named pipe)", ...); None for a
+    regular file (links followed) and for a path that does not exist (the caller says
+    "not found" in its own words)."""
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return None
+    if stat.S_ISREG(mode):
+        return None
+    for test, kind in _KINDS:
+        if test(mode):
+            return kind
+    return "not a regular file"
+
+
+def check_regular_file(path: str | os.PathLike[str], where: str, error: type[WgpuShadingError]) -> Path:
+    """Raise `error("<where> is a FIFO (named pipe), not a regular file")` unless `path` is a
+    regular file or missing; `where` names the input (e.g. "texture 'a.png' (map_Kd of x.mtl)")."""
+    kind = special_kind(path)
+    if kind is not None:
+        raise error(f"{where} is {kind}, not a regular file; only regular files are read")
+    return Path(path)
+
+
+def is_readable_regular_file(path: str | os.PathLike[str]) -> bool:
+    """True for an existing regular file (links followed): for inputs that are skipped with
+    a warning rather than refused."""
+    try:
+        return stat.S_ISREG(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
+TEXT_CHUNK = 16 << 20
+
+
+def read_text_bytes(path: str | os.PathLike[str], where: str, error: type[WgpuShadingError]) -> bytes:
+    """A text file's bytes, read in 16 MiB chunks and refused at the first NUL byte: text
+    formats (OBJ, OFF, MTL) never hold one, and a file of zeros (a damaged copy, a disk
+    image) was read whole and then exhausted memory while being split into lines. UTF-16
+    text (it starts with a byte-order mark) is half NULs and is read whole, as before."""
+    chunks: list[bytes] = []
+    offset = 0
+    utf16 = False
+    with open(path, "rb") as file:
+        while chunk := file.read(TEXT_CHUNK):
+            if offset == 0:
+                utf16 = chunk[:2] in (b"\xff\xfe", b"\xfe\xff")
+            nul = -1 if utf16 else chunk.find(b"\x00")
+            if nul >= 0:
+                raise error(f"{where}: not a text file (a NUL byte at offset {offset + nul}); is it binary or damaged?")
+            chunks.append(chunk)
+            offset += len(chunk)
+    return b"".join(chunks)
