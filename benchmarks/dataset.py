@@ -225,7 +225,7 @@ def table(results: list[DatasetResult]) -> str:
         "(planning, skip checks, cameras.json, report; on Dask also submitting, scheduling, collecting), median pass:",
         "",
         "| size | " + " | ".join(mode for mode in MODES if mode not in LOOPS) + " |",
-        "|---|" + "---|" * (len(MODES) - 1),
+        "|---|" + "---|" * (len(MODES) - len(LOOPS)),
     ]
     for result in results:
         cells = [

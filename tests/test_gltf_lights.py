@@ -44,7 +44,7 @@ def test_each_kind_maps_to_its_classic_light_placed_by_its_node(tmp_path):
     assert isinstance(sun, DirectionalLight) and np.allclose(sun.direction, [0, -1, 0], atol=1e-9)
     assert np.allclose(sun.diffuse, [2, 1, 0.5, 1]) and sun.specular == sun.diffuse and sun.ambient[:3] == (0, 0, 0)
     assert isinstance(point, PositionalLight) and np.allclose(point.position, [1, 2, 3])
-    assert tuple(point.attenuation) == (0.0, 0.0, 1.0) and np.allclose(point.diffuse, [3, 3, 3, 1])
+    assert tuple(point.attenuation) == (0.0, 0.0, 1.0) and np.allclose(point.diffuse, [3, 3, 3, 1]) and point.range == 10.0
     assert isinstance(spot, SpotLight) and np.allclose(spot.position, [0, 1, 5]) and np.allclose(spot.direction, [0, 0, -1])
     assert math.isclose(spot.cutoff, math.degrees(0.6))
     assert math.isclose(math.cos(0.4) ** spot.exponent, 0.5)  # half intensity midway between the cones
@@ -102,3 +102,27 @@ def test_a_light_index_out_of_range_is_an_error(tmp_path):
     path.write_text(json.dumps(document))
     with pytest.raises(MeshError, match="KHR_lights_punctual"):
         gltf_lights(path)
+
+
+@pytest.mark.parametrize("frequency", ["gouraud", "phong"])
+def test_range_fades_a_point_light_to_zero_on_the_gpu_as_in_the_reference(renderer, frequency):
+    # A point light 1 above the middle of a 4×4 floor with range 1.5: the window
+    # clamp(1 − (d/1.5)⁴, 0, 1)² / d² (KHR_lights_punctual) against the float64 reference,
+    # and by hand: dark beyond the range, (1 − (1/1.5)⁴)² = 0.6243 straight below.
+    from support import EDGE_BAND, compare
+
+    from wgpu_shading.scene import Camera, Material, Scene, SceneObject, Shading, plane
+    from wgpu_shading.study import reference as ref
+
+    light = PositionalLight(position=(0.0, 0.0, 1.0), attenuation=(0.0, 0.0, 1.0), range=1.5, specular=(0, 0, 0, 1))
+    scene = Scene(
+        objects=(SceneObject(plane(4.0, 24), Material(ambient=(0, 0, 0, 1), diffuse=(1, 1, 1, 1))),),
+        lights=(light,), ambient=(0.0, 0.0, 0.0, 1.0),
+        camera=Camera(eye=(0.0, 0.0, 6.0), target=(0.0, 0.0, 0.0), fov_y=40.0), size=(64, 64),
+        shading=Shading(frequency=frequency),
+    )
+    gpu = renderer.render_frame(scene, float32=True, depth=True)
+    compare(gpu, ref.render_reference(scene), EDGE_BAND, f"range / {frequency}")
+    if frequency == "phong":
+        assert abs(gpu.color[32, 32, 0] - (1 - (1 / 1.5) ** 4) ** 2) < 0.01
+        assert gpu.color[32, 4, 0] < 1e-6  # 1.9 from the middle: beyond the range

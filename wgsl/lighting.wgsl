@@ -158,9 +158,12 @@ fn light_contribution(
 // keeps it finite and the final clamp then shows full intensity.
 const MIN_ATTENUATION_DENOMINATOR: f32 = 1e-20;
 
-fn attenuation_factor(coefficients: vec3<f32>, distance: f32) -> f32 {
+fn attenuation_factor(coefficients: vec3<f32>, inverse_range: f32, distance: f32) -> f32 {
     let denominator = coefficients.x + distance * (coefficients.y + distance * coefficients.z);
-    return 1.0 / max(denominator, MIN_ATTENUATION_DENOMINATOR);
+    // KHR_lights_punctual's range window (1 when inverse_range is 0)
+    let ratio = distance * inverse_range;
+    let window = clamp(1.0 - ratio * ratio * ratio * ratio, 0.0, 1.0);
+    return window * window / max(denominator, MIN_ATTENUATION_DENOMINATOR);
 }
 #endif
 
@@ -192,7 +195,7 @@ fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> Li
         // A light exactly at the shaded point has no direction: treat it as straight above.
         let to_light = safe_normalize(offset, normal);
 #if ATTENUATION
-        let scale = attenuation_factor(light.attenuation, length(offset));
+        let scale = attenuation_factor(light.attenuation, light.inverse_range, length(offset));
 #else
         let scale = 1.0;
 #endif
@@ -213,7 +216,7 @@ fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> Li
             // The seeds' cos^exp(φ).
             scale = guarded_power(dot(-to_light, light.direction), light.exponent);
 #if ATTENUATION
-            scale *= attenuation_factor(light.attenuation, length(offset));
+            scale *= attenuation_factor(light.attenuation, light.inverse_range, length(offset));
 #endif
         }
         lit = add_lit(lit, light_contribution(scale, object_uniforms.spot_products[i],

@@ -27,6 +27,8 @@ struct PositionalLight {
 #if ATTENUATION
     // Constant, linear and quadratic coefficients: 1 / (kc + kl·d + kq·d²).
     attenuation: vec3<f32>,
+    // 1 / range (0: no cut-off): glTF's window clamp(1 − (d/range)⁴, 0, 1)².
+    inverse_range: f32,
 #endif
 }
 #endif
@@ -39,6 +41,7 @@ struct SpotLight {
     position: vec3<f32>,
 #if ATTENUATION
     attenuation: vec3<f32>,
+    inverse_range: f32,
 #endif
     // Unit vector: the way the light travels along the cone's axis.
     direction: vec3<f32>,

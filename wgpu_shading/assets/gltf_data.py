@@ -13,7 +13,6 @@ from __future__ import annotations
 import base64
 import json
 import os
-import stat
 import struct
 from pathlib import Path
 from urllib.parse import unquote
@@ -22,6 +21,7 @@ import numpy as np
 
 from ..errors import MeshError
 from ..scene.mesh import MAX_VERTICES
+from .files import check_regular_file
 
 MAX_GLTF_ITEMS = 1 << 20  # nodes, meshes, accessors, ... in one file (each list)
 MAX_ACCESSOR_COUNT = MAX_VERTICES  # elements of one accessor (2^25)
@@ -37,15 +37,12 @@ def gltf_error(path: Path, field: str, detail: str) -> MeshError:
 
 def regular_file_size(file: Path, where: str) -> int:
     """The size of `file`, refusing anything but a regular file without opening it (a FIFO
-    or a device blocks or never ends)."""
+    or a device blocks or never ends: assets/files.py)."""
+    check_regular_file(file, where, MeshError)
     try:
-        info = os.stat(file)
+        return os.stat(file).st_size
     except (OSError, ValueError) as error:
         raise MeshError(f"{where}: cannot be read ({getattr(error, 'strerror', None) or error})") from None
-    if not stat.S_ISREG(info.st_mode):
-        kind = "a directory" if stat.S_ISDIR(info.st_mode) else "not a regular file (a FIFO, socket or device)"
-        raise MeshError(f"{where}: {kind}; refused without reading it")
-    return info.st_size
 
 
 def split_glb(raw: bytes, path: Path) -> tuple[bytes, bytes | None]:

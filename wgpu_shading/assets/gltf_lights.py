@@ -9,9 +9,9 @@ quantities becomes a classic one (docs/real-world-files.md, "File lights"):
   light is white), and a point light of I candela gives I / d² lux at distance d, so
   point and spot lights get attenuation (0, 0, 1): pure inverse-square falloff, as the
   extension specifies.
-- `range` (the distance where the extension's smooth window reaches zero) is not
-  applied: the classic model has no cut-off distance, so the light keeps falling off as
-  1/d² beyond it (at `range` it is I / range²).
+- `range` becomes the light's `range`: the extension's recommended window
+  clamp(1 − (d/range)⁴, 0, 1)² multiplies the inverse square, so the light fades to zero
+  at that distance (lights without `range` never cut off).
 - spot cones: cutoff = outerConeAngle; the smooth fall-off between innerConeAngle and
   outerConeAngle becomes OpenGL's cos(φ)^exponent with the exponent chosen so that the
   intensity is one half at the middle angle (inner + outer) / 2 (exponent 0, a hard edge,
@@ -86,8 +86,7 @@ def _classic(data: GltfData, light: dict, where: str, matrix: np.ndarray):
         raise gltf_error(data.path, f"{where}.color", f"expected 3 numbers, got {color!r:.60}")
     rgb = [_number(data, c, f"{where}.color", 0.0, 1.0) for c in color]
     intensity = _number(data, light.get("intensity", 1.0), f"{where}.intensity", 0.0, MAX_COLOR)
-    if "range" in light:
-        _number(data, light["range"], f"{where}.range", 1e-30, 1e30)  # checked, not applied (module docstring)
+    light_range = _number(data, light["range"], f"{where}.range", 1e-30, 1e15) if "range" in light else 0.0
     value = tuple(min(c * intensity, MAX_COLOR) for c in rgb) + (1.0,)
     colors = {"diffuse": value, "specular": value}
     position = tuple(float(v) for v in matrix[:3, 3])
@@ -97,14 +96,14 @@ def _classic(data: GltfData, light: dict, where: str, matrix: np.ndarray):
     if kind == "directional":
         return DirectionalLight(direction=direction, **colors)
     if kind == "point":
-        return PositionalLight(position=position, attenuation=_INVERSE_SQUARE, **colors)
+        return PositionalLight(position=position, attenuation=_INVERSE_SQUARE, range=light_range, **colors)
     spot = light.get("spot", {})
     if not isinstance(spot, dict):
         raise gltf_error(data.path, f"{where}.spot", f"expected an object, got {type(spot).__name__}")
     outer = _number(data, spot.get("outerConeAngle", math.pi / 4), f"{where}.spot.outerConeAngle", 0.0, math.pi / 2)
     inner = _number(data, spot.get("innerConeAngle", 0.0), f"{where}.spot.innerConeAngle", 0.0, outer)
     return SpotLight(position=position, direction=direction, cutoff=math.degrees(outer), exponent=spot_exponent(inner, outer),
-                     attenuation=_INVERSE_SQUARE, **colors)
+                     attenuation=_INVERSE_SQUARE, range=light_range, **colors)
 
 
 def spot_exponent(inner: float, outer: float) -> float:

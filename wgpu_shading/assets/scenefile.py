@@ -52,8 +52,8 @@ _SECTIONS = {
 }
 _LIGHT_KEYS = {
     "directional": {"type", "direction", "ambient", "diffuse", "specular"},
-    "positional": {"type", "position", "ambient", "diffuse", "specular", "attenuation"},
-    "spot": {"type", "position", "direction", "ambient", "diffuse", "specular", "attenuation", "cutoff", "exponent"},
+    "positional": {"type", "position", "ambient", "diffuse", "specular", "attenuation", "range"},
+    "spot": {"type", "position", "direction", "ambient", "diffuse", "specular", "attenuation", "range", "cutoff", "exponent"},
 }
 _OBJECT_KEYS = {"mesh", "material", "translate", "rotate", "scale", "crease_angle", "up"}
 _MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode", "alpha_mode", "alpha_cutoff",

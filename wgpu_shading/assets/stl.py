@@ -73,16 +73,17 @@ def _join_equal(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     high = (bits[:, 0].astype(np.uint64) << np.uint64(32)) | bits[:, 1]
     order = np.lexsort((bits[:, 2], high))
     del high
-    ordered = corners[order]
-    new = np.empty(len(ordered), bool)
+    new = np.zeros(len(order), bool)
     new[:1] = True
-    np.any(ordered[1:] != ordered[:-1], axis=1, out=new[1:])
-    positions = ordered[new]
+    for column in range(3):  # one sorted column at a time, not a sorted copy of every corner
+        ordered = bits[order, column]
+        new[1:] |= ordered[1:] != ordered[:-1]
     del ordered
-    vertex = np.cumsum(new, dtype=np.int64)
+    positions = corners[order[new]]
+    vertex = np.cumsum(new, dtype=np.int32)  # < 2^31: at most 3 · 2^25 corners
     vertex -= 1
     del new
-    inverse = np.empty(len(order), np.int64)
+    inverse = np.empty(len(order), np.int32)
     inverse[order] = vertex
     return positions, inverse.reshape(-1, 3)
 

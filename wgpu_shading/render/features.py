@@ -144,7 +144,7 @@ class FeatureSet:
 
 
 def _has_attenuation(light: PositionalLight | SpotLight) -> bool:
-    return tuple(light.attenuation) != (1.0, 0.0, 0.0)
+    return tuple(light.attenuation) != (1.0, 0.0, 0.0) or light.range > 0.0
 
 
 def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Material | None = None) -> FeatureSet:

@@ -100,6 +100,7 @@ def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: glm.dmat4 | No
         lights["position"][index] = glm.dvec3(view * glm.dvec4(glm.dvec3(*light.position), 1.0))
         if "attenuation" in lights.dtype.names:
             lights["attenuation"][index] = light.attenuation
+            lights["inverse_range"][index] = 1.0 / light.range if light.range > 0.0 else 0.0
         if isinstance(light, SpotLight):
             lights["direction"][index] = glm.normalize(rotation * glm.dvec3(*light.direction))
             lights["cutoff_chord_squared"][index] = 4.0 * math.sin(math.radians(light.cutoff) / 2.0) ** 2

@@ -45,13 +45,17 @@ class DirectionalLight:
 
 @dataclass(frozen=True)
 class PositionalLight:
-    """A point light at `position` (world space) with OpenGL attenuation 1/(kc + kl d + kq d²)."""
+    """A point light at `position` (world space) with OpenGL attenuation 1/(kc + kl d + kq d²).
+
+    `range` > 0 (glTF KHR_lights_punctual's) also fades the light to zero at that distance
+    with the extension's window clamp(1 − (d/range)⁴, 0, 1)²; 0 (the default) never cuts off."""
 
     position: Vec3 = (5.0, 2.0, 2.0)
     ambient: Color = (0.0, 0.0, 0.0, 1.0)
     diffuse: Color = (1.0, 1.0, 1.0, 1.0)
     specular: Color = (1.0, 1.0, 1.0, 1.0)
     attenuation: Vec3 = (1.0, 0.0, 0.0)  # constant, linear, quadratic
+    range: float = 0.0  # distance where the light fades out (0: never)
 
     kind = "positional"
 
@@ -60,6 +64,7 @@ class PositionalLight:
             self,
             position=vec3(self.position, "light.position"),
             attenuation=_attenuation(self.attenuation, "light.attenuation"),
+            range=number(self.range, "light.range", 0.0, MAX_COORDINATE),
             **_light_colors(self, "light"),
         )
 
@@ -80,6 +85,7 @@ class SpotLight:
     diffuse: Color = (1.0, 1.0, 1.0, 1.0)
     specular: Color = (1.0, 1.0, 1.0, 1.0)
     attenuation: Vec3 = (1.0, 0.0, 0.0)
+    range: float = 0.0  # as PositionalLight.range
 
     kind = "spot"
 
@@ -91,6 +97,7 @@ class SpotLight:
             cutoff=number(self.cutoff, "light.cutoff", 0.0, 90.0),
             exponent=number(self.exponent, "light.exponent", 0.0, MAX_EXPONENT),
             attenuation=_attenuation(self.attenuation, "light.attenuation"),
+            range=number(self.range, "light.range", 0.0, MAX_COORDINATE),
             **_light_colors(self, "light"),
         )
 

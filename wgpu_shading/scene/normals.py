@@ -68,6 +68,8 @@ def weld_by_position(positions: np.ndarray) -> np.ndarray:
     new = np.empty(count, bool)
     new[:1] = True
     new[1:] = np.any(ordered[1:] != ordered[:-1], axis=1)
+    if new.all():  # a coincidence of keys, no duplicate: the identity, as above
+        return np.arange(count, dtype=np.int64)
     welded = np.empty(count, np.int64)
     welded[order] = np.cumsum(new) - 1
     return welded
@@ -110,6 +112,7 @@ def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray | None, unit: n
             for j in range(3):
                 summed[:, j] += np.bincount(corner_labels, weights=columns[j], minlength=count)
             adjacent += np.bincount(corner_labels, weights=has_area, minlength=count)
+        del columns, has_area, corner_labels  # 4 floats a face, not needed below
     else:
         summed = np.stack([np.bincount(labels, weights=unit[corner_faces, k], minlength=count) for k in range(3)], axis=1)
         adjacent = np.bincount(labels, weights=(area[corner_faces] > 0).astype(float), minlength=count)
@@ -147,7 +150,8 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     vertex_count, face_count = len(positions), len(faces)
     welded = weld_by_position(positions)
     welded_count = int(welded.max()) + 1
-    welded_faces = welded[faces]
+    # Already welded (weld_by_position returns the identity then): no (F, 3) gather.
+    welded_faces = faces if welded_count == vertex_count else welded[faces]
     corner_welded = welded_faces.reshape(-1)
     unit, area = face_normals(positions, faces)
     spread: list = []

@@ -65,6 +65,7 @@ class EyeLight:
     to_light: np.ndarray | None = None  # directional: unit vector towards the light
     position: np.ndarray | None = None  # positional, spot
     attenuation: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    range: float = 0.0  # positional, spot: glTF's cut-off distance (0: none)
     axis: np.ndarray | None = None  # spot: unit direction the light travels
     cutoff_chord_squared: float = 0.0  # spot: 4·sin²(cutoff/2)
     exponent: float = 0.0  # spot
@@ -91,6 +92,7 @@ def lights_in_eye_space(scene: Scene) -> list[EyeLight]:
                     "spot",
                     position=position,
                     attenuation=attenuation,
+                    range=float(light.range),
                     axis=axis / np.linalg.norm(axis),
                     cutoff_chord_squared=4.0 * math.sin(math.radians(light.cutoff) / 2.0) ** 2,
                     exponent=float(light.exponent),
@@ -98,14 +100,16 @@ def lights_in_eye_space(scene: Scene) -> list[EyeLight]:
                 )
             )
         elif isinstance(light, PositionalLight):
-            lights.append(EyeLight("positional", position=position, attenuation=attenuation, **colors))
+            lights.append(EyeLight("positional", position=position, attenuation=attenuation, range=float(light.range), **colors))
     return lights
 
 
-def attenuation_factor(coefficients: tuple[float, float, float], distance: np.ndarray) -> np.ndarray:
-    """1 / max(kc + kl·d + kq·d², 1e-20): finite even for a light at the point with kc = 0."""
+def attenuation_factor(coefficients: tuple[float, float, float], distance: np.ndarray, range_: float = 0.0) -> np.ndarray:
+    """1 / max(kc + kl·d + kq·d², 1e-20): finite even for a light at the point with kc = 0;
+    × KHR_lights_punctual's window clamp(1 − (d/range)⁴, 0, 1)² when range > 0."""
     kc, kl, kq = coefficients
-    return 1.0 / np.maximum(kc + kl * distance + kq * distance**2, MIN_ATTENUATION_DENOMINATOR)
+    window = np.clip(1.0 - (distance / range_) ** 4, 0.0, 1.0) ** 2 if range_ > 0.0 else 1.0
+    return window / np.maximum(kc + kl * distance + kq * distance**2, MIN_ATTENUATION_DENOMINATOR)
 
 
 # --------------------------------------------------------------------------- the lighting equation
@@ -164,7 +168,7 @@ def shade(
             offset = light.position - points
             # A light exactly at the point has no direction: light it as if from straight above.
             to_light = safe_normalize(offset, normals)
-            scale = attenuation_factor(light.attenuation, np.sqrt(dot(offset, offset)))
+            scale = attenuation_factor(light.attenuation, np.sqrt(dot(offset, offset)), light.range)
             if light.kind == "spot":
                 # Open cone, tested as a squared chord between -L and the axis (exact for tiny cutoffs).
                 chord = -to_light - light.axis
