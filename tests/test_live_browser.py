@@ -97,7 +97,8 @@ def test_widget_in_jupyterlab_shows_renders_pixels_and_takes_keys(tmp_path):
     server = subprocess.Popen(
         [sys.executable, "-m", "jupyterlab", "--no-browser", "--allow-root", f"--port={port}", "--ip=127.0.0.1",
          f"--ServerApp.token={TOKEN}", f"--ServerApp.root_dir={tmp_path}",
-         f"--LabApp.user_settings_dir={home / 'settings'}", f"--LabApp.workspaces_dir={home / 'workspaces'}"],
+         f"--LabApp.user_settings_dir={home / 'settings'}", f"--LabApp.workspaces_dir={home / 'workspaces'}",
+         "--LabApp.expose_app_in_browser=True"],
         env={**os.environ, **{k: str(v) for k, v in env_dirs.items()}},
         stdout=subprocess.DEVNULL, stderr=(tmp_path / "server.log").open("w"),
     )
@@ -113,16 +114,28 @@ def test_widget_in_jupyterlab_shows_renders_pixels_and_takes_keys(tmp_path):
         browser.get(f"http://127.0.0.1:{port}/lab/tree/smoke.ipynb?token={TOKEN}")
         from selenium.webdriver.common.action_chains import ActionChains
         from selenium.webdriver.common.by import By
-        from selenium.webdriver.common.keys import Keys
 
-        editors = lambda: browser.find_elements(By.CSS_SELECTOR, ".jp-Notebook .jp-Cell .cm-content")  # noqa: E731
-        # (retried: the page answers clicks only once JupyterLab has laid it out)
-        _wait(lambda: browser.find_element(By.CSS_SELECTOR, ".jp-Notebook-ExecutionIndicator[data-status='idle']"),
-              120, "the kernel to be ready")
+        # Cells are run through JupyterLab's own commands (the app is exposed to the page with
+        # --LabApp.expose_app_in_browser): clicking into a cell's editor races the page's layout.
+        _wait(lambda: browser.execute_script(
+            "const w = window.jupyterapp && window.jupyterapp.shell.currentWidget;"
+            "return !!(w && w.sessionContext && w.content && w.content.widgets.length === 2)"), 120, "the notebook")
+
+        def run_cell(index: int) -> None:
+            answer = browser.execute_async_script(
+                """const [index, done] = arguments;
+                const panel = window.jupyterapp.shell.currentWidget;
+                panel.sessionContext.ready
+                    .then(() => { panel.content.activeCellIndex = index; return window.jupyterapp.commands.execute('notebook:run-cell'); })
+                    .then(() => done('ok'), (error) => done('error: ' + error));""",
+                index,
+            )
+            assert answer == "ok", answer
+
+        browser.set_script_timeout(120)
         img = None
         for _ in range(3):  # a run request sent while the kernel connects can be lost: send it again
-            _wait(lambda: editors()[0].click() or True, 90, "the notebook's first cell")
-            ActionChains(browser).key_down(Keys.SHIFT).send_keys(Keys.ENTER).key_up(Keys.SHIFT).perform()
+            run_cell(0)
             try:
                 img = _wait(lambda: browser.find_element(By.CSS_SELECTOR, "img.renderview-view[src^='data:image/png']"),
                             40, "the widget's first frame")
@@ -130,8 +143,8 @@ def test_widget_in_jupyterlab_shows_renders_pixels_and_takes_keys(tmp_path):
             except AssertionError:
                 continue
         assert img is not None, "the first cell never showed the widget"
-        shown = _shown(browser, img)
-        assert shown.shape == (120, 160, 4), f"the frame is {shown.shape}"
+        # (jupyter_rfb may show a 1×1 placeholder until the first frame arrives)
+        shown = _wait(lambda: (frame := _shown(browser, img)).shape == (120, 160, 4) and [frame], 60, "a 160×120 frame")[0]
         assert np.array_equal(shown, _rendered(tmp_path)), "the browser shows other pixels than render writes"
         first = img.get_attribute("src")
         browser.execute_script("arguments[0].scrollIntoView({block: 'center'})", img)
@@ -143,8 +156,7 @@ def test_widget_in_jupyterlab_shows_renders_pixels_and_takes_keys(tmp_path):
         # The last frame of an interaction is lossless: wait until it is the flat, turned view.
         _wait(lambda: img.get_attribute("src") != first, 60, "a new frame")
         # The second cell prints the render command of the view shown; it draws those pixels.
-        _wait(lambda: editors()[1].click() or True, 30, "the notebook's second cell")
-        ActionChains(browser).key_down(Keys.SHIFT).send_keys(Keys.ENTER).key_up(Keys.SHIFT).perform()
+        run_cell(1)
         printed = _wait(lambda: next(e.text for e in browser.find_elements(By.CSS_SELECTOR, ".jp-OutputArea-output pre")
                                      if e.text.startswith("wgpu-shading render")), 60, "the printed command")
         argv = shlex.split(printed.strip())
