@@ -78,6 +78,16 @@ def test_an_ascii_stl_is_still_read(tmp_path):
     assert load_mesh(path).triangle_count == 4
 
 
+def test_an_ascii_stl_beyond_its_limit_is_refused_before_trimesh_reads_it(tmp_path, monkeypatch):
+    from wgpu_shading.assets import stl
+
+    monkeypatch.setattr(stl, "MAX_ASCII_BYTES", 100)
+    path = tmp_path / "big.stl"
+    path.write_text("solid big\n" + "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n" * 3)
+    with pytest.raises(MeshError, match="big.stl': an ASCII STL of 0 MiB; ASCII STL files up to 0 MiB are read.*save it as binary STL"):
+        load_mesh(path)
+
+
 # --------------------------------------------------------------------------- text meshes
 
 
