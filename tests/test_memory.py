@@ -160,23 +160,35 @@ def test_one_byte_bound_holds_for_every_stored_format_of_an_object():
 
 
 def test_a_renderer_keeps_its_textures_in_one_bounded_cache(renderer, monkeypatch):
-    """Every texture upload counts against one byte bound (docs/reliability.md): a 4×4
-    texture with its mip chain (4², 2², 1² texels × 4 bytes) is 84 bytes; with a bound of
-    200 bytes, three of them leave two."""
+    """Every texture upload counts against one byte bound (docs/reliability.md), whatever
+    format it is stored in: a 4×4 texture with its mip chain (4², 2², 1² texels × 4 bytes)
+    is 84 bytes per format. Drawn in display and in linear colour space (rgba8unorm and
+    rgba8unorm-srgb), two textures are four uploads; a bound of 200 bytes keeps two."""
     from dataclasses import replace
 
     from wgpu_shading import Renderer, Texture, load_scene
     from wgpu_shading.render import device_cache
     from wgpu_shading.render.caches import ObjectCache
 
-    monkeypatch.setattr(device_cache, "TEXTURE_CACHE_BYTES", 200)
     textured = load_scene(Path(__file__).resolve().parent.parent / "examples" / "checker_sphere_modulate.toml")
     (obj,) = textured.objects
-    fresh = Renderer(device=renderer.device)
-    textures = [Texture(np.full((4, 4, 4), 60 * (k + 1), dtype=np.uint8), name=f"t{k}") for k in range(3)]
+    textures = [Texture(np.full((4, 4, 4), 60 * (k + 1), dtype=np.uint8), name=f"t{k}") for k in range(2)]
+
+    def draw(into: Renderer, texture: Texture, color_space: str) -> None:
+        scene = replace(textured, objects=(replace(obj, material=replace(obj.material, texture=texture)),), size=(16, 16))
+        into.render(replace(scene, shading=replace(scene.shading, color_space=color_space)))
+
+    unbounded = Renderer(device=renderer.device)
+    draw(unbounded, textures[0], "display")
+    draw(unbounded, textures[0], "linear")
+    assert unbounded.device_cache.textures.nbytes == 2 * 84 and len(unbounded.device_cache.textures) == 2
+
+    monkeypatch.setattr(device_cache, "TEXTURE_CACHE_BYTES", 200)
+    bounded = Renderer(device=renderer.device)
     for texture in textures:
-        fresh.render(replace(textured, objects=(replace(obj, material=replace(obj.material, texture=texture)),), size=(16, 16)))
-    kept = fresh.device_cache
-    assert kept.textures.nbytes == 2 * 84 and len(kept.textures) == 2 and kept.textures.evictions == 1
+        for color_space in ("display", "linear"):
+            draw(bounded, texture, color_space)
+    kept = bounded.device_cache
+    assert kept.textures.nbytes == 2 * 84 and len(kept.textures) == 2 and kept.textures.evictions == 2
     # A second cache of uploads (e.g. one per stored format) would double the bound.
     assert [name for name, value in vars(kept).items() if isinstance(value, ObjectCache)] == ["meshes", "textures"]

@@ -87,11 +87,13 @@ class DeviceCache:
             upload_colors(self.device, gpu_mesh, mesh, self._mesh_usage)
         return gpu_mesh
 
-    def gpu_texture(self, texture: Texture) -> GpuTexture:
-        stored_as = "rgba8unorm"  # upload_texture's format: the variant key in self.textures
+    def gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:
+        """The texture's upload; `srgb`: as rgba8unorm-srgb (material_maps.decodes_srgb).
+        Both formats are entries of the one texture cache, keyed by the format."""
+        stored_as = "rgba8unorm-srgb" if srgb else "rgba8unorm"
         gpu_texture = self.textures.get(texture, stored_as)
         if gpu_texture is None:
-            gpu_texture = self.textures.put(texture, upload_texture(self.device, texture), stored_as)
+            gpu_texture = self.textures.put(texture, upload_texture(self.device, texture, srgb), stored_as)
         return gpu_texture
 
     def sampler(self, texture: Texture) -> object:
