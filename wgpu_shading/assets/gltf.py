@@ -3,7 +3,7 @@
 
 Material mapping (glTF 2.0 spec, appendix B, onto OpenGL's model; docs/real-world-files.md):
   base = baseColorFactor (× the texture, sampled per pixel)
-  ambient  = base                      (SPEC §12: base color → diffuse and ambient)
+  ambient  = base                      (docs/real-world-files.md: base color → diffuse and ambient)
   diffuse  = base · (1 − metallic)     (c_diff)
   specular = f0 = mix(f0_dielectric, base, metallic), f0_dielectric = 0.04 (ior 1.5),
              or min(0.04 · specularColorFactor, 1) · specularFactor (KHR_materials_specular)

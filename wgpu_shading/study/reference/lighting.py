@@ -1,6 +1,6 @@
-"""The lighting equation of docs/conventions.md (SPEC §3) in float64, at arrays of eye-space
+"""The lighting equation of docs/conventions.md in float64, at arrays of eye-space
 points: guarded power and normalize with the conventions' limits, the lights in eye space,
-ambient + diffuse + specular per light, and the texture sampling and combine of SPEC §5
+ambient + diffuse + specular per light, and the texture sampling and combine of docs/conventions.md#textures
 with the final clamp. Shape-agnostic: the rasterized meshes (`mesh.py`) and the
 analytic shapes (`analytic.py`) both shade through `shade` and `combine`."""
 
@@ -136,7 +136,7 @@ def specular_factor(normals, to_light, to_viewer, shininess: float, reflection: 
 def shade(
     points: np.ndarray, normals: np.ndarray, to_viewer: np.ndarray, scene: Scene, material: Material
 ) -> tuple[np.ndarray, np.ndarray]:
-    """SPEC §3 at N eye-space points with unit normals and unit view vectors, all (N, 3).
+    """The lighting equation (docs/conventions.md) at N eye-space points with unit normals and unit view vectors, all (N, 3).
 
     Returns the ambient+diffuse+emission part and the specular part, (N, 3) each, unclamped
     (textures treat them apart; the clamp comes last, in `combine`).
@@ -190,10 +190,10 @@ def clamp_vertex_colors(ambient_diffuse: np.ndarray, specular: np.ndarray, textu
 def combine(
     ambient_diffuse: np.ndarray, specular: np.ndarray, material: Material, texel: np.ndarray | None = None
 ) -> np.ndarray:
-    """Texture combine (SPEC §5) and the final clamp: (N, 4) RGBA.
+    """Texture combine (docs/conventions.md#textures) and the final clamp: (N, 4) RGBA.
 
     `texel` is the sampled RGBA in [0, 1] (N, 4), or None for an untextured material; the
-    mode is material.texture_mode. Alpha (SPEC §13) is 1 unless the material blends: then
+    mode is material.texture_mode. Alpha (docs/conventions.md#the-lighting-equation) is 1 unless the material blends: then
     the diffuse alpha (× texel alpha). (A masked fragment below the cutoff is discarded on
     the GPU; the reference shows it opaque.)
     """
