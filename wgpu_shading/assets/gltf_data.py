@@ -45,7 +45,7 @@ def regular_file_size(file: Path, where: str) -> int:
         raise MeshError(f"{where}: cannot be read ({getattr(error, 'strerror', None) or error})") from None
 
 
-def split_glb(raw: bytes, path: Path) -> tuple[bytes, bytes | None]:
+def split_glb(raw: bytes, path: Path) -> tuple[bytes, memoryview | None]:
     """The JSON and BIN chunks of a GLB (glTF 2.0 §4.4), every length checked."""
     if len(raw) < 20:
         raise gltf_error(path, "GLB header", f"the file has {len(raw)} bytes, a GLB needs at least 20")
@@ -58,12 +58,12 @@ def split_glb(raw: bytes, path: Path) -> tuple[bytes, bytes | None]:
         length, kind = struct.unpack_from("<II", raw, offset)
         if offset + 8 + length > end:
             raise gltf_error(path, "GLB chunk", f"a chunk of {length} bytes at byte {offset} runs past the end of the file ({end} bytes)")
-        chunks.append((kind, raw[offset + 8 : offset + 8 + length]))
+        chunks.append((kind, memoryview(raw)[offset + 8 : offset + 8 + length]))  # no copy of the BIN chunk
         offset += 8 + length  # lengths include their padding (some writers leave it out)
     if not chunks or chunks[0][0] != _GLB_JSON:
         raise gltf_error(path, "GLB", "the first chunk is not JSON")
     binary = next((data for kind, data in chunks[1:] if kind == _GLB_BIN), None)
-    return chunks[0][1], binary
+    return bytes(chunks[0][1]), binary
 
 
 def parse_json(text: bytes, path: Path) -> dict:
@@ -91,7 +91,7 @@ class GltfData:
                 raw += file.read(struct.unpack_from("<I", raw, 12)[0])
             else:
                 raw += file.read()
-        self.binary: bytes | None = None
+        self.binary: memoryview | None = None
         if raw[:4] == b"glTF":
             text, self.binary = split_glb(raw, path)
         else:
@@ -191,7 +191,7 @@ class GltfData:
 
     def view_bytes(self, index: object, field: str) -> bytes:
         data, start, length, _ = self.view(index, field)
-        return data[start : start + length]
+        return bytes(data[start : start + length])
 
     # ------------------------------------------------------------------ accessors
 
