@@ -48,6 +48,7 @@ SMOKE_SCRIPTS = {
     "antialiasing": ("bench_antialiasing.py", "--smoke"),
     "live": ("bench_live.py", "--smoke"),
     "callgrind": ("scripts/callgrind_frames.py", "ours", "--smoke"),
+    "ab_issue21": ("scripts/ab_issue21.py", "both", "--smoke"),
 }
 
 

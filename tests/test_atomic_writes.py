@@ -279,3 +279,18 @@ def test_render_to_a_broken_pipe_is_one_line_and_exit_2(tmp_path):
         os.close(write)
     assert result.returncode == 2, result.stderr
     assert result.stderr.count("\n") == 1 and "standard output" in result.stderr and "closed the pipe" in result.stderr
+
+
+def test_a_full_disk_fails_the_batch_job_naming_its_file_and_leaves_no_temporary(full_disk, renderer):
+    import json
+
+    from wgpu_shading.dataset import Outputs, render_dataset
+    from wgpu_shading.dataset.jobs import Job
+
+    job = Job(id="m/v", source="builtin:cube", folder="m", name="v", size=(400, 400), outputs=Outputs(depth="npy"))
+    result = render_dataset([job], full_disk / "out", progress=False, renderer=renderer)  # 640 KB of float32 depth
+    assert list(result.failed) == ["m/v"]
+    message = result.failed["m/v"]
+    assert "v_depth.npy" in message and "No space left on device" in message, message
+    assert leftovers(full_disk) == [] and not (full_disk / "out" / "m" / "v.json").exists()
+    assert json.loads((full_disk / "out" / "report.json").read_text())["failed"] == {"m/v": message}

@@ -83,7 +83,8 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 
 SMOKE_STEPS = (
     "warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference",
-    "golden_noise", "loading", "antialiasing", "live", "callgrind", "report",
+    "golden_noise", "loading", "antialiasing", "live", "callgrind", "ab_issue21",
+    "report",
 )
 
 

@@ -78,6 +78,16 @@ def test_an_ascii_stl_is_still_read(tmp_path):
     assert load_mesh(path).triangle_count == 4
 
 
+def test_an_ascii_stl_beyond_its_limit_is_refused_before_trimesh_reads_it(tmp_path, monkeypatch):
+    from wgpu_shading.assets import stl
+
+    monkeypatch.setattr(stl, "MAX_ASCII_BYTES", 100)
+    path = tmp_path / "big.stl"
+    path.write_text("solid big\n" + "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n" * 3)
+    with pytest.raises(MeshError, match="big.stl': an ASCII STL of 0 MiB; ASCII STL files up to 0 MiB are read.*save it as binary STL"):
+        load_mesh(path)
+
+
 # --------------------------------------------------------------------------- text meshes
 
 
@@ -223,3 +233,21 @@ def test_trimesh_internals_are_not_leaked_into_messages():
     assert "FilePathResolver" not in text and "'../secret.bin'" in text and "outside its folder" in text
     text = describe_load_error(AssertionError(), Path("m.ply"))
     assert "AssertionError" not in text and "not a valid PLY file" in text
+
+
+def test_pillow_warnings_about_a_texture_are_one_line_naming_it(tmp_path, capsys):
+    import io
+
+    buffer = io.BytesIO()
+    Image.new("RGB", (8, 8), (200, 10, 10)).save(buffer, "JPEG")
+    jpeg = buffer.getvalue()
+    # An EXIF block whose one tag points past its end: Pillow warns "Tag data larger than
+    # file" and "Corrupt EXIF data" (each twice) and reads the pixels.
+    exif = b"Exif\x00\x00MM\x00\x2a\x00\x00\x00\x08\x00\x05\x01\x0f\x00\x02\x00\x00\x10\x00\x00\x00\x00\x00"
+    (tmp_path / "bad_exif.jpg").write_bytes(jpeg[:2] + b"\xff\xe1" + struct.pack(">H", len(exif) + 2) + exif + jpeg[2:])
+    scene = tmp_path / "s.toml"
+    scene.write_text('[output]\nsize = [16, 16]\n[[objects]]\nmesh = "builtin:cube"\nmaterial = { texture = "bad_exif.jpg" }\n')
+    assert main(["render", str(scene), "-o", str(tmp_path / "out.png"), "-q"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert err[0].startswith("wgpu-shading: warning: texture ") and "bad_exif.jpg" in err[0] and "read anyway" in err[0]

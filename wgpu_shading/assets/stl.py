@@ -21,6 +21,9 @@ from ..scene.mesh import MAX_TRIANGLES
 
 HEADER_BYTES = 84  # 80 bytes of free text, then the little-endian uint32 triangle count
 RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])  # 50 bytes
+# ASCII STL is read by trimesh, whose text parsing peaked at ~6x the file (a 16 MB file:
+# 100k triangles, +80 MB resident); 512 MiB of text is ~3M triangles and ~3 GB.
+MAX_ASCII_BYTES = 512 << 20
 BLOCK = 1 << 16  # triangles read at a time: 3.3 MB of records besides the corners
 
 
@@ -36,6 +39,11 @@ def binary_stl_count(path: Path, where: str, file_size: int) -> int | None:
         return count  # binary, even when its free text starts with "solid" (many exporters do that)
     text = head.lstrip()
     if text[:5].lower() == b"solid" and _mostly_text(head):
+        if file_size > MAX_ASCII_BYTES:
+            raise MeshError(
+                f"{where}: an ASCII STL of {file_size / 2**20:.0f} MiB; ASCII STL files up to {MAX_ASCII_BYTES >> 20} MiB "
+                "are read (trimesh holds ~6 bytes per byte of text); save it as binary STL"
+            )
         return None
     if count < 0:
         raise MeshError(f"{where}: not a valid STL file (shorter than a binary STL's 84-byte header, and not ASCII STL)")

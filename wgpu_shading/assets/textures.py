@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 import os
 import threading
+import warnings
 from contextlib import contextmanager
 from typing import Iterator
 
@@ -58,9 +59,6 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
     The file is read and closed here, then decoded from memory: a file that fails to
     decode leaves no open file descriptor behind. Its size is read from the header and
     checked before the pixels are decoded."""
-    import imageio.v3 as iio  # lazy: imageio costs ~0.1 s to import
-    from PIL import Image
-
     where = f"texture {str(path)!r}"
     check_regular_file(path, where, SceneError)  # a FIFO would block open() forever
     try:
@@ -72,6 +70,17 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
         raise SceneError(f"{where}: cannot be read ({getattr(error, 'strerror', None) or error})") from None
     if len(data) > MAX_TEXTURE_FILE_BYTES:
         raise SceneError(f"{where}: the file is larger than {MAX_TEXTURE_FILE_BYTES >> 20} MiB")
+    with decoder_warnings(where):
+        pixels = _decode(data, where)
+    if pixels.ndim == 4:  # animated formats: first frame
+        pixels = pixels[0]
+    return Texture(np.asarray(pixels), name=str(path))
+
+
+def _decode(data: bytes, where: str) -> np.ndarray:
+    import imageio.v3 as iio  # lazy: imageio costs ~0.1 s to import
+    from PIL import Image
+
     try:
         with decoding_limits(), Image.open(io.BytesIO(data)) as header:  # reads the header only
             width, height = header.size
@@ -90,6 +99,22 @@ def load_texture(path: str | os.PathLike[str]) -> Texture:
             pixels = iio.imread(data, plugin="pillow")
     except Exception as error:  # imageio raises many kinds for unreadable files
         raise SceneError(f"{where}: cannot read image ({type(error).__name__}: {error})") from None
-    if pixels.ndim == 4:  # animated formats: first frame
-        pixels = pixels[0]
-    return Texture(np.asarray(pixels), name=str(path))
+    return pixels
+
+
+@contextmanager
+def decoder_warnings(where: str) -> Iterator[None]:
+    """Pillow's warnings about a file it still decodes ("Corrupt EXIF data", "Tag data larger
+    than file", each twice) become one warning that names the file. In the main thread only:
+    `warnings.catch_warnings` swaps process-wide state (Python < 3.14), so in other threads
+    the warnings pass as Pillow raised them."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        yield
+    messages = list(dict.fromkeys(" ".join(str(item.message).split()) for item in caught))
+    if messages:
+        more = f" (and {len(messages) - 1} more)" if len(messages) > 1 else ""
+        warnings.warn(f"{where}: {messages[0]}{more}; the pixels were read anyway", UserWarning, stacklevel=4)
