@@ -181,7 +181,8 @@ def test_gltf_vertex_colors_multiply_the_base_color(tmp_path, renderer):
     )
     for frequency in ("flat", "gouraud", "phong"):
         image = renderer.render(head_on([SceneObject(load_mesh(path))], frequency))
-        np.testing.assert_allclose(pixel(image, -0.5, 0.0)[:3], [0, 128, 128], atol=1, err_msg=frequency)
+        # (0, 1, 0.5) × (1, 0.5, 1) = (0, 0.5, 0.5) in linear light, sRGB-encoded: 0.5 → 188
+        np.testing.assert_allclose(pixel(image, -0.5, 0.0)[:3], [0, 188, 188], atol=1, err_msg=frequency)
 
 
 def test_gltf_alpha_modes(tmp_path, renderer):
@@ -228,12 +229,13 @@ def test_unlit_shows_the_base_color_as_is(tmp_path, renderer):
         extra={"extensionsUsed": ["KHR_materials_unlit"]},
     )
     image = renderer.render(head_on([SceneObject(load_mesh(path))]))  # lit, the tilted normal would darken it to 0.6×
-    np.testing.assert_allclose(pixel(image, -0.5, 0.0)[:3], [51, 102, 153], atol=1)
+    # The linear factor (0.2, 0.4, 0.6), sRGB-encoded as glTF viewers show it.
+    np.testing.assert_allclose(pixel(image, -0.5, 0.0)[:3], [124, 170, 203], atol=1)
 
 
 def test_gltf_material_mapping_formula(tmp_path):
-    """docs/real-world-files.md: diffuse = base·(1 − metallic), specular = mix(f0, base, metallic),
-    shininess = clamp((2/α² − 2)/4, 1, 512) with α = roughness²."""
+    """docs/real-world-files.md: s = metallic·(1 − roughness²), diffuse = base·(1 − s),
+    specular = f0·(1 − metallic) + base·s, shininess = clamp((2/α² − 2)/4, 1, 512) with α = roughness²."""
     positions, indices = quad(0, 0)
     materials = [
         {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.4, 0.2, 1], "metallicFactor": 0.25, "roughnessFactor": 0.5}},
@@ -242,9 +244,10 @@ def test_gltf_material_mapping_formula(tmp_path):
     ]
     primitives = [[{"positions": positions, "indices": indices, "material": k}] for k in range(2)]
     first, second = (p.material for p in load_mesh(write_gltf(tmp_path / "m.gltf", meshes=primitives, materials=materials)).parts)
-    np.testing.assert_allclose(first.diffuse[:3], np.array([0.8, 0.4, 0.2]) * 0.75)
+    share = 0.25 * (1 - 0.5**2)  # s = 0.1875
+    np.testing.assert_allclose(first.diffuse[:3], np.array([0.8, 0.4, 0.2]) * (1 - share))
     np.testing.assert_allclose(first.ambient[:3], [0.8, 0.4, 0.2])
-    np.testing.assert_allclose(first.specular[:3], 0.04 * 0.75 + np.array([0.8, 0.4, 0.2]) * 0.25)
+    np.testing.assert_allclose(first.specular[:3], 0.04 * 0.75 + np.array([0.8, 0.4, 0.2]) * share)
     assert first.shininess == pytest.approx((2 / 0.25**2 - 2) / 4)  # α = 0.5² = 0.25: 7.5
     np.testing.assert_allclose(second.specular[:3], [0.5, 0.02, 0.02])  # min(0.04·color, 1)·factor
 
@@ -268,8 +271,8 @@ def test_draco_without_the_extra_is_an_error_naming_it(monkeypatch):
 
 
 def test_gltf_color_0_file_from_blender(renderer):
-    mesh = load_mesh(REAL / "cubevc.glb")  # COLOR_0, no material
-    assert mesh.colors is not None and mesh.parts[0].material is None
+    mesh = load_mesh(REAL / "cubevc.glb")  # COLOR_0, no material: the glTF default (white, linear)
+    assert mesh.colors is not None and mesh.parts[0].material.name == "glTF default"
     np.testing.assert_allclose(mesh.colors, np.tile([1, 0, 1, 1], (mesh.vertex_count, 1)))  # magenta, as f3d shows it
     image = renderer.render(head_on([SceneObject(mesh, Material(diffuse=(1, 1, 1, 1)))], half_width=3.0))
     assert tuple(pixel(image, 0.0, 0.0, 3.0)[:3]) == (255, 0, 255)  # the cube's front face, head-on

@@ -39,6 +39,7 @@ SAMPLES = {
     "local_viewer": (["--infinite-viewer"], "false", False, "[shading]\nlocal_viewer = false"),
     "two_sided": (["--two-sided"], "true", True, "[shading]\ntwo_sided = true"),
     "clamp_vertex_colors": (["--clamp-vertex-colors"], "true", True, "[shading]\nclamp_vertex_colors = true"),
+    "color_space": (["--color-space", "linear"], "linear", "linear", '[shading]\ncolor_space = "linear"'),
     "crease_angle": (["--crease-angle", "120"], "120", 120.0, "OBJECT crease_angle = 120"),
     "up": (["--up", "+Z"], "+Z", "+Z", 'OBJECT up = "+Z"'),
     "camera_position": (["--camera-position", "2,1,5"], "2 1 5", (2.0, 1.0, 5.0), "[camera]\neye = [2, 1, 5]"),

@@ -9,6 +9,7 @@
 #include "structs.wgsl"
 #include "bindings.wgsl"
 #include "lighting.wgsl"
+#include "maps.wgsl"
 #include "surface.wgsl"
 
 // Group 2 (the mesh: mesh_positions, mesh_indices, mesh_uvs, mesh_colors) is declared by
@@ -26,7 +27,7 @@ struct Varyings {
     @location(3) @interpolate(flat) back_specular: vec3<f32>,
 #endif
 #endif
-#if TEXTURE
+#if UVS
     @location(4) uv: vec2<f32>,
 #endif
 }
@@ -34,6 +35,12 @@ struct Varyings {
 fn model_position(vertex: u32) -> vec3<f32> {
     return vec3<f32>(mesh_positions[3u * vertex], mesh_positions[3u * vertex + 1u], mesh_positions[3u * vertex + 2u]);
 }
+
+#if UVS
+fn model_uv(vertex: u32) -> vec2<f32> {
+    return vec2<f32>(mesh_uvs[2u * vertex], mesh_uvs[2u * vertex + 1u]);
+}
+#endif
 
 @vertex
 fn vs_main(@builtin(vertex_index) corner_index: u32) -> Varyings {
@@ -56,9 +63,14 @@ fn vs_main(@builtin(vertex_index) corner_index: u32) -> Varyings {
     surface_color = (mesh_colors[mesh_indices[first]] + mesh_colors[mesh_indices[first + 1u]]
         + mesh_colors[mesh_indices[first + 2u]]) / 3.0;
 #endif
+#if OCCLUSION_MAP or SHININESS_MAP
+    // The face's maps at its centroid's uv, like its normal and position.
+    read_vertex_maps((model_uv(mesh_indices[first]) + model_uv(mesh_indices[first + 1u])
+        + model_uv(mesh_indices[first + 2u])) / 3.0);
+#endif
     store_lighting(&out, centroid, normal);
-#if TEXTURE
-    out.uv = vec2<f32>(mesh_uvs[2u * vertex], mesh_uvs[2u * vertex + 1u]);
+#if UVS
+    out.uv = model_uv(vertex);
 #endif
     return out;
 }

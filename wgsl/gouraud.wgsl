@@ -6,6 +6,7 @@
 #include "structs.wgsl"
 #include "bindings.wgsl"
 #include "lighting.wgsl"
+#include "maps.wgsl"
 #include "surface.wgsl"
 
 
@@ -22,7 +23,7 @@ struct Varyings {
     @location(3) back_specular: vec3<f32>,
 #endif
 #endif
-#if TEXTURE
+#if UVS
     @location(4) uv: vec2<f32>,
 #endif
 }
@@ -36,8 +37,11 @@ fn vs_main(vertex: VertexInput) -> Varyings {
 #if VERTEX_COLORS
     surface_color = vertex.color;
 #endif
+#if OCCLUSION_MAP or SHININESS_MAP
+    read_vertex_maps(vertex.uv);
+#endif
     store_lighting(&out, eye_position.xyz, normal);
-#if TEXTURE
+#if UVS
     out.uv = vertex.uv;
 #endif
     return out;

@@ -34,6 +34,25 @@ fn surface_tint() -> vec3<f32> {
 #endif
 }
 
+#if OCCLUSION_MAP
+// The occlusion map's factor on the ambient terms at the point being shaded (glTF:
+// 1 + strength·(texel − 1)); set by the entry point before calling shade().
+var<private> ambient_occlusion: f32 = 1.0;
+#endif
+
+#if SHININESS_MAP
+// The shininess map's texel at the point being shaded: it scales the shininess.
+var<private> shininess_scale: f32 = 1.0;
+#endif
+
+fn material_shininess() -> f32 {
+#if SHININESS_MAP
+    return object_uniforms.material.shininess * shininess_scale;
+#else
+    return object_uniforms.material.shininess;
+#endif
+}
+
 fn material_diffuse() -> vec3<f32> {
     return object_uniforms.material.diffuse.rgb * surface_tint();
 }
@@ -97,12 +116,12 @@ fn specular_factor(normal: vec3<f32>, to_light: vec3<f32>, to_viewer: vec3<f32>)
 #if REFLECTION_PHONG
     // (R·V)^s with R = reflect(−L, N), unit length because L and N are.
     let reflected = reflect(-to_light, normal);
-    return guarded_power(dot(reflected, to_viewer), object_uniforms.material.shininess);
+    return guarded_power(dot(reflected, to_viewer), material_shininess());
 #else
     // (N·H)^(s·k_blinn) with H = normalize(L + V). L = −V leaves no half vector: no
     // highlight (a zero H makes N·H = 0) instead of normalize(0).
     let half_vector = safe_normalize(to_light + to_viewer, vec3<f32>(0.0));
-    let exponent = object_uniforms.material.shininess * frame_uniforms.blinn_exponent_scale;
+    let exponent = material_shininess() * frame_uniforms.blinn_exponent_scale;
     return guarded_power(dot(normal, half_vector), exponent);
 #endif
 }
@@ -119,7 +138,11 @@ fn light_contribution(
 ) -> LitColor {
     let n_dot_l = dot(normal, to_light);
     var result: LitColor;
+#if OCCLUSION_MAP
+    result.ambient_diffuse = scale * (products.ambient.rgb * ambient_occlusion + max(n_dot_l, 0.0) * products.diffuse.rgb) * surface_tint();
+#else
     result.ambient_diffuse = scale * (products.ambient.rgb + max(n_dot_l, 0.0) * products.diffuse.rgb) * surface_tint();
+#endif
 #if SPECULAR
     // f_i: no highlight on the side the light does not reach.
     if (n_dot_l > 0.0) {
@@ -152,7 +175,10 @@ fn shade(eye_position: vec3<f32>, normal: vec3<f32>, to_viewer: vec3<f32>) -> Li
     lit.ambient_diffuse = material_diffuse();
 #else
     lit.ambient_diffuse = object_uniforms.global_ambient_product.rgb * surface_tint();
-#if EMISSION
+#if OCCLUSION_MAP
+    lit.ambient_diffuse *= ambient_occlusion;
+#endif
+#if EMISSION and not EMISSIVE_MAP
     lit.ambient_diffuse += object_uniforms.material.emission.rgb;
 #endif
 #if DIRECTIONAL_LIGHTS

@@ -6,6 +6,7 @@
 #include "structs.wgsl"
 #include "bindings.wgsl"
 #include "lighting.wgsl"
+#include "maps.wgsl"
 #include "surface.wgsl"
 
 
@@ -13,7 +14,7 @@ struct Varyings {
     @builtin(position) clip_position: vec4<f32>,
     @location(0) eye_position: vec3<f32>,
     @location(1) eye_normal: vec3<f32>,
-#if TEXTURE
+#if UVS
     @location(2) uv: vec2<f32>,
 #endif
 #if VERTEX_COLORS
@@ -29,7 +30,7 @@ fn vs_main(vertex: VertexInput) -> Varyings {
     out.eye_position = eye_position.xyz;
     // Left unnormalized: the fragment stage normalizes after interpolation anyway.
     out.eye_normal = object_uniforms.eye_normal_from_model * vertex.normal;
-#if TEXTURE
+#if UVS
     out.uv = vertex.uv;
 #endif
 #if VERTEX_COLORS
@@ -47,17 +48,29 @@ fn fs_main(
 ) -> @location(0) vec4<f32> {
     // The interpolated normal can pass through zero (opposite normals on one triangle).
     var normal = safe_normalize(in.eye_normal, FALLBACK_NORMAL);
+#if NORMAL_MAP or BUMP_MAP
+    var face_sign = 1.0;
+#endif
 #if TWO_SIDED
     // GL_LIGHT_MODEL_TWO_SIDE: back faces are lit with the flipped normal.
     if (!front_facing) {
         normal = -normal;
+#if NORMAL_MAP or BUMP_MAP
+        face_sign = -1.0;
+#endif
     }
+#endif
+#if NORMAL_MAP or BUMP_MAP
+    normal = perturbed_normal(normal, in.eye_position, in.uv, map_normal(in.uv), face_sign);
+#endif
+#if OCCLUSION_MAP or SHININESS_MAP
+    read_fragment_maps(in.uv);
 #endif
 #if VERTEX_COLORS
     surface_color = in.color;
 #endif
     let lit = shade(in.eye_position, normal, view_direction(in.eye_position, normal));
-#if TEXTURE
+#if UVS
     return final_color(lit, in.uv);
 #else
     return final_color(lit);

@@ -65,6 +65,14 @@ struct Material {
     // alphaMode MASK: fragments whose alpha is below this are discarded.
     alpha_cutoff: f32,
 #endif
+#if NORMAL_MAP
+    // glTF normalTexture.scale (MTL -bm): × the tangent-space normal's x and y.
+    normal_scale: f32,
+#endif
+#if OCCLUSION_MAP
+    // glTF occlusionTexture.strength: ambient × (1 + strength·(occlusion − 1)).
+    occlusion_strength: f32,
+#endif
 }
 
 // Group 0: one per frame, shared by every object.

@@ -31,8 +31,28 @@ fn total_light(lit: LitColor) -> vec3<f32> {
 #endif
 }
 
+// The clamped output colour, sRGB-encoded in linear colour space (glTF).
+fn output_rgb(rgb: vec3<f32>) -> vec3<f32> {
+    let clamped = clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+#if SRGB_OUTPUT
+    return srgb_encode(clamped);
+#else
+    return clamped;
+#endif
+}
+
+#if UVS
+fn final_color(lit_in: LitColor, uv: vec2<f32>) -> vec4<f32> {
+#else
+fn final_color(lit_in: LitColor) -> vec4<f32> {
+#endif
+    var lit = lit_in;
+#if SPECULAR_MAP and SPECULAR
+    // The specular map colours the highlight (map_Ks: × the specular colour).
+    lit.specular *= textureSample(specular_map_texture, specular_map_sampler, uv).rgb;
+#endif
+    var alpha = surface_alpha();
 #if TEXTURE
-fn final_color(lit: LitColor, uv: vec2<f32>) -> vec4<f32> {
     let texel = textureSample(base_color_texture, base_color_sampler, uv);
 #if TEXTURE_MODULATE
     // A texture showing the real surface: it replaces the surface color under ambient and
@@ -44,15 +64,21 @@ fn final_color(lit: LitColor, uv: vec2<f32>) -> vec4<f32> {
 #endif
 #elif TEXTURE_MODULATE_ALL
     // Highlights that carry the surface color (fabric, unpainted wood).
-    let rgb = texel.rgb * total_light(lit);
+    var rgb = texel.rgb * total_light(lit);
 #else
     // An ADS material with a texture on top (tarnish on silver): an even mix.
-    let rgb = 0.5 * texel.rgb + 0.5 * total_light(lit);
+    var rgb = 0.5 * texel.rgb + 0.5 * total_light(lit);
 #endif
-    return vec4<f32>(clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0)), output_alpha(surface_alpha() * texel.a));
-}
+    alpha *= texel.a;
 #else
-fn final_color(lit: LitColor) -> vec4<f32> {
-    return vec4<f32>(clamp(total_light(lit), vec3<f32>(0.0), vec3<f32>(1.0)), output_alpha(surface_alpha()));
-}
+    var rgb = total_light(lit);
 #endif
+#if EMISSIVE_MAP and EMISSION
+    // Light the surface gives off, patterned by the map: added after the texture combine.
+    rgb += object_uniforms.material.emission.rgb * textureSample(emissive_map_texture, emissive_map_sampler, uv).rgb;
+#endif
+#if ALPHA_MAP
+    alpha *= textureSample(alpha_map_texture, alpha_map_sampler, uv).r;
+#endif
+    return vec4<f32>(output_rgb(rgb), output_alpha(alpha));
+}

@@ -71,7 +71,7 @@ fn fs_main(
 #endif
     }
 #endif
-#if TEXTURE
+#if UVS
     return final_color(lit, in.uv);
 #else
     return final_color(lit);

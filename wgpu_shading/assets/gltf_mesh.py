@@ -219,6 +219,9 @@ def material_images(data: GltfData, material: dict, warn_name: str):
         "normalTexture": material.get("normalTexture"),
         "occlusionTexture": material.get("occlusionTexture"),
     }
+    specular = extensions.get("KHR_materials_specular")  # its textures (gltf_material.py)
+    if isinstance(specular, dict):
+        infos |= {"specularTexture": specular.get("specularTexture"), "specularColorTexture": specular.get("specularColorTexture")}
     return SimpleNamespace(**{name: _image(data, info) for name, info in infos.items()})
 
 

@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import MeshError, SceneError
 from ..scene import Material, Mesh, Scene, SceneObject, material
 from ..scene.framing import framing_camera
-from ..scene.viewer_lights import viewer_lights
+from ..scene.maps import bare_mesh_lighting
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
 
@@ -43,12 +43,9 @@ def mesh_scene(
         mesh = Mesh.from_arrays(world, mesh.indices, normals=mesh.normals, name=mesh.name)
     try:
         camera = framing_camera(mesh, size)
-        return Scene(
-            objects=(placed,),
-            lights=(file_lights and _file_lights(mesh_source, placed)) or viewer_lights(camera),
-            camera=camera,
-            size=size,
-        )
+        lights, ambient = bare_mesh_lighting((placed,), camera)  # decoded for a bare glTF (scene/maps.py)
+        own = file_lights and _file_lights(mesh_source, placed)  # a glTF file's own lights, if any
+        return Scene(objects=(placed,), lights=own or lights, camera=camera, size=size, ambient=ambient)
     except SceneError as error:
         # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.
         lower, upper = mesh.bounds()

@@ -247,9 +247,12 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
             if not np.isfinite(uvs).all():
                 raise MeshError(f"mesh file {str(path)!r}: KHR_texture_transform of {piece.name!r}: the texture coordinates become non-finite")
         normals = piece.normals if row["has_normal"] else None
+        material = materials[piece.key]
+        if uvs is None and material is not None and material.maps:  # maps need texture coordinates
+            material = replace(material, **{key: None for key in material.maps})
         pieces.append(
             _Piece(piece.positions, piece.faces, normals, uvs, piece.colors, all_flat=not row["has_normal"],
-                   parts=[(0, len(piece.faces), materials[piece.key], piece.name)])
+                   parts=[(0, len(piece.faces), material, piece.name)])
         )
     return pieces
 

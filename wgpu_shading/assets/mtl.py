@@ -13,6 +13,11 @@
   An explicit `d 0` is kept (the author asked for it) but warned about: nothing is drawn.
 - `map_Kd`: options (-s, -o, -bm, ...) are skipped and the rest of the line is the file
   name, spaces included. A missing image is a warning naming it; the part is untextured.
+- Maps (scene/maps.py): `map_Ks` specular, `map_Ns` shininess, `map_Ke` emissive, `map_d`
+  alpha (its alpha channel, else its luminance; the material blends), `norm` a tangent-space
+  normal map, `map_Bump`/`bump` by what the image is (`classify_bump_image`): a normal map,
+  a height map (bump map), or neither (a colour photo: ignored with a warning). `-bm` is
+  the normal scale or bump depth. Ks / Ke absent under their map: 1 (like Kd under map_Kd).
 """
 
 from __future__ import annotations
@@ -20,9 +25,15 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
-from ..errors import MeshError
-from ..scene.material import Material
+
+from ..errors import MeshError, SceneError
+from ..scene.maps import alpha_pixels, classify_bump_image
+from ..scene.material import Material, Texture
 from .textures import load_texture
+
+# MTL map statements → the Material field they fill (bump maps are classified first).
+_MAP_KEYS = {"map_ks": "specular_map", "map_ns": "shininess_map", "map_ke": "emissive_map", "map_d": "alpha_map",
+             "norm": "normal_map", "map_bump": "bump", "bump": "bump"}
 
 # map_* options and how many values follow each (-o/-s/-t take 1 to 3 numbers);
 # -colorspace is a newer exporter extension (tinyobjloader issue 184).
@@ -46,6 +57,60 @@ def _map_file(tokens: list[str]) -> str:
             index += 1
             taken += 1
     return " ".join(tokens[index:])
+
+
+def _bump_multiplier(tokens: list[str]) -> float:
+    """The `-bm` value of a map statement (1 when absent or malformed)."""
+    lowered = [token.lower() for token in tokens]
+    if "-bm" in lowered:
+        try:
+            return float(tokens[lowered.index("-bm") + 1])
+        except (IndexError, ValueError):
+            pass
+    return 1.0
+
+
+def _load_map(fields: dict, key: str, base: Path, name: str, where: str) -> Texture | None:
+    """The image a map statement names, or None with a warning when it cannot be read."""
+    file_name = fields[key][0]
+    image_path = base / file_name.replace("\\", "/")
+    if not image_path.is_file():
+        warnings.warn(f"{where}: material {name!r}: {key} image {file_name!r} not found (looked for {image_path}); ignored", stacklevel=3)
+        return None
+    try:
+        return load_texture(image_path)
+    except SceneError as error:
+        warnings.warn(f"{where}: material {name!r}: {key}: {error}; ignored", stacklevel=3)
+        return None
+
+
+def _maps(fields: dict, base: Path, name: str, where: str) -> dict:
+    """Material map fields from the MTL's map statements (module docstring)."""
+    found: dict = {}
+    for key, field in _MAP_KEYS.items():
+        if key not in fields or field in found or (field == "bump" and "bump_map" in found):
+            continue
+        texture = _load_map(fields, key, base, name, where)
+        if texture is None:
+            continue
+        multiplier = fields[key][1]
+        if field == "bump":
+            kind = classify_bump_image(texture.pixels)
+            if kind == "other":
+                warnings.warn(f"{where}: material {name!r}: {key} image {fields[key][0]!r} is neither a height map (grey) "
+                              "nor a tangent-space normal map (bluish); ignored", stacklevel=2)
+                continue
+            field = "bump_map" if kind == "height" else "normal_map"
+            if field in found:
+                continue
+        if field == "alpha_map":
+            texture = Texture(alpha_pixels(texture.pixels), name=texture.name, encoding="linear")
+        found[field] = texture
+        if field == "normal_map":
+            found["normal_scale"] = multiplier
+        elif field == "bump_map":
+            found["bump_scale"] = multiplier
+    return found
 
 
 def _numbers(tokens: list[str], where: str, count: int) -> tuple[float, ...]:
@@ -78,10 +143,11 @@ def _material(name: str, fields: dict, base: Path, where: str) -> Material:
             dissolve = 1.0
     elif dissolve is not None and dissolve <= 0.0:
         warnings.warn(f"{where}: material {name!r}: 'd {dissolve:g}' makes it fully transparent; its faces draw nothing", stacklevel=2)
+    maps = _maps(fields, base, name, where)
     alpha = min(max(dissolve, 0.0), 1.0) if dissolve is not None else 1.0
     diffuse = fields.get("kd", (1.0, 1.0, 1.0) if texture is not None else (0.8, 0.8, 0.8))
     ambient = fields.get("ka", (0.2, 0.2, 0.2))
-    specular = fields.get("ks", (0.0, 0.0, 0.0))
+    specular = fields.get("ks", (1.0, 1.0, 1.0) if "specular_map" in maps else (0.0, 0.0, 0.0))
     shininess = fields.get("ns", 0.0)
     if shininess <= 0.0 or fields.get("illum", 2) in (0, 1):
         specular = (0.0, 0.0, 0.0)  # Ns 0 (or illum 0/1): no highlight, see the module docstring
@@ -89,11 +155,12 @@ def _material(name: str, fields: dict, base: Path, where: str) -> Material:
         ambient=tuple(max(c, 0.0) for c in ambient) + (alpha,),
         diffuse=tuple(max(c, 0.0) for c in diffuse) + (alpha,),
         specular=tuple(max(c, 0.0) for c in specular) + (alpha,),
-        emission=tuple(max(c, 0.0) for c in fields.get("ke", (0.0, 0.0, 0.0))) + (1.0,),
+        emission=tuple(max(c, 0.0) for c in fields.get("ke", (1.0, 1.0, 1.0) if "emissive_map" in maps else (0.0, 0.0, 0.0))) + (1.0,),
         shininess=min(max(shininess, 0.0), 1e6),
         texture=texture,
         name=name,
-        alpha_mode="blend" if alpha < 1.0 else "opaque",
+        alpha_mode="blend" if alpha < 1.0 or "alpha_map" in maps else "opaque",
+        **maps,
     )
 
 
@@ -127,6 +194,8 @@ def read_mtl(path: Path) -> dict[str, Material]:
             fields[key] = int(_numbers(tokens[1:], where, 1)[0])
         elif key == "map_kd":
             fields[key] = _map_file(tokens[1:])
+        elif key in _MAP_KEYS and len(tokens) > 1:
+            fields[key] = (_map_file(tokens[1:]), _bump_multiplier(tokens[1:]))
     finish()
     return materials
 

@@ -28,6 +28,8 @@ from ..scene import BUILTIN_PREFIX
 from ..scene.material_table import material as named_material
 from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
+from ..scene.maps import MAP_FIELDS, alpha_pixels
+from ..scene.material import Texture
 from ..scene.values import MAX_LIGHTS, MAX_OBJECTS
 from .files import check_regular_file
 from .textures import load_texture
@@ -44,7 +46,7 @@ from ..scene import (
 _TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
 _SECTIONS = {
     "output": {"size", "background", "samples", "transparent"},
-    "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided", "clamp_vertex_colors"},
+    "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided", "clamp_vertex_colors", "color_space"},
     "camera": {"eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height", "azimuth", "elevation", "direction", "distance"},
     "ambient": {"color"},
 }
@@ -54,7 +56,8 @@ _LIGHT_KEYS = {
     "spot": {"type", "position", "direction", "ambient", "diffuse", "specular", "attenuation", "range", "cutoff", "exponent"},
 }
 _OBJECT_KEYS = {"mesh", "material", "translate", "rotate", "scale", "crease_angle", "up"}
-_MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode", "alpha_mode", "alpha_cutoff"}
+_MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode", "alpha_mode", "alpha_cutoff",
+                  *MAP_FIELDS, "normal_scale", "bump_scale", "occlusion_strength", "color_space"}
 _COLOR_KEYS = ("ambient", "diffuse", "specular")
 
 
@@ -108,17 +111,23 @@ def _material(value: Any, base: Path, where: str) -> Material:
     elif "texture" in value and not any(key in value for key in _COLOR_KEYS):
         # The seed's material-less texture example: lighting terms are not scaled by a material.
         fields.update(ambient=(1.0, 1.0, 1.0, 1.0), diffuse=(1.0, 1.0, 1.0, 1.0), specular=(1.0, 1.0, 1.0, 1.0))
-    for key in ("ambient", "diffuse", "specular", "emission", "shininess", "texture_mode", "alpha_mode", "alpha_cutoff"):
+    for key in ("ambient", "diffuse", "specular", "emission", "shininess", "texture_mode", "alpha_mode", "alpha_cutoff",
+                "normal_scale", "bump_scale", "occlusion_strength", "color_space"):
         if key in value:
             fields[key] = value[key]
-    if "texture" in value:
-        if not isinstance(value["texture"], str):
-            raise SceneError(f"{where}.material.texture: expected a path to an image, got {shown(value['texture'])}")
-        texture_path = _resolve(value["texture"], base)
+    for key in ("texture", *MAP_FIELDS):
+        if key not in value:
+            continue
+        if not isinstance(value[key], str):
+            raise SceneError(f"{where}.material.{key}: expected a path to an image, got {shown(value[key])}")
+        texture_path = _resolve(value[key], base)
         try:
-            fields["texture"] = load_texture(texture_path)
+            fields[key] = load_texture(texture_path)
         except SceneError as error:
             raise SceneError(f"{error}{models_hint(texture_path) if not texture_path.exists() else ''}") from None
+    if "alpha_map" in fields:  # its alpha channel, else its luminance (scene/maps.py); it blends unless told
+        fields["alpha_map"] = Texture(alpha_pixels(fields["alpha_map"].pixels), name=fields["alpha_map"].name, encoding="linear")
+        fields.setdefault("alpha_mode", "blend")
     try:
         return Material(**fields)
     except SceneError as error:

@@ -30,6 +30,7 @@ import wgpu
 
 from ..scene import Material, Texture
 from .features import FeatureSet
+from .material_maps import bump_normal_texture
 
 VERTEX = wgpu.ShaderStage.VERTEX
 FRAGMENT = wgpu.ShaderStage.FRAGMENT
@@ -56,6 +57,10 @@ class SampledTexture:
     when: When
     of_material: Callable[[Material], Texture | None]
     comment: str = ""
+    stages: int = FRAGMENT
+    # A colour image: stored as rgba8unorm-srgb (decoded to linear light before filtering)
+    # when the draw is in linear colour space and the Texture says "srgb" (material_maps.py).
+    color: bool = False
 
 
 @dataclass(frozen=True)
@@ -76,11 +81,21 @@ class VertexAttribute:
 # ---------------------------------------------------------------------------- the tables
 
 # Textures, in binding order (each one line; the maps add theirs here).
+# The material maps (scene/maps.py): occlusion and shininess maps are also read by the
+# vertex stage of flat and Gouraud shading (sampled at the vertex or the face centroid).
 SAMPLED_TEXTURES: tuple[SampledTexture, ...] = (
     SampledTexture(
         "base_color", lambda f: f.texture_mode is not None, lambda m: m.texture,
-        "RGBA8, rows uploaded bottom-up so that v = 0 is the bottom of the image",
+        "RGBA8, rows uploaded bottom-up so that v = 0 is the bottom of the image", color=True,
     ),
+    SampledTexture("normal_map", lambda f: f.normal_map, lambda m: m.normal_map, "Material maps (scene/maps.py)."),
+    SampledTexture("bump_map", lambda f: f.bump_map, lambda m: bump_normal_texture(m.bump_map, m.bump_scale),
+                   "The height map as the tangent-space normal map it implies (converted on upload)."),
+    SampledTexture("specular_map", lambda f: f.specular_map, lambda m: m.specular_map, color=True),
+    SampledTexture("shininess_map", lambda f: f.shininess_map, lambda m: m.shininess_map, stages=VERTEX_AND_FRAGMENT),
+    SampledTexture("emissive_map", lambda f: f.emissive_map, lambda m: m.emissive_map, color=True),
+    SampledTexture("occlusion_map", lambda f: f.occlusion_map, lambda m: m.occlusion_map, stages=VERTEX_AND_FRAGMENT),
+    SampledTexture("alpha_map", lambda f: f.alpha_map, lambda m: m.alpha_map),
 )
 
 
@@ -157,8 +172,8 @@ def _candidate_bindings(features: FeatureSet) -> list[tuple[int, str, str, str, 
     ]
     for texture in SAMPLED_TEXTURES:
         if texture.when(features):
-            entries.append((1, f"{texture.name}_texture", "texture", f"{texture.name}_texture", "texture_2d<f32>", FRAGMENT, texture.comment))
-            entries.append((1, f"{texture.name}_sampler", "sampler", f"{texture.name}_sampler", "sampler", FRAGMENT, ""))
+            entries.append((1, f"{texture.name}_texture", "texture", f"{texture.name}_texture", "texture_2d<f32>", texture.stages, texture.comment))
+            entries.append((1, f"{texture.name}_sampler", "sampler", f"{texture.name}_sampler", "sampler", texture.stages, ""))
     if flat(features):
         comment = "Group 2: the mesh, pulled by flat shading's vertex stage."
         for attribute in VERTEX_ATTRIBUTES:

@@ -19,6 +19,7 @@ from .bindings import Binding
 from .caches import LruCache
 from .device_cache import DeviceCache
 from .features import object_features
+from .material_maps import decodes_srgb
 from .pipeline_cache import PipelineEntry
 from .resources import GpuMesh, GpuTexture, Target, read_buffer, read_mapped_rows
 from .uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
@@ -69,7 +70,7 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
             owner = None
             for sampled in entry.plan.textures:
                 texture = sampled.of_material(material)
-                gpu_texture = cache.gpu_texture(texture)
+                gpu_texture = cache.gpu_texture(texture, sampled.color and decodes_srgb(texture, features))
                 owner = owner or gpu_texture
                 textures[f"{sampled.name}_texture"] = gpu_texture.view
                 textures[f"{sampled.name}_sampler"] = cache.sampler(texture)

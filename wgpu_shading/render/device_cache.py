@@ -61,6 +61,8 @@ class DeviceCache:
         self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(device) else 0
         self.meshes: ObjectCache[GpuMesh] = ObjectCache(MESH_CACHE_ENTRIES, MESH_CACHE_BYTES, lambda m: m.nbytes)
         self.textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
+        # The same images stored as rgba8unorm-srgb (colour textures in linear colour space).
+        self.srgb_textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
         self.uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self.bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
         self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
@@ -85,10 +87,12 @@ class DeviceCache:
             upload_colors(self.device, gpu_mesh, mesh, self._mesh_usage)
         return gpu_mesh
 
-    def gpu_texture(self, texture: Texture) -> GpuTexture:
-        gpu_texture = self.textures.get(texture)
+    def gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:
+        """The texture's upload; `srgb`: as rgba8unorm-srgb (material_maps.decodes_srgb)."""
+        cache = self.srgb_textures if srgb else self.textures
+        gpu_texture = cache.get(texture)
         if gpu_texture is None:
-            gpu_texture = self.textures.put(texture, upload_texture(self.device, texture))
+            gpu_texture = cache.put(texture, upload_texture(self.device, texture, srgb))
         return gpu_texture
 
     def sampler(self, texture: Texture) -> object:

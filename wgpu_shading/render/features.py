@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..errors import SceneError
+from ..scene.maps import MAP_FIELDS
 from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight
 
 
@@ -31,6 +32,27 @@ class FeatureSet:
     vertex_colors: bool = False  # the mesh has colors: they multiply ambient and diffuse
     alpha_mode: str = "opaque"  # opaque (alpha 1) | mask (discard below the cutoff) | blend
     unlit: bool = False  # KHR_materials_unlit: the surface color, no lighting
+    # Linear colour space (glTF): sRGB-encoded output (colour textures are decoded by an
+    # *-srgb texture format, which needs no shader code).
+    srgb_output: bool = False
+    # Material maps (scene/maps.py), each compiled only where a draw uses it.
+    normal_map: bool = False  # Phong frequency only (needs per-fragment normals)
+    bump_map: bool = False  # Phong only: a height map, turned into a normal map on upload
+    specular_map: bool = False
+    shininess_map: bool = False
+    emissive_map: bool = False
+    occlusion_map: bool = False
+    alpha_map: bool = False
+
+    @property
+    def map_flags(self) -> tuple[str, ...]:
+        """The material-map fields that are on, in binding order."""
+        return tuple(name for name in MAP_FIELDS if getattr(self, name))
+
+    @property
+    def uses_uvs(self) -> bool:
+        """Whether the draw reads texture coordinates (a texture or any map)."""
+        return self.texture_mode is not None or bool(self.map_flags)
 
     @property
     def light_count(self) -> int:
@@ -61,6 +83,15 @@ class FeatureSet:
             "ALPHA_MASK": self.alpha_mode == "mask",
             "ALPHA_BLEND": self.alpha_mode == "blend",
             "UNLIT": self.unlit,
+            "UVS": self.uses_uvs,
+            "SRGB_OUTPUT": self.srgb_output,
+            "NORMAL_MAP": self.normal_map,
+            "BUMP_MAP": self.bump_map,
+            "SPECULAR_MAP": self.specular_map,
+            "SHININESS_MAP": self.shininess_map,
+            "EMISSIVE_MAP": self.emissive_map,
+            "OCCLUSION_MAP": self.occlusion_map,
+            "ALPHA_MAP": self.alpha_map,
         }
 
     def describe(self) -> str:
@@ -92,6 +123,10 @@ class FeatureSet:
             parts.append(f"alpha={self.alpha_mode}")
         if self.unlit:
             parts.append("unlit=True")
+        if self.srgb_output:
+            parts.append("srgb_output=True")
+        if self.map_flags:
+            parts.append(f"maps=[{', '.join(self.map_flags)}]")
         if self.cull_back:
             parts.append("cull_back=True")
         return " ".join(parts)
@@ -125,6 +160,15 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
                 f"{obj.mesh.name!r} has no UV coordinates"
             )
         texture_mode = material.texture_mode
+    maps = material.maps
+    if maps and obj.mesh.uvs is None:
+        raise SceneError(
+            f"objects[{index}]: material {material.name or '(inline)'} has {', '.join(maps)} but mesh "
+            f"{obj.mesh.name!r} has no UV coordinates"
+        )
+    lit = not material.unlit
+    specular = lit and material.has_specular and any(max(light.specular[:3]) > 0.0 for light in lights)
+    per_fragment_normals = lit and scene.shading.frequency == "phong"
     return FeatureSet(
         frequency=scene.shading.frequency,
         reflection=scene.shading.reflection,
@@ -132,7 +176,7 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         positional_lights=sum(isinstance(light, PositionalLight) for light in lights),
         spot_lights=sum(isinstance(light, SpotLight) for light in lights),
         attenuation=any(_has_attenuation(light) for light in point_like),
-        specular=not material.unlit and material.has_specular and any(max(light.specular[:3]) > 0.0 for light in lights),
+        specular=specular,
         emission=material.has_emission and not material.unlit,
         texture_mode=texture_mode,
         # --two-sided (the scene's) draws and lights both sides of everything; otherwise a
@@ -145,4 +189,13 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         vertex_colors=obj.mesh.colors is not None,
         alpha_mode=material.alpha_mode,
         unlit=material.unlit,
+        srgb_output=scene.shading.color_space_of(material) == "linear",
+        # A map that cannot change this draw's pixels is left out (docs/conventions.md).
+        normal_map="normal_map" in maps and per_fragment_normals,
+        bump_map="bump_map" in maps and per_fragment_normals,
+        specular_map="specular_map" in maps and specular,
+        shininess_map="shininess_map" in maps and specular,
+        emissive_map="emissive_map" in maps and lit and material.has_emission,
+        occlusion_map="occlusion_map" in maps and lit,
+        alpha_map="alpha_map" in maps and material.alpha_mode != "opaque",
     )

@@ -238,18 +238,43 @@ def upload_colors(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> No
         gpu_mesh.colors = _reordered_buffer(device, mesh.colors, gpu_mesh.order, usage)
 
 
-def upload_texture(device, texture: Texture) -> GpuTexture:
+def srgb_mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
+    """Mip levels of an sRGB-encoded image, box-filtered in linear light (alpha as is), so
+    a minified texture keeps its brightness; each level is encoded again for the *-srgb format."""
+    from ..scene.maps import srgb_decode, srgb_encode
+
+    table = srgb_decode(np.arange(256) / 255.0).astype(np.float32)
+    current = np.empty(pixels.shape, np.float32)
+    current[:, :, :3] = table[pixels[:, :, :3]]
+    current[:, :, 3] = pixels[:, :, 3] / np.float32(255.0)
+    levels = [pixels]
+    while current.shape[0] > 1 or current.shape[1] > 1:
+        height, width = current.shape[:2]
+        if height % 2:
+            current = np.concatenate([current, current[-1:]], axis=0)
+        if width % 2:
+            current = np.concatenate([current, current[:, -1:]], axis=1)
+        current = current.reshape(current.shape[0] // 2, 2, current.shape[1] // 2, 2, 4).mean(axis=(1, 3))
+        current = current[: max(1, height // 2), : max(1, width // 2)]
+        encoded = np.concatenate([srgb_encode(current[:, :, :3]), current[:, :, 3:]], axis=2)
+        levels.append(np.round(encoded * 255.0).astype(np.uint8))
+    return levels
+
+
+def upload_texture(device, texture: Texture, srgb: bool = False) -> GpuTexture:
     """The texture with its box-filtered mip chain, rows bottom-up: texture row 0 is the
-    image's last row, so v = 0 is the bottom."""
+    image's last row, so v = 0 is the bottom. `srgb`: stored in an rgba8unorm-srgb texture,
+    which decodes texels to linear light before filtering (linear colour space)."""
     height, width = texture.pixels.shape[:2]
     limit = device.limits["max-texture-dimension-2d"]
     if width > limit or height > limit:
         raise SceneError(f"texture {texture.name!r}: {width}×{height} pixels exceeds this adapter's limit of {limit} pixels per side")
-    levels = mip_chain(np.ascontiguousarray(texture.pixels[::-1]))
+    rows_up = np.ascontiguousarray(texture.pixels[::-1])
+    levels = srgb_mip_chain(rows_up) if srgb else mip_chain(rows_up)
     height, width = levels[0].shape[:2]
     gpu = device.create_texture(
         size=(width, height, 1),
-        format=wgpu.TextureFormat.rgba8unorm,
+        format=wgpu.TextureFormat.rgba8unorm_srgb if srgb else wgpu.TextureFormat.rgba8unorm,
         usage=wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_DST,
         mip_level_count=len(levels),
     )

@@ -134,6 +134,10 @@ def object_uniforms(
         fields["emission"] = material.emission
     if "alpha_cutoff" in fields.dtype.names:
         fields["alpha_cutoff"] = material.alpha_cutoff
+    if "normal_scale" in fields.dtype.names:
+        fields["normal_scale"] = material.normal_scale
+    if "occlusion_strength" in fields.dtype.names:
+        fields["occlusion_strength"] = material.occlusion_strength
     if "global_ambient_product" in dtype.names:
         if scene is None:
             raise ValueError("object_uniforms: this layout has light × material products; pass the scene")

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SceneError
+from .maps import COLOR_SPACES, MAP_FIELDS, TEXTURE_ENCODINGS
 from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureMode, set_fields, choice, color, number
 
 
@@ -25,8 +26,12 @@ class Texture:
     name: str = ""
     nearest: bool = False  # nearest-neighbour sampling (glTF NEAREST filters), else linear + mipmaps
     wrap: tuple[str, str] = ("repeat", "repeat")  # u and v outside [0, 1]: one of WRAP_MODES each
+    # How colour images store their values: "srgb" (every image file unless it says otherwise;
+    # decoded on the GPU in linear colour space) or "linear". Data maps ignore it.
+    encoding: str = "srgb"
 
     def __post_init__(self) -> None:
+        set_fields(self, encoding=choice(self.encoding, f"texture {self.name!r}.encoding", TEXTURE_ENCODINGS))
         if not isinstance(self.nearest, bool):
             raise SceneError(f"texture {self.name!r}.nearest: expected true or false, got {self.nearest!r}")
         if isinstance(self.wrap, str) or len(tuple(self.wrap)) != 2:
@@ -99,6 +104,20 @@ class Material:
     alpha_mode: str = "opaque"
     alpha_cutoff: float = 0.5
     unlit: bool = False
+    # Maps (scene/maps.py): optional Textures sampled with the mesh's UVs, and their factors.
+    normal_map: Texture | None = None
+    normal_scale: float = 1.0  # glTF normalTexture.scale, MTL norm -bm: × the map's x and y
+    bump_map: Texture | None = None
+    bump_scale: float = 1.0  # MTL -bm: × the height map's depth
+    specular_map: Texture | None = None
+    shininess_map: Texture | None = None
+    emissive_map: Texture | None = None
+    occlusion_map: Texture | None = None
+    occlusion_strength: float = 1.0  # glTF occlusionTexture.strength
+    alpha_map: Texture | None = None
+    # "display" (OpenGL: colours are what the screen shows) or "linear" (glTF: linear light,
+    # sRGB-encoded output); Shading.color_space may override it for the whole scene.
+    color_space: str = "display"
     # glTF doubleSided (§3.9.6): False culls back faces, True lights both sides (the back
     # with the flipped normal); None (classic materials) follows the scene's two_sided.
     double_sided: bool | None = None
@@ -115,7 +134,15 @@ class Material:
             texture_mode=choice(self.texture_mode, f"{prefix}.texture_mode", TEXTURE_MODES),
             alpha_mode=choice(self.alpha_mode, f"{prefix}.alpha_mode", ALPHA_MODES),
             alpha_cutoff=number(self.alpha_cutoff, f"{prefix}.alpha_cutoff", 0.0, 1.0),
+            normal_scale=number(self.normal_scale, f"{prefix}.normal_scale", -1e3, 1e3),
+            bump_scale=number(self.bump_scale, f"{prefix}.bump_scale", -1e3, 1e3),
+            occlusion_strength=number(self.occlusion_strength, f"{prefix}.occlusion_strength", 0.0, 1.0),
+            color_space=choice(self.color_space, f"{prefix}.color_space", COLOR_SPACES),
         )
+        for key in MAP_FIELDS:
+            value = getattr(self, key)
+            if value is not None and not isinstance(value, Texture):
+                raise SceneError(f"{prefix}.{key}: expected a Texture, got {type(value).__name__}")
         if not isinstance(self.unlit, bool):
             raise SceneError(f"{prefix}.unlit: expected true or false, got {self.unlit!r}")
         if self.double_sided is not None and not isinstance(self.double_sided, bool):
@@ -130,4 +157,9 @@ class Material:
     @property
     def has_emission(self) -> bool:
         return max(self.emission[:3]) > 0.0
+
+    @property
+    def maps(self) -> dict[str, Texture]:
+        """The maps this material has, by field name (scene/maps.py)."""
+        return {key: getattr(self, key) for key in MAP_FIELDS if getattr(self, key) is not None}
 

@@ -11,6 +11,7 @@ from pyglm import glm
 from ..errors import SceneError, shown
 from .camera import Camera
 from .lights import DirectionalLight, Light, PositionalLight, SpotLight
+from .maps import SCENE_COLOR_SPACES
 from .material import Material
 from .mesh import Mesh
 from .values import (
@@ -158,6 +159,13 @@ class Shading:
     # Flat/Gouraud: clamp each vertex's (face's) color to [0, 1] before interpolation, as
     # OpenGL fixed-function does; default False is the seeds' GLSL (clamp per fragment only).
     clamp_vertex_colors: bool = False
+    # "auto": each material's own colour space (glTF linear, everything else display);
+    # "display" or "linear" for every material (scene/maps.py, docs/conventions.md).
+    color_space: str = "auto"
+
+    def color_space_of(self, material: Material) -> str:
+        """The colour space `material` is drawn in."""
+        return material.color_space if self.color_space == "auto" else self.color_space
 
     def __post_init__(self) -> None:
         for key in ("local_viewer", "two_sided", "clamp_vertex_colors"):
@@ -167,6 +175,7 @@ class Shading:
             self,
             frequency=choice(self.frequency, "shading.frequency", FREQUENCIES),
             reflection=choice(self.reflection, "shading.reflection", REFLECTIONS),
+            color_space=choice(self.color_space, "shading.color_space", SCENE_COLOR_SPACES),
             blinn_exponent_scale=number(
                 self.blinn_exponent_scale, "shading.blinn_exponent_scale", 0.0, MAX_EXPONENT
             ),

@@ -26,6 +26,7 @@ from .camera import PROJECTIONS, Camera
 from .framing import object_depth_range
 from .viewer_lights import viewer_lights
 from .material_table import material as named_material
+from .maps import SCENE_COLOR_SPACES, bare_mesh_lighting
 from .objects import Scene
 from .values import FREQUENCIES, REFLECTIONS
 from .view_values import (
@@ -116,6 +117,9 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        "flat/Gouraud: clamp each vertex's color before interpolation, as OpenGL fixed-function does",
        switches=(("--clamp-vertex-colors", True, "flat/Gouraud: clamp each vertex's color before interpolation, as OpenGL fixed-function does"),
                  ("--no-clamp-vertex-colors", False, "interpolate the unclamped vertex colors (the default)"))),
+    _O("color_space", read_choice(SCENE_COLOR_SPACES), "color_space", "[shading] color_space",
+       "colour values: auto (glTF linear with sRGB output, others display values), display or linear for every material",
+       flags=("--color-space",), metavar="{" + ",".join(SCENE_COLOR_SPACES) + "}"),
     _O("crease_angle", read_crease_angle, "crease_angle", "[[objects]] crease_angle",
        "mesh files without normals: edges sharper than this are creases (default 60; 180 smooth, 0 flat)",
        flags=("--crease-angle",), metavar="DEG", load=True),
@@ -180,6 +184,7 @@ class ViewOptions:
     local_viewer: bool | None = None
     two_sided: bool | None = None
     clamp_vertex_colors: bool | None = None
+    color_space: str | None = None
     crease_angle: float | None = None
     up: str | None = None
     camera_position: tuple[float, float, float] | None = None
@@ -255,7 +260,7 @@ def apply_view_options(scene: Scene, options: ViewOptions, *, follow_camera: boo
         changes["objects"] = objects
     shading = {
         key: getattr(options, key)
-        for key in ("frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided", "clamp_vertex_colors")
+        for key in ("frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided", "clamp_vertex_colors", "color_space")
         if getattr(options, key) is not None
     }
     if shading:
@@ -273,8 +278,13 @@ def apply_view_options(scene: Scene, options: ViewOptions, *, follow_camera: boo
         changes["camera"] = camera
     if options.lights is not None:
         changes["lights"] = tuple(parse_light(spec, camera) for spec in options.lights)
-    elif follow_camera and camera is not scene.camera and scene.lights == viewer_lights(scene.camera):
-        changes["lights"] = viewer_lights(camera)  # a glTF file's own lights stay where they are
+    elif follow_camera and (camera is not scene.camera or "objects" in changes) and (
+        scene.lights in (viewer_lights(scene.camera), bare_mesh_lighting(scene.objects, scene.camera)[0])
+    ):
+        # A bare mesh's viewer lights follow the camera and the materials' colour space (a
+        # glTF keeps them decoded to linear light unless --material replaced its own); a
+        # glTF file's own lights stay where they are.
+        changes["lights"], changes["ambient"] = bare_mesh_lighting(changes.get("objects", scene.objects), camera)
     if not changes:
         return scene
     try:

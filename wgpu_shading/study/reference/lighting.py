@@ -134,12 +134,16 @@ def specular_factor(normals, to_light, to_viewer, shininess: float, reflection: 
 
 
 def shade(
-    points: np.ndarray, normals: np.ndarray, to_viewer: np.ndarray, scene: Scene, material: Material
+    points: np.ndarray, normals: np.ndarray, to_viewer: np.ndarray, scene: Scene, material: Material,
+    *, ambient_scale: np.ndarray | None = None, shininess_scale: np.ndarray | None = None, with_emission: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The lighting equation (docs/conventions.md) at N eye-space points with unit normals and unit view vectors, all (N, 3).
 
     Returns the ambient+diffuse+emission part and the specular part, (N, 3) each, unclamped
-    (textures treat them apart; the clamp comes last, in `combine`).
+    (textures treat them apart; the clamp comes last, in `combine`). Maps
+    (docs/conventions.md): `ambient_scale` (N,) multiplies the material's ambient
+    (occlusion), `shininess_scale` (N,) its shininess; without `with_emission` the emission
+    is left out (an emissive map adds it after the combine).
     """
     points = np.asarray(points, dtype=np.float64)
     normals = np.asarray(normals, dtype=np.float64)
@@ -148,7 +152,12 @@ def shade(
     m_ambient, m_diffuse, m_specular, m_emission = (
         np.asarray(c[:3], dtype=np.float64) for c in (material.ambient, material.diffuse, material.specular, material.emission)
     )
-    ambient_diffuse = np.tile(m_emission + np.asarray(scene.ambient[:3]) * m_ambient, (count, 1))
+    if not with_emission:
+        m_emission = np.zeros(3)
+    if ambient_scale is not None:
+        m_ambient = np.asarray(ambient_scale, dtype=np.float64)[:, None] * m_ambient
+    shininess = material.shininess if shininess_scale is None else material.shininess * np.asarray(shininess_scale)
+    ambient_diffuse = m_emission + np.asarray(scene.ambient[:3]) * m_ambient * np.ones((count, 1))
     specular = np.zeros((count, 3))
     shading = scene.shading
     for light in lights_in_eye_space(scene):
@@ -171,7 +180,7 @@ def shade(
             light.ambient * m_ambient + np.maximum(n_dot_l, 0.0)[:, None] * light.diffuse * m_diffuse
         )
         highlight = specular_factor(
-            normals, to_light, to_viewer, material.shininess, shading.reflection, shading.blinn_exponent_scale
+            normals, to_light, to_viewer, shininess, shading.reflection, shading.blinn_exponent_scale
         )
         lit_side = n_dot_l > 0.0  # f_i: no highlight where the light does not reach
         specular += np.where(lit_side, scale * highlight, 0.0)[:, None] * light.specular * m_specular
@@ -188,7 +197,9 @@ def clamp_vertex_colors(ambient_diffuse: np.ndarray, specular: np.ndarray, textu
 
 
 def combine(
-    ambient_diffuse: np.ndarray, specular: np.ndarray, material: Material, texel: np.ndarray | None = None
+    ambient_diffuse: np.ndarray, specular: np.ndarray, material: Material, texel: np.ndarray | None = None,
+    *, specular_scale: np.ndarray | None = None, emitted: np.ndarray | None = None, alpha_scale: np.ndarray | None = None,
+    srgb_output: bool = False,
 ) -> np.ndarray:
     """Texture combine (docs/conventions.md#textures) and the final clamp: (N, 4) RGBA.
 
@@ -196,7 +207,13 @@ def combine(
     mode is material.texture_mode. Alpha (docs/conventions.md#the-lighting-equation) is 1 unless the material blends: then
     the diffuse alpha (× texel alpha). (A masked fragment below the cutoff is discarded on
     the GPU; the reference shows it opaque.)
+
+    Maps (docs/conventions.md): `specular_scale` (N, 3) multiplies the specular part first,
+    `emitted` (N, 3) is added after the texture combine, `alpha_scale` (N,) multiplies the
+    alpha; `srgb_output` (linear colour space) encodes the clamped colour as sRGB.
     """
+    if specular_scale is not None:
+        specular = specular * specular_scale
     alpha = np.full(len(ambient_diffuse), float(material.diffuse[3]))
     if texel is None:
         rgb = ambient_diffuse + specular
@@ -212,9 +229,16 @@ def combine(
         else:
             raise ValueError(f"unknown texture mode {mode!r}")
         alpha = alpha * texel[:, 3]
+    if emitted is not None:
+        rgb = rgb + emitted
+    if alpha_scale is not None:
+        alpha = alpha * alpha_scale
     if material.alpha_mode != "blend":
         alpha = np.ones(len(ambient_diffuse))
-    return np.concatenate([np.clip(rgb, 0.0, 1.0), alpha[:, None]], axis=1)
+    rgb = np.clip(rgb, 0.0, 1.0)
+    if srgb_output:  # IEC 61966-2-1
+        rgb = np.where(rgb <= 0.0031308, rgb * 12.92, 1.055 * np.maximum(rgb, 0.0031308) ** (1.0 / 2.4) - 0.055)
+    return np.concatenate([rgb, alpha[:, None]], axis=1)
 
 
 # --------------------------------------------------------------------------- textures

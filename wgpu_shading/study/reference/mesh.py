@@ -12,7 +12,8 @@ import numpy as np
 
 from ...scene import Scene, SceneObject, Shading
 from .image import ReferenceImage
-from .lighting import FALLBACK_NORMAL, dot, clamp_vertex_colors, combine, safe_normalize, sample_texture_bilinear, shade, view_vectors
+from .lighting import FALLBACK_NORMAL, dot, clamp_vertex_colors, combine, safe_normalize, shade, view_vectors
+from .maps import color_map, combine_factors, is_linear, lighting_factors, perturb, tangent_normal
 from .raster import edge_margins, rasterize, screen_triangles, signed_area_fixed
 from .transforms import transform_points, model_matrix, normal_matrix, pixel_rays, view_matrix
 
@@ -103,30 +104,40 @@ def _shade_pixels(
     back = two_sided & ~front_facing
     flip = np.where(back, -1.0, 1.0)[:, None]
 
-    def shade_with(points, normals):
-        return shade(points, normals, view_vectors(points, normals, shading.local_viewer), scene, material)
+    uvs = None
+    if material.texture is not None or material.maps:
+        if obj.mesh.uvs is None:
+            raise ValueError(f"material {material.name!r} has a texture or maps but mesh {obj.mesh.name!r} has no UVs")
+        uvs = obj.mesh.uvs.astype(np.float64)
 
-    def vertex_color(points, normals):  # what the vertex stage passes on (flat, Gouraud)
-        parts = shade_with(points, normals)
+    def shade_with(points, normals, uv=None):
+        return shade(points, normals, view_vectors(points, normals, shading.local_viewer), scene, material,
+                     **lighting_factors(material, uv))
+
+    def vertex_color(points, normals, uv=None):  # what the vertex stage passes on (flat, Gouraud)
+        parts = shade_with(points, normals, uv)
         if shading.clamp_vertex_colors:
             texture_mode = material.texture_mode if material.texture is not None else None
             parts = clamp_vertex_colors(*parts, texture_mode)
         return parts
 
+    uv = None if uvs is None else np.einsum("nk,nkc->nc", weights, uvs[faces])
     if shading.frequency == "flat":
-        # One evaluation per triangle: face normal from the stored positions, at the centroid.
+        # One evaluation per triangle: face normal from the stored positions, at the centroid
+        # (maps that change the lighting are read at the centroid's uv).
         p = prepared.model_positions[faces]
         face_normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) @ prepared.normal_matrix.T
         normals = safe_normalize(face_normal, FALLBACK_NORMAL) * flip
         centroids = prepared.eye_positions[faces].mean(axis=1)
-        ambient_diffuse, specular = vertex_color(centroids, normals)
+        ambient_diffuse, specular = vertex_color(centroids, normals, None if uvs is None else uvs[faces].mean(axis=1))
     elif shading.frequency == "gouraud":
         # Light each vertex (front with N, back with -N), then interpolate both parts
         # (unclamped like the seeds, or clamped per vertex like OpenGL: clamp_vertex_colors).
         vertex_normals = safe_normalize(prepared.eye_normals, FALLBACK_NORMAL)
         used = np.unique(faces)
-        front = vertex_color(prepared.eye_positions[used], vertex_normals[used])
-        back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used]) if two_sided else front
+        vertex_uv = None if uvs is None else uvs[used]
+        front = vertex_color(prepared.eye_positions[used], vertex_normals[used], vertex_uv)
+        back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used], vertex_uv) if two_sided else front
         slot = np.searchsorted(used, faces)  # (N, 3) rows of `used`
         parts = []
         for k in range(2):
@@ -136,15 +147,15 @@ def _shade_pixels(
     else:  # phong
         normals = safe_normalize(np.einsum("nk,nkc->nc", weights, prepared.eye_normals[faces]), FALLBACK_NORMAL) * flip
         points = np.einsum("nk,nkc->nc", weights, prepared.eye_positions[faces])
-        ambient_diffuse, specular = shade_with(points, normals)
+        mapped = None if uv is None else tangent_normal(material, uv)
+        if mapped is not None:
+            counter_clockwise = front_facing != prepared.mirrored
+            normals = perturb(normals, prepared.eye_positions[faces], uvs[faces], mapped, counter_clockwise, np.where(back, -1.0, 1.0))
+        ambient_diffuse, specular = shade_with(points, normals, uv)
 
-    texel = None
-    if material.texture is not None:
-        if obj.mesh.uvs is None:
-            raise ValueError(f"material {material.name!r} has a texture but mesh {obj.mesh.name!r} has no UVs")
-        uv = np.einsum("nk,nkc->nc", weights, obj.mesh.uvs.astype(np.float64)[faces])
-        texel = sample_texture_bilinear(material.texture.pixels, uv)
-    return combine(ambient_diffuse, specular, material, texel)
+    linear = is_linear(scene, material)
+    texel = color_map(material.texture, uv, linear) if uv is not None else None
+    return combine(ambient_diffuse, specular, material, texel, **combine_factors(scene, material, uv))
 
 
 class RasterizedScene:

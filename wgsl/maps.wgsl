@@ -1,0 +1,83 @@
+// Reading the material maps (wgpu_shading/scene/maps.py, docs/conventions.md "Material maps").
+
+#if OCCLUSION_MAP
+fn occlusion_factor(texel: vec4<f32>) -> f32 {
+    return 1.0 + object_uniforms.material.occlusion_strength * (texel.r - 1.0);
+}
+#endif
+
+#if OCCLUSION_MAP or SHININESS_MAP
+// Flat and Gouraud shading light in the vertex stage: the maps that change the lighting
+// itself are read there, at the vertex (flat: the face centroid's uv), from level 0.
+fn read_vertex_maps(uv: vec2<f32>) {
+#if OCCLUSION_MAP
+    ambient_occlusion = occlusion_factor(textureSampleLevel(occlusion_map_texture, occlusion_map_sampler, uv, 0.0));
+#endif
+#if SHININESS_MAP
+    shininess_scale = textureSampleLevel(shininess_map_texture, shininess_map_sampler, uv, 0.0).r;
+#endif
+}
+
+// Phong shading reads them per fragment, filtered like any texture.
+fn read_fragment_maps(uv: vec2<f32>) {
+#if OCCLUSION_MAP
+    ambient_occlusion = occlusion_factor(textureSample(occlusion_map_texture, occlusion_map_sampler, uv));
+#endif
+#if SHININESS_MAP
+    shininess_scale = textureSample(shininess_map_texture, shininess_map_sampler, uv).r;
+#endif
+}
+#endif
+
+#if NORMAL_MAP or BUMP_MAP
+// The tangent-space normal the maps give at uv: texel·2 − 1, the normal map's x and y
+// scaled by normal_scale. With both maps their slopes add ("whiteout" blending).
+fn map_normal(uv: vec2<f32>) -> vec3<f32> {
+#if NORMAL_MAP
+    let from_normal_map = textureSample(normal_map_texture, normal_map_sampler, uv).xyz * 2.0 - 1.0;
+    var tangent_normal = vec3<f32>(from_normal_map.xy * object_uniforms.material.normal_scale, from_normal_map.z);
+#endif
+#if BUMP_MAP
+    let from_bump_map = textureSample(bump_map_texture, bump_map_sampler, uv).xyz * 2.0 - 1.0;
+#if NORMAL_MAP
+    tangent_normal = vec3<f32>(tangent_normal.xy + from_bump_map.xy, tangent_normal.z * from_bump_map.z);
+#else
+    let tangent_normal = from_bump_map;
+#endif
+#endif
+    return tangent_normal;
+}
+
+// The surface normal turned by the tangent-space normal `mapped`, in the per-fragment
+// derivative frame of three.js (getTangentFrame; C. Schüler, "Normal mapping without
+// precomputed tangents", 2013): T and B follow u and v across the triangle, from the
+// screen-space derivatives of the eye position and the uv, projected perpendicular to N.
+// No TANGENT attribute is needed or read. WGSL's dpdy runs down the framebuffer, so it is
+// negated to get OpenGL's upward y, which three.js' formula assumes. `face_sign` is −1 on
+// back faces of two-sided lighting (three.js' faceDirection).
+fn perturbed_normal(normal: vec3<f32>, eye_position: vec3<f32>, uv: vec2<f32>, mapped: vec3<f32>, face_sign: f32) -> vec3<f32> {
+    let q0 = dpdx(eye_position);
+    let q1 = -dpdy(eye_position);
+    let st0 = dpdx(uv);
+    let st1 = -dpdy(uv);
+    let q1_perpendicular = cross(q1, normal);
+    let q0_perpendicular = cross(normal, q0);
+    let tangent = q1_perpendicular * st0.x + q0_perpendicular * st1.x;
+    let bitangent = q1_perpendicular * st0.y + q0_perpendicular * st1.y;
+    let largest = max(dot(tangent, tangent), dot(bitangent, bitangent));
+    var scale = 0.0;  // uvs that do not change across the triangle: no frame, N as it is
+    if (largest > 0.0) {
+        scale = face_sign * inverseSqrt(largest);
+    }
+    return safe_normalize(tangent * (scale * mapped.x) + bitangent * (scale * mapped.y) + normal * mapped.z, normal);
+}
+#endif
+
+#if SRGB_OUTPUT
+// Linear light → sRGB encoding (IEC 61966-2-1) of a colour already clamped to [0, 1]. The
+// max() keeps pow's base positive; the low branch is taken there anyway.
+fn srgb_encode(linear: vec3<f32>) -> vec3<f32> {
+    let high = 1.055 * pow(max(linear, vec3<f32>(0.0031308)), vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(high, linear * 12.92, linear <= vec3<f32>(0.0031308));
+}
+#endif
