@@ -115,7 +115,7 @@ TINY_SPHERE_TRIANGLES = 2_000
 
 
 def torus_scene(size: int, segments: int = 72) -> Scene:
-    """Seed 000's gold torus scene (examples/gold_torus_phong.toml: Phong shading, one white
+    """The classic gold torus scene (examples/gold_torus_phong.toml: Phong shading, one white
     positional light) with the issue's ~10K triangles: 72×72 segments = 10,368 triangles
     instead of the seed's 48×48 = 4,608; same shape and framing."""
     scene = load_scene(TORUS_SCENE)

@@ -1,6 +1,6 @@
 """The seed's GLSL, which the moderngl peer runs (plain strings: importable without the package)."""
 
-# The seed's Phong shaders (seeds/000, "实现Phong 着色"), as written there. Both stages
+# The seed's Phong shaders (docs/conventions.md#where-the-rules-come-from), as written there. Both stages
 # declare the same structs and uniforms ("uniform declarations identical to those in the
 # vertex shader").
 _DECLARATIONS = """

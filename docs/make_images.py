@@ -28,7 +28,7 @@ def main() -> int:
         except SceneError as error:  # the examples that use ../shared/models, on a machine without it
             print(f"skipped {path.name}: {error}", file=sys.stderr)
             continue
-        rendered[path.stem] = renderer.render(replace(scene, samples=4))  # documentation images are antialiased (SPEC §13)
+        rendered[path.stem] = renderer.render(replace(scene, samples=4))  # documentation images are antialiased (docs/conventions.md#projection-pixels-and-depth)
         iio.imwrite(IMAGES / f"{path.stem}.png", rendered[path.stem])
         print(f"wrote docs/images/{path.stem}.png")
     modes = [("Flat", "gold_torus_flat"), ("Gouraud", "gold_torus_gouraud"), ("Phong", "gold_torus_phong"), ("Blinn-Phong (k = 3)", "gold_torus_blinn_phong")]

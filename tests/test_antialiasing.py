@@ -1,4 +1,4 @@
-"""Antialiasing (SPEC §13: `[output] samples = 1 | 4`, MSAA) and the background's alpha.
+"""Antialiasing (`[output] samples = 1 | 4`, MSAA: docs/conventions.md#projection-pixels-and-depth) and the background's alpha.
 
 The expected values come from the standard 4-sample pattern every Vulkan/WebGPU
 implementation uses for 4× MSAA: sample offsets (0.375, 0.125), (0.875, 0.375),

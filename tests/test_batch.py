@@ -21,7 +21,7 @@ from test_cli import run_cli
 
 @pytest.fixture(scope="module")
 def torus_scene() -> Scene:
-    """Seed 000's torus set-up, small: camera target = torus centre, so spinning about the
+    """The classic gold torus set-up, small: camera target = torus centre, so spinning about the
     camera's up axis equals turning the torus about world Y."""
     return Scene(
         objects=(

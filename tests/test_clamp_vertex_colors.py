@@ -1,4 +1,4 @@
-"""[shading] clamp_vertex_colors (SPEC §13): the seeds' GLSL interpolates unclamped vertex
+"""[shading] clamp_vertex_colors (docs/conventions.md#shading-frequencies): the seeds' GLSL interpolates unclamped vertex
 colors (default); OpenGL fixed-function clamps each vertex's color first. Both rules on the
 GPU against the float64 reference, which implements both (reference_lighting.clamp_vertex_colors):
 within 1/255 on 99.9 % of the covered pixels, as every same-mesh comparison."""

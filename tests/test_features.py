@@ -1,5 +1,5 @@
 """Every lighting feature moves pixels in the expected direction, and by the amount the
-float64 evaluation of SPEC §3 predicts (wgpu_shading.study.reference), at the sampled pixels.
+float64 evaluation of docs/conventions.md#the-lighting-equation predicts (wgpu_shading.study.reference), at the sampled pixels.
 
 The stage: a square facing the camera, lit from in front. Each test renders on the GPU
 (float32 target), checks the whole image against the same-mesh float64 reference

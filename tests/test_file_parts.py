@@ -1,4 +1,4 @@
-"""SPEC §12/§13 on files: one draw per (part, material), glTF scene graphs, vertex colors,
+"""docs/real-world-files.md on files: one draw per (part, material), glTF scene graphs, vertex colors,
 alpha modes, unlit, samplers, opaque output. Small generated files, and a few real ones
 committed under tests/data/real (see its LICENCES.md).
 

@@ -153,7 +153,7 @@ def test_scene_file_and_tolerance_argument(pytester, renderer):
     run(pytester, "--update-golden").assert_outcomes(passed=2)
     assert iio.imread(pytester.path / "refs" / "scene32.png").shape == (24, 32, 4)
     jade = iio.imread(pytester.path / "refs" / "scene.png")[24, 24]
-    assert jade[3] == 255  # jade's alpha 0.95 makes nothing translucent (SPEC §13): covered pixels are opaque
+    assert jade[3] == 255  # jade's alpha 0.95 makes nothing translucent (docs/conventions.md#the-lighting-equation): covered pixels are opaque
     run(pytester).assert_outcomes(passed=2)
 
 

@@ -100,7 +100,7 @@ def same_mesh_scene(configuration: str, frequency: str) -> Scene:
 
 
 def hard_cases_scene(frequency: str) -> Scene:
-    """SPEC §9's hard cases, all far from the world origin (1e5): a non-uniform scale (the normal
+    """The hard cases of docs/hard-cases.md, all far from the world origin (1e5): a non-uniform scale (the normal
     matrix must be the inverse transpose), shininess 0 (x^0 = 1) and 1e4, a 90° spot with
     exponent 0, a pure inverse-square light close to a surface, Blinn-Phong with k_blinn 0.5."""
     far = np.array([1e5, -2e5, 5e4])

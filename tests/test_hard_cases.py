@@ -1,4 +1,4 @@
-"""Hard cases (SPEC §9, docs/hard-cases.md): each renders to a float32 target, so a NaN or
+"""Hard cases (docs/hard-cases.md): each renders to a float32 target, so a NaN or
 Inf cannot hide behind the 8-bit clamp, and is compared with its correct limit.
 
 This file holds the cases whose correct answer is "the same picture as the well-behaved

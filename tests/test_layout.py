@@ -26,7 +26,7 @@ EVERY_EXTRA = FeatureSet(
 
 
 def test_seed_structs_keep_the_seed_offsets():
-    """SPEC §7: PositionalLight and Material are the seed's structs byte for byte."""
+    """docs/conventions.md#uniform-layout: PositionalLight and Material are the seed's structs byte for byte."""
     layouts = Layouts(generate_wgsl(FeatureSet(positional_lights=1)))
     light = layouts.dtype("PositionalLight")
     assert field_offsets(light) == {"ambient": 0, "diffuse": 16, "specular": 32, "position": 48}

@@ -1,4 +1,4 @@
-"""The material table (SPEC §8)."""
+"""The material table (docs/scene-files.md#materials)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""SPEC §12 normals: weld by position, crease angle split per vertex fan, OBJ `s off`,
+"""docs/real-world-files.md normals: weld by position, crease angle split per vertex fan, OBJ `s off`,
 the crease_angle key and flag, the up axis. Expected normals are computed independently
 (face normals by hand, exact sphere normals), never with the code under test."""
 

@@ -113,7 +113,7 @@ def test_head_on_directional_light_on_a_facing_plane():
     image = ref.render_reference(scene)
     assert image.covered.all()
     np.testing.assert_allclose(image.color[..., :3], np.broadcast_to(expected_rgb, (10, 12, 3)), atol=TIGHT)
-    np.testing.assert_allclose(image.color[..., 3], 1.0, atol=TIGHT)  # opaque (SPEC §13), whatever the diffuse alpha
+    np.testing.assert_allclose(image.color[..., 3], 1.0, atol=TIGHT)  # opaque (docs/conventions.md#the-lighting-equation), whatever the diffuse alpha
     np.testing.assert_allclose(image.depth, 1.0, atol=TIGHT)
     assert (image.object == 0).all() and set(np.unique(image.triangle)) == {0, 1}
 

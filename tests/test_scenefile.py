@@ -1,4 +1,4 @@
-"""Scene files (SPEC §11): every key of the contract is read, and every mistake is an error
+"""Scene files (docs/scene-files.md): every key of the contract is read, and every mistake is an error
 that names the file, the table and the key."""
 
 from __future__ import annotations

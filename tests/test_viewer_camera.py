@@ -1,4 +1,4 @@
-"""The camera a viewer's user expects (SPEC §13): orthographic projection, automatic framing
+"""The camera a viewer's user expects (docs/conventions.md#projection-pixels-and-depth): orthographic projection, automatic framing
 from the up axis (f3d's --up), f3d's camera flags and the scene-file keys behind them.
 
 Orthographic images are checked against what parallel projection must give (exact sizes,

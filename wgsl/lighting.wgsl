@@ -1,4 +1,4 @@
-// The lighting equation of SPEC §3 (OpenGL's fixed-function lighting), in eye space:
+// The lighting equation of docs/conventions.md (OpenGL's fixed-function lighting), in eye space:
 //
 //   color = emission + global_ambient·ambient_m
 //         + Σ_i scale_i · (ambient_i·ambient_m + max(N·L, 0)·diffuse_i·diffuse_m
@@ -93,7 +93,7 @@ fn view_direction(eye_position: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
 #endif
 }
 
-// The lit color, split the way textures need it (SPEC §5): the part a texture modulates,
+// The lit color, split the way textures need it (docs/conventions.md#textures): the part a texture modulates,
 // and the specular highlight that `modulate` adds on top.
 struct LitColor {
     ambient_diffuse: vec3<f32>,

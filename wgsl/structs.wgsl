@@ -2,8 +2,8 @@
 // wgpu_shading/render/layout.py parses these structs (after the #if lines are resolved) into
 // numpy dtypes, so the Python side can never disagree with the shader about offsets.
 //
-// PositionalLight and Material keep the seed's fields (file 000) at the seed's offsets:
-// ambient 0, diffuse 16, specular 32, position/shininess 48, size 64 (SPEC §7).
+// PositionalLight and Material keep the seed shaders' fields at their offsets:
+// ambient 0, diffuse 16, specular 32, position/shininess 48, size 64 (docs/conventions.md#uniform-layout).
 // Fields for optional effects come after them and exist only when the scene uses them.
 // All directions and positions are in eye space: the CPU transforms them once per frame,
 // like the seed's installLights().
@@ -80,7 +80,7 @@ struct FrameUniforms {
     clip_from_eye: mat4x4<f32>,
     global_ambient: vec4<f32>,
 #if REFLECTION_BLINN_PHONG
-    // k_blinn: the Blinn-Phong exponent is shininess × this (seed 000 uses 3, OpenGL 1).
+    // k_blinn: the Blinn-Phong exponent is shininess × this (the seed shaders use 3, OpenGL 1).
     blinn_exponent_scale: f32,
 #endif
 #if DIRECTIONAL_LIGHTS

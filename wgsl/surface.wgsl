@@ -1,5 +1,5 @@
-// The fragment's output: lighting combined with the texture (SPEC §5), clamped to [0, 1]
-// per channel (SPEC §3). Alpha (SPEC §13): 1 (opaque), unless the material blends (its
+// The fragment's output: lighting combined with the texture (docs/conventions.md#textures), clamped to [0, 1]
+// per channel. Alpha: 1 (opaque), unless the material blends (its
 // diffuse alpha × the texel's) or masks (discarded below the cutoff, else 1).
 
 fn output_alpha(alpha: f32) -> f32 {

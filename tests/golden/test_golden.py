@@ -1,4 +1,4 @@
-"""The project's golden images: every seed scene of SPEC §10 in the shading modes it shows,
+"""The project's golden images: every classic scene (docs/conventions.md#the-classic-scenes) in the shading modes it shows,
 every light kind, attenuation, table materials, every texture mode, two-sided lighting
 and the infinite viewer (cases.toml, scenes/). References in references/, rendered on
 lavapipe (references/ENVIRONMENT.txt says which Mesa). Update after an intended change:

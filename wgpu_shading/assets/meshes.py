@@ -4,7 +4,7 @@ OBJ is read by obj.py (trimesh's OBJ reader mis-resolves relative indices and dr
 smoothing groups); OFF by off.py (a token stream: trimesh wanted one face per line);
 PLY and STL by trimesh; glTF by our own accessor reader (gltf_data.py, gltf_mesh.py).
 Every format ends as "pieces" (vertex arrays with their parts), whose normals follow
-SPEC §12: the file's normals win; glTF primitives without NORMAL are flat; otherwise
+docs/real-world-files.md: the file's normals win; glTF primitives without NORMAL are flat; otherwise
 vertices are welded by position and split at the crease angle (scene/normals.py).
 """
 
@@ -27,7 +27,7 @@ from .files import check_regular_file
 from .mesh_checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
-DEFAULT_CREASE_ANGLE = 60.0  # degrees (SPEC §12)
+DEFAULT_CREASE_ANGLE = 60.0  # degrees (docs/real-world-files.md)
 
 
 @dataclass
@@ -49,7 +49,7 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     (OBJ, PLY, STL, OFF, GLB/glTF).
 
     crease_angle (degrees, 0..180): where the file has no normals, edges sharper than this
-    are creases (SPEC §12); 180 is the plain average of the welded faces, 0 is flat."""
+    are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat."""
     text = resolve_example(str(source))
     if text.startswith(BUILTIN_PREFIX):
         return builtin(text)

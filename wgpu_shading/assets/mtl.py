@@ -7,7 +7,7 @@
   and f3d ignores Ks, so the file's author saw no highlight. `illum 0` / `illum 1` (no
   specular by the MTL definition) also drop Ks.
 - `d` (dissolve) is the alpha; without `d`, `Tr` (transparency) gives alpha 1 − Tr.
-  Alpha below 1 makes the material blend (SPEC §13). `Tr 1` without `d` is read as
+  Alpha below 1 makes the material blend (docs/conventions.md#the-lighting-equation). `Tr 1` without `d` is read as
   opaque, with a warning: MeshLab (VCG) writes `Tr 1.000000` into every MTL it exports,
   meaning the alpha, and 1 − Tr would make those files invisible; f3d shows them opaque.
   An explicit `d 0` is kept (the author asked for it) but warned about: nothing is drawn.

@@ -1,4 +1,4 @@
-"""Wavefront OBJ reading, our own: trimesh's reader loses what SPEC §12 needs.
+"""Wavefront OBJ reading, our own: trimesh's reader loses what docs/real-world-files.md needs.
 
 What trimesh 5.2 gets wrong, and why this module exists:
 - Negative (relative) indices are resolved against the end of the whole file instead of

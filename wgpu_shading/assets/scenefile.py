@@ -1,17 +1,17 @@
-"""Scene files (TOML, SPEC §11) → Scene.
+"""Scene files (TOML, docs/scene-files.md) → Scene.
 
 Every key is checked: an unknown key is an error with a suggestion (a typo such as
 `difuse` must not silently fall back to a default), and every error names the file, the
 table and the key. Paths (meshes, textures) are relative to the scene file.
 
-Extensions beyond SPEC §11 (additions only, nothing renamed):
+Extensions beyond the contract (additions only, nothing renamed):
   material = { base = "gold", emission = [...] }   start from a named material
   material = { texture = "t.png" }                 no colors given: the seed's material-less
                                                    case, ambient = diffuse = specular = 1
   mesh = "builtin:sphere?slices=20&stacks=20"      parameters of built-in meshes
 An object without `material` uses its mesh file's own materials, part by part (OBJ/MTL,
 glTF), else OpenGL's default. `crease_angle` (degrees) and `up` ("+Y", "+Z", ...) on an
-object: SPEC §12.
+object: docs/real-world-files.md.
 """
 
 from __future__ import annotations
@@ -181,7 +181,7 @@ def _object(table: Mapping[str, Any], index: int, base: Path, crease_angle: floa
 
 
 def _background(output: Mapping[str, Any], default) -> Any:
-    """[output] background, with alpha 0 when `transparent = true` (SPEC §13)."""
+    """[output] background, with alpha 0 when `transparent = true` (docs/conventions.md#the-lighting-equation)."""
     background = output.get("background", default)
     transparent = output.get("transparent", False)
     if not isinstance(transparent, bool):

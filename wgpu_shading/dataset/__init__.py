@@ -1,4 +1,4 @@
-"""Dataset rendering (SPEC §14): many meshes × many views → image files, resumable, on one
+"""Dataset rendering (docs/datasets.md): many meshes × many views → image files, resumable, on one
 machine or a Dask cluster, with the pixels of `wgpu-shading render` (docs/datasets.md).
 
     from wgpu_shading.dataset import Outputs, mesh_jobs, render_dataset, turntable_views

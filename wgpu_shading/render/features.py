@@ -28,7 +28,7 @@ class FeatureSet:
     two_sided: bool = False
     cull_back: bool = False  # glTF doubleSided false: back faces are not drawn
     local_viewer: bool = True
-    clamp_vertex_colors: bool = False  # flat/Gouraud: OpenGL's per-vertex clamp (SPEC §13)
+    clamp_vertex_colors: bool = False  # flat/Gouraud: OpenGL's per-vertex clamp (docs/conventions.md#shading-frequencies)
     vertex_colors: bool = False  # the mesh has colors: they multiply ambient and diffuse
     alpha_mode: str = "opaque"  # opaque (alpha 1) | mask (discard below the cutoff) | blend
     unlit: bool = False  # KHR_materials_unlit: the surface color, no lighting

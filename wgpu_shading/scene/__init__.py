@@ -1,4 +1,4 @@
-"""What to draw: plain, immutable, validated dataclasses (SPEC §11).
+"""What to draw: plain, immutable, validated dataclasses (docs/scene-files.md).
 
 A scene is what a TOML scene file describes: output, shading settings, a camera, global
 ambient light, lights and objects, each object a Mesh with a Material and a transform.

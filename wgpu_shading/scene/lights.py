@@ -1,4 +1,4 @@
-"""Light sources (SPEC §3): directional, positional and spot lights, OpenGL style."""
+"""Light sources (docs/conventions.md#the-lighting-equation): directional, positional and spot lights, OpenGL style."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Materials and textures (OpenGL material model; SPEC §5 texture modes)."""
+"""Materials and textures (OpenGL material model; texture modes: docs/conventions.md#textures)."""
 
 from __future__ import annotations
 
@@ -86,7 +86,7 @@ ALPHA_MODES = ("opaque", "mask", "blend")
 class Material:
     """OpenGL material; the defaults are OpenGL's (grey diffuse, no specular).
 
-    Alpha (SPEC §13): the colors' alphas are kept (the uniform layout contract) but make
+    Alpha (docs/conventions.md#the-lighting-equation): the colors' alphas are kept (the uniform layout contract) but make
     nothing translucent unless `alpha_mode` asks: "opaque" (default) writes alpha 1,
     "mask" discards fragments whose alpha (diffuse × texel) is below `alpha_cutoff`,
     "blend" blends over what is behind (glTF's alphaMode). `unlit`: the diffuse color

@@ -1,9 +1,10 @@
-"""The classic OpenGL material table (SPEC §8).
+"""The classic OpenGL material table (docs/scene-files.md#materials).
 
 Sources: SGI's teapots.c (Mark J. Kilgard, 1994) as published by F. Devernay, with its
 shininess given as a fraction of 128; the SIGGRAPH '99 course notes "Advanced Graphics
 Programming Techniques Using OpenGL" (Table 7) for the alphas and the polished metals;
-and the seed lecture (file 000) for pewter. Shininess is stored in OpenGL units
+and the course material the project started from for pewter
+(docs/conventions.md#where-the-rules-come-from). Shininess is stored in OpenGL units
 (the fraction × 128).
 """
 
@@ -48,7 +49,7 @@ _TABLE: dict[str, tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...],
     "polished_copper": ((0.2295, 0.08825, 0.0275), (0.5508, 0.2118, 0.066), (0.580594, 0.223257, 0.0695701), 0.4, 1.0),
     "polished_gold": ((0.24725, 0.2245, 0.0645), (0.34615, 0.3143, 0.0903), (0.797357, 0.723991, 0.208006), 0.65, 1.0),
     "polished_silver": ((0.23125, 0.23125, 0.23125), (0.2775, 0.2775, 0.2775), (0.773911, 0.773911, 0.773911), 0.7, 1.0),
-    # The seed's pewter (file 000), shininess already in OpenGL units: 9.85 / 128.
+    # The seeds' pewter, shininess already in OpenGL units: 9.85 / 128.
     "pewter": ((0.11, 0.06, 0.11), (0.43, 0.47, 0.54), (0.33, 0.33, 0.52), 9.85 / 128.0, 1.0),
 }
 

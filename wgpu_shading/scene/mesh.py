@@ -7,7 +7,7 @@ in float64 on the CPU as part of the model matrix (see SceneObject.world_from_mo
 
 Vertex normals come from the file when it has them, else they are the normalized sum
 of the adjacent faces' unit normals (the seeds' definition), optionally after welding by
-position and splitting at creases (SPEC §12, see normals.py).
+position and splitting at creases (docs/real-world-files.md, see normals.py).
 
 A mesh from a file may have several parts (OBJ `usemtl`, glTF primitives): each part is a
 contiguous range of triangles with its own material, drawn with its own draw call.
@@ -280,7 +280,7 @@ class Mesh:
 
 
 def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Normalized sum of the unit normals of the faces around each vertex (seeds 000, 001, 004).
+    """Normalized sum of the unit normals of the faces around each vertex (the seeds' rule, docs/conventions.md#vertex-normals).
 
     Zero-area faces contribute nothing. Where the sum cancels (a vertex shared by a
     thin double-sided sheet, say), the normal of the largest adjacent face is used

@@ -1,4 +1,4 @@
-"""Welded, creased vertex normals (SPEC §12), vectorised in numpy.
+"""Welded, creased vertex normals (docs/real-world-files.md), vectorised in numpy.
 
 Files split vertices wherever a UV seam runs, and STL files split every vertex (a
 triangle soup): averaging per given vertex would show every seam as a crease and every

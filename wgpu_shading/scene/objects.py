@@ -149,7 +149,7 @@ _DEFAULT_MATERIAL = Material()
 
 @dataclass(frozen=True)
 class Shading:
-    """The two independent axes of SPEC §2 plus OpenGL's light-model switches."""
+    """The two independent axes (docs/conventions.md#two-independent-axes) plus OpenGL's light-model switches."""
 
     frequency: Frequency = "phong"
     reflection: Reflection = "phong"

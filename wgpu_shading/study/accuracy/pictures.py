@@ -76,7 +76,7 @@ def contact_sheet(panels: list[list[tuple[str, np.ndarray]]], footer: np.ndarray
 
 
 def seed_figure(study: Study) -> np.ndarray:
-    """Seed 000's 3×3 figure: flat → Gouraud → Phong (rows) at three face counts (columns)."""
+    """The classic 3×3 figure (docs/conventions.md#the-classic-scenes): flat → Gouraud → Phong (rows) at three face counts (columns)."""
     triangles = {r["requested"]: r["triangles"] for r in study.rows}
     points = [n for n in study.config.figure_points if any(key[0] == n for key in study.frames)]
     rows = []

@@ -1,6 +1,6 @@
-"""The lighting equation of docs/conventions.md (SPEC §3) in float64, at arrays of eye-space
+"""The lighting equation of docs/conventions.md in float64, at arrays of eye-space
 points: guarded power and normalize with the conventions' limits, the lights in eye space,
-ambient + diffuse + specular per light, and the texture sampling and combine of SPEC §5
+ambient + diffuse + specular per light, and the texture sampling and combine of docs/conventions.md#textures
 with the final clamp. Shape-agnostic: the rasterized meshes (`mesh.py`) and the
 analytic shapes (`analytic.py`) both shade through `shade` and `combine`."""
 
@@ -137,7 +137,7 @@ def shade(
     points: np.ndarray, normals: np.ndarray, to_viewer: np.ndarray, scene: Scene, material: Material,
     *, ambient_scale: np.ndarray | None = None, shininess_scale: np.ndarray | None = None, with_emission: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """SPEC §3 at N eye-space points with unit normals and unit view vectors, all (N, 3).
+    """The lighting equation (docs/conventions.md) at N eye-space points with unit normals and unit view vectors, all (N, 3).
 
     Returns the ambient+diffuse+emission part and the specular part, (N, 3) each, unclamped
     (textures treat them apart; the clamp comes last, in `combine`). Maps
@@ -201,10 +201,10 @@ def combine(
     *, specular_scale: np.ndarray | None = None, emitted: np.ndarray | None = None, alpha_scale: np.ndarray | None = None,
     srgb_output: bool = False,
 ) -> np.ndarray:
-    """Texture combine (SPEC §5) and the final clamp: (N, 4) RGBA.
+    """Texture combine (docs/conventions.md#textures) and the final clamp: (N, 4) RGBA.
 
     `texel` is the sampled RGBA in [0, 1] (N, 4), or None for an untextured material; the
-    mode is material.texture_mode. Alpha (SPEC §13) is 1 unless the material blends: then
+    mode is material.texture_mode. Alpha (docs/conventions.md#the-lighting-equation) is 1 unless the material blends: then
     the diffuse alpha (× texel alpha). (A masked fragment below the cutoff is discarded on
     the GPU; the reference shows it opaque.)
 
