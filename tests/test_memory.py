@@ -36,7 +36,7 @@ mesh = Mesh(
 )
 gc.collect()
 before = rss()
-renderer._cache.gpu_mesh(mesh)  # the upload alone (a test may reach inside)
+renderer.device_cache.gpu_mesh(mesh)  # the upload alone
 renderer.device.queue.submit([])
 renderer.device._poll_wait()  # let wgpu finish (and free) any staging copy
 print((rss() - before) / mesh.nbytes)
