@@ -31,7 +31,7 @@ def png_data_uri(pixels: np.ndarray) -> str:
 def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (), nodes: list[dict] | None = None,
                textures: list[dict] = (), images: list[np.ndarray] = (), samplers: list[dict] = (), extra: dict | None = None) -> Path:
     """meshes: per mesh, primitives as dicts with arrays `positions`, `indices` and optional
-    `normals`, `colors` (RGBA float), `uvs`, plus `material` (index). nodes default to one per mesh."""
+    `normals`, `colors` (RGBA float), `uvs`, `tangents` (xyzw), plus `material` (index). nodes default to one per mesh."""
     blob = bytearray()
     views, accessors = [], []
 
@@ -53,7 +53,7 @@ def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (),
         out = []
         for primitive in primitives:
             attributes = {"POSITION": add(np.float32(primitive["positions"]), _FLOAT, 34962)}
-            for key, name in (("normals", "NORMAL"), ("colors", "COLOR_0"), ("uvs", "TEXCOORD_0")):
+            for key, name in (("normals", "NORMAL"), ("colors", "COLOR_0"), ("uvs", "TEXCOORD_0"), ("tangents", "TANGENT")):
                 if primitive.get(key) is not None:
                     attributes[name] = add(np.float32(primitive[key]), _FLOAT, 34962)
             entry = {"attributes": attributes, "indices": add(np.uint32(primitive["indices"]).reshape(-1), _UINT, 34963)}

@@ -71,6 +71,26 @@ fn perturbed_normal(normal: vec3<f32>, eye_position: vec3<f32>, uv: vec2<f32>, m
     }
     return safe_normalize(tangent * (scale * mapped.x) + bitangent * (scale * mapped.y) + normal * mapped.z, normal);
 }
+
+#if VERTEX_TANGENTS
+// The surface normal turned by `mapped` in the file's tangent frame (glTF TANGENT, as
+// three.js with vertex tangents): T = normalize(t − N·(N·t)), B = (N × T)·w, with N the
+// front face's normal (`front_normal`); on back faces of two-sided lighting T and B are
+// negated like the derivative frame's. Where the tangent is missing (zero) or parallel
+// to N, `derivative` (the derivative frame's result) is kept.
+fn vertex_tangent_normal(front_normal: vec3<f32>, tangent: vec4<f32>, mapped: vec3<f32>, face_sign: f32, derivative: vec3<f32>) -> vec3<f32> {
+    let projected = tangent.xyz - front_normal * dot(front_normal, tangent.xyz);
+    let length_squared = dot(projected, projected);
+    if (!(length_squared > 1e-12 * max(dot(tangent.xyz, tangent.xyz), 1e-30))) {
+        return derivative;
+    }
+    let t = projected * inverseSqrt(length_squared);
+    let handedness = select(-1.0, 1.0, tangent.w >= 0.0);
+    let b = cross(front_normal, t) * handedness;
+    let normal = front_normal * face_sign;
+    return safe_normalize((t * mapped.x + b * mapped.y) * face_sign + normal * mapped.z, normal);
+}
+#endif
 #endif
 
 #if SRGB_OUTPUT

@@ -20,6 +20,11 @@ struct Varyings {
 #if VERTEX_COLORS
     @location(3) color: vec4<f32>,
 #endif
+#if VERTEX_TANGENTS
+    // The file's tangent in eye space; w: the handedness, times the sign of the
+    // transform's determinant (a mirror flips the bitangent).
+    @location(4) eye_tangent: vec4<f32>,
+#endif
 }
 
 @vertex
@@ -35,6 +40,10 @@ fn vs_main(vertex: VertexInput) -> Varyings {
 #endif
 #if VERTEX_COLORS
     out.color = vertex.color;
+#endif
+#if VERTEX_TANGENTS
+    let linear = mat3x3<f32>(object_uniforms.eye_from_model[0].xyz, object_uniforms.eye_from_model[1].xyz, object_uniforms.eye_from_model[2].xyz);
+    out.eye_tangent = vec4<f32>(linear * vertex.tangent.xyz, vertex.tangent.w * sign(determinant(linear)));
 #endif
     return out;
 }
@@ -61,7 +70,13 @@ fn fs_main(
     }
 #endif
 #if NORMAL_MAP or BUMP_MAP
-    normal = perturbed_normal(normal, in.eye_position, in.uv, map_normal(in.uv), face_sign);
+    let mapped = map_normal(in.uv);
+    // The derivative frame is computed in uniform control flow (dpdx) even where the file's
+    // tangents replace it.
+    normal = perturbed_normal(normal, in.eye_position, in.uv, mapped, face_sign);
+#if VERTEX_TANGENTS
+    normal = vertex_tangent_normal(safe_normalize(in.eye_normal, FALLBACK_NORMAL), in.eye_tangent, mapped, face_sign, normal);
+#endif
 #endif
 #if OCCLUSION_MAP or SHININESS_MAP
     read_fragment_maps(in.uv);

@@ -34,6 +34,7 @@ class GltfPiece:
     primitive: dict  # the glTF primitive (its material, attributes)
     name: str
     key: tuple[int, int]  # (mesh, primitive): instances of one primitive share its material
+    tangents: np.ndarray | None = None  # (n, 4) TANGENT: xyz and handedness w, in world space
 
 
 def triangles(mode: int, indices: np.ndarray) -> np.ndarray:
@@ -62,6 +63,16 @@ def _attribute(data: GltfData, attributes: dict, name: str, where: str, count: i
     if values.dtype.kind == "f" and not np.isfinite(values).all():
         raise gltf_error(data.path, f"{where}.attributes.{name}", "values must be finite")
     return values
+
+
+def _optional_tangents(data: GltfData, attributes: dict, where: str, count: int) -> np.ndarray | None:
+    """TANGENT when it is usable (float VEC4, finite, one per vertex); otherwise None: a
+    broken TANGENT never rejects a file, the normal map falls back to the derivative frame."""
+    try:
+        values = _attribute(data, attributes, "TANGENT", where, count, (4,))
+    except MeshError:
+        return None
+    return values if values is not None and values.dtype.kind == "f" else None
 
 
 def _draco(data: GltfData, primitive: dict, where: str) -> dict:
@@ -105,13 +116,14 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
         positions = decoded.get("POSITION")
         if positions is None or positions.shape[1] != 3:
             raise gltf_error(data.path, f"{where}.extensions.{_DRACO}", "has no POSITION attribute")
-        arrays = {name: decoded.get(name) for name in ("NORMAL", "TEXCOORD_0", "COLOR_0", "JOINTS_0", "WEIGHTS_0")}
+        arrays = {name: decoded.get(name) for name in ("NORMAL", "TANGENT", "TEXCOORD_0", "COLOR_0", "JOINTS_0", "WEIGHTS_0")}
         indices = decoded["indices"]
     else:
         positions = _attribute(data, attributes, "POSITION", where, data.accessor(attributes["POSITION"], f"{where}.attributes.POSITION").shape[0], (3,))
         count = len(positions)
         arrays = {
             "NORMAL": _attribute(data, attributes, "NORMAL", where, count, (3,)),
+            "TANGENT": _optional_tangents(data, attributes, where, count),
             "TEXCOORD_0": _attribute(data, attributes, "TEXCOORD_0", where, count, (2,)),
             "COLOR_0": _attribute(data, attributes, "COLOR_0", where, count, (3, 4)),
             "JOINTS_0": _attribute(data, attributes, "JOINTS_0", where, count, (4,)),
@@ -131,7 +143,9 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
     if len(indices) and (indices.min() < 0 or indices.max() >= len(positions)):
         raise gltf_error(data.path, f"{where}.indices", f"index {int(indices.max())} is beyond the {len(positions)} vertices")
     # KHR_mesh_quantization allows integer positions, normals and uvs: placed as floats
-    for name in ("NORMAL", "TEXCOORD_0"):
+    if arrays["TANGENT"] is not None and (arrays["TANGENT"].ndim != 2 or arrays["TANGENT"].shape[1] != 4):
+        arrays["TANGENT"] = None  # a Draco TANGENT of another shape: the derivative frame instead
+    for name in ("NORMAL", "TANGENT", "TEXCOORD_0"):
         if arrays[name] is not None:
             arrays[name] = arrays[name].astype(np.float64)
     arrays["POSITION"] = positions.astype(np.float64)
@@ -179,9 +193,10 @@ def gltf_pieces(data: GltfData) -> list[GltfPiece]:
 
 
 def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPiece:
-    positions, normals = arrays["POSITION"], arrays["NORMAL"]
+    positions, normals, tangents = arrays["POSITION"], arrays["NORMAL"], arrays["TANGENT"]
     faces = arrays["faces"]
     if skin is not None and arrays["JOINTS_0"] is not None and arrays["WEIGHTS_0"] is not None:
+        tangents = None  # not posed: skinned primitives keep the derivative frame
         positions, normals = pose(skin, arrays["JOINTS_0"].astype(np.int64), arrays["WEIGHTS_0"].astype(np.float64),
                                   positions, normals, f"{where}.attributes.JOINTS_0", data)
     elif matrix is not None:
@@ -189,6 +204,8 @@ def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPi
         positions = positions @ linear.T + matrix[:3, 3]
         if normals is not None:
             normals = normals @ np.linalg.inv(linear)  # the inverse transpose, applied to rows
+        if tangents is not None:  # tangents follow the surface (the matrix); a mirror flips w
+            tangents = np.concatenate([tangents[:, :3] @ linear.T, tangents[:, 3:] * np.sign(np.linalg.det(linear))], axis=1)
         if np.linalg.det(linear) < 0:
             faces = faces[:, ::-1]  # a mirroring node keeps the outside outside
     uvs = arrays["TEXCOORD_0"]
@@ -200,7 +217,7 @@ def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPi
         if colors.shape[1] == 3:
             colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
         colors = np.clip(colors, 0.0, 1.0)
-    return GltfPiece(positions, faces, normals, uvs, colors, primitive, str(name), key)
+    return GltfPiece(positions, faces, normals, uvs, colors, primitive, str(name), key, tangents)
 
 
 def material_images(data: GltfData, material: dict, warn_name: str):

@@ -39,6 +39,7 @@ class _Piece:
     normals: np.ndarray | None = None
     uvs: np.ndarray | None = None
     colors: np.ndarray | None = None  # (n, 4) float in [0, 1]
+    tangents: np.ndarray | None = None  # (n, 4) glTF TANGENT, only with the file's normals
     flat: np.ndarray | None = None  # (f,) bool: faces that are always flat
     all_flat: bool = False
     parts: list = field(default_factory=list)  # (first face, count, material, name)
@@ -250,9 +251,11 @@ def _gltf_pieces(path: Path) -> list[_Piece]:
         material = materials[piece.key]
         if uvs is None and material is not None and material.maps:  # maps need texture coordinates
             material = replace(material, **{key: None for key in material.maps})
+        # TANGENT is used with the file's normals (never welded) for a normal map.
+        tangents = piece.tangents if normals is not None and material is not None and material.normal_map is not None else None
         pieces.append(
             _Piece(piece.positions, piece.faces, normals, uvs, piece.colors, all_flat=not row["has_normal"],
-                   parts=[(0, len(piece.faces), material, piece.name)])
+                   parts=[(0, len(piece.faces), material, piece.name)], tangents=tangents)
         )
     return pieces
 
@@ -311,7 +314,8 @@ def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
     pieces = [_piece_normals(piece, crease_angle) for piece in pieces]
     any_uvs = any(p.uvs is not None for p in pieces)
     any_colors = any(p.colors is not None for p in pieces)
-    positions, faces, normals, uvs, colors, parts = [], [], [], [], [], []
+    any_tangents = any(p.tangents is not None for p in pieces)
+    positions, faces, normals, uvs, colors, tangents, parts = [], [], [], [], [], [], []
     vertex_offset = face_offset = 0
     for piece in pieces:
         count = len(piece.positions)
@@ -322,6 +326,8 @@ def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
             uvs.append(piece.uvs if piece.uvs is not None else np.zeros((count, 2)))
         if any_colors:
             colors.append(piece.colors if piece.colors is not None else np.ones((count, 4)))
+        if any_tangents:  # zeros: no tangent, the derivative frame
+            tangents.append(piece.tangents if piece.tangents is not None else np.zeros((count, 4)))
         for first, length, material, part_name in piece.parts:
             if material is not None and material.texture is not None and piece.uvs is None:
                 warnings.warn(f"{name}: part {part_name!r} has a texture but no texture coordinates; drawn untextured", stacklevel=3)
@@ -338,6 +344,7 @@ def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
         normals=joined(normals),
         uvs=joined(uvs) if any_uvs else None,
         colors=joined(colors) if any_colors else None,
+        tangents=joined(tangents) if any_tangents else None,
         parts=tuple(parts),
         name=name,
     )

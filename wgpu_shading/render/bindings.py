@@ -111,6 +111,7 @@ VERTEX_ATTRIBUTES: tuple[VertexAttribute, ...] = (
     VertexAttribute("normals", "normal", "vec3<f32>", "float32x3", 12, "array<f32>", lambda f: not flat(f)),
     VertexAttribute("uvs", "uv", "vec2<f32>", "float32x2", 8, "array<f32>", textured, "u, v per vertex"),
     VertexAttribute("colors", "color", "vec4<f32>", "float32x4", 16, "array<vec4<f32>>", lambda f: f.vertex_colors, "r, g, b, a per vertex"),
+    VertexAttribute("tangents", "tangent", "vec4<f32>", "float32x4", 16, "array<vec4<f32>>", lambda f: f.vertex_tangents, "glTF TANGENT: x, y, z, handedness w"),
 )
 
 

@@ -44,6 +44,7 @@ from .resources import (
     uniform_buffer,
     upload_colors,
     upload_mesh,
+    upload_tangents,
     upload_texture,
     upload_uvs,
 )
@@ -85,6 +86,8 @@ class DeviceCache:
             upload_uvs(self.device, gpu_mesh, mesh, self._mesh_usage)
         if plan is not None and "colors" in plan:
             upload_colors(self.device, gpu_mesh, mesh, self._mesh_usage)
+        if plan is not None and "tangents" in plan:
+            upload_tangents(self.device, gpu_mesh, mesh, self._mesh_usage)
         return gpu_mesh
 
     def gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:

@@ -43,6 +43,8 @@ class FeatureSet:
     emissive_map: bool = False
     occlusion_map: bool = False
     alpha_map: bool = False
+    # The mesh's file tangents (glTF TANGENT) give the normal map's frame (Phong only).
+    vertex_tangents: bool = False
 
     @property
     def map_flags(self) -> tuple[str, ...]:
@@ -92,6 +94,7 @@ class FeatureSet:
             "EMISSIVE_MAP": self.emissive_map,
             "OCCLUSION_MAP": self.occlusion_map,
             "ALPHA_MAP": self.alpha_map,
+            "VERTEX_TANGENTS": self.vertex_tangents,
         }
 
     def describe(self) -> str:
@@ -198,4 +201,5 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         emissive_map="emissive_map" in maps and lit and material.has_emission,
         occlusion_map="occlusion_map" in maps and lit,
         alpha_map="alpha_map" in maps and material.alpha_mode != "opaque",
+        vertex_tangents=obj.mesh.tangents is not None and "normal_map" in maps and per_fragment_normals,
     )

@@ -28,6 +28,7 @@ class GpuMesh:
     uvs: object | None
     triangle_count: int
     colors: object | None = None
+    tangents: object | None = None
     # flat shading's vertex-pulling bind groups (one per layout: a handful)
     storage_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
     # the vertex-cache order the buffers hold (render/vertex_order.py); None: the mesh's own
@@ -35,7 +36,7 @@ class GpuMesh:
 
     @property
     def nbytes(self) -> int:
-        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors)
+        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents)
         return sum(b.size for b in buffers if b is not None)
 
 
@@ -229,6 +230,13 @@ def upload_uvs(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
     if gpu_mesh.uvs is None and mesh.uvs is not None:
         usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
         gpu_mesh.uvs = _reordered_buffer(device, mesh.uvs, gpu_mesh.order, usage)
+
+
+def upload_tangents(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
+    """A file's tangents (float32 xyzw), once a normal-mapped draw needs them."""
+    if gpu_mesh.tangents is None and mesh.tangents is not None:
+        usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
+        gpu_mesh.tangents = _reordered_buffer(device, mesh.tangents, gpu_mesh.order, usage)
 
 
 def upload_colors(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:

@@ -80,6 +80,8 @@ class Mesh:
     origin:    float64 offset added back to `positions`
     colors:    (N, 4) float32 vertex colors in [0, 1] or None (they multiply the material's
                ambient and diffuse, like GL_COLOR_MATERIAL with GL_AMBIENT_AND_DIFFUSE)
+    tangents:  (N, 4) float32 or None: a file's tangents (glTF TANGENT: x, y, z and the
+               handedness w, bitangent = cross(normal, tangent)·w); rows of zeros: none
     parts:     the triangle ranges and their file materials; one part covering every
                triangle when the file has one material (or none)
     """
@@ -92,12 +94,13 @@ class Mesh:
     name: str = ""
     colors: np.ndarray | None = field(default=None, repr=False)
     parts: tuple[MeshPart, ...] = field(default=(), repr=False)
+    tangents: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         # A Mesh is a snapshot: renderers cache its upload by identity, so its arrays must
         # never change. The caller's arrays are copied (and left writable); arrays that are
         # read-only and own their memory (made by from_arrays or a loader) are kept as they are.
-        for key in ("positions", "normals", "indices", "uvs", "colors"):
+        for key in ("positions", "normals", "indices", "uvs", "colors", "tangents"):
             array = getattr(self, key)
             if array is not None:
                 object.__setattr__(self, key, owned(array))
@@ -130,7 +133,7 @@ class Mesh:
     @property
     def nbytes(self) -> int:
         """Size of the mesh's own arrays in bytes."""
-        arrays = (self.positions, self.normals, self.indices, self.uvs, self.colors)
+        arrays = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents)
         return sum(a.nbytes for a in arrays if a is not None)
 
     def part_centre(self, part: MeshPart) -> tuple[float, float, float]:
@@ -169,22 +172,24 @@ class Mesh:
         parts: tuple[MeshPart, ...] = (),
         crease_angle: float | None = None,
         flat_faces: np.ndarray | None = None,
+        tangents: np.ndarray | None = None,
     ) -> "Mesh":
         """Validate and convert user arrays; computes normals when none are given.
 
         Without normals: crease_angle=None gives the seeds' normalized sum per given vertex;
         a number (degrees) welds vertices by position and splits at edges sharper than it
         (normals.crease_normals; vertices may be split, so the vertex count can change).
-        flat_faces (F,) bool marks faces that are always flat (OBJ `s off`)."""
+        flat_faces (F,) bool marks faces that are always flat (OBJ `s off`).
+        tangents (N, 4): kept only with the caller's normals (welding drops them)."""
         with np.errstate(all="ignore"):  # every bad value is reported as a MeshError instead
             return cls._from_arrays(
                 positions, indices, normals, uvs, name=name, material=material, colors=colors,
-                parts=parts, crease_angle=crease_angle, flat_faces=flat_faces,
+                parts=parts, crease_angle=crease_angle, flat_faces=flat_faces, tangents=tangents,
             )
 
     @classmethod
     def _from_arrays(
-        cls, positions, indices, normals, uvs, *, name: str, material, colors, parts, crease_angle, flat_faces
+        cls, positions, indices, normals, uvs, *, name: str, material, colors, parts, crease_angle, flat_faces, tangents=None
     ) -> "Mesh":
         caller_positions, caller_uvs, caller_colors = positions, uvs, colors
         try:
@@ -243,6 +248,13 @@ class Mesh:
             unit_normals = vertex_normals(positions, faces)
         else:
             unit_normals = _validated_normals(np.asarray(normals, dtype=np.float64), positions, faces, name)
+        if normals is None:
+            tangents = None  # tangents belong to the file's normals
+        if tangents is not None:
+            tangents = np.asarray(tangents, dtype=np.float64)
+            if tangents.shape != (len(positions), 4):
+                raise MeshError(f"{name}: tangents must have shape ({len(positions)}, 4), got {tangents.shape}")
+            tangents = np.ascontiguousarray(np.nan_to_num(tangents, nan=0.0, posinf=0.0, neginf=0.0), dtype=np.float32)
         if uvs is not None:
             uvs = np.asarray(uvs, dtype=np.float64)
             if uvs.shape != (len(positions), 2):
@@ -273,6 +285,7 @@ class Mesh:
             name=name,
             colors=_private(colors, *given),
             parts=tuple(parts) or (MeshPart(0, len(faces), material, name),),
+            tangents=_private(tangents, *given),
         )
 
 

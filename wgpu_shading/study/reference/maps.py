@@ -72,6 +72,22 @@ def perturb(normals, corners, corner_uvs, mapped, counter_clockwise, face_sign) 
     return safe_normalize(turned, normals)
 
 
+def perturb_with_tangents(front_normals, tangents, mapped, face_sign, derivative) -> np.ndarray:
+    """Normals turned by `mapped` in the file's tangent frame (glTF TANGENT; wgsl/maps.wgsl
+    vertex_tangent_normal): T = normalize(t − N(N·t)), B = (N × T)·sign(w), N the front
+    face's unit normal, T and B times `face_sign`; `derivative` where t is zero or along N.
+    tangents (N, 4): the interpolated eye-space tangent and w."""
+    t = tangents[:, :3]
+    projected = t - front_normals * dot(front_normals, t)[:, None]
+    length_squared = dot(projected, projected)
+    usable = length_squared > 1e-12 * np.maximum(dot(t, t), 1e-30)
+    unit = projected / np.sqrt(np.where(usable, length_squared, 1.0))[:, None]
+    bitangent = np.cross(front_normals, unit) * np.where(tangents[:, 3:] >= 0.0, 1.0, -1.0)
+    normals = front_normals * face_sign[:, None]
+    turned = (unit * mapped[:, :1] + bitangent * mapped[:, 1:2]) * face_sign[:, None] + normals * mapped[:, 2:3]
+    return np.where(usable[:, None], safe_normalize(turned, normals), derivative)
+
+
 def lighting_factors(material: Material, uv: np.ndarray | None) -> dict:
     """shade()'s per-point factors at `uv`: occlusion on the ambient, shininess scale."""
     factors: dict = {}

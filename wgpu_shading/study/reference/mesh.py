@@ -13,7 +13,7 @@ import numpy as np
 from ...scene import Scene, SceneObject, Shading
 from .image import ReferenceImage
 from .lighting import FALLBACK_NORMAL, dot, clamp_vertex_colors, combine, safe_normalize, shade, view_vectors
-from .maps import color_map, combine_factors, is_linear, lighting_factors, perturb, tangent_normal
+from .maps import color_map, combine_factors, is_linear, lighting_factors, perturb, perturb_with_tangents, tangent_normal
 from .raster import edge_margins, rasterize, screen_triangles, signed_area_fixed
 from .transforms import eye_from_world, normal_matrix, pixel_rays, transform_points, world_from_model
 
@@ -150,7 +150,16 @@ def _shade_pixels(
         mapped = None if uv is None else tangent_normal(material, uv)
         if mapped is not None:
             counter_clockwise = front_facing != prepared.mirrored
-            normals = perturb(normals, prepared.eye_positions[faces], uvs[faces], mapped, counter_clockwise, np.where(back, -1.0, 1.0))
+            face_sign = np.where(back, -1.0, 1.0)
+            normals = perturb(normals, prepared.eye_positions[faces], uvs[faces], mapped, counter_clockwise, face_sign)
+            if obj.mesh.tangents is not None and material.normal_map is not None:  # the file's frame
+                linear = prepared.model_view[:3, :3]
+                file_tangents = obj.mesh.tangents.astype(np.float64)
+                eye_tangents = np.concatenate(
+                    [file_tangents[:, :3] @ linear.T, file_tangents[:, 3:] * np.sign(np.linalg.det(linear))], axis=1
+                )
+                front = safe_normalize(np.einsum("nk,nkc->nc", weights, prepared.eye_normals[faces]), FALLBACK_NORMAL)
+                normals = perturb_with_tangents(front, np.einsum("nk,nkc->nc", weights, eye_tangents[faces]), mapped, face_sign, normals)
         ambient_diffuse, specular = shade_with(points, normals, uv)
 
     linear = is_linear(scene, material)
