@@ -39,10 +39,10 @@ class _Piece:
     normals: np.ndarray | None = None
     uvs: np.ndarray | None = None
     colors: np.ndarray | None = None  # (n, 4) float in [0, 1]
-    tangents: np.ndarray | None = None  # (n, 4) glTF TANGENT, only with the file's normals
     flat: np.ndarray | None = None  # (f,) bool: faces that are always flat
     all_flat: bool = False
     parts: list = field(default_factory=list)  # (first face, count, material, name)
+    tangents: np.ndarray | None = None  # (n, 4) glTF TANGENT, only with the file's normals
 
 
 def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE) -> Mesh:
