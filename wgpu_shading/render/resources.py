@@ -89,6 +89,18 @@ def map_for_reading(buffer) -> None:
         buffer.map_sync(wgpu.MapMode.READ)
 
 
+def halved(level: np.ndarray) -> np.ndarray:
+    """The next mip level of a (height, width, 4) float level: 2×2 box filter, an odd last
+    row or column repeated so that it is averaged with itself."""
+    height, width = level.shape[:2]
+    if height % 2:
+        level = np.concatenate([level, level[-1:]], axis=0)
+    if width % 2:
+        level = np.concatenate([level, level[:, -1:]], axis=1)
+    level = level.reshape(level.shape[0] // 2, 2, level.shape[1] // 2, 2, 4).mean(axis=(1, 3))
+    return level[: max(1, height // 2), : max(1, width // 2)]
+
+
 def mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
     """Box-filtered mip levels down to 1×1 (texture values are used as linear, like the seeds)."""
     levels = [pixels]
@@ -97,13 +109,7 @@ def mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
     current = _first_level(pixels)
     levels.append(np.round(current).astype(np.uint8))
     while current.shape[0] > 1 or current.shape[1] > 1:
-        height, width = current.shape[:2]
-        if height % 2:
-            current = np.concatenate([current, current[-1:]], axis=0)
-        if width % 2:
-            current = np.concatenate([current, current[:, -1:]], axis=1)
-        current = current.reshape(current.shape[0] // 2, 2, current.shape[1] // 2, 2, 4).mean(axis=(1, 3))
-        current = current[: max(1, height // 2), : max(1, width // 2)]
+        current = halved(current)
         levels.append(np.round(current).astype(np.uint8))
     return levels
 
@@ -257,13 +263,7 @@ def srgb_mip_chain(pixels: np.ndarray) -> list[np.ndarray]:
     current[:, :, 3] = pixels[:, :, 3] / np.float32(255.0)
     levels = [pixels]
     while current.shape[0] > 1 or current.shape[1] > 1:
-        height, width = current.shape[:2]
-        if height % 2:
-            current = np.concatenate([current, current[-1:]], axis=0)
-        if width % 2:
-            current = np.concatenate([current, current[:, -1:]], axis=1)
-        current = current.reshape(current.shape[0] // 2, 2, current.shape[1] // 2, 2, 4).mean(axis=(1, 3))
-        current = current[: max(1, height // 2), : max(1, width // 2)]
+        current = halved(current)
         encoded = np.concatenate([srgb_encode(current[:, :, :3]), current[:, :, 3:]], axis=2)
         levels.append(np.round(encoded * 255.0).astype(np.uint8))
     return levels
