@@ -14,30 +14,19 @@ OSMesa: apt install libosmesa6) the table has our two columns only, and the run 
 from __future__ import annotations
 
 import gc
-from dataclasses import dataclass
 
 from wgpu_shading import Renderer
 
-from .measure import Timing, interleaved, progress
+from .measure import SceneTimings, interleaved, progress
 from .peers import WgpuShadingPeer
 from .pyrender_peer import PyrenderPeer, WgpuShadingDepthPeer
 from .scenes import benchmark_scenes, geometry_draw
 
 
-@dataclass
-class DepthRow:
-    scene: str
-    size: int
-    triangles: int
-    timings: dict[str, Timing]
-
-    def ratio(self, numerator: str, denominator: str) -> float:
-        return self.timings[numerator].median_ms / self.timings[denominator].median_ms
-
 
 def run_depth(
     renderer: Renderer, sizes: tuple[int, ...], *, rounds: int, frames: int, tiny: bool = False, pyrender: bool = True
-) -> list[DepthRow]:
+) -> list[SceneTimings]:
     rows = []
     for label, size, scene in benchmark_scenes(sizes, tiny=tiny):
         draw = geometry_draw(scene, label)
@@ -46,7 +35,7 @@ def run_depth(
         if pyrender:
             peers.append(PyrenderPeer(scene))
         timings = interleaved({p.name: p.render for p in peers}, rounds=rounds, frames=frames)
-        rows.append(DepthRow(label, size, draw.triangle_count, timings))
+        rows.append(SceneTimings(label, size, draw.triangle_count, timings))
         for peer in peers:
             peer.close()
         del peers
@@ -54,7 +43,7 @@ def run_depth(
     return rows
 
 
-def depth_table(rows: list[DepthRow]) -> str:
+def depth_table(rows: list[SceneTimings]) -> str:
     lines = [
         "## Colour + depth: ours against pyrender (OSMesa), median ms per frame\n",
         "| scene | size | wgpu-shading | wgpu-shading + depth | pyrender (colour + depth) | depth costs us | ours + depth ÷ pyrender (≤ 0.5) |",

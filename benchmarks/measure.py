@@ -159,3 +159,16 @@ def machine_description() -> str:
         f"{cpu}, {os.cpu_count()} cores, {memory}; {os_name}; Python {platform.python_version()}; "
         f"wgpu-py {wgpu.__version__}; {describe_device(default_device())}"
     )
+
+
+@dataclass
+class SceneTimings:
+    """One scene at one size: each contender's timing (a row of the warm and depth tables)."""
+
+    scene: str
+    size: int
+    triangles: int
+    timings: dict[str, Timing]
+
+    def ratio(self, numerator: str, denominator: str) -> float:
+        return self.timings[numerator].median_ms / self.timings[denominator].median_ms

@@ -12,20 +12,10 @@ from dataclasses import dataclass, replace
 
 from wgpu_shading import Renderer
 
-from .measure import Timing, interleaved, progress, thread_breakdown
+from .measure import SceneTimings, Timing, interleaved, progress, thread_breakdown
 from .peers import ModernGLPeer, PygfxPeer, RawWgslPeer, TrivialLimitPeer, WgpuShadingPeer
 from .scenes import benchmark_scenes, geometry_draw
 
-
-@dataclass
-class WarmRow:
-    scene: str
-    size: int
-    triangles: int
-    timings: dict[str, Timing]
-
-    def ratio(self, numerator: str, denominator: str) -> float:
-        return self.timings[numerator].median_ms / self.timings[denominator].median_ms
 
 
 def run_warm(
@@ -37,7 +27,7 @@ def run_warm(
     pygfx: bool = True,
     moderngl: bool = True,
     tiny: bool = False,
-) -> list[WarmRow]:
+) -> list[SceneTimings]:
     """moderngl / pygfx False leave those peers out (the smoke run, without the [bench]
     extra); tiny: the smoke run's small stand-in meshes."""
     rows = []
@@ -55,7 +45,7 @@ def run_warm(
         # pygfx's default frame is 10-50x slower: fewer of its frames keep the run short.
         counts = {p.name: (1 if p.name == "pygfx" else frames) for p in peers}
         timings = interleaved({p.name: p.render for p in peers}, rounds=rounds, frames=counts)
-        rows.append(WarmRow(label, size, draw.triangle_count, timings))
+        rows.append(SceneTimings(label, size, draw.triangle_count, timings))
         for peer in peers:
             peer.close()
         del peers
