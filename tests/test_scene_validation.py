@@ -1,7 +1,7 @@
 """Scene values are validated wherever they come from (scene files, the library's
 constructors): a bad one is exit 2 with one line naming the file, the key and the value, and
 the library raises SceneError with the same text; what passes stays finite on the GPU (no
-inf, NaN or blank image). The valid ranges: docs/valid-ranges.md."""
+inf, NaN or blank image)."""
 
 from __future__ import annotations
 
