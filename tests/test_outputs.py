@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from wgpu_shading.assets.images import read_depth_png
+from wgpu_shading.assets.image_writers import read_depth_png
 from wgpu_shading.assets.mesh_scene import mesh_scene
 from wgpu_shading.cli import main
 

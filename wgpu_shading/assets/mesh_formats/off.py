@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeshError
-from .files import read_text_bytes
-from .mesh_checks import off_declared_counts
+from ...errors import MeshError
+from ..files import read_text_bytes
+from .checks import off_declared_counts
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF")
 
