@@ -1,11 +1,6 @@
-<<<<<<< HEAD
-"""OFF read as a token stream (assets/mesh_formats/off.py): faces over several lines (libigl's writer),
-counts on the keyword's line, comments, face colours, COFF/NOFF vertices, bad files."""
-=======
 """OFF read as a token stream (assets/mesh_formats/off.py): faces over several lines (libigl's writer),
 the header forms real tools write (two counts, counts on or glued to the keyword's line),
 comments, face colours, COFF/NOFF vertices, bad files."""
->>>>>>> main
 
 from __future__ import annotations
 
