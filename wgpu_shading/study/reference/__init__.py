@@ -14,7 +14,7 @@ The modules, in the order a frame goes through them:
     transforms.py   model → world → eye → window: view, model and normal matrices, pixel rays
     lighting.py     the lighting equation and texture combine at arrays of eye-space points
     raster.py       clipping and the exact-integer rasterizer (coverage, z-buffer, edge margins)
-    mesh.py         the same-mesh reference: RasterizedScene, shaded per frequency; render_reference
+    shading.py      the same-mesh reference: RasterizedScene, shaded per frequency; render_reference
     analytic.py     exact sphere and rectangle, ray-cast and shaded per pixel
     analytic_scene.py  several exact spheres and rectangles with exact shadows in closed form
     visibility.py   exact shadows of the scene's own triangles: V_i per pixel by ray casting
@@ -45,7 +45,7 @@ from .analytic import render_analytic_rectangle, render_analytic_sphere
 from .analytic_scene import AnalyticRectangle, AnalyticShape, AnalyticSphere, render_analytic_scene
 from .image import ReferenceImage
 from .lighting import combine, guarded_power, lights_in_eye_space, safe_normalize, sample_texture_bilinear, shade, view_vectors
-from .mesh import RasterizedScene, render_reference
+from .shading import RasterizedScene, render_reference
 from .transforms import eye_from_world, normal_matrix, pixel_rays, sphere_in_world, window_rays, world_from_model
 from .visibility import ShadowRays
 

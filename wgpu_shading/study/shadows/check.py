@@ -292,7 +292,7 @@ def check_shadows(reference: ShadowReference, image: np.ndarray, shadowless: np.
     report = measure_shadows(reference, image, shadowless, visibility=visibility, name=name)
     if report.passed:
         return report
-    from ...assets.images import write_image
+    from ...assets.image_writers import write_image
 
     folder = Path(picture_dir or os.environ.get("WGPU_SHADING_FAILURES") or "shadow-failures")
     folder.mkdir(parents=True, exist_ok=True)
