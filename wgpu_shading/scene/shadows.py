@@ -30,6 +30,12 @@ MIN_SHADOW_MAP_SIZE, MAX_SHADOW_MAP_SIZE = 16, 8192
 # Bias in shadow-map texels: 0 (none: acne wherever the receiver is the caster) to 64.
 MAX_SHADOW_BIAS_TEXELS = 64.0
 
+# What "auto" resolves to, field by field: the accuracy study's choice
+# (docs/shadows.md#auto, study/accuracy/shadow_choice.py). PROVISIONAL until the study runs
+# on the GPU's shadows: a common starting point, not a measurement (AUTO_IS_MEASURED).
+AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = 2048, "pcf3", 1.5
+AUTO_IS_MEASURED = False
+
 ShadowFilter = Literal["auto", "nearest", "bilinear", "pcf3", "pcf5"]
 MapSize = Union[int, Literal["auto"]]
 Bias = Union[float, Literal["auto"]]
@@ -70,4 +76,12 @@ class ShadowSettings:
             map_size=shadow_map_size(self.map_size),
             filter=choice(self.filter, "shadows.filter", (AUTO,) + SHADOW_FILTERS),
             bias=bias,
+        )
+
+    def resolved(self) -> "ShadowSettings":
+        """Every "auto" replaced by the study's choice (docs/shadows.md#auto); explicit values kept."""
+        return ShadowSettings(
+            map_size=AUTO_MAP_SIZE if self.map_size == AUTO else self.map_size,
+            filter=AUTO_FILTER if self.filter == AUTO else self.filter,
+            bias=AUTO_BIAS if self.bias == AUTO else self.bias,
         )
