@@ -35,7 +35,7 @@ from ..device import uses_direct_upload
 from .pipeline_cache import PipelineCache
 from ..shaders.uniforms import finite_uniform_bytes
 from .bind_groups import cached_bind_group
-from .mesh_uploads import GpuMesh, upload_colors, upload_mesh, upload_tangents, upload_uvs
+from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh
 from .samplers import create_sampler
 from .targets import Target, check_target_size, new_target
 from .texture_uploads import GpuTexture, upload_texture
@@ -73,12 +73,10 @@ class DeviceCache:
             gpu_mesh = None
         if gpu_mesh is None:
             gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order))
-        if plan is not None and "uvs" in plan:
-            upload_uvs(self.device, gpu_mesh, mesh, self._mesh_usage)
-        if plan is not None and "colors" in plan:
-            upload_colors(self.device, gpu_mesh, mesh, self._mesh_usage)
-        if plan is not None and "tangents" in plan:
-            upload_tangents(self.device, gpu_mesh, mesh, self._mesh_usage)
+        if plan is not None:
+            for name in OPTIONAL_ATTRIBUTES:
+                if name in plan:
+                    upload_attribute(self.device, gpu_mesh, mesh, name, self._mesh_usage)
         return gpu_mesh
 
     def gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:

@@ -82,21 +82,17 @@ def _reordered_buffer(device, array: np.ndarray, order: VertexOrder | None, usag
     buffer.unmap()
     return buffer
 
-def upload_uvs(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
-    """Texture coordinates only once a textured draw needs them: most meshes are drawn
-    untextured, and a big mesh's uvs are a seventh of its memory."""
-    if gpu_mesh.uvs is None and mesh.uvs is not None:
-        usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
-        gpu_mesh.uvs = _reordered_buffer(device, mesh.uvs, gpu_mesh.order, usage)
 
-def upload_tangents(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
-    """A file's tangents (float32 xyzw), once a normal-mapped draw needs them."""
-    if gpu_mesh.tangents is None and mesh.tangents is not None:
-        usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
-        gpu_mesh.tangents = _reordered_buffer(device, mesh.tangents, gpu_mesh.order, usage)
+# The per-vertex arrays a draw may need besides positions and normals: GpuMesh and Mesh
+# attributes of these names (the binding plan's VertexAttribute names).
+OPTIONAL_ATTRIBUTES = ("uvs", "colors", "tangents")
 
-def upload_colors(device, gpu_mesh: GpuMesh, mesh: Mesh, extra_usage: int) -> None:
-    """Vertex colors (float32 RGBA), once a draw needs them."""
-    if gpu_mesh.colors is None and mesh.colors is not None:
+
+def upload_attribute(device, gpu_mesh: GpuMesh, mesh: Mesh, name: str, extra_usage: int) -> None:
+    """The mesh's `name` array (uvs, float32 RGBA colors, a file's float32 xyzw tangents),
+    uploaded only once a draw needs it: most meshes are drawn untextured, and a big mesh's
+    uvs are a seventh of its memory."""
+    values = getattr(mesh, name)
+    if getattr(gpu_mesh, name) is None and values is not None:
         usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
-        gpu_mesh.colors = _reordered_buffer(device, mesh.colors, gpu_mesh.order, usage)
+        setattr(gpu_mesh, name, _reordered_buffer(device, values, gpu_mesh.order, usage))
