@@ -135,6 +135,13 @@ def test_every_subpackage_ships():
     assert folders <= listed, f"add to pyproject.toml [tool.setuptools] packages: {sorted(folders - listed)}"
 
 
+def test_every_import_names_a_module_that_exists():
+    """Lazy imports inside functions are not run by importing the package: a module that
+    moved must not leave one behind (the `shader` command once imported a moved module)."""
+    missing = [f"{name} -> {target}" for name, path in _modules().items() for target in _imports(path) if not _exists(target)]
+    assert not missing, "imports of modules that do not exist:\n" + "\n".join(missing)
+
+
 def test_no_import_cycles():
     graph = {name: {t for t in _imports(path) if t in _modules()} for name, path in _modules().items()}
     # A package's __init__ re-exports its modules: an edge module -> its own package's
