@@ -21,7 +21,7 @@ from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.mesh import Mesh
 from .examples import resolve_example
 from .files import check_regular_file
-from .mesh_pieces import MeshPiece, assemble, with_face_colors
+from .mesh_pieces import MeshPiece, assemble, point_piece, with_face_colors
 from .mesh_formats.checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
@@ -56,6 +56,9 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
 
             data = read_obj(path)
             pieces = [MeshPiece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
+            for kind, elements in (("lines", data.lines), ("points", data.points)):
+                if elements is not None:
+                    pieces.append(MeshPiece(elements.positions, elements.indices, colors=elements.colors, parts=elements.parts, primitive=kind))
         elif suffix in (".glb", ".gltf"):
             from .gltf.reader import gltf_mesh_pieces
 
@@ -67,15 +70,17 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
 
             off = read_off(path, file_size)
             piece = MeshPiece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])
+            if not len(off.faces):  # `N 0 0`: a point cloud (docs/primitives.md)
+                piece = point_piece(off.positions, off.normals, off.colors, name=path.name)
             pieces = [piece if off.face_colors is None else with_face_colors(piece, off.face_colors)]
         else:
             pieces = [_trimesh_piece(path, file_size)]
-        pieces = [p for p in pieces if len(p.faces)]
+        pieces = [p for p in pieces if p.element_count]
         mesh = assemble(pieces, path.name, float(crease_angle)) if pieces else None
     for note in dict.fromkeys(notes):  # once each, once the file was read without error (or to say why nothing is left)
         warnings.warn(note, stacklevel=2)
     if mesh is None:
-        raise MeshError(f"mesh file {text!r} contains no triangles")
+        raise MeshError(f"mesh file {text!r} contains no triangles, lines or points: nothing to draw")
     return mesh
 
 
@@ -138,7 +143,16 @@ def _trimesh_piece(path: Path, file_size: int) -> MeshPiece:
     import trimesh
 
     # A PLY header's counts are checked against the file size before trimesh allocates them.
-    declared = ply_declared_counts(path, f"mesh file {str(path)!r}", file_size) if path.suffix.lower() == ".ply" else None
+    declared = None
+    if path.suffix.lower() == ".ply":
+        from .mesh_formats.ply import is_binary_point_cloud, read_binary_point_cloud, read_ply_header
+
+        where = f"mesh file {str(path)!r}"
+        header = read_ply_header(path, where)
+        declared = ply_declared_counts(path, where, file_size, header)
+        if is_binary_point_cloud(header):  # read with numpy, a block at a time (mesh_formats/ply.py)
+            points = read_binary_point_cloud(path, header, where)
+            return point_piece(points.positions, points.normals, points.colors, name=path.name)
     loaded = _load_trimesh(path, file_size)
     if isinstance(loaded, trimesh.Scene):
         geometries = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
@@ -152,7 +166,7 @@ def _trimesh_piece(path: Path, file_size: int) -> MeshPiece:
         raw = loaded.metadata.get("_ply_raw", {}) if isinstance(loaded.metadata, dict) else {}
         if "tristrips" in raw:
             raise MeshError(f"mesh file {str(path)!r}: the PLY has triangle strips (element 'tristrips'), not faces; only 'face' elements are supported")
-        raise MeshError(f"mesh file {str(path)!r}: a point cloud ({len(loaded.vertices)} vertices, no faces); nothing to shade")
+        return _point_cloud_piece(loaded, path, declared)
     if not isinstance(loaded, trimesh.Trimesh):
         raise MeshError(f"mesh file {str(path)!r}: contains no triangles (found {type(loaded).__name__})")
     positions = np.asarray(loaded.vertices, dtype=np.float64)
@@ -183,6 +197,26 @@ def _trimesh_piece(path: Path, file_size: int) -> MeshPiece:
     normals = _file_normals(loaded)
     piece = MeshPiece(positions, faces, normals, uvs, None if colors is None else _unit_colors(colors), parts=[(0, len(faces), None, path.name)])
     return piece if face_colors is None else with_face_colors(piece, _unit_colors(face_colors))
+
+
+def _point_cloud_piece(loaded, path: Path, declared: tuple[int, int] | None) -> MeshPiece:
+    """A PLY without faces: its vertices as points, with their colours and normals (nx ny
+    nz) when it has them (docs/primitives.md)."""
+    positions = np.asarray(loaded.vertices)
+    if declared is not None and len(positions) < declared[0]:
+        raise MeshError(f"mesh file {str(path)!r}: truncated: the header declares {declared[0]} vertices, the file holds {len(positions)}")
+    raw = loaded.metadata.get("_ply_raw", {}).get("vertex", {}).get("data") if isinstance(loaded.metadata, dict) else None
+    normals = None
+    if raw is not None and all(name in _fields(raw) for name in ("nx", "ny", "nz")):
+        normals = np.stack([np.asarray(raw[name], dtype=np.float32).reshape(-1) for name in ("nx", "ny", "nz")], axis=1)
+    colors = np.asarray(loaded.colors) if len(getattr(loaded, "colors", ())) == len(positions) else None
+    return point_piece(positions, normals, None if colors is None else _unit_colors(colors), name=path.name)
+
+
+def _fields(raw) -> tuple[str, ...]:
+    """The property names of trimesh's raw PLY element: a structured array (binary) or a dict (ASCII)."""
+    names = getattr(getattr(raw, "dtype", None), "names", None)
+    return tuple(names) if names else tuple(raw) if isinstance(raw, dict) else ()
 
 
 def _unit_colors(colors: np.ndarray) -> np.ndarray:

@@ -26,6 +26,7 @@ from ...scene.material import Material
 from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 from .mtl import read_mtl_files
+from .obj_elements import ObjElements, bare_points, obj_elements
 
 
 @dataclass
@@ -50,6 +51,8 @@ class ObjData:
     colors: np.ndarray | None
     flat: np.ndarray  # (F,) bool: under `s off` / `s 0`
     parts: list[tuple[int, int, Material | None, str]]  # first face, count, material, name
+    lines: ObjElements | None = None  # `l` records (obj_elements.py)
+    points: ObjElements | None = None  # `p` records, or every `v` of a file without faces or lines
 
 
 def _numbers(text: str, dtype) -> np.ndarray | None:
@@ -267,6 +270,7 @@ def read_obj(path: Path) -> ObjData:
     is_vt = (first == ord("v")) & (second == ord("t"))
     is_vn = (first == ord("v")) & (second == ord("n"))
     is_f = (first == ord("f")) & blank
+    is_l, is_p = (first == ord("l")) & blank, (first == ord("p")) & blank
     v_count, vt_count, vn_count = np.cumsum(is_v), np.cumsum(is_vt), np.cumsum(is_vn)
     # Counted before the text is split into lines (a Python string per line: ~60 bytes each).
     vertices, polygons = int(v_count[-1]) if len(v_count) else 0, int(is_f.sum())
@@ -293,10 +297,24 @@ def read_obj(path: Path) -> ObjData:
         changes.append((index, material, flat))
     face_lines = np.flatnonzero(is_f)
     v_lines = np.flatnonzero(is_v)
-    if not len(face_lines) or not len(v_lines):
-        raise MeshError(f"mesh file {name!r} contains no triangles ({len(v_lines)} vertices, no faces)")
-    # Runs: blocks of consecutive face lines (the counts and the state are fixed within one).
+    if not len(v_lines):
+        raise MeshError(f"mesh file {name!r} contains no triangles, lines or points (no vertices)")
     change_at = np.array([c[0] for c in changes], np.int64)
+    v = _floats(_slices(lines, v_lines), "v ", 3, name, v_lines + 1)
+    materials = read_mtl_files(libraries, path.parent, name) if libraries else {}
+
+    def material_at(index: int) -> str | None:
+        state = int(np.searchsorted(change_at, index)) - 1
+        return changes[state][1] if state >= 0 else None
+
+    segments = obj_elements(lines, np.flatnonzero(is_l), v_count, material_at, v, materials, name, "lines")
+    points = obj_elements(lines, np.flatnonzero(is_p), v_count, material_at, v, materials, name, "points")
+    if not len(face_lines):
+        empty = np.zeros((0, 3))
+        if segments is None and points is None:
+            points = bare_points(v)
+        return ObjData(empty, np.zeros((0, 3), np.int64), None, None, None, np.zeros(0, bool), [], segments, points)
+    # Runs: blocks of consecutive face lines (the counts and the state are fixed within one).
     breaks = np.flatnonzero(np.diff(face_lines) != 1) + 1
     runs = []
     for a, b in zip(np.concatenate([[0], breaks]).tolist(), np.concatenate([breaks, [len(face_lines)]]).tolist()):
@@ -305,7 +323,6 @@ def read_obj(path: Path) -> ObjData:
         run_material, run_flat = (changes[state][1], changes[state][2]) if state >= 0 else (None, False)
         runs.append(_Run(run_material, run_flat, int(v_count[first_index]), int(vt_count[first_index]),
                          int(vn_count[first_index]), first_index + 1, lines[first_index : int(face_lines[b - 1]) + 1]))
-    v = _floats(_slices(lines, v_lines), "v ", 3, name, v_lines + 1)
     vt_lines, vn_lines = np.flatnonzero(is_vt), np.flatnonzero(is_vn)
     vt = _floats(_slices(lines, vt_lines), "vt", 2, name, vt_lines + 1) if len(vt_lines) else np.zeros((0, 2))
     vn = _floats(_slices(lines, vn_lines), "vn", 3, name, vn_lines + 1) if len(vn_lines) else np.zeros((0, 3))
@@ -319,7 +336,6 @@ def read_obj(path: Path) -> ObjData:
     corners = np.concatenate(corner_list)
     flat_faces = np.concatenate(flat_list)
     face_material = np.array([m or "" for chunk in material_list for m in chunk], dtype=object)
-    materials = read_mtl_files(libraries, path.parent, name) if libraries else {}
     # Distinct (v, vt, vn) combinations become vertices.
     has_uv = bool(len(vt)) and bool((corners[:, :, 1] >= 0).all())
     has_normal = bool(len(vn)) and bool((corners[:, :, 2] >= 0).all())
@@ -365,4 +381,4 @@ def read_obj(path: Path) -> ObjData:
             warnings.warn(f"{name}: 'usemtl {material_name}' names no material of {', '.join(libraries)}; its faces drawn without it", stacklevel=2)
         parts.append((start, int(count), materials.get(material_name) if material_name else None, material_name))
         start += int(count)
-    return ObjData(positions, faces, uvs, normals, colors, flat_faces, parts)
+    return ObjData(positions, faces, uvs, normals, colors, flat_faces, parts, segments, points)
