@@ -25,9 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeshError
-from .files import read_text_bytes
-from .mesh_checks import check_declared_counts
+from ...errors import MeshError
+from ..files import read_text_bytes
+from .checks import check_declared_counts
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
 

@@ -12,9 +12,9 @@ import io
 import re
 from pathlib import Path
 
-from ..errors import MeshError
-from ..scene.mesh import MAX_TRIANGLES, MAX_VERTICES
-from .files import read_text_bytes
+from ...errors import MeshError
+from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ..files import read_text_bytes
 
 MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format
 _TEXT_FORMATS = (".obj",)  # always text: decoded here, handed to trimesh as UTF-8
