@@ -31,6 +31,7 @@ from wgpu_shading.scene import (
     Scene,
     SceneObject,
     Shading,
+    ShadowSettings,
     SpotLight,
     Texture,
     builtin,
@@ -49,6 +50,10 @@ NOT_USER_VALUES = {
     "MAX_SHININESS": "live/state.py: where the viewer's shininess keys stop, not a validity range",
     "MIN_LENGTH_SQUARED": "study/reference: the float64 reference's guard (docs/hard-cases.md)",
     "MIN_ATTENUATION_DENOMINATOR": "study/reference: the float64 reference's guard (docs/hard-cases.md)",
+    "MAX_HITS_PER_RAY": "study/reference: the reference's ray cast counts a ray through more surfaces as shadowed",
+    "MAX_DISPLACEMENT_P99": "study/shadows: the shadow check's acceptance threshold, not an input",
+    "MAX_UNRELATED_FRACTION": "study/shadows: the shadow check's acceptance threshold, not an input",
+    "MAX_JOINT_LIGHTS": "study/shadows: how many lights the shadow check tells apart at once, not an input",
 }
 
 
@@ -165,6 +170,8 @@ PROBES = {
     "output.samples": lambda x: Scene(samples=int(x)),
     "lights": lambda x: Scene(lights=(PositionalLight(),) * int(x)),
     "objects": lambda x: Scene(objects=(SceneObject(_CUBE),) * int(x)),
+    "shadows.map_size": lambda x: ShadowSettings(map_size=int(x)),
+    "shadows.bias": lambda x: ShadowSettings(bias=x),
     "crease_angle": lambda x: load_mesh(ROOT / "tests" / "data" / "real" / "smoothing_off.obj", crease_angle=x),
     "builtin": lambda x: builtin(f"builtin:sphere?radius={x!r}&slices=6&stacks=3"),
     "texture": lambda x: Texture(np.zeros((1, int(x), 3), np.uint8)),
