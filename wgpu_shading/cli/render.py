@@ -133,7 +133,7 @@ def _auto_shading(args: argparse.Namespace, scene, renderer):
 
 def command_shader(args: argparse.Namespace) -> int:
     from ..render.features import object_features
-    from ..render.shadergen import generate_wgsl
+    from ..render.shaders.shadergen import generate_wgsl
 
     scene = scene_from_args(args)
     seen = set()

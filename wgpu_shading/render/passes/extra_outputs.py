@@ -19,12 +19,13 @@ import numpy as np
 import wgpu
 from pyglm import glm
 
-from ..errors import SceneError
-from ..scene import Scene, SceneObject
-from ..scene.mesh import MeshPart
-from .device_cache import DeviceCache
-from .resources import Target, read_buffer
-from .uniforms import clip_from_eye, is_mirrored
+from ...errors import SceneError
+from ...scene import Scene, SceneObject
+from ...scene.mesh import MeshPart
+from ..gpu.device_cache import DeviceCache
+from ..gpu.readback import read_buffer
+from ..gpu.targets import Target
+from ..shaders.uniforms import clip_from_eye, is_mirrored
 
 NORMAL_SPACES = ("eye", "world")
 TARGET_FORMAT = "float32"  # an rgba32float target, like `render --float`'s: the same pool

@@ -28,8 +28,8 @@ from typing import Callable
 
 import wgpu
 
-from ..scene import Material, Texture
-from .features import FeatureSet
+from ...scene import Material, Texture
+from ..features import FeatureSet
 from .material_maps import bump_normal_texture
 
 VERTEX = wgpu.ShaderStage.VERTEX
@@ -208,7 +208,7 @@ class BindingPlan:
     def wgsl(self) -> str:
         """The WGSL declarations of every binding, and the vertex input struct."""
         lines = [
-            "// Resource bindings, generated from the binding plan (wgpu_shading/render/bindings.py);",
+            "// Resource bindings, generated from the binding plan (wgpu_shading/render/shaders/bindings.py);",
             "// the pipeline's bind group layouts and the render pass come from the same plan.",
         ]
         for group in self.groups:

@@ -15,14 +15,13 @@ from dataclasses import dataclass
 import numpy as np
 import wgpu
 
-from .bindings import Binding, BindingPlan, binding_plan, extra_outputs_plan
+from ..shaders.bindings import Binding, BindingPlan, binding_plan, extra_outputs_plan
 from .caches import PIPELINE_CACHE_ENTRIES, LruCache
-from .features import FeatureSet
-from .layout import Layouts, layouts_for
-from .shadergen import generate_extra_outputs_wgsl, generate_wgsl
+from ..features import FeatureSet
+from ..shaders.layout import Layouts, layouts_for
+from ..shaders.shadergen import generate_extra_outputs_wgsl, generate_wgsl
+from .targets import COLOR_FORMATS, DEPTH_FORMAT
 
-DEPTH_FORMAT = wgpu.TextureFormat.depth32float
-COLOR_FORMATS = {"rgba8": wgpu.TextureFormat.rgba8unorm, "float32": wgpu.TextureFormat.rgba32float}
 
 
 @dataclass(frozen=True)

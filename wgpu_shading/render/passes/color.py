@@ -13,16 +13,19 @@ import numpy as np
 import wgpu
 from pyglm import glm
 
-from ..errors import SceneError
-from ..scene import Camera, Scene
-from .bindings import Binding
-from .caches import LruCache
-from .device_cache import DeviceCache
-from .features import object_features
-from .material_maps import decodes_srgb
-from .pipeline_cache import PipelineEntry
-from .resources import GpuMesh, GpuTexture, Target, read_buffer, read_mapped_rows
-from .uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
+from ...errors import SceneError
+from ...scene import Camera, Scene
+from ..shaders.bindings import Binding
+from ..gpu.caches import LruCache
+from ..gpu.device_cache import DeviceCache
+from ..features import object_features
+from ..shaders.material_maps import decodes_srgb
+from ..gpu.pipeline_cache import PipelineEntry
+from ..gpu.mesh_uploads import GpuMesh
+from ..gpu.readback import read_buffer, read_mapped_rows
+from ..gpu.targets import Target
+from ..gpu.texture_uploads import GpuTexture
+from ..shaders.uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
 
 
 @dataclass
