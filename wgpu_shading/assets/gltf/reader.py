@@ -114,4 +114,6 @@ def _material(data: GltfData, row: dict, piece, document_material) -> tuple[Mate
     if piece.kind != "triangles":  # lines and points are drawn in their colour, untextured
         return replace(material, texture=None, **{name: None for name in material.maps}), []
     channels, fields = _channels(document_material, images, piece.uv_sets, data.path, piece.name)
+    for field in (field for field, number in fields.items() if number is None):
+        data.notes.append(f"{data.path.name}: {piece.name!r}: its {field} reads a TEXCOORD set the primitive does not have; drawn without it")
     return _with_channels(material, fields), channels
