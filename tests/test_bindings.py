@@ -13,7 +13,8 @@ import pytest
 from wgpu_shading.render.shaders import bindings
 from wgpu_shading.render.shaders.bindings import SampledTexture, binding_plan
 from wgpu_shading.render.features import FeatureSet
-from wgpu_shading.render.gpu.pipeline_cache import PipelineCache
+from wgpu_shading.render.gpu.pipelines import PipelineCache
+from wgpu_shading.render.passes.color import color_key
 from wgpu_shading.render.shaders.shadergen import generate_wgsl
 
 DECLARATION = re.compile(r"@group\((\d+)\) @binding\((\d+)\) var(?:<[^>]*>)? (\w+)")
@@ -61,7 +62,7 @@ def test_the_entries_by_name():
 def test_wgpu_accepts_shader_and_layouts_together(renderer, features):
     """Explicit layouts and vertex buffer layouts from the plan, the shader from shadergen:
     wgpu validates that every binding and location the shader uses is in them."""
-    entry = PipelineCache(renderer.device).get(features)
+    entry = PipelineCache(renderer.device).get(color_key(features))
     assert len(entry.bind_group_layouts) == len(entry.plan.groups)
 
 
