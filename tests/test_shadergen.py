@@ -128,6 +128,8 @@ DOMAINS: dict[str, tuple] = {
     "spot_lights": (0, 1, 2),
     "texture_mode": (None, *TEXTURE_MODES),
     "alpha_mode": ALPHA_MODES,
+    "primitive": ("triangles", "points", "lines"),
+    "under_edges": (0, 2),
 }
 STRENGTH = 3  # every combination of values of any 3 fields is compiled at least once
 

@@ -7,6 +7,7 @@ the pipeline key (gpu/pipelines.py) holds it. It is a frozen, hashable dataclass
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from ..errors import SceneError
@@ -45,6 +46,25 @@ class FeatureSet:
     alpha_map: bool = False
     # The mesh's file tangents (glTF TANGENT) give the normal map's frame (Phong only).
     vertex_tangents: bool = False
+    # What the draw draws (docs/primitives.md): triangles, or points or lines as screen-space
+    # quads (render/stroke_features.py makes their feature sets). point_normals: some point
+    # has a normal (lit discs); edges: a triangle mesh's edges in the edge colour;
+    # under_edges: surfaces pushed back this many pixels of their own depth slope (a
+    # pipeline's depth bias), so that their edges drawn over them never z-fight.
+    primitive: str = "triangles"
+    point_normals: bool = False
+    edges: bool = False
+    under_edges: int = 0
+
+    def __post_init__(self) -> None:
+        if self.primitive != "triangles":
+            # Points and lines have no surface: no textures, maps, sides or frequencies; a
+            # line is drawn in its colour, a point lit only as a disc (stroke_features.py).
+            lit = self.primitive == "points" and self.point_normals
+            changes = {**_STROKE_FIXED, "point_normals": lit, "unlit": not lit, "specular": lit and self.specular,
+                       "emission": lit and self.emission, "edges": self.edges and self.primitive == "lines"}
+            for key, value in changes.items():
+                object.__setattr__(self, key, value)
 
     @property
     def map_flags(self) -> tuple[str, ...]:
@@ -95,6 +115,11 @@ class FeatureSet:
             "OCCLUSION_MAP": self.occlusion_map,
             "ALPHA_MAP": self.alpha_map,
             "VERTEX_TANGENTS": self.vertex_tangents,
+            "POINTS": self.primitive == "points",
+            "LINES": self.primitive == "lines",
+            "STROKES": self.primitive != "triangles",
+            "POINT_NORMALS": self.point_normals,
+            "EDGES": self.edges,
         }
 
     def describe(self) -> str:
@@ -132,6 +157,10 @@ class FeatureSet:
             parts.append(f"maps=[{', '.join(self.map_flags)}]")
         if self.cull_back:
             parts.append("cull_back=True")
+        if self.primitive != "triangles":
+            parts.append(f"primitive={self.primitive}" + (" point_normals=True" if self.point_normals else "") + (" edges=True" if self.edges else ""))
+        if self.under_edges:
+            parts.append(f"under_edges={self.under_edges}")
         return " ".join(parts)
 
     def scene_part(self) -> "FeatureSet":
@@ -146,14 +175,18 @@ class FeatureSet:
         )
 
 
+# What every point and line feature set holds, whatever it was made with.
+_STROKE_FIXED = dict(frequency="phong", texture_mode=None, two_sided=False, cull_back=False, clamp_vertex_colors=False,
+                     normal_map=False, bump_map=False, specular_map=False, shininess_map=False, emissive_map=False,
+                     occlusion_map=False, alpha_map=False, vertex_tangents=False, under_edges=0)
+
+
 def _has_attenuation(light: PositionalLight | SpotLight) -> bool:
     return tuple(light.attenuation) != (1.0, 0.0, 0.0) or light.range > 0.0
 
 
 def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Material | None = None) -> FeatureSet:
     """The feature set for drawing `obj` (or one part of it, drawn with `material`) in `scene`."""
-    lights = scene.lights
-    point_like = [light for light in lights if isinstance(light, (PositionalLight, SpotLight))]
     material = obj.surface_material if material is None else material
     texture_mode = None
     if material.texture is not None:
@@ -170,15 +203,11 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
             f"{obj.mesh.name!r} has no UV coordinates"
         )
     lit = not material.unlit
-    specular = lit and material.has_specular and any(max(light.specular[:3]) > 0.0 for light in lights)
+    specular = lit_specular(scene, material)
     per_fragment_normals = lit and scene.shading.frequency == "phong"
     return FeatureSet(
         frequency=scene.shading.frequency,
-        reflection=scene.shading.reflection,
-        directional_lights=sum(isinstance(light, DirectionalLight) for light in lights),
-        positional_lights=sum(isinstance(light, PositionalLight) for light in lights),
-        spot_lights=sum(isinstance(light, SpotLight) for light in lights),
-        attenuation=any(_has_attenuation(light) for light in point_like),
+        **scene_lighting(scene),
         specular=specular,
         emission=material.has_emission and not material.unlit,
         texture_mode=texture_mode,
@@ -202,4 +231,30 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         occlusion_map="occlusion_map" in maps and lit,
         alpha_map="alpha_map" in maps and material.alpha_mode != "opaque",
         vertex_tangents=obj.mesh.tangents is not None and "normal_map" in maps and per_fragment_normals,
+        under_edges=surface_offset(scene),
     )
+
+
+def scene_lighting(scene: Scene) -> dict:
+    """The fields every draw of a scene shares (they shape its frame uniforms): the
+    reflection model and the lights."""
+    lights = scene.lights
+    return dict(
+        reflection=scene.shading.reflection,
+        directional_lights=sum(isinstance(light, DirectionalLight) for light in lights),
+        positional_lights=sum(isinstance(light, PositionalLight) for light in lights),
+        spot_lights=sum(isinstance(light, SpotLight) for light in lights),
+        attenuation=any(_has_attenuation(light) for light in lights if isinstance(light, (PositionalLight, SpotLight))),
+    )
+
+
+def lit_specular(scene: Scene, material: Material) -> bool:
+    """Whether a lit draw of `material` has a highlight: the material and some light have a specular colour."""
+    return not material.unlit and material.has_specular and any(max(light.specular[:3]) > 0.0 for light in scene.lights)
+
+
+def surface_offset(scene: Scene) -> int:
+    """How far surfaces are pushed back under their edges (`--edges`), in pixels of their own
+    depth slope: half the edge width (how far an edge's quad reaches over a triangle next to
+    it), rounded up, plus one. 0 without edges. docs/primitives.md#edges."""
+    return math.ceil(scene.shading.edge_width / 2.0) + 1 if scene.shading.edges else 0

@@ -147,6 +147,15 @@ class Mesh:
         return frozenset(part.primitive for part in self.parts if part.count)
 
     @cached_property
+    def _points_with_normals(self) -> frozenset[tuple[int, int]]:
+        return frozenset((p.first, p.count) for p in self.parts
+                         if p.primitive == "points" and self.normals[p.first : p.first + p.count].any())
+
+    def has_point_normals(self, part: MeshPart) -> bool:
+        """Whether some point of a point part has a normal (it is drawn as a lit disc); cached."""
+        return (part.first, part.count) in self._points_with_normals
+
+    @cached_property
     def edge_indices(self) -> np.ndarray:
         """(E, 2) uint32: every edge of the triangles once (what `--edges` draws); cached."""
         return owned(triangle_edges(self.indices))

@@ -30,7 +30,8 @@ from ..features import FeatureSet
 _DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif)\b(.*)$")
 _INCLUDE = re.compile(r'^\s*"([\w.\-/]+)"\s*$')
 
-ENTRY_FILES = {"flat": "flat.wgsl", "gouraud": "gouraud.wgsl", "phong": "phong.wgsl"}
+ENTRY_FILES = {"flat": "flat.wgsl", "gouraud": "gouraud.wgsl", "phong": "phong.wgsl"}  # triangles, by frequency
+STROKE_ENTRY_FILES = {"points": "points.wgsl", "lines": "lines.wgsl"}  # docs/primitives.md
 GENERATED_BINDINGS = "bindings.wgsl"
 
 
@@ -164,11 +165,18 @@ def generate_wgsl(features: FeatureSet) -> str:
     ):
         if count:
             header.append(f"const {constant}: u32 = {count}u;")
-    body = preprocess(ENTRY_FILES[features.frequency], features.defines(), sources_for(features))
+    entry = STROKE_ENTRY_FILES.get(features.primitive) or ENTRY_FILES[features.frequency]
+    body = preprocess(entry, features.defines(), sources_for(features))
     return _tidy("\n".join(header) + "\n\n" + body)
 
 
-@lru_cache(maxsize=1)
-def generate_extra_outputs_wgsl() -> str:
-    """The normals-and-ids shader (wgsl/extra_outputs.wgsl with its generated bindings)."""
-    return _tidy(preprocess("extra_outputs.wgsl", {}, sources_for(None)))
+@lru_cache(maxsize=8)
+def generate_extra_outputs_wgsl(strokes: FeatureSet | None = None) -> str:
+    """The normals-and-ids shader (wgsl/extra_outputs.wgsl with its generated bindings); for
+    points and lines (`strokes`: their feature set), their quads."""
+    plan = extra_outputs_plan(strokes)
+
+    def reader(name: str) -> str:
+        return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
+
+    return _tidy(preprocess("extra_outputs.wgsl", (strokes or FeatureSet()).defines(), reader))
