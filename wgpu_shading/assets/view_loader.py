@@ -6,8 +6,6 @@ from __future__ import annotations
 from ..scene.view.apply import apply_view_options
 from ..scene.view.options import ViewOptions
 
-DEFAULT_SIZE = (512, 512)  # a bare mesh's image when no size is given
-
 
 def is_scene_file(source: str) -> bool:
     return source.lower().endswith(".toml")
@@ -17,8 +15,7 @@ def load_source(source: str, options: ViewOptions):
     """The scene file or the framed bare mesh, read with the options that act when a file is
     read (ViewOptions.loading(): crease_angle for the mesh reader; a bare mesh is framed for
     its up axis and image size). Load it once and apply several ViewOptions to it:
-    load_view(source, o) == apply_view_options(load_source(source, o), o,
-    follow_camera=not is_scene_file(source))."""
+    load_view(source, o) == apply_view_options(load_source(source, o), o)."""
     from .mesh_scene import mesh_scene
     from .scenefile import load_scene
 
@@ -26,9 +23,9 @@ def load_source(source: str, options: ViewOptions):
         return load_scene(source, reading=options.mesh_reading())
     return mesh_scene(
         source,
-        options.size or DEFAULT_SIZE,
+        options.size,
         None,  # the material, like every option that does not change what is read, is applied after
-        up=options.up or "+Y",
+        up=options.up,
         file_lights=not options.viewer_lights,
         reading=options.mesh_reading(),
     )
@@ -37,4 +34,4 @@ def load_source(source: str, options: ViewOptions):
 def load_view(source: str, options: ViewOptions = ViewOptions()):
     """The Scene `wgpu-shading render SOURCE` with these options draws: a scene file (.toml),
     a mesh file, builtin:NAME or example:NAME, with every option applied."""
-    return apply_view_options(load_source(source, options), options, follow_camera=not is_scene_file(source))
+    return apply_view_options(load_source(source, options), options)

@@ -26,7 +26,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..assets.view_loader import is_scene_file, load_source
+from ..assets.view_loader import load_source
 from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
@@ -135,7 +135,7 @@ class LiveView:
             if len(self._loaded) >= LOAD_CACHE_ENTRIES:
                 self._loaded.pop(next(iter(self._loaded)))
             self._loaded[key] = base
-        return apply_view_options(base, options, follow_camera=not is_scene_file(self.source))
+        return apply_view_options(base, options)
 
     def scenes(self) -> list[Scene]:
         return [self._scene_for(panel.options) for panel in self.panels()]
