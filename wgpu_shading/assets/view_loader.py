@@ -3,12 +3,25 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from ..scene.view.apply import apply_view_options
 from ..scene.view.options import ViewOptions
 
 
 def is_scene_file(source: str) -> bool:
     return source.lower().endswith(".toml")
+
+
+def source_name(source: str, fallback: str) -> str:
+    """What a file made from `source` is named after: its stem, without builtin:/example:
+    or a built-in's parameters (builtin:torus?segments=8 → torus, example:gear.ply → gear),
+    `fallback` when that leaves nothing. render's default -o, batch's folders and the live
+    viewer's screenshots all use it."""
+    source = source.split("?")[0]
+    for prefix in ("builtin:", "example:"):
+        source = source.removeprefix(prefix)
+    return Path(source).stem or fallback
 
 
 def load_source(source: str, options: ViewOptions):
