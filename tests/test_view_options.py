@@ -74,7 +74,6 @@ SAMPLES = {option.name: _sample(option) for option in VIEW_OPTIONS}
 WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"], "edge_color": ["--edges"], "edge_width": ["--edges"]}
 # no back faces, colours, file lights, points or lines (tests/test_primitives_drawing.py draws those)
 _NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights", "point_size", "line_width")
-BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")
 BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)) + "".join(
     f"f {a} {b} {c}\n" for a, b, c in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
                                        (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4))
