@@ -1,17 +1,13 @@
 // Points and lines as quads built on the screen by the vertex stage (docs/primitives.md):
 // WebGPU rasterizes its point and line topologies one pixel wide, so each point or line
-// segment is an instance of six vertices (two triangles) moved apart in pixels. Used by
-// the colour pass (points.wgsl, lines.wgsl) and the extra outputs (extra_outputs.wgsl),
-// so both cover the same pixels.
+// segment is an instance of four vertices (a triangle strip of two triangles) moved apart
+// in pixels. Used by the colour pass (points.wgsl, lines.wgsl) and the extra outputs
+// (extra_outputs.wgsl), so both cover the same pixels.
 
-// Corner k (vertex_index 0..5) of a quad: x along it (0 start, 1 end), y across (−1 or 1);
-// the two triangles (0, 1, 2) and (3, 4, 5) share the diagonal from (1, −1) to (0, 1).
+// Corner k (vertex_index 0..3) of a quad: x along it (0 start, 1 end), y across (−1 or 1);
+// as a strip, the triangles (0, 1, 2) and (1, 2, 3) share the diagonal from (1, −1) to (0, 1).
 fn quad_corner(vertex_index: u32) -> vec2<f32> {
-    var corners = array<vec2<f32>, 6>(
-        vec2<f32>(0.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(0.0, 1.0),
-        vec2<f32>(0.0, 1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
-    );
-    return corners[vertex_index];
+    return vec2<f32>(f32(vertex_index & 1u), f32(vertex_index & 2u) - 1.0);
 }
 
 // `clip` moved by `pixels` on a target of `viewport` pixels (x right, y up): in clip space

@@ -72,8 +72,8 @@ def encode_draws(
         for vertex_buffer in entry.plan.vertex_buffers:
             render_pass.set_vertex_buffer(vertex_buffer.slot, getattr(gpu_mesh, vertex_buffer.name))
         first_corner, corner_count = 3 * draw.first_triangle, 3 * draw.triangle_count
-        if entry.descriptor.quads:  # six vertices (two triangles) an instance: points, segments
-            render_pass.draw(6, draw.triangle_count, 0, draw.first_triangle)
+        if entry.descriptor.quads:  # a strip of four vertices (two triangles) an instance: points, segments
+            render_pass.draw(4, draw.triangle_count, 0, draw.first_triangle)
         elif entry.indexed:
             render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
             render_pass.draw_indexed(corner_count, 1, first_corner, 0, 0)

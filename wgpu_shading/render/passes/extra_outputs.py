@@ -47,6 +47,7 @@ def extra_outputs_pipeline(key: PipelineKey) -> PipelineDescriptor:
         plan=extra_outputs_plan(key.features),
         indexed=key.features is None,
         quads=key.features is not None,
+        topology=wgpu.PrimitiveTopology.triangle_list if key.features is None else wgpu.PrimitiveTopology.triangle_strip,
         front_face_cw=key.mirrored,
         cull_mode=wgpu.CullMode.back if key.cull_back else wgpu.CullMode.none,
         color_format=key.target_format,

@@ -17,6 +17,7 @@ module: no pipeline, no upload, no code.
 
 from __future__ import annotations
 
+import wgpu
 from pyglm import glm
 
 from ...scene import Material, Scene, SceneObject
@@ -42,6 +43,7 @@ def strokes_pipeline(key: PipelineKey) -> PipelineDescriptor:
         plan=binding_plan(features),
         indexed=False,
         quads=True,
+        topology=wgpu.PrimitiveTopology.triangle_strip,
         depth_write=features.alpha_mode != "blend",
         color_format=key.target_format,
         blend=BLEND_OVER if features.alpha_mode == "blend" else None,
