@@ -235,3 +235,37 @@ def test_malformed_points_are_errors(name, message):
     with pytest.raises(ShaderSourceError, match=message):
         run_points(name, A=1)
 
+
+def _sources() -> dict[str, str]:
+    from importlib.resources import files
+
+    root = files("wgpu_shading.wgsl")
+    found = {}
+    for folder in ("", "chunks", "chunks/lighting", "chunks/surface", "chunks/maps"):
+        base = root.joinpath(*folder.split("/")) if folder else root
+        for entry in base.iterdir():
+            if entry.name.endswith(".wgsl"):
+                found[f"{folder}/{entry.name}".lstrip("/")] = entry.read_text(encoding="utf-8")
+    return found
+
+
+def test_every_point_a_chunk_uses_is_declared_once():
+    """A misspelt point would drop a chunk's code silently: every #at names a #hook."""
+    sources = _sources()
+    hooks = [m for text in sources.values() for m in re.findall(r"^#hook ([\w.]+)", text, re.M)]
+    assert len(hooks) == len(set(hooks)), "a point is declared in two places"
+    used = {point for text in sources.values() for line in re.findall(r"^#at (.+)$", text, re.M) for point in line.split()}
+    assert used <= set(hooks), f"#at names no #hook declares: {sorted(used - set(hooks))}"
+
+
+def test_an_effects_code_lives_in_its_chunk():
+    """The entry shaders and the shared parts (lighting, output, the vertex-lit stage) test
+    no effect: only the lit color's shape (SPECULAR) and the unlit replacement of shade().
+    Every chunk is included by some entry shader."""
+    sources = _sources()
+    shared = {name: text for name, text in sources.items() if "/" not in name and name != "structs.wgsl"}
+    tested = {word for text in shared.values() for line in re.findall(r"^#(?:if|elif) (.+)$", text, re.M)
+              for word in re.findall(r"[A-Z_]+", line) if word not in ("and", "or", "not")}
+    assert tested <= {"SPECULAR", "UNLIT"}, tested
+    included = {path for text in shared.values() for path in re.findall(r'^#include "(chunks/[\w/]+\.wgsl)"', text, re.M)}
+    assert included == {name for name in sources if name.startswith("chunks/")}
