@@ -80,7 +80,8 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
             from .off import read_off
 
             off = read_off(path, file_size)
-            pieces = [_Piece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])]
+            piece = _Piece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])
+            pieces = [piece if off.face_colors is None else _with_face_colors(piece, off.face_colors)]
         else:
             pieces = [_trimesh_piece(path, file_size)]
         pieces = [p for p in pieces if len(p.faces)]
@@ -191,15 +192,22 @@ def _trimesh_piece(path: Path, file_size: int) -> _Piece:
             f"the file holds {len(positions)} vertices and {len(faces)} triangles"
         )
     normals = _file_normals(loaded)
-    if face_colors is not None:  # one color per face: every corner its own vertex
-        corners = faces.reshape(-1)
-        positions, uvs = positions[corners], None if uvs is None else uvs[corners]
-        normals = None if normals is None else normals[corners]
-        colors = np.repeat(face_colors, 3, axis=0)
-        faces = np.arange(len(corners)).reshape(-1, 3)
-    if colors is not None:
-        colors = _unit_colors(colors)
-    return _Piece(positions, faces, normals, uvs, colors, parts=[(0, len(faces), None, path.name)])
+    piece = _Piece(positions, faces, normals, uvs, None if colors is None else _unit_colors(colors), parts=[(0, len(faces), None, path.name)])
+    return piece if face_colors is None else _with_face_colors(piece, _unit_colors(face_colors))
+
+
+def _with_face_colors(piece: _Piece, face_colors: np.ndarray) -> _Piece:
+    """One colour per face, unblended: every corner its own vertex (MeshLab; averaging
+    into vertices would blur the faces' colours)."""
+    corners = piece.faces.reshape(-1)
+    return replace(
+        piece,
+        positions=piece.positions[corners],
+        faces=np.arange(len(corners)).reshape(-1, 3),
+        normals=None if piece.normals is None else piece.normals[corners],
+        uvs=None if piece.uvs is None else piece.uvs[corners],
+        colors=np.repeat(face_colors, 3, axis=0),
+    )
 
 
 def _unit_colors(colors: np.ndarray) -> np.ndarray:
