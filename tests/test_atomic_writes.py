@@ -19,7 +19,7 @@ import pytest
 from PIL import Image
 
 from wgpu_shading.assets.animation import write_animation
-from wgpu_shading.assets.images import check_writable, write_depth, write_image
+from wgpu_shading.assets.image_writers import check_writable, write_depth, write_image
 from wgpu_shading.cli.main import main
 from wgpu_shading.errors import UsageError
 from wgpu_shading.testing.golden import GoldenError, check_image

@@ -1,4 +1,4 @@
-"""The binding plan (wgpu_shading/render/bindings.py) is the one source of the WGSL binding
+"""The binding plan (wgpu_shading/render/shaders/bindings.py) is the one source of the WGSL binding
 declarations, the pipeline's layouts and what the render pass binds: numbers follow from the
 table, the shader declares exactly the plan, and wgpu itself accepts shader and layout
 together (an explicit layout that disagrees with the shader fails pipeline creation)."""
@@ -10,11 +10,11 @@ from dataclasses import replace
 
 import pytest
 
-from wgpu_shading.render import bindings
-from wgpu_shading.render.bindings import SampledTexture, binding_plan
+from wgpu_shading.render.shaders import bindings
+from wgpu_shading.render.shaders.bindings import SampledTexture, binding_plan
 from wgpu_shading.render.features import FeatureSet
-from wgpu_shading.render.pipeline_cache import PipelineCache
-from wgpu_shading.render.shadergen import generate_wgsl
+from wgpu_shading.render.gpu.pipeline_cache import PipelineCache
+from wgpu_shading.render.shaders.shadergen import generate_wgsl
 
 DECLARATION = re.compile(r"@group\((\d+)\) @binding\((\d+)\) var(?:<[^>]*>)? (\w+)")
 LOCATION = re.compile(r"@location\((\d+)\) (\w+): (vec\d<f32>),")

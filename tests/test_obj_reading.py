@@ -1,4 +1,4 @@
-"""OBJ and MTL files as their writers meant them (assets/obj.py, assets/mtl.py): traits of real
+"""OBJ and MTL files as their writers meant them (assets/mesh_formats/obj.py, mtl.py): traits of real
 files found outside the repository (issue 12: each named in its test, reproduced by a small
 generated file), encodings, line endings and material libraries."""
 

@@ -1,4 +1,4 @@
-"""OFF read as a token stream (assets/off.py): faces over several lines (libigl's writer),
+"""OFF read as a token stream (assets/mesh_formats/off.py): faces over several lines (libigl's writer),
 the header forms real tools write (two counts, counts on or glued to the keyword's line),
 comments, face colours, COFF/NOFF vertices, bad files."""
 

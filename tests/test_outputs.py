@@ -13,7 +13,7 @@ import pytest
 from PIL import Image
 
 from cli_errors import one_line_error, run_cli
-from wgpu_shading.assets.images import read_depth_png
+from wgpu_shading.assets.image_writers import read_depth_png
 from wgpu_shading.assets.mesh_scene import mesh_scene
 from wgpu_shading.cli import main
 

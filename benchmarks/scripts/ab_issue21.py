@@ -82,8 +82,8 @@ def vertex_order(scene, rounds: int) -> None:
 def depth(scene, rounds: int) -> None:
     import wgpu_shading.render.renderer as renderer_module
     from wgpu_shading import Renderer
-    from wgpu_shading.render import color_pass
-    from wgpu_shading.render.resources import read_buffer
+    from wgpu_shading.render.passes import color as color_pass
+    from wgpu_shading.render.gpu.readback import read_buffer
 
     current = color_pass.read_color_frame
 

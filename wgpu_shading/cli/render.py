@@ -14,7 +14,7 @@ from .arguments import add_scene_arguments, check_output, default_output, error_
 def command_render(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from ..assets.images import DEPTH_SUFFIXES, STDOUT, output_path, png_bytes, write_depth, write_image
+    from ..assets.image_writers import DEPTH_SUFFIXES, STDOUT, output_path, png_bytes, write_depth, write_image
     from ..render.renderer import Renderer
 
     to_stdout = args.output == STDOUT
@@ -133,7 +133,7 @@ def _auto_shading(args: argparse.Namespace, scene, renderer):
 
 def command_shader(args: argparse.Namespace) -> int:
     from ..render.features import object_features
-    from ..render.shadergen import generate_wgsl
+    from ..render.shaders.shadergen import generate_wgsl
 
     scene = scene_from_args(args)
     seen = set()

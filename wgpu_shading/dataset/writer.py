@@ -13,8 +13,8 @@ from typing import Callable
 import numpy as np
 
 from ..assets import atomic
-from ..assets.images import save_depth_png
-from ..render.extra_outputs import ExtraFrame
+from ..assets.image_writers import save_depth_png
+from ..render.passes.extra_outputs import ExtraFrame
 from ..render.renderer import Frame
 from .jobs import Job
 
@@ -63,7 +63,7 @@ def color16(color: np.ndarray) -> np.ndarray:
 
 
 def _depth_png(depth: np.ndarray, near: float, far: float, level: int) -> Callable[[object], None]:
-    # The encoding of `render --depth d.png` (assets/images.py), near and far in its text chunks.
+    # The encoding of `render --depth d.png` (assets/image_writers.py), near and far in its text chunks.
     return lambda file: save_depth_png(file, depth, near, far, level)
 
 

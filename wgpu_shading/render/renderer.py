@@ -5,14 +5,14 @@ everything that outlives a frame: pipelines (per feature set), mesh and texture
 uploads (per Mesh/Texture object, released when those are garbage-collected), uniform
 buffers, render targets and readback buffers (per size and format). Rendering the same
 scene again, or the same meshes from another camera, only rewrites uniforms. Every one
-of these caches is bounded and evicts the least recently used entry (caches.py).
+of these caches is bounded and evicts the least recently used entry (gpu/caches.py).
 
 The frame API: `submit(scene, ...)` encodes and submits a frame and returns a
 PendingFrame at once; `read(pending)` waits for the GPU and returns the Frame. Between the
 two the caller may submit more frames (render_many keeps two per device in flight,
 frames_in_flight.py). Each pending frame holds its own render targets, lent by the device
-cache and given back by `read`. The colour pass is color_pass.py; the normals and ids of
-datasets are extra_outputs.py, on the same caches and targets.
+cache and given back by `read`. The colour pass is passes/color.py; the normals and ids of
+datasets are passes/extra_outputs.py, on the same caches and targets.
 
 Threads: a Renderer may be shared. Submitting and reading back a frame, and every cache
 mutation, happen under the renderer's lock (the uniform buffers are reused between
@@ -33,13 +33,13 @@ import wgpu
 from ..errors import DeviceError
 from ..scene import Scene
 from ..scene.objects import check_scene_argument
-from .color_pass import encode_color_frame, read_color_frame
+from .passes.color import encode_color_frame, read_color_frame
 from .device import default_device, lost_device_errors
-from .device_cache import DeviceCache
-from .extra_outputs import TARGET_FORMAT, check_space, encode_extra_outputs, read_extra_outputs
+from .gpu.device_cache import DeviceCache
+from .passes.extra_outputs import TARGET_FORMAT, check_space, encode_extra_outputs, read_extra_outputs
 from .features import FeatureSet, object_features
 from .frames_in_flight import render_many
-from .resources import Target
+from .gpu.targets import Target
 
 
 @dataclass(frozen=True)
@@ -51,7 +51,7 @@ class Frame:
     depth: (height, width) float64 eye-space distance along the view axis (inf where
            nothing was drawn), when requested
     normals: (height, width, 3) float32 unit surface normals (eye or world space, 0 where
-           nothing was drawn), when requested (extra_outputs.py)
+           nothing was drawn), when requested (passes/extra_outputs.py)
     ids: (height, width) uint16 object-part ids (0 = background, k = extra_outputs.segments
            (scene)[k-1]), when requested
     """
@@ -63,7 +63,7 @@ class Frame:
 
     def _repr_png_(self) -> bytes:
         """Jupyter (and IPython's display) shows a Frame as its color image."""
-        from ..assets.images import png_bytes
+        from ..assets.image_writers import png_bytes
 
         return png_bytes(self.color)
 
@@ -104,7 +104,7 @@ class Renderer:
     @property
     def device_cache(self) -> DeviceCache:
         """What this renderer keeps between frames (pipelines, mesh and texture uploads,
-        render targets; each bounded as render/caches.py says): for measuring memory and
+        render targets; each bounded as render/gpu/caches.py says): for measuring memory and
         compile time, e.g. `device_cache.meshes.nbytes`. Drawing needs none of it."""
         return self._cache
 

@@ -29,7 +29,8 @@ from .lights import LIGHT_TYPES, DirectionalLight, Light, PositionalLight, SpotL
 from .material import Material, Texture
 from .material_table import MATERIALS, canonical_name, material
 from .mesh import Mesh, face_normals, vertex_normals
-from .objects import Scene, SceneObject, Shading
+from .objects import Scene, SceneObject, Shading, every_light_casts, has_shadows, shadowing_lights
+from .shadows import SHADOW_FILTERS, ShadowSettings
 from .values import (
     FREQUENCIES,
     MAX_COORDINATE,
@@ -53,8 +54,8 @@ from .values import (
 __all__ = [
     "BUILTINS", "BUILTIN_PREFIX", "Camera", "Color", "DirectionalLight", "FREQUENCIES", "Frequency",
     "LIGHT_TYPES", "Light", "MATERIALS", "MAX_COORDINATE", "MAX_EXPONENT", "MAX_IMAGE_SIDE", "Material",
-    "Mesh", "PositionalLight", "REFLECTIONS", "Reflection", "Scene", "SceneObject", "Shading", "SpotLight",
+    "Mesh", "PositionalLight", "REFLECTIONS", "Reflection", "Scene", "SceneObject", "SHADOW_FILTERS", "Shading", "ShadowSettings", "SpotLight",
     "TEXTURE_MODES", "Texture", "TextureMode", "Vec3", "builtin", "canonical_name", "choice", "color", "cube",
-    "direction", "face_normals", "image_size", "material", "number", "plane", "sphere_for_triangles", "torus",
+    "direction", "every_light_casts", "face_normals", "has_shadows", "image_size", "material", "number", "plane", "shadowing_lights", "sphere_for_triangles", "torus",
     "uv_sphere", "vec3", "vertex_normals",
 ]

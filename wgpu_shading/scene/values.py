@@ -108,6 +108,13 @@ def number(value: object, name: str, low: float, high: float, *, low_open: bool 
     return result
 
 
+def boolean(value: object, name: str) -> bool:
+    """true or false, nothing else (not 0/1, not "yes"): a typo must not pass as truthy."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise SceneError(f"{name}: expected true or false, got {shown(value)}")
+    return bool(value)
+
+
 def choice(value: object, name: str, options: Sequence[str]) -> str:
     if not isinstance(value, str) or value not in options:
         raise SceneError(f"{name}: expected one of {', '.join(map(repr, options))}, got {shown(value)}")

@@ -1,0 +1,129 @@
+"""Checks on mesh files before trimesh reads them: sizes, declared counts, text encoding.
+
+trimesh allocates what a file's header declares and reads text formats through an
+optional charset detector, so a hostile or damaged file could exhaust memory (a 2 GB PLY
+declaring billions of faces), render a truncated mesh as if it were whole, or fail with
+"No module named 'charset_normalizer'". Everything here reads at most the header.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+from pathlib import Path
+
+from ...errors import MeshError
+from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ..files import read_text_bytes
+
+MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format
+_TEXT_FORMATS = (".obj",)  # always text: decoded here, handed to trimesh as UTF-8
+_PLY_SIZES = {
+    "char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2, "int16": 2, "uint16": 2,
+    "int": 4, "uint": 4, "int32": 4, "uint32": 4, "float": 4, "float32": 4, "double": 8, "float64": 8,
+}
+
+
+def check_file_size(path: Path, where: str) -> int:
+    size = path.stat().st_size
+    if size > MAX_MESH_FILE_BYTES:
+        raise MeshError(f"{where}: {size / 2**30:.1f} GiB; mesh files up to {MAX_MESH_FILE_BYTES >> 30} GiB are supported")
+    if size == 0:
+        raise MeshError(f"{where}: the file is empty")
+    return size
+
+
+def check_declared_counts(where: str, vertices: int, faces: int, needed_bytes: int, available: int) -> None:
+    if vertices > MAX_VERTICES or faces > MAX_TRIANGLES:
+        raise MeshError(
+            f"{where}: declares {vertices} vertices and {faces} faces; at most {MAX_VERTICES} of each are supported"
+        )
+    if needed_bytes > available:
+        raise MeshError(
+            f"{where}: declares {vertices} vertices and {faces} faces, which need at least {needed_bytes} bytes, "
+            f"but the file has only {available} after its header (truncated or damaged)"
+        )
+
+
+def ply_declared_counts(path: Path, where: str, file_size: int) -> tuple[int, int]:
+    """The vertex and face counts a PLY header declares, checked against the file size."""
+    with open(path, "rb") as file:
+        head = file.read(65536)
+    if not head.startswith(b"ply"):
+        raise MeshError(f"{where}: not a PLY file (it does not start with 'ply')")
+    end = head.find(b"end_header")
+    if end < 0:
+        raise MeshError(f"{where}: the PLY header has no 'end_header' within its first 64 KiB")
+    header_end = head.find(b"\n", end)
+    header_bytes = (header_end + 1) if header_end >= 0 else len(head)
+    lines = head[:end].decode("latin-1").splitlines()
+    binary = any(line.split()[:2] in (["format", "binary_little_endian"], ["format", "binary_big_endian"]) for line in lines if line.strip())
+    counts: dict[str, int] = {}
+    minimum = 0
+    element = None
+    for line in lines:
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "element" and len(words) >= 3:
+            try:
+                count = int(words[2])
+            except ValueError:
+                raise MeshError(f"{where}: bad PLY element count {words[2][:20]!r}") from None
+            if count < 0:
+                raise MeshError(f"{where}: negative PLY element count {count}")
+            element = words[1]
+            counts[element] = count
+        elif words[0] == "property" and element is not None and len(words) >= 3:
+            count = counts[element]
+            if words[1] == "list" and len(words) >= 5:
+                # at least the length field and, for faces, three indices
+                items = 3 if element == "face" else 0
+                per_item = (_PLY_SIZES.get(words[2], 1) + items * _PLY_SIZES.get(words[3], 1)) if binary else 2 * (1 + items)
+            else:
+                per_item = _PLY_SIZES.get(words[1], 1) if binary else 2  # a digit and a separator
+            minimum += count * per_item
+    vertices, faces = counts.get("vertex", 0), counts.get("face", 0)
+    check_declared_counts(where, vertices, faces, minimum, file_size - header_bytes)
+    return vertices, faces
+
+
+def text_source(path: Path, where: str, file_size: int) -> io.BytesIO | None:
+    """For text formats: the file as UTF-8 bytes, decoded here (UTF-8, else Latin-1, which
+    decodes any byte) so trimesh never needs its optional charset detector. None for
+    binary-capable formats, which trimesh reads from the path."""
+    if path.suffix.lower() not in _TEXT_FORMATS:
+        return None
+    data = read_text_bytes(path, where, MeshError)  # a NUL byte: refused at once, not after reading 2 GB
+    try:
+        text = data.decode("utf-8")
+        utf8 = True
+    except UnicodeDecodeError:
+        text = data.decode("latin-1")
+        utf8 = False
+    return io.BytesIO(data if utf8 else text.encode("utf-8"))
+
+
+def describe_load_error(error: BaseException, path: Path) -> str:
+    """trimesh's failure as one line a user can act on."""
+    if isinstance(error, ImportError):
+        # trimesh asks an optional charset detector when a file is neither valid binary
+        # nor UTF-8 text: for us that means the file is not what its suffix says.
+        return f"not a valid {path.suffix.lstrip('.').upper()} file (neither its binary form nor UTF-8 text)"
+    if isinstance(error, MemoryError):
+        return "not enough memory to read it"
+    text = str(error).strip()
+    escape = re.match(r"'(.*)' escapes resolver root '(.*)'", text)
+    if escape:  # trimesh's advice names its own API (FilePathResolver(path, allow_anywhere=True))
+        return f"it refers to {escape.group(1)!r}, outside its folder {escape.group(2)!r}; only files beside it or below are read"
+    if isinstance(error, AssertionError) or not text:  # a parser's internal check: "AssertionError: " says nothing
+        return f"not a valid {path.suffix.lstrip('.').upper()} file (its reader found an inconsistency it could not describe)"
+    return f"cannot be read ({type(error).__name__}: {error})"
+
+
+def file_size_or_error(path: Path, where: str) -> int:
+    try:
+        return check_file_size(path, where)
+    except OSError as error:
+        raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
+

@@ -1,0 +1,368 @@
+"""Wavefront OBJ reading, our own: trimesh's reader loses what docs/real-world-files.md needs.
+
+What trimesh 5.2 gets wrong, and why this module exists:
+- Negative (relative) indices are resolved against the end of the whole file instead of
+  the vertices declared so far, so multi-object OBJs with relative indices (the classic
+  Cornell box) collapse silently. Reported upstream as trimesh issue #2364 ("Loading OBJ
+  with multiple objects with negative face indices"), open; the fix PR #2556 was closed.
+  Here each face resolves them against the running counts of v / vt / vn.
+- Face index 0 (invalid in OBJ) is silently mapped to a vertex; here it is an error
+  naming the line, as in tinyobjloader.
+- `s off` / `s 0` smoothing groups are dropped; here those faces are flat.
+- Vertex colors (`v x y z r g b`) make it drop the `usemtl` materials.
+Materials come from mtl.py.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import MeshError
+from ...scene.material import Material
+from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ..files import read_text_bytes
+from .mtl import read_mtl_files
+
+
+@dataclass
+class _Run:
+    """Consecutive face lines with the same state (material, smoothing, vertex counts)."""
+
+    material: str | None
+    flat: bool
+    vertex_count: int
+    uv_count: int
+    normal_count: int
+    first_line: int
+    lines: list[str] = field(default_factory=list)
+
+
+@dataclass
+class ObjData:
+    positions: np.ndarray  # (N, 3) float64, one per distinct (v, vt, vn) corner
+    faces: np.ndarray  # (F, 3) int64, sorted by material
+    uvs: np.ndarray | None
+    normals: np.ndarray | None
+    colors: np.ndarray | None
+    flat: np.ndarray  # (F,) bool: under `s off` / `s 0`
+    parts: list[tuple[int, int, Material | None, str]]  # first face, count, material, name
+
+
+def _numbers(text: str, dtype) -> np.ndarray | None:
+    """Whitespace-separated numbers parsed in C; None when some token is not a number."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)  # "could not be read to its end"
+        try:
+            return np.fromstring(text, dtype=dtype, sep=" ")
+        except (ValueError, DeprecationWarning):
+            return None
+
+
+def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
+    """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array; `numbers`
+    are their 1-based line numbers (for errors)."""
+    values = _numbers(" ".join(lines).replace(prefix.strip(), " "), np.float64)
+    if values is not None and values.size == width * len(lines):
+        array = values.reshape(-1, width)
+    elif values is not None and prefix == "v " and values.size == 6 * len(lines):
+        array = values.reshape(-1, 6)  # x y z r g b
+    else:  # mixed widths (vt u v w, v x y z w) or a bad number: line by line
+        rows = []
+        for ordinal, line in enumerate(lines):
+            text = line.strip()[len(prefix.strip()) :]
+            try:
+                row = [float(token) for token in text.split()]
+            except ValueError:
+                raise MeshError(f"{path}:{numbers[ordinal]}: cannot read {prefix.strip()!r} line {line.strip()!r} (expected numbers)") from None
+            if len(row) < width:
+                raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has {len(row)} numbers, expected {width}")
+            rows.append(row[:6] if prefix == "v " and len(row) >= 6 else row[:width])
+        if prefix == "v " and any(len(r) == 6 for r in rows):
+            rows = [r if len(r) == 6 else r[:3] + [1.0, 1.0, 1.0] for r in rows]
+        array = np.array(rows, dtype=np.float64).reshape(len(rows), -1)
+    bad = ~np.isfinite(array[:, :width]).all(axis=1)
+    if bad.any():
+        ordinal = int(np.flatnonzero(bad)[0])
+        raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has a NaN or infinite coordinate: {lines[ordinal].strip()[len(prefix.strip()):].strip()!r}")
+    return array
+
+
+
+
+def _run_corners(run: _Run, path: str) -> tuple[np.ndarray, np.ndarray]:
+    """Triangle corners of a run: (T, 3, 3) int64 zero-based (v, vt, vn) with −1 for absent,
+    and the run-relative polygon index of each triangle."""
+    lines = run.lines
+    first_tokens = lines[0].split()[1:]
+    corners = len(first_tokens)
+    per_corner = first_tokens[0].count("/") + 1 if first_tokens else 1
+    text = " ".join(lines)
+    values = None
+    if corners >= 3 and "//" not in text:
+        values = _numbers(text.replace("f", " ").replace("/", " "), np.int64)
+        if values is not None and values.size != corners * per_corner * len(lines):
+            values = None
+    if values is not None:  # every line the same polygon and format: fan-triangulate at once
+        polygons = np.zeros((len(lines), corners, 3), np.int64)
+        polygons[:, :, :per_corner] = values.reshape(len(lines), corners, per_corner)
+        if corners == 3:
+            raw = polygons
+        else:
+            raw = np.stack([polygons[:, [0, k, k + 1]] for k in range(1, corners - 1)], axis=1).reshape(-1, 3, 3)
+        polygon = np.repeat(np.arange(len(lines)), corners - 2)
+    else:  # polygons, `a//c`, or mixed formats: line by line, fan-triangulated
+        triangles, polygon_of = [], []
+        for ordinal, line in enumerate(lines):
+            tokens = line.split()[1:]
+            try:
+                parsed = [[int(x) if x else 0 for x in (token.split("/") + ["", ""])[:3]] for token in tokens]
+            except ValueError:
+                raise MeshError(f"{path}:{_face_line(run, ordinal)}: cannot read face {line.strip()!r} (expected vertex indices)") from None
+            if len(parsed) < 3:
+                raise MeshError(f"{path}:{_face_line(run, ordinal)}: a face needs at least 3 vertices, got {line.strip()!r}")
+            for k in range(1, len(parsed) - 1):
+                triangles.append([parsed[0], parsed[k], parsed[k + 1]])
+                polygon_of.append(ordinal)
+        raw = np.array(triangles, np.int64).reshape(-1, 3, 3)
+        polygon = np.array(polygon_of, np.int64)
+    counts = np.array([run.vertex_count, run.uv_count, run.normal_count])
+    fast = _resolve_positive(raw, counts)
+    if fast is not None:
+        return fast, polygon
+    zero = raw[:, :, 0] == 0
+    if zero.any():
+        ordinal = int(polygon[np.flatnonzero(zero.any(axis=1))[0]])
+        raise MeshError(f"{path}:{_face_line(run, ordinal)}: face index 0 in {lines[ordinal].strip()!r} (OBJ indices start at 1)")
+    # Positive indices count from 1; negative ones back from the last v/vt/vn declared so far.
+    resolved = np.where(raw > 0, raw - 1, np.where(raw < 0, counts + raw, -1))
+    missing = (raw != 0) & ((resolved < 0) | (resolved >= counts))
+    for column, what, plural in ((1, "texture coordinate (vt)", "texture coordinates"), (2, "normal (vn)", "normals")):
+        # A vt/vn index past the declared ones (OpenSubdiv's catmark_torus_creases0.obj has no
+        # vn lines at all): the faces are still there, as f3d draws them; only the attribute goes.
+        if missing[:, :, column].any():
+            ordinal = int(polygon[np.flatnonzero(missing[:, :, column].any(axis=1))[0]])
+            warnings.warn(f"{path}:{_face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a {what} that does not exist "
+                          f"({run.uv_count} vt, {run.normal_count} vn declared before it); its {plural} are ignored", stacklevel=2)
+            resolved[:, :, column] = np.where(missing[:, :, column], -1, resolved[:, :, column])
+    out_of_range = missing[:, :, 0].any(axis=1)
+    if out_of_range.any():
+        ordinal = int(polygon[np.flatnonzero(out_of_range)[0]])
+        raise MeshError(
+            f"{path}:{_face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a vertex that does not exist "
+            f"({run.vertex_count} v, {run.uv_count} vt, {run.normal_count} vn declared before it)"
+        )
+    return resolved, polygon
+
+
+def _ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """Concave polygons triangulated again by ear clipping; the fan is kept for the rest.
+
+    A fan from the first corner is right only when every fan triangle faces the polygon's
+    own normal (its vector area, the sum of the fan's): then the corners lie in angular order
+    around the first one. Otherwise (an L, a ring cut open by a slit, letters) the fan covers
+    the concave notches, which f3d, Blender and assimp leave open."""
+    if len(corners) == 0 or len(polygon) == int(polygon[-1]) + 1:
+        return corners  # triangles only (polygon numbers run 0, 1, ... in order, one per triangle)
+    points = positions[corners[:, :, 0]]
+    areas = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
+    count = int(polygon.max()) + 1
+    normal_of = np.stack([np.bincount(polygon, areas[:, k], count) for k in range(3)], axis=1)
+    backwards = np.einsum("ij,ij->i", areas, normal_of[polygon]) < 0.0
+    if not backwards.any():
+        return corners
+    import mapbox_earcut
+
+    pieces, start = [], 0
+    for bad in np.unique(polygon[backwards]).tolist():
+        first, stop = np.searchsorted(polygon, [bad, bad + 1])
+        pieces.append(corners[start:first])
+        fan = corners[first:stop]
+        ring = np.concatenate([fan[:1, 0], fan[:, 1], fan[-1:, 2]])  # the polygon's corners in order
+        normal = normal_of[bad]
+        axes = [k for k in range(3) if k != int(np.argmax(np.abs(normal)))]
+        indices = mapbox_earcut.triangulate_float64(positions[ring[:, 0]][:, axes], np.array([len(ring)], np.uint32))
+        triangles = ring[np.asarray(indices, np.int64).reshape(-1, 3)]
+        tri_points = positions[triangles[:, :, 0]]
+        facing = np.cross(tri_points[:, 1] - tri_points[:, 0], tri_points[:, 2] - tri_points[:, 0]) @ normal
+        triangles[facing < 0] = triangles[facing < 0][:, ::-1]  # the file's winding, whatever the projection did
+        pieces.append(triangles)
+        start = stop
+    pieces.append(corners[start:])
+    return np.concatenate(pieces)
+
+
+def _resolve_positive(raw: np.ndarray, counts: np.ndarray) -> np.ndarray | None:
+    """The common case without full-size masks: every given index positive and in range
+    (an absent vt/vn column is all 0). None when anything else is there."""
+    resolved = np.empty_like(raw)
+    for column in range(3):
+        values = raw[:, :, column]
+        low, high = int(values.min()), int(values.max())
+        if column > 0 and low == high == 0:
+            resolved[:, :, column] = -1
+        elif low > 0 and high <= counts[column]:
+            np.subtract(values, 1, out=resolved[:, :, column])
+        else:
+            return None
+    return resolved
+
+
+def _face_line(run: _Run, ordinal: int) -> int:
+    return run.first_line + ordinal  # runs hold consecutive face lines only
+
+
+def _slices(lines: list[str], indices: np.ndarray) -> list[str]:
+    """lines[i] for each i, taken as list slices of consecutive runs (fast for blocks)."""
+    if not len(indices):
+        return []
+    breaks = np.flatnonzero(np.diff(indices) != 1) + 1
+    starts = np.concatenate([[0], breaks])
+    ends = np.concatenate([breaks, [len(indices)]])
+    out: list[str] = []
+    for a, b in zip(starts.tolist(), ends.tolist()):
+        out.extend(lines[indices[a] : indices[b - 1] + 1])
+    return out
+
+
+def _without_byte_order_mark(data: bytes) -> bytes:
+    """UTF-8 bytes without a byte order mark. Windows tools start files with one; left in,
+    it hides the first line's keyword (a first `v` line was lost, shifting every index)."""
+    if data.startswith(b"\xef\xbb\xbf"):
+        return data[3:]
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16 (assimp's box_UTF16BE.obj)
+        return data.decode("utf-16").encode("utf-8")
+    return data
+
+
+def _without_indentation(data: bytes) -> bytes:
+    """Lines with their leading blanks removed, when any line has some: the OBJ spec allows
+    them, and the classification below looks at a line's first two bytes."""
+    if b"\n " in data or b"\n\t" in data or data[:1] in (b" ", b"\t"):
+        return b"\n".join(line.lstrip(b" \t") for line in data.split(b"\n"))
+    return data
+
+
+def _with_newlines(data: bytes) -> bytes:
+    """Classic Mac OS files end lines with CR alone: the whole file read as one line, an
+    error saying it had no faces. (CR LF needs nothing: a trailing CR is blank space.)"""
+    if b"\r" in data and b"\n" not in data:
+        return data.replace(b"\r", b"\n")
+    return data
+
+
+def read_obj(path: Path) -> ObjData:
+    data = _without_indentation(_with_newlines(_without_byte_order_mark(read_text_bytes(path, f"mesh file {str(path)!r}", MeshError))))
+    name = str(path)
+    # Classify every line by its first two bytes, in numpy (a Python loop over millions of
+    # lines would cost more than the rest of the reading).
+    raw = np.frombuffer(data + b"\0\0", np.uint8)
+    starts = np.concatenate([[0], np.flatnonzero(raw[: len(data)] == 10) + 1])
+    first, second = raw[starts], raw[starts + 1]
+    blank = (second == 32) | (second == 9)
+    is_v = (first == ord("v")) & blank
+    is_vt = (first == ord("v")) & (second == ord("t"))
+    is_vn = (first == ord("v")) & (second == ord("n"))
+    is_f = (first == ord("f")) & blank
+    v_count, vt_count, vn_count = np.cumsum(is_v), np.cumsum(is_vt), np.cumsum(is_vn)
+    # Counted before the text is split into lines (a Python string per line: ~60 bytes each).
+    vertices, polygons = int(v_count[-1]) if len(v_count) else 0, int(is_f.sum())
+    if vertices > MAX_VERTICES or polygons > MAX_TRIANGLES:
+        raise MeshError(f"mesh file {name!r}: {vertices} vertices and {polygons} faces; at most {MAX_VERTICES} of each are supported")
+    lines = data.decode("utf-8", errors="replace").split("\n")
+    # The few state lines, in order: usemtl, s, mtllib.
+    state_lines = np.flatnonzero((first == ord("u")) | (first == ord("s")) | (first == ord("m")))
+    libraries: list[str] = []
+    changes: list[tuple[int, str | None, bool]] = []  # (line index, material, flat) from there on
+    material: str | None = None
+    flat = False
+    for index in state_lines.tolist():
+        line = lines[index].strip()
+        if line.startswith("usemtl"):
+            material = line[6:].strip() or None
+        elif line.startswith("s ") or line.startswith("s\t"):
+            flat = line[2:].strip().lower() in ("off", "0")
+        elif line.startswith("mtllib"):
+            libraries.append(line[6:].strip())
+            continue
+        else:
+            continue
+        changes.append((index, material, flat))
+    face_lines = np.flatnonzero(is_f)
+    v_lines = np.flatnonzero(is_v)
+    if not len(face_lines) or not len(v_lines):
+        raise MeshError(f"mesh file {name!r} contains no triangles ({len(v_lines)} vertices, no faces)")
+    # Runs: blocks of consecutive face lines (the counts and the state are fixed within one).
+    change_at = np.array([c[0] for c in changes], np.int64)
+    breaks = np.flatnonzero(np.diff(face_lines) != 1) + 1
+    runs = []
+    for a, b in zip(np.concatenate([[0], breaks]).tolist(), np.concatenate([breaks, [len(face_lines)]]).tolist()):
+        first_index = int(face_lines[a])
+        state = int(np.searchsorted(change_at, first_index)) - 1
+        run_material, run_flat = (changes[state][1], changes[state][2]) if state >= 0 else (None, False)
+        runs.append(_Run(run_material, run_flat, int(v_count[first_index]), int(vt_count[first_index]),
+                         int(vn_count[first_index]), first_index + 1, lines[first_index : int(face_lines[b - 1]) + 1]))
+    v = _floats(_slices(lines, v_lines), "v ", 3, name, v_lines + 1)
+    vt_lines, vn_lines = np.flatnonzero(is_vt), np.flatnonzero(is_vn)
+    vt = _floats(_slices(lines, vt_lines), "vt", 2, name, vt_lines + 1) if len(vt_lines) else np.zeros((0, 2))
+    vn = _floats(_slices(lines, vn_lines), "vn", 3, name, vn_lines + 1) if len(vn_lines) else np.zeros((0, 3))
+    corner_list, flat_list, material_list = [], [], []
+    for current in runs:
+        corners, polygon = _run_corners(current, name)
+        corners = _ear_clip_concave(corners, polygon, v[:, :3])
+        corner_list.append(corners)
+        flat_list.append(np.full(len(corners), current.flat))
+        material_list.append([current.material] * len(corners))
+    corners = np.concatenate(corner_list)
+    flat_faces = np.concatenate(flat_list)
+    face_material = np.array([m or "" for chunk in material_list for m in chunk], dtype=object)
+    materials = read_mtl_files(libraries, path.parent, name) if libraries else {}
+    # Distinct (v, vt, vn) combinations become vertices.
+    has_uv = bool(len(vt)) and bool((corners[:, :, 1] >= 0).all())
+    has_normal = bool(len(vn)) and bool((corners[:, :, 2] >= 0).all())
+    columns = [corners[:, :, 0].reshape(-1)]
+    if has_uv:
+        columns.append(corners[:, :, 1].reshape(-1))
+    if has_normal:
+        columns.append(corners[:, :, 2].reshape(-1))
+    same = all(np.array_equal(columns[0], column) for column in columns[1:])
+    if same and len(v) >= max((len(vt) if has_uv else 0), (len(vn) if has_normal else 0)):
+        # One index per corner for every attribute (exporters that write per-vertex uvs and
+        # normals): the vertices are the v lines.
+        faces = corners[:, :, 0]
+        combos = np.repeat(np.arange(len(v))[:, None], len(columns), axis=1)
+        if has_uv and len(vt) < len(v) or has_normal and len(vn) < len(v):
+            combos = None
+    else:
+        combos = None
+    if combos is None:
+        stacked = np.stack(columns, axis=1)
+        combos, inverse = np.unique(stacked, axis=0, return_inverse=True)
+        faces = inverse.reshape(-1, 3)
+    positions = v[combos[:, 0], :3]
+    colors = v[combos[:, 0], 3:6] if v.shape[1] == 6 else None
+    uvs = vt[combos[:, 1], :2] if has_uv else None
+    normals = vn[combos[:, -1]] if has_normal else None
+    # Group faces by material (stable: file order within a material) so each part is one range.
+    names = list(dict.fromkeys(face_material.tolist()))
+    if len(names) > 1:
+        index_of = {m: i for i, m in enumerate(names)}
+        key = np.fromiter((index_of[m] for m in face_material), np.int64, len(face_material))
+        order = np.argsort(key, kind="stable")
+        faces, flat_faces, key = faces[order], flat_faces[order], key[order]
+        counts = np.bincount(key, minlength=len(names))
+    else:
+        counts = np.array([len(faces)])
+    parts, start = [], 0
+    named = [m for m in names if m]
+    if named and not libraries:  # f3d and Blender draw these faces plain too, but say why
+        warnings.warn(f"{name}: 'usemtl {named[0]}' but the file names no material library (mtllib); drawn without materials", stacklevel=2)
+    for material_name, count in zip(names, counts):
+        if material_name and materials and material_name not in materials:  # (a missing library warned already)
+            warnings.warn(f"{name}: 'usemtl {material_name}' names no material of {', '.join(libraries)}; its faces drawn without it", stacklevel=2)
+        parts.append((start, int(count), materials.get(material_name) if material_name else None, material_name))
+        start += int(count)
+    return ObjData(positions, faces, uvs, normals, colors, flat_faces, parts)

@@ -1,0 +1,133 @@
+"""Everything one device keeps between frames, for every pass that draws on it.
+
+The colour pass (passes/color.py) and the extra outputs (passes/extra_outputs.py: normals, object
+ids) share one DeviceCache per Renderer: the same pipeline cache, mesh and texture
+uploads, samplers, uniform buffers, bind groups and render targets, each bounded as
+caches.py documents. Not thread-safe by itself: the Renderer uses it under its lock.
+
+Render targets are lent, not shared: `take_target` hands a frame a target no other frame
+in flight uses, and `give_back` returns it once the frame is read. Targets given back wait
+for reuse in a pool of at most TARGET_CACHE_ENTRIES, least recently returned dropped first.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from itertools import count
+
+import numpy as np
+import wgpu
+
+from ...scene import Mesh, Texture
+from ..shaders.bindings import BindingPlan
+from .caches import (
+    BIND_GROUP_CACHE_ENTRIES,
+    MESH_CACHE_BYTES,
+    MESH_CACHE_ENTRIES,
+    TARGET_CACHE_ENTRIES,
+    TEXTURE_CACHE_BYTES,
+    TEXTURE_CACHE_ENTRIES,
+    UNIFORM_CACHE_ENTRIES,
+    LruCache,
+    ObjectCache,
+)
+from ..device import uses_direct_upload
+from .pipeline_cache import PipelineCache
+from ..shaders.uniforms import finite_uniform_bytes
+from .bind_groups import cached_bind_group
+from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh
+from .samplers import create_sampler
+from .targets import Target, check_target_size, new_target
+from .texture_uploads import GpuTexture, upload_texture
+from .uniform_buffers import uniform_buffer
+
+
+class DeviceCache:
+    """Pipelines, uploads, uniform buffers, bind groups and targets of one wgpu device."""
+
+    def __init__(self, device):
+        self.device = device
+        self.pipelines = PipelineCache(device)
+        # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
+        # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
+        self._mesh_usage = wgpu.BufferUsage.MAP_WRITE if uses_direct_upload(device) else 0
+        self.meshes: ObjectCache[GpuMesh] = ObjectCache(MESH_CACHE_ENTRIES, MESH_CACHE_BYTES, lambda m: m.nbytes)
+        # Every texture upload, in whatever format it is stored, is an entry of this one
+        # cache (keyed (texture, format)): TEXTURE_CACHE_BYTES bounds them all together.
+        self.textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
+        self.uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
+        self.bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
+        self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
+        self._free_targets: OrderedDict[int, tuple[tuple, Target]] = OrderedDict()  # serial → (key, target)
+        self._serial = count()
+
+    # ------------------------------------------------------------------ uploads
+
+    def gpu_mesh(self, mesh: Mesh, plan: BindingPlan | None = None, in_order: frozenset[int] = frozenset()) -> GpuMesh:
+        """The mesh's upload, with the optional attributes `plan` binds (uvs, colors).
+        `in_order`: parts whose triangles must keep their order (blended ones); an upload
+        that reordered one of them is replaced (the same mesh drawn with other materials)."""
+        gpu_mesh = self.meshes.get(mesh)
+        if gpu_mesh is not None and gpu_mesh.order is not None and not in_order <= gpu_mesh.order.in_order:
+            in_order = in_order | gpu_mesh.order.in_order
+            gpu_mesh = None
+        if gpu_mesh is None:
+            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order))
+        if plan is not None:
+            for name in OPTIONAL_ATTRIBUTES:
+                if name in plan:
+                    upload_attribute(self.device, gpu_mesh, mesh, name, self._mesh_usage)
+        return gpu_mesh
+
+    def gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:
+        """The texture's upload; `srgb`: as rgba8unorm-srgb (material_maps.decodes_srgb).
+        Both formats are entries of the one texture cache, keyed by the format."""
+        stored_as = "rgba8unorm-srgb" if srgb else "rgba8unorm"
+        gpu_texture = self.textures.get(texture, stored_as)
+        if gpu_texture is None:
+            gpu_texture = self.textures.put(texture, upload_texture(self.device, texture, srgb), stored_as)
+        return gpu_texture
+
+    def sampler(self, texture: Texture) -> object:
+        """Linear filtering with mipmaps by default; glTF samplers may ask for NEAREST (pixel
+        art, palettes, labels) and for clamped or mirrored coordinates."""
+        key = (texture.nearest, texture.wrap)
+        sampler = self._samplers.get(key)
+        if sampler is None:
+            sampler = self._samplers[key] = create_sampler(self.device, texture.nearest, texture.wrap)
+        return sampler
+
+    def uniform_buffer(self, role: str, index: int, data: np.ndarray, where: str) -> object:
+        """The uniform buffer for (role, index), holding `data` (`where` names it in errors)."""
+        payload = finite_uniform_bytes(data, where)
+        return uniform_buffer(self.device, self.uniform_buffers, (role, index, data.nbytes), payload)
+
+    def bind_group(self, cache: LruCache | None, layout, resources: tuple) -> object:
+        """A bind group, cached in `cache` (the owner of what it binds; None: this cache's)."""
+        return cached_bind_group(self.device, self.bind_groups if cache is None else cache, layout, resources)
+
+    # ------------------------------------------------------------------ targets
+
+    def check_size(self, size: tuple[int, int], color_format: str, samples: int = 1) -> None:
+        check_target_size(self.device, size, color_format, samples)
+
+    def take_target(self, size: tuple[int, int], color_format: str, samples: int = 1) -> Target:
+        """A target no frame in flight uses: a free one of this kind, or a new one."""
+        key = (size[0], size[1], color_format, samples)
+        for serial, (free_key, target) in reversed(self._free_targets.items()):
+            if free_key == key:
+                del self._free_targets[serial]
+                return target
+        self.check_size(size, color_format, samples)
+        return new_target(self.device, size[0], size[1], color_format, samples)
+
+    def give_back(self, target: Target) -> None:
+        """A target whose frame has been read, kept for the next frame of its kind."""
+        key = (target.width, target.height, target.color_format, target.samples)
+        self._free_targets[next(self._serial)] = (key, target)
+        while len(self._free_targets) > TARGET_CACHE_ENTRIES:
+            self._free_targets.popitem(last=False)
+
+    @property
+    def free_target_count(self) -> int:
+        return len(self._free_targets)
