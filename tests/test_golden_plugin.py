@@ -267,20 +267,8 @@ def test_the_failure_summary_comes_back_from_xdist_workers(pytester, monkeypatch
 
 # --------------------------------------------------------------------------- the HTML report
 
-REPORT_TEST = textwrap.dedent(
+REPORT_TEST = USER_TEST + textwrap.dedent(
     """
-    import os
-    import numpy as np
-
-    def image(value):
-        img = np.zeros((40, 60, 4), np.uint8)
-        img[..., 3] = 255
-        img[10:30, 20:40, 0] = value
-        return img
-
-    def test_array(assert_golden):
-        assert_golden(image(int(os.environ.get("GOLDEN_VALUE", "200"))), "refs/square.png")
-
     def test_steady(assert_golden):
         assert_golden(image(200), "refs/steady.png")
     """
