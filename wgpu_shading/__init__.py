@@ -19,7 +19,8 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # pragma: no cover
     from .errors import DeviceError, MeshError, SceneError, UsageError, WgpuShadingError
     from .assets.view_loader import load_view
-    from .scene.view_options import ViewOptions, apply_view_options, render_command
+    from .scene.view_apply import apply_view_options
+    from .scene.view_options import ViewOptions, render_command
     from .assets import load_mesh, load_scene, parse_scene
     from .assets.mesh_scene import mesh_scene
     from .render.auto_shading import AutoChoice, auto_shading
@@ -49,7 +50,7 @@ __version__ = "0.1.0"
 # numpy (~0.1 s) and wgpu (~0.1 s) load only when something needs them.
 _LAZY = {
     "DeviceError": "errors", "MeshError": "errors", "SceneError": "errors", "UsageError": "errors", "WgpuShadingError": "errors",
-    "ViewOptions": "scene.view_options", "apply_view_options": "scene.view_options", "render_command": "scene.view_options",
+    "ViewOptions": "scene.view_options", "apply_view_options": "scene.view_apply", "render_command": "scene.view_options",
     "load_view": "assets.view_loader",
     "FeatureSet": "render.features",
     "MATERIALS": "scene", "material": "scene", "Mesh": "scene",

@@ -88,7 +88,7 @@ class Job:
     folder/name: outputs go to OUTPUT/folder/name*.png|npy, plus name.json (camera, row hash)
     size: (width, height); None = the scene file's size, or 512² for a mesh (like `render`)
     camera: scene-file camera keys (eye, target, up, fov_y, near, far, projection, ortho_height)
-    orbit: azimuth, elevation (degrees), distance (see scene/view_options.py place_camera)
+    orbit: azimuth, elevation (degrees), distance (see scene/view_apply.py place_camera)
     overrides: the other view options by name (material, frequency, lights, ...)
     Together they are the job's ViewOptions (view_options()): what `render` would be given.
     """

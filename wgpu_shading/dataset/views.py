@@ -20,7 +20,7 @@ from ..assets.view_loader import DEFAULT_SIZE, is_scene_file, load_source
 from ..errors import UsageError
 from ..scene import Scene
 from ..scene.framing import FRAMING_DIRECTION
-from ..scene.view_options import apply_view_options
+from ..scene.view_apply import apply_view_options
 from .jobs import Job
 
 __all__ = ["DEFAULT_SIZE", "FRAMING_ELEVATION", "MAX_VIEWS", "base_scene", "job_scene", "sphere_views", "turntable_views"]

@@ -24,7 +24,7 @@ FREQUENCIES: tuple[str, ...] = ("flat", "gouraud", "phong")
 REFLECTIONS: tuple[str, ...] = ("phong", "blinn-phong")
 TEXTURE_MODES: tuple[str, ...] = ("modulate", "modulate_all", "blend")
 
-# Limits (docs/reliability.md). Every value derived from these for the GPU (matrices, normal
+# Limits (docs/valid-ranges.md). Every value derived from these for the GPU (matrices, normal
 # matrices, eye-space positions, squared distances, lit colours summed over MAX_LIGHTS)
 # stays finite in float32 (max 3.4e38).
 MAX_COORDINATE = 1e15
