@@ -103,11 +103,11 @@ def _stream(encoder, frames: Iterable[np.ndarray], progress: Callable[[int], Non
 # The GIF palette of a frame (benchmarks/gif_palette.py measured the choices; the table is in
 # docs/reliability.md#animations). Frames of up to FEW_COLOURS colours (smooth shading of one
 # material: hundreds) are first mapped without dithering, kept when no channel of any pixel
-# moves by more than MAX_UNDITHERED_ERROR/255 (steps that small draw no visible ring). The
+# moves by more than UNDITHERED_TOLERANCE/255 (steps that small draw no visible ring). The
 # palette of the others is chosen from an even grid of about PALETTE_SAMPLE_PIXELS pixels
 # (every 4th pixel of every 4th row at 512²): a third of the work at 512², the same error.
 FEW_COLOURS = 4096
-MAX_UNDITHERED_ERROR = 2
+UNDITHERED_TOLERANCE = 2
 PALETTE_SAMPLE_PIXELS = 16384
 
 
@@ -127,7 +127,7 @@ def quantize_frame(rgb: np.ndarray):
     if image.getcolors(FEW_COLOURS) is not None:  # None: more colours than that
         mapped = image.quantize(256, method=Image.Quantize.MAXCOVERAGE)
         error = np.abs(np.asarray(mapped.convert("RGB"), dtype=np.int16) - frame).max()
-        if error <= MAX_UNDITHERED_ERROR:
+        if error <= UNDITHERED_TOLERANCE:
             return mapped
     step = max(1, math.ceil(math.sqrt(frame.shape[0] * frame.shape[1] / PALETTE_SAMPLE_PIXELS)))
     sample = np.ascontiguousarray(frame[::step, ::step])
