@@ -1,4 +1,4 @@
-"""One view vocabulary (wgpu_shading/scene/view_options.py): every option has its four
+"""One view vocabulary (wgpu_shading/scene/view/options.py): every option has its four
 spellings (the `render` flag, the `batch` flag, the manifest column, the scene-file key),
 they read to the same value, and `render` and a one-job `batch` draw the same pixels."""
 
@@ -21,9 +21,9 @@ from wgpu_shading.cli.main import build_parser
 from wgpu_shading.dataset.manifest import read_manifest, row_view_options
 from wgpu_shading.errors import UsageError
 from wgpu_shading.scene import Camera
-from wgpu_shading.scene.view_apply import unappliable
-from wgpu_shading.scene.view_options import VIEW_OPTIONS, ViewOptions, render_command, spellings_table
-from wgpu_shading.scene.view_values import parse_light, spell
+from wgpu_shading.scene.view.apply import unappliable
+from wgpu_shading.scene.view.options import VIEW_OPTIONS, ViewOptions, render_command, spellings_table
+from wgpu_shading.scene.view.reading import parse_light, spell
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 
@@ -206,7 +206,7 @@ def test_render_command_spells_every_option_back_exactly():
 
 def test_the_docs_table_is_the_table_in_the_code():
     text = (DOCS / "view-options.md").read_text(encoding="utf-8")
-    assert spellings_table() in text, "docs/view-options.md: paste spellings_table()'s output (python -m wgpu_shading.scene.view_options)"
+    assert spellings_table() in text, "docs/view-options.md: paste spellings_table()'s output (python -m wgpu_shading.scene.view.options)"
 
 
 def test_a_manifest_up_column_means_the_model_axis_and_a_vector_the_camera_up(tmp_path):

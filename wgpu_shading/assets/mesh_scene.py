@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import MeshError, SceneError
 from ..scene import Material, Mesh, Scene, SceneObject, material
-from ..scene.framing import framing_camera
+from ..scene.view.bare_mesh import framing_camera
 from ..scene.maps import bare_mesh_lighting
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
@@ -25,7 +25,7 @@ def mesh_scene(
     reading: Mapping[str, Any] | None = None,
 ):
     """A scene for a bare mesh: framed by the camera, lit by a key light and a headlight fill
-    as model viewers do (scene/viewer_lights.py; global ambient 0.2), the file's materials or gold.
+    as model viewers do (scene/view/viewer_lights.py; global ambient 0.2), the file's materials or gold.
     `up` is the file's up axis: the mesh is turned so that it points up on screen, which is
     f3d's --up view (its camera turned instead: the same picture). A glTF file with
     KHR_lights_punctual lights is lit by them instead (as viewers do; gltf/punctual_lights.py),

@@ -3,8 +3,8 @@
 
 from __future__ import annotations
 
-from ..scene.view_apply import apply_view_options
-from ..scene.view_options import ViewOptions
+from ..scene.view.apply import apply_view_options
+from ..scene.view.options import ViewOptions
 
 DEFAULT_SIZE = (512, 512)  # a bare mesh's image when no size is given
 

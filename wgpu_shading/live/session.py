@@ -1,7 +1,7 @@
 """A live view without its window: settings → scene → frame, events → settings.
 
 LiveView holds a ViewState, a Renderer and the view's source. The scene it draws is made
-from the settings as ViewOptions through the one vocabulary (scene/view_options.py):
+from the settings as ViewOptions through the one vocabulary (scene/view/options.py):
 `load_source` reads the file once per set of options that act when a file is read (size,
 crease angle, up axis), and `apply_view_options` applies everything else, so that
 
@@ -30,8 +30,8 @@ from ..assets.view_loader import is_scene_file, load_source
 from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
-from ..scene.view_apply import apply_view_options, scene_value
-from ..scene.view_options import OPTIONS_BY_NAME, ViewOptions, render_command
+from ..scene.view.apply import apply_view_options, scene_value
+from ..scene.view.options import OPTIONS_BY_NAME, ViewOptions, render_command
 from .state import ViewState, help_text, opening_settings
 
 COMPARE_AXES = {"frequency": FREQUENCIES, "reflection": REFLECTIONS}

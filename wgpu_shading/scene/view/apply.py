@@ -1,5 +1,5 @@
 """Applying view options to a Scene: `apply_view_options`, generic by each option's key
-(view_options.py), so that a new option whose key names a field of the Scene, its Shading,
+(options.py), so that a new option whose key names a field of the Scene, its Shading,
 its camera, every object, every object's material(s) or every light needs no code here.
 
 Only what is not one field is spelled out below: the background with `transparent`,
@@ -15,15 +15,15 @@ from typing import Any
 import numpy as np
 from pyglm import glm
 
-from ..errors import SceneError
-from .camera import Camera
-from .framing import object_depth_range
-from .lights import LIGHT_TYPES
-from .maps import bare_mesh_lighting
-from .material import Material
-from .objects import Scene, SceneObject, Shading
-from .view_options import VIEW_OPTIONS, ViewOption, ViewOptions
-from .view_values import parse_light
+from ...errors import SceneError
+from ..camera import Camera
+from .bare_mesh import object_depth_range
+from ..lights import LIGHT_TYPES
+from ..maps import bare_mesh_lighting
+from ..material import Material
+from ..objects import Scene, SceneObject, Shading
+from .options import VIEW_OPTIONS, ViewOption, ViewOptions
+from .reading import parse_light
 from .viewer_lights import viewer_lights
 
 # The camera keys that move the camera after the others placed it (f3d's order): not fields.
