@@ -201,9 +201,13 @@ def test_a_device_output_is_refused_not_replaced(tmp_path):
 # the signal arrives mid-write every time.
 _SLOW_WRITER = textwrap.dedent(
     """
-    import sys, time
+    import signal, sys, time
     from pathlib import Path
     from PIL import Image
+
+    # Ctrl-C as in a terminal, even when the suite runs as a background job (a shell starts
+    # those with SIGINT ignored, and children inherit that).
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
     def slow_save(self, fp, format=None, **params):
         Path(fp).write_bytes(b"\\x89PNG half of it")
