@@ -88,7 +88,7 @@ def _write_stdout(data: bytes) -> None:
 
 def command_turntable(args: argparse.Namespace) -> int:
     from ..assets.animation import check_animation_path, write_animation
-    from ..scene.turntable import turntable
+    from ..scene.view.turntable import turntable
     from ..render.renderer import Renderer
 
     if args.frames < 1:
