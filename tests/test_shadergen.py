@@ -243,7 +243,7 @@ def _sources() -> dict[str, str]:
 
     root = files("wgpu_shading.wgsl")
     found = {}
-    for folder in ("", "chunks", "chunks/lighting", "chunks/surface", "chunks/maps"):
+    for folder in ("", "chunks", "chunks/lighting", "chunks/surface", "chunks/maps", "chunks/strokes"):
         base = root.joinpath(*folder.split("/")) if folder else root
         for entry in base.iterdir():
             if entry.name.endswith(".wgsl"):

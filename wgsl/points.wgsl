@@ -1,77 +1,47 @@
 // Points (docs/primitives.md#points): each point a screen-aligned quad of point_size pixels
-// (strokes.wgsl), one instance per point, its attributes stepping per instance.
-//
-// A point without a normal (zero) is the square in its colour: the material's diffuse
-// colour × its vertex colour, as an unlit surface. With POINT_NORMALS, a point that has a
-// normal is a small disc facing it (discs.wgsl), each pixel lit by the lighting equation
-// at the disc's point under it with the point's normal: the disc's centre has exactly the
-// lighting of the point itself.
+// (chunks/strokes/quads.wgsl), one instance per point, its attributes stepping per
+// instance. A point is a square in its colour (the material's diffuse × the vertex colour,
+// unlit); with a normal, a disc facing it, lit (chunks/strokes/discs.wgsl).
 
 #include "structs.wgsl"
 #include "bindings.wgsl"
 #include "lighting.wgsl"
-#include "maps.wgsl"
-#include "surface.wgsl"
-#include "strokes.wgsl"
-#if POINT_NORMALS
-#include "discs.wgsl"
-#endif
+#include "output.wgsl"
+#include "chunks/strokes/quads.wgsl"
+// The point's effects, one chunk each: what they declare is pasted here, what they do at
+// the named points (#hook) below.
+#include "chunks/surface/vertex_colors.wgsl"
+#include "chunks/strokes/discs.wgsl"
+#include "chunks/surface/alpha_mode.wgsl"
+#include "chunks/surface/srgb_output.wgsl"
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,
-#if VERTEX_COLORS
-    @location(0) @interpolate(flat) color: vec4<f32>,
-#endif
-#if POINT_NORMALS
-    @location(1) @interpolate(flat) center: vec3<f32>,
-    @location(2) @interpolate(flat) normal: vec3<f32>,
-    @location(3) on_image_plane: vec3<f32>,
-    @location(4) @interpolate(flat) radius: f32,
-#endif
+#hook points.varyings
 }
 
 @vertex
-fn vs_main(@builtin(vertex_index) vertex_index: u32, point: VertexInput) -> Varyings {
-    let center = object_uniforms.eye_from_model * vec4<f32>(point.position, 1.0);
-    let clip = frame_uniforms.clip_from_eye * center;
+fn vs_main(@builtin(vertex_index) vertex_index: u32, vertex: VertexInput) -> Varyings {
+    let center = object_uniforms.eye_from_model * vec4<f32>(vertex.position, 1.0);
+    let projection = frame_uniforms.clip_from_eye;
+    let clip = projection * center;
     let corner = vec2<f32>(2.0 * quad_corner(vertex_index).x - 1.0, quad_corner(vertex_index).y);  // (±1, ±1)
     let half_size = 0.5 * object_uniforms.stroke_pixels;
+    let viewport = object_uniforms.viewport_size;
+    let normal_matrix = object_uniforms.eye_normal_from_model;
     var out: Varyings;
-    out.clip_position = moved_by_pixels(clip, corner * half_size, object_uniforms.viewport_size);
-#if VERTEX_COLORS
-    out.color = point.color;
-#endif
-#if POINT_NORMALS
-    let disc = disc_corner(center.xyz, clip, object_uniforms.eye_normal_from_model * point.normal, corner, half_size,
-                           frame_uniforms.clip_from_eye, object_uniforms.viewport_size);
-    out.center = center.xyz;
-    out.normal = disc.normal;
-    out.on_image_plane = disc.on_image_plane;
-    out.radius = disc.radius;
-#endif
+    out.clip_position = moved_by_pixels(clip, corner * half_size, viewport);
+#hook points.vertex  // (vertex colors; a disc's plane)
     return out;
 }
 
 @fragment
 fn fs_main(in: Varyings) -> @location(0) vec4<f32> {
-#if VERTEX_COLORS
-    surface_color = in.color;
-#endif
-#if POINT_NORMALS
-    let length_squared = dot(in.normal, in.normal);
-    if (length_squared > MIN_LENGTH_SQUARED) {
-        let normal = in.normal * inverseSqrt(length_squared);
-        let on_disc = point_on_disc(in.center, normal, in.on_image_plane, in.radius, frame_uniforms.clip_from_eye);
-        if (on_disc.w == 0.0) {
-            discard;
-        }
-        return final_color(shade(on_disc.xyz, normal, view_direction(on_disc.xyz, normal)));
-    }
-    // a point without a normal: its colour, unlit
-    var plain: LitColor;
-    plain.ambient_diffuse = material_diffuse();
-    return final_color(plain);
-#else
-    return final_color(shade(vec3<f32>(0.0), FALLBACK_NORMAL, FALLBACK_NORMAL));
-#endif
+    let projection = frame_uniforms.clip_from_eye;
+#hook points.fragment_surface  // the point's colour (vertex colors)
+    // the point's colour, unlit
+    var lit: LitColor;
+    lit.ambient_diffuse = object_uniforms.material.diffuse.rgb * surface_tint();
+#hook points.fragment_lit  // what lights the point (a disc facing its normal)
+    return final_color(lit);
 }

@@ -294,7 +294,8 @@ def extra_outputs_plan(strokes: FeatureSet | None = None) -> BindingPlan:
     """The normals-and-ids pass (extra_outputs.py): one uniform block per object part and
     the mesh's positions and normals; for points and lines (`strokes`, their feature set)
     their instances' positions (and a point's normal)."""
-    entries = [Binding("object", 0, "uniform", "extra_uniforms", "ExtraUniforms", VERTEX_AND_FRAGMENT, "One per object part.")]
+    uniforms = "ExtraUniforms" if strokes is None else "PointOutputUniforms" if strokes.primitive == "points" else "LineOutputUniforms"
+    entries = [Binding("object", 0, "uniform", "extra_uniforms", uniforms, VERTEX_AND_FRAGMENT, "One per object part.")]
     if strokes is None:
         return make_plan(None, entries, [a for a in VERTEX_ATTRIBUTES if a.name in ("positions", "normals")])
     attributes = POINT_ATTRIBUTES if strokes.primitive == "points" else SEGMENT_ATTRIBUTES

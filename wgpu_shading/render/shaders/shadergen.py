@@ -68,4 +68,5 @@ def generate_extra_outputs_wgsl(strokes: FeatureSet | None = None) -> str:
     def reader(name: str) -> str:
         return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
 
-    return _tidy(preprocess("extra_outputs.wgsl", (strokes or FeatureSet()).defines(), reader))
+    entry = "extra_outputs.wgsl" if strokes is None else f"{strokes.primitive}_outputs.wgsl"
+    return _tidy(preprocess(entry, (strokes or FeatureSet()).defines(), reader))
