@@ -131,6 +131,7 @@ DOMAINS: dict[str, tuple] = {
     "alpha_mode": ALPHA_MODES,
     "primitive": ("triangles", "points", "lines"),
     "under_edges": (0, 2),
+    "uv_sets": ((), (("base_color", 1),), (("normal_map", 3), ("occlusion_map", 2), ("emissive_map", 1))),
 }
 STRENGTH = 3  # every combination of values of any 3 fields is compiled at least once
 

@@ -8,10 +8,11 @@ the pipeline key (gpu/pipelines.py) holds it. It is a frozen, hashable dataclass
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..errors import SceneError
 from ..scene.maps import MAP_FIELDS
+from ..scene.material import MAX_UV_SET
 from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight
 
 
@@ -53,6 +54,9 @@ class FeatureSet:
     # pipeline's depth bias), so that their edges drawn over them never z-fight.
     primitive: str = "triangles"
     point_normals: bool = False
+    # (texture, set) of every sampled texture that reads another of the mesh's texture
+    # coordinate sets than its uvs (Texture.uv_set ≥ 1: Mesh.extra_uvs); textures absent read set 0.
+    uv_sets: tuple[tuple[str, int], ...] = ()
     edges: bool = False
     under_edges: int = 0
 
@@ -120,7 +124,17 @@ class FeatureSet:
             "STROKES": self.primitive != "triangles",
             "POINT_NORMALS": self.point_normals,
             "EDGES": self.edges,
+            **{f"UV_SET_{k}": k in self.extra_uv_sets for k in range(1, MAX_UV_SET + 1)},
         }
+
+    @property
+    def extra_uv_sets(self) -> tuple[int, ...]:
+        """The mesh's texture coordinate sets besides its uvs that the draw reads."""
+        return tuple(sorted({uv_set for _, uv_set in self.uv_sets}))
+
+    def uv_set(self, texture: str) -> int:
+        """The set the sampled texture `texture` ("base_color", "occlusion_map", ...) reads."""
+        return dict(self.uv_sets).get(texture, 0)
 
     def describe(self) -> str:
         lights = ", ".join(
@@ -161,6 +175,8 @@ class FeatureSet:
             parts.append(f"primitive={self.primitive}" + (" point_normals=True" if self.point_normals else "") + (" edges=True" if self.edges else ""))
         if self.under_edges:
             parts.append(f"under_edges={self.under_edges}")
+        if self.uv_sets:
+            parts.append("uv_sets=[" + ", ".join(f"{name}:{uv_set}" for name, uv_set in self.uv_sets) + "]")
         return " ".join(parts)
 
     def scene_part(self) -> "FeatureSet":
@@ -178,7 +194,7 @@ class FeatureSet:
 # What every point and line feature set holds, whatever it was made with.
 _STROKE_FIXED = dict(frequency="phong", texture_mode=None, two_sided=False, cull_back=False, clamp_vertex_colors=False,
                      normal_map=False, bump_map=False, specular_map=False, shininess_map=False, emissive_map=False,
-                     occlusion_map=False, alpha_map=False, vertex_tangents=False, under_edges=0)
+                     occlusion_map=False, alpha_map=False, vertex_tangents=False, under_edges=0, uv_sets=())
 
 
 def _has_attenuation(light: PositionalLight | SpotLight) -> bool:
@@ -205,7 +221,7 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
     lit = not material.unlit
     specular = lit_specular(scene, material)
     per_fragment_normals = lit and scene.shading.frequency == "phong"
-    return FeatureSet(
+    features = FeatureSet(
         frequency=scene.shading.frequency,
         **scene_lighting(scene),
         specular=specular,
@@ -233,6 +249,26 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         vertex_tangents=obj.mesh.tangents is not None and "normal_map" in maps and per_fragment_normals,
         under_edges=surface_offset(scene),
     )
+    uv_sets = texture_uv_sets(features, material, obj.mesh, index)
+    return replace(features, uv_sets=uv_sets) if uv_sets else features
+
+
+# The sampled textures of a draw by the Material field holding each (shaders/bindings.py's names).
+_TEXTURE_FIELDS = {"base_color": "texture", **{name: name for name in MAP_FIELDS}}
+
+
+def texture_uv_sets(features: FeatureSet, material: Material, mesh, index: int) -> tuple[tuple[str, int], ...]:
+    """(texture, set) for the draw's textures that read another set than the mesh's uvs
+    (Texture.uv_set, docs/primitives.md#texture-coordinate-sets); the mesh must have it."""
+    used = (["base_color"] if features.texture_mode is not None else []) + list(features.map_flags)
+    sets = tuple((name, getattr(material, _TEXTURE_FIELDS[name]).uv_set) for name in used
+                 if getattr(material, _TEXTURE_FIELDS[name]).uv_set)
+    available = 0 if mesh.extra_uvs is None else mesh.extra_uvs.shape[1]
+    for name, uv_set in sets:
+        if uv_set > available:
+            raise SceneError(f"objects[{index}]: material {material.name or '(inline)'}: its {_TEXTURE_FIELDS[name]} reads "
+                             f"texture coordinate set {uv_set}, but mesh {mesh.name!r} has {available + 1 if mesh.uvs is not None else 0}")
+    return sets
 
 
 def scene_lighting(scene: Scene) -> dict:

@@ -16,9 +16,10 @@ from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureM
 MAX_TEXTURE_SIDE = MAX_IMAGE_SIDE
 # What a coordinate outside [0, 1] samples (glTF's REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
 WRAP_MODES = ("repeat", "clamp", "mirror")
-# Texture coordinate sets a texture may read: Mesh.uvs and Mesh.extra_uvs' sets, eight in
-# all (a glTF material has seven textures, each with its own set and transform at most).
-MAX_UV_SET = 7
+# Texture coordinate sets a texture may read: Mesh.uvs and three of Mesh.extra_uvs. WebGPU
+# guarantees 8 vertex buffers to a draw: positions, normals, uvs, colours, tangents, and
+# these three (docs/primitives.md#texture-coordinate-sets).
+MAX_UV_SET = 3
 
 
 @dataclass(frozen=True, eq=False)

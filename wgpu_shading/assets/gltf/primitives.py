@@ -16,14 +16,15 @@ from types import SimpleNamespace
 import numpy as np
 
 from ...errors import MeshError
-from ...scene.material import MAX_UV_SET
 from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
 from .document import MAX_GLTF_ITEMS, GltfData, gltf_error
 from .nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices
 
 _POINTS, _LINES, _LINE_LOOP, _LINE_STRIP, _TRIANGLES, _STRIP, _FAN = range(7)
 PRIMITIVE_OF_MODE = {_POINTS: "points", _LINES: "lines", _LINE_LOOP: "lines", _LINE_STRIP: "lines"}  # else triangles
-_UV_SET_NAMES = tuple(f"TEXCOORD_{k}" for k in range(MAX_UV_SET + 1))  # what Texture.uv_set can name
+# TEXCOORD_0..7 are read (what glTF exporters write, and more); a draw reads at most
+# MAX_UV_SET + 1 of them, each with its transform (reader.py).
+_UV_SET_NAMES = tuple(f"TEXCOORD_{k}" for k in range(8))
 _DRACO = "KHR_draco_mesh_compression"
 _SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError, SceneError
-from ...scene.material import Material
+from ...scene.material import MAX_UV_SET, Material
 from ..mesh_pieces import MeshPiece
 from .document import GltfData
 from .extensions import TEXTURE_FIELDS, channel_uvs, check_extensions, texture_infos, uv_channel
@@ -75,8 +75,8 @@ def _channels(document_material: dict | None, images, uv_sets, path: Path, piece
     channels: list = []
     fields: dict[str, int | None] = {}
     for name, channel in loaded.items():
-        if channel[0] not in uv_sets:
-            number = None
+        if channel[0] not in uv_sets or (channel not in channels and len(channels) > MAX_UV_SET):
+            number = None  # a set the primitive lacks, or beyond the sets a draw can read
         else:
             if channel not in channels:
                 channels.append(channel)
@@ -115,5 +115,6 @@ def _material(data: GltfData, row: dict, piece, document_material) -> tuple[Mate
         return replace(material, texture=None, **{name: None for name in material.maps}), []
     channels, fields = _channels(document_material, images, piece.uv_sets, data.path, piece.name)
     for field in (field for field, number in fields.items() if number is None):
-        data.notes.append(f"{data.path.name}: {piece.name!r}: its {field} reads a TEXCOORD set the primitive does not have; drawn without it")
+        data.notes.append(f"{data.path.name}: {piece.name!r}: its {field} reads a TEXCOORD set the primitive does not have "
+                          f"(or a {MAX_UV_SET + 2}th set of texture coordinates and transform); drawn without it")
     return _with_channels(material, fields), channels

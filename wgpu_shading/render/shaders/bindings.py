@@ -29,6 +29,7 @@ from typing import Callable
 import wgpu
 
 from ...scene import Material, Texture
+from ...scene.material import MAX_UV_SET
 from ..features import FeatureSet
 from .material_maps import bump_normal_texture
 
@@ -113,6 +114,9 @@ VERTEX_ATTRIBUTES: tuple[VertexAttribute, ...] = (
     VertexAttribute("uvs", "uv", "vec2<f32>", "float32x2", 8, "array<f32>", textured, "u, v per vertex"),
     VertexAttribute("colors", "color", "vec4<f32>", "float32x4", 16, "array<vec4<f32>>", lambda f: f.vertex_colors, "r, g, b, a per vertex"),
     VertexAttribute("tangents", "tangent", "vec4<f32>", "float32x4", 16, "array<vec4<f32>>", lambda f: f.vertex_tangents, "glTF TANGENT: x, y, z, handedness w"),
+    # The mesh's other texture coordinate sets (Mesh.extra_uvs), only where a texture reads them.
+    *(VertexAttribute(f"uv_set_{k}", f"uv_{k}", "vec2<f32>", "float32x2", 8, "array<f32>", lambda f, k=k: k in f.extra_uv_sets,
+                      f"texture coordinate set {k}") for k in range(1, MAX_UV_SET + 1)),
 )
 
 

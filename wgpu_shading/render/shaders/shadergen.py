@@ -54,6 +54,8 @@ def generate_wgsl(features: FeatureSet) -> str:
     ):
         if count:
             header.append(f"const {constant}: u32 = {count}u;")
+    # The texture coordinate set each sampled texture reads (surface_uv_of, chunks/surface/uvs.wgsl).
+    header += [f"const {texture.name.upper()}_UV_SET: u32 = {features.uv_set(texture.name)}u;" for texture in binding_plan(features).textures]
     entry = STROKE_ENTRY_FILES.get(features.primitive) or ENTRY_FILES[features.frequency]
     body = preprocess(entry, features.defines(), sources_for(features))
     return _tidy("\n".join(header) + "\n\n" + body)
