@@ -18,6 +18,7 @@ its centre at x = i + 0.5 − W/2, y = H/2 − (j + 0.5)."""
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -289,3 +290,31 @@ def test_msaa_with_depth_draws_points_and_lines(renderer):
     mesh = Mesh.from_arrays(positions, lines=[[2, 3]], parts=(MeshPart(0, 2, primitive="points"), MeshPart(0, 1, primitive="lines")))
     frame = renderer.render_frame(replace(scene_of(mesh, point_size=5.0, line_width=2.0), samples=4), depth=True)
     assert np.isfinite(frame.depth[10, 10]) and np.isfinite(frame.depth[40, 30]) and frame.color[10, 10, :3].max() > 0
+
+
+def test_the_command_line_draws_a_real_point_cloud_with_its_outputs(tmp_path):
+    """`render` on Blender's eight cube corners (a PLY without faces): `--point-size s` covers
+    exactly 8·s² pixels; `batch` on Open3D's SLAC fragment writes depth, normals and ids
+    that cover what its colour image covers (both committed in tests/data/real/primitives)."""
+    from PIL import Image
+
+    from wgpu_shading.cli import main
+
+    real = Path(__file__).parent / "data" / "real" / "primitives"
+    for size in (1, 4):
+        out = tmp_path / f"p{size}.png"
+        assert main(["render", str(real / "ply_points_ascii.ply"), "--size", "96", "--point-size", str(size), "--no-background",
+                     "-o", str(out), "-q"]) == 0
+        assert (np.asarray(Image.open(out))[..., 3] > 0).sum() == 8 * size * size
+    cloud = real / "livingroom1_slac_fragment_000.ply"
+    assert main(["batch", "--meshes", str(cloud), "--views", "1", "--size", "64", "--depth", "npy", "--normals", "eye", "--ids",
+                 "-o", str(tmp_path / "batch"), "-q"]) == 0
+    folder = tmp_path / "batch" / cloud.stem
+    colour = np.asarray(Image.open(folder / "view_000.png"))[..., :3].max(axis=2) > 0
+    depth = np.load(folder / "view_000_depth.npy")
+    normals = np.load(folder / "view_000_normals_eye.npy")
+    ids = np.asarray(Image.open(folder / "view_000_ids.png"))
+    assert colour.sum() > 100
+    np.testing.assert_array_equal(np.isfinite(depth), ids > 0)
+    assert ((np.abs(normals).sum(axis=2) > 0) == (ids > 0)).mean() > 0.99  # every disc has its normal
+    assert (colour & (ids == 0)).sum() == 0
