@@ -13,11 +13,9 @@ because the shared f3d-render.py cannot set f3d's optional options.
 from __future__ import annotations
 
 import argparse
-import io
 import os
 import subprocess
 import sys
-import tarfile
 import tempfile
 from pathlib import Path
 
@@ -95,7 +93,7 @@ def f3d(python: str, source: Path, options: list[str], output: Path) -> str:
 
 
 def main() -> None:
-    from PIL import Image, ImageDraw
+    from make_gltf_sheet import draw_sheet, extract_commit
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--f3d-python")
@@ -103,33 +101,11 @@ def main() -> None:
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as temporary:
         folder = Path(temporary)
-        old = folder / "before"
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", BEFORE], capture_output=True, check=True).stdout
-        tarfile.open(fileobj=io.BytesIO(archive)).extractall(old, filter="data")
-        if (old / "wgsl").is_dir() and not (old / "wgpu_shading" / "wgsl").exists():
-            (old / "wgpu_shading" / "wgsl").symlink_to(old / "wgsl")  # where the package reads them
-        table = rows(folder)
+        old = extract_commit(BEFORE, folder)
         columns = [(f"before ({BEFORE})", lambda s, o, p: ours(str(old), s, o, p)), ("now", lambda s, o, p: ours(str(REPO), s, o, p))]
         if args.f3d_python:
             columns.append(("f3d 4.0 (its defaults)", lambda s, o, p: f3d(args.f3d_python, s, o, p)))
-        label_width = 250
-        sheet = Image.new("RGB", (label_width + SIZE * len(columns), 20 + SIZE * len(table)), "white")
-        draw = ImageDraw.Draw(sheet)
-        for c, (title, _) in enumerate(columns):
-            draw.text((label_width + c * SIZE + 4, 4), title, fill="black")
-        for r, (label, source, options) in enumerate(table):
-            draw.multiline_text((4, 20 + r * SIZE + SIZE // 2 - 12), label, fill="black")
-            for c, (_, run) in enumerate(columns):
-                picture = folder / f"{r}_{c}.png"
-                error = run(source, options, picture)
-                x, y = label_width + c * SIZE, 20 + r * SIZE
-                if error:
-                    draw.rectangle([x, y, x + SIZE - 1, y + SIZE - 1], fill=(235, 235, 235))
-                    for k in range(0, len(error), 34):
-                        draw.text((x + 4, y + 4 + 12 * (k // 34)), error[k : k + 34], fill="red")
-                else:
-                    sheet.paste(Image.open(picture).convert("RGB").resize((SIZE, SIZE)), (x, y))
-        sheet.save(args.output)
+        draw_sheet(rows(folder), columns, folder, args.output, 250, SIZE)
     print(f"wrote {args.output}")
 
 

@@ -12,7 +12,6 @@ from dataclasses import dataclass, replace
 
 from ..errors import SceneError
 from ..scene.maps import MAP_FIELDS
-from ..scene.material import MAX_UV_SET
 from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight
 
 
@@ -124,7 +123,6 @@ class FeatureSet:
             "STROKES": self.primitive != "triangles",
             "POINT_NORMALS": self.point_normals,
             "EDGES": self.edges,
-            **{f"UV_SET_{k}": k in self.extra_uv_sets for k in range(1, MAX_UV_SET + 1)},
         }
 
     @property

@@ -25,15 +25,24 @@ from .preprocess import preprocess, read_source
 ENTRY_FILES = {"flat": "flat.wgsl", "gouraud": "gouraud.wgsl", "phong": "phong.wgsl"}  # triangles, by frequency
 STROKE_ENTRY_FILES = {"points": "points.wgsl", "lines": "lines.wgsl"}  # docs/primitives.md
 GENERATED_BINDINGS = "bindings.wgsl"
+UV_SETS_TEMPLATE = "chunks/surface/uv_sets.wgsl"
+FIRST_UV_SET_LOCATION = 4  # set k's varying is at location 4 + k, after every other varying of the entry shaders
 
 
 def sources_for(features: FeatureSet | None) -> Callable[[str], str]:
     """The reader `preprocess` uses for `features` (None: the extra outputs pass): files of
-    `wgsl/`, and the generated binding declarations under the name "bindings.wgsl"."""
+    `wgsl/`, the generated binding declarations under the name "bindings.wgsl", and the
+    template of the other texture coordinate sets written once per set the draw reads."""
     plan: BindingPlan = extra_outputs_plan() if features is None else binding_plan(features)
 
     def reader(name: str) -> str:
-        return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
+        if name == GENERATED_BINDINGS:
+            return plan.wgsl()
+        if name == UV_SETS_TEMPLATE:
+            template = read_source(name)
+            sets = () if features is None else features.extra_uv_sets
+            return "\n".join(template.replace("%SET%", str(k)).replace("%LOCATION%", str(FIRST_UV_SET_LOCATION + k)) for k in sets)
+        return read_source(name)
 
     return reader
 
