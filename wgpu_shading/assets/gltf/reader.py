@@ -1,7 +1,8 @@
-"""A glTF file read into mesh pieces (assets/mesh_pieces.py): every primitive instance of
-its scene (primitives.py) with its classic material (materials.py), and the texture
+"""A glTF file read into a MeshFile (assets/mesh_pieces.py): every primitive instance of
+its scene (primitives.py) with its classic material (materials.py) and the texture
 coordinates each of its textures reads (extensions.py: a TEXCOORD set with a transform, a
-"channel"; the base colour texture's is the mesh's uvs, others its extra_uvs).
+"channel"; the base colour texture's is the mesh's uvs, others its extra_uvs); its own
+lights (punctual_lights.py) read from the same parsed document when the caller asks.
 
 Materials are made once per (material, NORMAL present, COLOR_0 present, kind, sets), however many
 primitives use them, so a texture is decoded once and a lost one is said once; what the
@@ -17,16 +18,24 @@ import numpy as np
 
 from ...errors import MeshError, SceneError
 from ...scene.material import MAX_UV_SET, Material
-from ..mesh_pieces import MeshPiece
+from ..mesh_pieces import MeshFile, MeshPiece
 from .document import GltfData
 from .extensions import TEXTURE_FIELDS, channel_uvs, check_extensions, texture_infos, uv_channel
 from .materials import gltf_material
 from .primitives import gltf_pieces, material_images
+from .punctual_lights import gltf_lights
 
 
-def gltf_mesh_pieces(path: Path) -> tuple[list[MeshPiece], list[str]]:
-    """The file's pieces and the notes for the user."""
+def read_gltf(path: Path, file_size: int | None = None) -> MeshFile:
+    """A .gltf or .glb file (its size is checked by GltfData against what it declares)."""
     data = GltfData(path)
+    pieces, notes = gltf_mesh_pieces(data)
+    return MeshFile(pieces, notes, lights=lambda: gltf_lights(data))
+
+
+def gltf_mesh_pieces(data: GltfData) -> tuple[list[MeshPiece], list[str]]:
+    """The file's pieces and the notes for the user."""
+    path = data.path
     check_extensions(data.document, path)
     materials: dict[tuple, tuple[Material | None, list]] = {}
     pieces = []

@@ -15,11 +15,9 @@ from pathlib import Path
 from ...errors import MeshError
 from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
-from .ply import PLY_TYPES, PlyHeader, read_ply_header
 
 MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format
 _TEXT_FORMATS = (".obj",)  # always text: decoded here, handed to trimesh as UTF-8
-_PLY_SIZES = {name: int(code[1]) for name, code in PLY_TYPES.items()}
 
 
 def check_file_size(path: Path, where: str) -> int:
@@ -41,24 +39,6 @@ def check_declared_counts(where: str, vertices: int, faces: int, needed_bytes: i
             f"{where}: declares {vertices} vertices and {faces} faces, which need at least {needed_bytes} bytes, "
             f"but the file has only {available} after its header (truncated or damaged)"
         )
-
-
-def ply_declared_counts(path: Path, where: str, file_size: int, header: PlyHeader | None = None) -> tuple[int, int]:
-    """The vertex and face counts a PLY header declares, checked against the file size."""
-    header = header or read_ply_header(path, where)
-    minimum = 0
-    for element in header.elements:
-        for _, kind, count_kind in element.properties:
-            if count_kind is not None:
-                # at least the length field and, for faces, three indices
-                items = 3 if element.name == "face" else 0
-                per_item = (_PLY_SIZES.get(count_kind, 1) + items * _PLY_SIZES.get(kind, 1)) if header.binary else 2 * (1 + items)
-            else:
-                per_item = _PLY_SIZES.get(kind, 1) if header.binary else 2  # a digit and a separator
-            minimum += element.count * per_item
-    vertices, faces = header.count("vertex"), header.count("face")
-    check_declared_counts(where, vertices, faces, minimum, file_size - header.header_bytes)
-    return vertices, faces
 
 
 def text_source(path: Path, where: str, file_size: int) -> io.BytesIO | None:

@@ -22,11 +22,11 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
-from ...scene.material import Material
 from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
+from ..mesh_pieces import MeshFile, MeshPiece
+from .obj_elements import obj_elements, bare_points
 from .mtl import read_mtl_files
-from .obj_elements import ObjElements, bare_points, obj_elements
 
 
 @dataclass
@@ -40,19 +40,6 @@ class _Run:
     normal_count: int
     first_line: int
     lines: list[str] = field(default_factory=list)
-
-
-@dataclass
-class ObjData:
-    positions: np.ndarray  # (N, 3) float64, one per distinct (v, vt, vn) corner
-    faces: np.ndarray  # (F, 3) int64, sorted by material
-    uvs: np.ndarray | None
-    normals: np.ndarray | None
-    colors: np.ndarray | None
-    flat: np.ndarray  # (F,) bool: under `s off` / `s 0`
-    parts: list[tuple[int, int, Material | None, str]]  # first face, count, material, name
-    lines: ObjElements | None = None  # `l` records (obj_elements.py)
-    points: ObjElements | None = None  # `p` records, or every `v` of a file without faces or lines
 
 
 def _numbers(text: str, dtype) -> np.ndarray | None:
@@ -257,7 +244,9 @@ def _with_newlines(data: bytes) -> bytes:
     return data
 
 
-def read_obj(path: Path) -> ObjData:
+def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
+    """An OBJ file with its MTL materials, as one piece (file_size: the readers' signature;
+    the text's own counts are checked instead)."""
     data = _without_indentation(_with_newlines(_without_byte_order_mark(read_text_bytes(path, f"mesh file {str(path)!r}", MeshError))))
     name = str(path)
     # Classify every line by its first two bytes, in numpy (a Python loop over millions of
@@ -299,21 +288,23 @@ def read_obj(path: Path) -> ObjData:
     v_lines = np.flatnonzero(is_v)
     if not len(v_lines):
         raise MeshError(f"mesh file {name!r} contains no triangles, lines or points (no vertices)")
-    change_at = np.array([c[0] for c in changes], np.int64)
     v = _floats(_slices(lines, v_lines), "v ", 3, name, v_lines + 1)
     materials = read_mtl_files(libraries, path.parent, name) if libraries else {}
+    change_at = np.array([c[0] for c in changes], np.int64)
 
     def material_at(index: int) -> str | None:
         state = int(np.searchsorted(change_at, index)) - 1
         return changes[state][1] if state >= 0 else None
 
+    # `l` and `p` records, each kind a piece of its own (obj_elements.py)
     segments = obj_elements(lines, np.flatnonzero(is_l), v_count, material_at, v, materials, name, "lines")
     points = obj_elements(lines, np.flatnonzero(is_p), v_count, material_at, v, materials, name, "points")
+    if not len(face_lines) and segments is None and points is None:
+        points = bare_points(v)  # nothing joins the vertices: a point cloud
+    others = [MeshPiece(e.positions, e.indices, colors=e.colors, parts=e.parts, primitive=kind)
+              for kind, e in (("lines", segments), ("points", points)) if e is not None]
     if not len(face_lines):
-        empty = np.zeros((0, 3))
-        if segments is None and points is None:
-            points = bare_points(v)
-        return ObjData(empty, np.zeros((0, 3), np.int64), None, None, None, np.zeros(0, bool), [], segments, points)
+        return MeshFile(others)
     # Runs: blocks of consecutive face lines (the counts and the state are fixed within one).
     breaks = np.flatnonzero(np.diff(face_lines) != 1) + 1
     runs = []
@@ -381,4 +372,5 @@ def read_obj(path: Path) -> ObjData:
             warnings.warn(f"{name}: 'usemtl {material_name}' names no material of {', '.join(libraries)}; its faces drawn without it", stacklevel=2)
         parts.append((start, int(count), materials.get(material_name) if material_name else None, material_name))
         start += int(count)
-    return ObjData(positions, faces, uvs, normals, colors, flat_faces, parts, segments, points)
+    # one piece: a vertex per distinct (v, vt, vn) corner, faces sorted by material, flat under `s off`
+    return MeshFile([MeshPiece(positions, faces, normals, uvs, colors, flat_faces, parts=parts)] + others)

@@ -1,8 +1,9 @@
-"""PLY headers, and binary point clouds read with numpy (meshes with faces go to trimesh).
+"""PLY files: the header, its declared counts checked against the file's size before
+anything is allocated, and binary point clouds read with numpy (meshes with faces go to
+trimesh: trimesh_reader.py).
 
 The header (Paul Bourke's PLY format description) lists elements, each a count and its
-properties; checks.py uses it to check the declared counts against the file's size before
-anything is allocated. A binary PLY whose only non-empty element is `vertex` with scalar
+properties. A binary PLY whose only non-empty element is `vertex` with scalar
 properties (what scanners, Open3D, MeshLab and point-cloud-utils write) is read here in
 blocks of rows straight into the arrays a Mesh keeps: trimesh reads the whole file into
 memory, then makes float64 copies of it (a 10M-point cloud peaked at 2.5 GB; docs/primitives.md).
@@ -16,11 +17,15 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
+from ..mesh_pieces import MeshFile, point_piece
+from .checks import check_declared_counts
+from .trimesh_reader import read_with_trimesh
 
 PLY_TYPES = {
     "char": "i1", "uchar": "u1", "int8": "i1", "uint8": "u1", "short": "i2", "ushort": "u2", "int16": "i2", "uint16": "u2",
     "int": "i4", "uint": "u4", "int32": "i4", "uint32": "u4", "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
 }
+_PLY_SIZES = {name: int(code[1]) for name, code in PLY_TYPES.items()}
 _BLOCK_ROWS = 1 << 20
 
 
@@ -74,6 +79,24 @@ def read_ply_header(path: Path, where: str) -> PlyHeader:
             else:
                 elements[-1].properties.append((words[2], words[1], None))
     return PlyHeader(fmt, elements, header_bytes)
+
+
+def ply_declared_counts(path: Path, where: str, file_size: int, header: PlyHeader | None = None) -> tuple[int, int]:
+    """The vertex and face counts a PLY header declares, checked against the file size."""
+    header = header or read_ply_header(path, where)
+    minimum = 0
+    for element in header.elements:
+        for _, kind, count_kind in element.properties:
+            if count_kind is not None:
+                # at least the length field and, for faces, three indices
+                items = 3 if element.name == "face" else 0
+                per_item = (_PLY_SIZES.get(count_kind, 1) + items * _PLY_SIZES.get(kind, 1)) if header.binary else 2 * (1 + items)
+            else:
+                per_item = _PLY_SIZES.get(kind, 1) if header.binary else 2  # a digit and a separator
+            minimum += element.count * per_item
+    vertices, faces = header.count("vertex"), header.count("face")
+    check_declared_counts(where, vertices, faces, minimum, file_size - header.header_bytes)
+    return vertices, faces
 
 
 def is_binary_point_cloud(header: PlyHeader) -> bool:
@@ -131,3 +154,16 @@ def read_binary_point_cloud(path: Path, header: PlyHeader, where: str) -> PlyPoi
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {count} points") from None
     return PlyPoints(positions, normals, colors)
+
+
+def read_ply(path: Path, file_size: int) -> MeshFile:
+    """A PLY file (assets/meshes.py's reader for .ply): a binary point cloud read here, any
+    other PLY through trimesh (trimesh_reader.py); the header's counts are checked against
+    the file's size first (checks.py)."""
+    where = f"mesh file {str(path)!r}"
+    header = read_ply_header(path, where)
+    declared = ply_declared_counts(path, where, file_size, header)
+    if not is_binary_point_cloud(header):
+        return read_with_trimesh(path, file_size, declared)
+    points = read_binary_point_cloud(path, header, where)
+    return MeshFile([point_piece(points.positions, points.normals, points.colors, name=path.name)])
