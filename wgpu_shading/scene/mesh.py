@@ -152,11 +152,10 @@ class Mesh:
         return self.positions.min(axis=0).astype(np.float64), self.positions.max(axis=0).astype(np.float64)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """float64 (lower, upper) corners of the bounding box in model space."""
-        return (
-            self.positions.min(axis=0).astype(np.float64) + self.origin,
-            self.positions.max(axis=0).astype(np.float64) + self.origin,
-        )
+        """float64 (lower, upper) corners of the bounding box in model space (from the cached
+        relative_bounds: a dataset job asks for them every view, 0.5 ms a 35K-vertex mesh)."""
+        lower, upper = self.relative_bounds
+        return lower + self.origin, upper + self.origin
 
     @classmethod
     def from_arrays(
