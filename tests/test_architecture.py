@@ -220,3 +220,22 @@ def test_the_checker_finds_a_cycle(tmp_path, monkeypatch):
 def test_modules_stay_small(name):
     lines = len(_modules()[name].read_text(encoding="utf-8").splitlines())
     assert lines <= MAX_MODULE_LINES, f"{name} has {lines} lines; split it by concept (at most {MAX_MODULE_LINES})"
+
+
+def test_every_subpackage_is_installed():
+    """pyproject.toml lists the packages a wheel holds: a new folder missing there works in a
+    checkout and fails once installed."""
+    import tomllib
+
+    listed = set(tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["setuptools"]["packages"])
+    folders = {_module_name(init) for init in PACKAGE.rglob("__init__.py")}
+    assert folders <= listed, f"add to pyproject.toml [tool.setuptools] packages: {sorted(folders - listed)}"
+
+
+def test_every_public_name_of_the_package_loads():
+    """The package's names load lazily from a table of module paths: a module moved without
+    its entry there fails only when a user first touches the name."""
+    import wgpu_shading
+
+    for name in wgpu_shading.__all__:
+        assert getattr(wgpu_shading, name) is not None, name

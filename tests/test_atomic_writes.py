@@ -19,8 +19,8 @@ import pytest
 from PIL import Image
 
 from wgpu_shading.assets.animation import write_animation
-from wgpu_shading.assets import images
-from wgpu_shading.assets.images import check_writable, write_depth, write_image
+from wgpu_shading.assets import image_writers as images
+from wgpu_shading.assets.image_writers import check_writable, write_depth, write_image
 from wgpu_shading.cli.main import main
 from wgpu_shading.errors import UsageError
 from wgpu_shading.testing.golden import GoldenError, check_image
@@ -192,7 +192,7 @@ _SLOW_WRITER = textwrap.dedent(
     """
     import sys, time
     from pathlib import Path
-    import wgpu_shading.assets.images as images
+    import wgpu_shading.assets.image_writers as images
 
     def slow_write(file, pixels, level=6, text=None):
         file.write(b"\\x89PNG half of it")

@@ -79,7 +79,7 @@ def test_an_ascii_stl_is_still_read(tmp_path):
 
 
 def test_an_ascii_stl_beyond_its_limit_is_refused_before_trimesh_reads_it(tmp_path, monkeypatch):
-    from wgpu_shading.assets import stl
+    from wgpu_shading.assets.mesh_formats import stl
 
     monkeypatch.setattr(stl, "MAX_ASCII_BYTES", 100)
     path = tmp_path / "big.stl"
@@ -101,7 +101,7 @@ def test_a_huge_text_mesh_of_nuls_is_refused_at_once(tmp_path, suffix):
 
 
 def test_an_obj_with_more_vertices_than_supported_is_refused_before_parsing(tmp_path, monkeypatch):
-    from wgpu_shading.assets import obj
+    from wgpu_shading.assets.mesh_formats import obj
 
     monkeypatch.setattr(obj, "MAX_VERTICES", 3)
     path = tmp_path / "many.obj"
@@ -226,7 +226,7 @@ def test_a_16_bit_rgb_reference_is_refused(tmp_path):
 
 
 def test_trimesh_internals_are_not_leaked_into_messages():
-    from wgpu_shading.assets.mesh_checks import describe_load_error
+    from wgpu_shading.assets.mesh_formats.checks import describe_load_error
 
     escape = ValueError("'../secret.bin' escapes resolver root '/data/m' — pass `FilePathResolver(path, allow_anywhere=True)` to allow it")
     text = describe_load_error(escape, Path("m.gltf"))

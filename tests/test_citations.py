@@ -13,6 +13,8 @@ SOURCES = ("wgpu_shading/**/*.py", "wgsl/*.wgsl", "tests/**/*.py", "tests/golden
            "docs/*.md", "docs/*.py", "README.md")
 UNREADABLE = re.compile(r"SPEC §|[Ss]eeds?(/| file | )0\d\d\b|\bfile 00\d\b")
 DOC_LINK = re.compile(r"docs/([\w-]+\.md)#([\w-]+)")
+# A link between pages of docs/ (`[text](page.md#section)`) or within one (`[text](#section)`).
+RELATIVE_LINK = re.compile(r"\]\((?:([\w-]+\.md))?#([\w-]+)\)")
 
 
 def _files():
@@ -46,7 +48,20 @@ def test_cited_doc_sections_exist():
     assert not missing, "cited sections that do not exist:\n" + "\n".join(sorted(set(missing)))
 
 
+def test_links_between_doc_pages_exist():
+    missing = []
+    for page in sorted((ROOT / "docs").glob("*.md")):
+        for target_name, anchor in RELATIVE_LINK.findall(page.read_text(encoding="utf-8")):
+            target = page.parent / target_name if target_name else page
+            if not target.exists() or anchor not in _anchors(target):
+                missing.append(f"docs/{page.name}: {target_name}#{anchor}")
+    assert not missing, "links to sections that do not exist:\n" + "\n".join(sorted(set(missing)))
+
+
 def test_the_checks_are_not_vacuous():
     assert UNREADABLE.search("normals (SPEC §12)") and UNREADABLE.search("as in seed 000") and UNREADABLE.search("(file 000)")
     assert not UNREADABLE.search("seed000_grid_flat") and not UNREADABLE.search("random seed 0")
     assert "the-lighting-equation" in _anchors(ROOT / "docs" / "conventions.md")
+    assert RELATIVE_LINK.findall("[a](#where-things-stand) [b](conventions.md#textures)") == [
+        ("", "where-things-stand"), ("conventions.md", "textures")]
+    assert "colour--depth-against-pyrender" in _anchors(ROOT / "docs" / "performance.md")

@@ -12,6 +12,7 @@ from wgpu_shading.assets.meshes import load_mesh
 from wgpu_shading.scene import Camera, DirectionalLight, Scene, SceneObject, Shading
 
 from gltf_builder import quad, write_gltf
+from test_file_parts import _checker, head_on, pixel
 
 
 def square(**extra) -> dict:
@@ -120,7 +121,7 @@ def test_metallic_roughness_texture_applies_per_texel(renderer, tmp_path):
 
 
 def test_a_bare_gltf_gets_the_viewer_lights_in_linear_light_unless_its_materials_are_replaced(tmp_path):
-    from wgpu_shading.assets.views import load_view
+    from wgpu_shading.assets.view_loader import load_view
     from wgpu_shading.scene.maps import srgb_decode
     from wgpu_shading.scene.view_options import ViewOptions
     from wgpu_shading.scene.viewer_lights import KEY_DIFFUSE
@@ -175,3 +176,72 @@ def test_extension_textures_are_read_from_a_glb_binary_chunk(tmp_path):
     loaded = load_mesh(str(tmp_path / "s.glb")).parts[0].material
     assert loaded.specular_map is not None
     assert loaded.specular[1] == pytest.approx(0.04) and loaded.specular[0] == pytest.approx(0.0, abs=1e-5)
+
+
+def _as_glb(gltf_path, glb_path):
+    """The same document as a GLB (JSON chunk only; the buffers stay data URIs)."""
+    import struct
+
+    text = gltf_path.read_bytes()
+    text += b" " * (-len(text) % 4)
+    glb_path.write_bytes(b"glTF" + struct.pack("<II", 2, 20 + len(text)) + struct.pack("<I", len(text)) + b"JSON" + text)
+    return glb_path
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+def test_gltf_specular_glossiness_shows_the_diffuse_texture(tmp_path, renderer, suffix):
+    """KHR_materials_pbrSpecularGlossiness (older Sketchfab/3ds Max exports; assimp's
+    BoxTextured-glTF-pbrSpecularGlossiness): trimesh bakes the specular color into a new base
+    color texture, which rendered the box grey and washed out where f3d shows the diffuse
+    texture. Under a white head-on light with no specular part, each texel shows as it is."""
+    positions, indices = quad(-1.0, -0.5, 1.0)
+    path = write_gltf(
+        tmp_path / "sg.gltf",
+        meshes=[[{"positions": positions * [2, 1, 1], "indices": indices, "normals": np.tile(np.float32([0, 0, 1]), (4, 1)),
+                  "uvs": np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32), "material": 0}]],
+        materials=[{"extensions": {"KHR_materials_pbrSpecularGlossiness": {
+            "diffuseTexture": {"index": 0}, "specularFactor": [0.2, 0.3, 0.4], "glossinessFactor": 0.5}}}],
+        images=[_checker()], samplers=[{"magFilter": 9728, "minFilter": 9728}], textures=[{"source": 0, "sampler": 0}],
+        extra={"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]},
+    )
+    if suffix == ".glb":
+        path = _as_glb(path, tmp_path / "sg.glb")
+    material = load_mesh(path).parts[0].material
+    assert material.specular[:3] == pytest.approx((0.2, 0.3, 0.4)) and material.diffuse[:3] == (1.0, 1.0, 1.0)
+    assert material.shininess == pytest.approx((2 / 0.25**2 - 2) / 4)  # roughness 1 − 0.5, the metallic-roughness rule
+    assert material.texture is not None and material.texture.nearest
+    image = renderer.render(head_on([SceneObject(load_mesh(path))], size=(128, 64)))  # a light without specular
+    # the checker's texels exactly (test_gltf_textured_and_untextured_parts_with_instanced_nodes's layout)
+    assert tuple(pixel(image, -1.5, 0.25)[:3]) == (0, 0, 255) and tuple(pixel(image, -0.5, 0.25)[:3]) == (255, 255, 0)
+
+
+def test_gltf_texture_transform_moves_the_uvs(tmp_path, renderer):
+    """KHR_texture_transform (assimp's TextureTransformTest.gltf showed its own "not
+    supported" tiles; f3d applies it). A 2×2 texture of four colors on two quads, nearest
+    sampling: an offset of half the texture in u (left quad) or in glTF's v, which runs down
+    the image (right quad), shows the neighbouring texel. Without a transform the quads'
+    upper-left quarter shows the image's lower-left texel (blue)."""
+    pixels = np.zeros((2, 2, 4), np.uint8)
+    pixels[0, 0], pixels[0, 1], pixels[1, 0], pixels[1, 1] = (255, 0, 0, 255), (0, 255, 0, 255), (0, 0, 255, 255), (255, 255, 255, 255)
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
+    normals = np.tile(np.float32([0, 0, 1]), (4, 1))
+    left, indices = quad(-1.75, -0.5)
+    right, _ = quad(0.25, -0.5)
+
+    def material(offset):
+        return {"pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {
+            "index": 0, "extensions": {"KHR_texture_transform": {"offset": offset}}}}}
+
+    path = write_gltf(
+        tmp_path / "tt.gltf",
+        meshes=[[{"positions": left, "indices": indices, "normals": normals, "uvs": uvs, "material": 0}],
+                [{"positions": right, "indices": indices, "normals": normals, "uvs": uvs, "material": 1}]],
+        materials=[material([0.5, 0.0]), material([0.0, 0.5])],
+        images=[pixels], samplers=[{"magFilter": 9728, "minFilter": 9728}], textures=[{"source": 0, "sampler": 0}],
+        extra={"extensionsUsed": ["KHR_texture_transform"]},
+    )
+    image = renderer.render(head_on([SceneObject(load_mesh(path))], size=(128, 64)))
+    assert tuple(pixel(image, -1.5, 0.25)[:3]) == (255, 255, 255)  # u + 0.5: the lower-right texel
+    assert tuple(pixel(image, -1.5, -0.25)[:3]) == (0, 255, 0)  # the upper-right one
+    assert tuple(pixel(image, 0.5, 0.25)[:3]) == (255, 0, 0)  # v + 0.5: the upper-left texel
+    assert tuple(pixel(image, 0.5, -0.25)[:3]) == (0, 0, 255)  # the lower-left one

@@ -1,5 +1,5 @@
-"""glTF geometry read by our own accessor reader (assets/gltf_data.py, gltf_nodes.py,
-gltf_mesh.py): sparse accessors, strips and fans, skins, hidden nodes, deep node chains,
+"""glTF geometry read by our own accessor reader (assets/gltf/document.py, nodes.py,
+primitives.py): sparse accessors, strips and fans, skins, hidden nodes, deep node chains,
 percent-encoded URIs, special files and limits. Every file is built here; expected values
 are computed by hand from the glTF 2.0 specification's definitions."""
 

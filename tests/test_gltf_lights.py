@@ -1,4 +1,4 @@
-"""KHR_lights_punctual → classic lights (assets/gltf_lights.py; docs/real-world-files.md,
+"""KHR_lights_punctual → classic lights (assets/gltf/punctual_lights.py; docs/real-world-files.md,
 "File lights"): values computed by hand from the extension's definitions."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from gltf_builder import quad, write_gltf
 from wgpu_shading import MeshError
-from wgpu_shading.assets.gltf_lights import gltf_lights, spot_exponent
+from wgpu_shading.assets.gltf.punctual_lights import gltf_lights, spot_exponent
 from wgpu_shading.assets.mesh_scene import mesh_scene
 from wgpu_shading.scene import DirectionalLight, PositionalLight, SpotLight
 
@@ -65,7 +65,7 @@ def test_a_file_with_lights_is_lit_by_them_and_viewer_lights_keeps_ours(tmp_path
     scene = mesh_scene(str(path), (64, 64))
     assert len(scene.lights) == 1 and isinstance(scene.lights[0], SpotLight)
     assert len(mesh_scene(str(path), (64, 64), file_lights=False).lights) == 2
-    from wgpu_shading.assets.views import load_view
+    from wgpu_shading.assets.view_loader import load_view
     from wgpu_shading.scene.view_options import ViewOptions
 
     assert len(load_view(str(path), ViewOptions(viewer_lights=True)).lights) == 2

@@ -45,7 +45,7 @@ def test_widget_frames_follow_browser_events_and_match_render(renderer, tmp_path
 
 
 def test_widget_of_a_scene_object_and_compare(renderer):
-    from wgpu_shading.assets.views import load_view
+    from wgpu_shading.assets.view_loader import load_view
 
     scene = load_view("builtin:sphere")
     widget = wgpu_shading.view(scene, size=(64, 48), compare="reflection", renderer=renderer)

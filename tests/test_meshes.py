@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wgpu_shading import MeshError, load_mesh
+from test_file_parts import head_on, pixel
+from wgpu_shading import MeshError, SceneObject, load_mesh
 from wgpu_shading.scene import Mesh, sphere_for_triangles, uv_sphere, vertex_normals
 
 
@@ -167,3 +168,26 @@ def test_every_supported_file_format_loads(tmp_path, suffix):
     positions = mesh.world_positions()
     np.testing.assert_allclose(np.linalg.norm(positions, axis=1), 1.0, atol=1e-5)
     assert (np.einsum("ij,ij->i", mesh.normals, positions) > 0.5).all()
+
+
+def _facet(a, b, c) -> str:
+    return "facet normal 0 0 1\nouter loop\n" + "".join(f"vertex {x} {y} 0\n" for x, y in (a, b, c)) + "endloop\nendfacet\n"
+
+
+def _solid(name: str, x0: float) -> str:
+    corners = [(x0, -0.5), (x0 + 1, -0.5), (x0 + 1, 0.5), (x0, 0.5)]
+    return f"solid {name}\n" + _facet(corners[0], corners[1], corners[2]) + _facet(corners[0], corners[2], corners[3]) + f"endsolid {name}\n"
+
+
+def test_ascii_stl_with_several_solids_draws_them_all(tmp_path, renderer):
+    """CAD tools export an assembly as one ASCII STL with a `solid` per body (trimesh's
+    models/multibody.stl, two_objects_mixed_case_names.stl); f3d and slicers draw every body.
+    It used to stop with "expected one mesh, found 2"."""
+    (tmp_path / "two.stl").write_text(_solid("left", -1.5) + _solid("Right", 0.5))
+    mesh = load_mesh(tmp_path / "two.stl")
+    assert sum(p.count for p in mesh.parts) == 4
+    image = renderer.render(head_on([SceneObject(mesh)], "flat"))
+    left, right, gap = pixel(image, -1.0, 0.0), pixel(image, 1.0, 0.0), pixel(image, 0.0, 0.0)
+    assert left[3] == right[3] == 255 and left[:3].sum() > 100
+    assert tuple(left) == tuple(right)  # same default material, same facing
+    assert tuple(gap[:3]) == (0, 0, 0)

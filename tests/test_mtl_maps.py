@@ -1,4 +1,4 @@
-"""MTL maps (assets/mtl.py; docs/real-world-files.md): map_Ks, map_Ns, map_Ke, map_d, norm and
+"""MTL maps (assets/mesh_formats/mtl.py; docs/real-world-files.md): map_Ks, map_Ns, map_Ke, map_d, norm and
 map_Bump/bump told apart by what the image is (normal map, height map, or a photo)."""
 
 from __future__ import annotations

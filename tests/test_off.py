@@ -1,9 +1,12 @@
-"""OFF read as a token stream (assets/off.py): faces over several lines (libigl's writer),
-counts on the keyword's line, comments, face colours, COFF/NOFF vertices, bad files."""
+"""OFF read as a token stream (assets/mesh_formats/off.py): faces over several lines (libigl's writer),
+the header forms real tools write (two counts, counts on or glued to the keyword's line),
+comments, face colours, COFF/NOFF vertices, bad files."""
 
 from __future__ import annotations
 
 import warnings
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +14,7 @@ import pytest
 from wgpu_shading import MeshError, load_mesh
 
 SQUARE = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+REAL = Path(__file__).parent / "data" / "real"
 
 
 def _load(tmp_path, text: str, name: str = "m.off"):
@@ -45,7 +49,46 @@ def test_coff_vertex_colours_and_noff_normals(tmp_path):
     assert np.allclose(_load(tmp_path, text, "n.off").normals, [0, 0, -1])
 
 
+def test_two_counts_without_an_edge_count_as_online3dviewer_writes_them():
+    # Issue 27's regression: "4 1" (no edge count) failed with "edge count: expected an
+    # integer, got '0.0'" once OFF was read as a token stream. Both files from the viewer's
+    # test set, with the colours they carry (Online3DViewer shows them; f3d shows grey).
+    faces = load_mesh(REAL / "rectangle_face_colors_int.off")  # "4 0 1 2 3 255 0 0"
+    assert faces.triangle_count == 2
+    np.testing.assert_allclose(np.ptp(faces.world_positions(), axis=0), [1, 1, 0])
+    np.testing.assert_allclose(faces.colors, [[1, 0, 0, 1]] * len(faces.colors))
+    vertices = load_mesh(REAL / "rectangle_vertex_colors_float.off")  # "x y z r g b" in a plain OFF
+    assert vertices.triangle_count == 2
+    by_position = {tuple(p): tuple(c) for p, c in zip(vertices.world_positions().round(6), vertices.colors)}
+    assert by_position == {(0, 0, 0): (1, 0, 0, 1), (1, 0, 0): (0, 1, 0, 1), (1, 1, 0): (0, 0, 1, 1), (0, 1, 0): (1, 0, 0, 1)}
+
+
+@pytest.mark.parametrize("header", [
+    "OFF\n4 2\n",  # two counts (Online3DViewer's test files, many scripts)
+    "OFF\n4 2 5\n",  # three counts: the edge count is ignored, as by every reader
+    "OFF 4 2\n",  # counts on the keyword's line
+    "OFF4 2 0\n",  # counts glued to the keyword (how ModelNet's files are written)
+    "# written by hand\nOFF\n# counts next\n\n4 2\n",  # comments and blank lines around
+    "OFF\n4\n2\n",  # one count per line
+])
+def test_header_forms_real_tools_write(tmp_path, header):
+    # Integer coordinates: "0" right after two counts must not be taken for an edge count.
+    mesh = _load(tmp_path, header + SQUARE + "3 0 1 2\n3 0 2 3\n")
+    assert mesh.triangle_count == 2
+    np.testing.assert_allclose(np.sort(mesh.world_positions(), axis=0)[[0, -1]], [[0, 0, 0], [1, 1, 0]])
+
+
+def test_face_colours_rgba_floats_and_faces_without_one(tmp_path):
+    text = "OFF\n4 2\n" + SQUARE + "3 0 1 2 0 0.5 1 1\n3 0 2 3\n"
+    mesh = _load(tmp_path, text)
+    assert sorted(map(tuple, mesh.colors.round(3))) == [(0, 0.5, 1, 1)] * 3 + [(1, 1, 1, 1)] * 3
+
+
 @pytest.mark.parametrize("text, words", [
+    ("OFF\n-4 1\n" + SQUARE + "3 0 1 2\n", "vertex count: expected a count, got -4"),
+    ("OFF\n4\n", "truncated: the file ends in its header"),
+    ("OFF\n4 1 x\n" + SQUARE + "3 0 1 2\n", "line 2: edge count: expected an integer, got 'x'"),
+    ("OFF\n4 1\n" + SQUARE + "3 0 1 2 red 0 0\n", "face colour is not a number"),
     ("OFF\n4 1 0\n" + SQUARE + "4 0 1\n", "truncated"),
     ("OFF\n3 1 0\n0 0 0\n1 0 0\n", "truncated"),
     ("OFF\n4 1 0\n" + SQUARE + "3 0 1 9\n", "vertex 9"),

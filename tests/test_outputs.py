@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from wgpu_shading.assets.images import read_depth_png
+from cli_errors import one_line_error, run_cli
+from wgpu_shading.assets.image_writers import read_depth_png
 from wgpu_shading.assets.mesh_scene import mesh_scene
 from wgpu_shading.cli import main
 
@@ -119,3 +120,11 @@ def test_frame_shows_itself_in_jupyter(renderer):
     assert np.array_equal(shown, frame.color)
     linear = renderer.render_frame(mesh_scene("builtin:torus", (40, 30), None), float32=True)
     assert np.abs(np.asarray(Image.open(io.BytesIO(linear._repr_png_()))).astype(int) - frame.color).max() <= 1
+
+
+def test_depth_and_colour_to_the_same_file_is_refused(tmp_path, capsys):
+    # Before, the depth PNG silently replaced the colour image (exit 0).
+    out = str(tmp_path / "same.png")
+    code, err = run_cli(capsys, "render", "builtin:cube", "--size", "16", "-o", out, "--depth", out)
+    one_line_error(code, err, "--depth", "same.png", "same file")
+    assert not Path(out).exists()

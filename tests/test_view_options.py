@@ -13,7 +13,7 @@ import pytest
 from PIL import Image
 
 from wgpu_shading.assets.scenefile import load_scene
-from wgpu_shading.assets.views import load_view
+from wgpu_shading.assets.view_loader import load_view
 from wgpu_shading.cli import main
 from wgpu_shading.cli.arguments import view_options_from_args
 from wgpu_shading.cli.main import build_parser

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from .errors import DeviceError, MeshError, SceneError, UsageError, WgpuShadingError
-    from .assets.views import load_view
+    from .assets.view_loader import load_view
     from .scene.view_options import ViewOptions, apply_view_options, render_command
     from .assets import load_mesh, load_scene, parse_scene
     from .assets.mesh_scene import mesh_scene
@@ -50,7 +50,7 @@ __version__ = "0.1.0"
 _LAZY = {
     "DeviceError": "errors", "MeshError": "errors", "SceneError": "errors", "UsageError": "errors", "WgpuShadingError": "errors",
     "ViewOptions": "scene.view_options", "apply_view_options": "scene.view_options", "render_command": "scene.view_options",
-    "load_view": "assets.views",
+    "load_view": "assets.view_loader",
     "FeatureSet": "render.features",
     "MATERIALS": "scene", "material": "scene", "Mesh": "scene",
     "load_mesh": "assets", "load_scene": "assets", "parse_scene": "assets", "mesh_scene": "assets.mesh_scene",

@@ -55,7 +55,7 @@ image = renderer.render(scene)
 mark("first draw + readback (LLVM JIT of shader variants)")
 from pathlib import Path  # noqa: E402
 
-from wgpu_shading.assets.images import write_image  # noqa: E402
+from wgpu_shading.assets.image_writers import write_image  # noqa: E402
 
 write_image(Path(sys.argv[1]), image)
 mark("PNG write (as the CLI does it)")

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import SceneError, UsageError
 from .atomic import atomic_path
-from .images import output_path
+from .image_writers import output_path
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
 # GIF stores a frame's delay in hundredths of a second, 1..65535.

@@ -26,7 +26,7 @@ def mesh_scene(
     as model viewers do (scene/viewer_lights.py; global ambient 0.2), the file's materials or gold.
     `up` is the file's up axis: the mesh is turned so that it points up on screen, which is
     f3d's --up view (its camera turned instead: the same picture). A glTF file with
-    KHR_lights_punctual lights is lit by them instead (as viewers do; gltf_lights.py),
+    KHR_lights_punctual lights is lit by them instead (as viewers do; gltf/punctual_lights.py),
     unless `file_lights` is False (`--viewer-lights`)."""
     mesh = load_mesh(mesh_source, crease_angle=crease_angle)
     if material_name:
@@ -62,7 +62,7 @@ def _file_lights(mesh_source: str, placed: SceneObject) -> tuple:
     from pathlib import Path
 
     from .examples import resolve_example
-    from .gltf_lights import gltf_lights
+    from .gltf.punctual_lights import gltf_lights
 
     path = Path(resolve_example(str(mesh_source)))
     if path.suffix.lower() not in (".gltf", ".glb"):

@@ -1,8 +1,8 @@
 """Mesh files (OBJ/MTL, PLY, STL, OFF, glTF/GLB) into one Mesh with one part per material.
 
-OBJ is read by obj.py (trimesh's OBJ reader mis-resolves relative indices and drops
-smoothing groups); OFF by off.py (a token stream: trimesh wanted one face per line);
-PLY and STL by trimesh; glTF by our own accessor reader (gltf_data.py, gltf_mesh.py).
+OBJ is read by mesh_formats/obj.py (trimesh's OBJ reader mis-resolves relative indices and drops
+smoothing groups); OFF by mesh_formats/off.py (a token stream: trimesh wanted one face per line);
+PLY and STL by trimesh; glTF by our own accessor reader (gltf/).
 Every format ends as "pieces" (vertex arrays with their parts), whose normals follow
 docs/real-world-files.md: the file's normals win; glTF primitives without NORMAL are flat; otherwise
 vertices are welded by position and split at the crease angle (scene/normals.py).
@@ -24,7 +24,7 @@ from ..scene.mesh import Mesh, MeshPart, face_normals
 from ..scene.normals import crease_normals
 from .examples import resolve_example
 from .files import check_regular_file
-from .mesh_checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
+from .mesh_formats.checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 DEFAULT_CREASE_ANGLE = 60.0  # degrees (docs/real-world-files.md)
@@ -68,7 +68,7 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     file_size = file_size_or_error(path, f"mesh file {text!r}")  # size limit, before anything is read
     with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
         if suffix == ".obj":
-            from .obj import read_obj
+            from .mesh_formats.obj import read_obj
 
             data = read_obj(path)
             pieces = [_Piece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
@@ -77,10 +77,11 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         elif suffix == ".stl" and (binary := _binary_stl(path, file_size)) is not None:
             pieces = [binary]
         elif suffix == ".off":
-            from .off import read_off
+            from .mesh_formats.off import read_off
 
             off = read_off(path, file_size)
-            pieces = [_Piece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])]
+            piece = _Piece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])
+            pieces = [piece if off.face_colors is None else _with_face_colors(piece, off.face_colors)]
         else:
             pieces = [_trimesh_piece(path, file_size)]
         pieces = [p for p in pieces if len(p.faces)]
@@ -128,8 +129,8 @@ def _file_normals(geometry) -> np.ndarray | None:
 
 
 def _binary_stl(path: Path, file_size: int) -> _Piece | None:
-    """A binary STL read with numpy (stl.py); None for ASCII STL (read by trimesh)."""
-    from .stl import binary_stl_count, read_binary_stl
+    """A binary STL read with numpy (mesh_formats/stl.py); None for ASCII STL (read by trimesh)."""
+    from .mesh_formats.stl import binary_stl_count, read_binary_stl
 
     where = f"mesh file {str(path)!r}"
     try:
@@ -191,15 +192,22 @@ def _trimesh_piece(path: Path, file_size: int) -> _Piece:
             f"the file holds {len(positions)} vertices and {len(faces)} triangles"
         )
     normals = _file_normals(loaded)
-    if face_colors is not None:  # one color per face: every corner its own vertex
-        corners = faces.reshape(-1)
-        positions, uvs = positions[corners], None if uvs is None else uvs[corners]
-        normals = None if normals is None else normals[corners]
-        colors = np.repeat(face_colors, 3, axis=0)
-        faces = np.arange(len(corners)).reshape(-1, 3)
-    if colors is not None:
-        colors = _unit_colors(colors)
-    return _Piece(positions, faces, normals, uvs, colors, parts=[(0, len(faces), None, path.name)])
+    piece = _Piece(positions, faces, normals, uvs, None if colors is None else _unit_colors(colors), parts=[(0, len(faces), None, path.name)])
+    return piece if face_colors is None else _with_face_colors(piece, _unit_colors(face_colors))
+
+
+def _with_face_colors(piece: _Piece, face_colors: np.ndarray) -> _Piece:
+    """One colour per face, unblended: every corner its own vertex (MeshLab; averaging
+    into vertices would blur the faces' colours)."""
+    corners = piece.faces.reshape(-1)
+    return replace(
+        piece,
+        positions=piece.positions[corners],
+        faces=np.arange(len(corners)).reshape(-1, 3),
+        normals=None if piece.normals is None else piece.normals[corners],
+        uvs=None if piece.uvs is None else piece.uvs[corners],
+        colors=np.repeat(face_colors, 3, axis=0),
+    )
 
 
 def _unit_colors(colors: np.ndarray) -> np.ndarray:
@@ -215,9 +223,9 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
 
 
 def _gltf_pieces(path: Path) -> list[_Piece]:
-    from .gltf import check_extensions, gltf_material, transform_uvs
-    from .gltf_data import GltfData
-    from .gltf_mesh import gltf_pieces, material_images
+    from .gltf.extensions import check_extensions, gltf_material, transform_uvs
+    from .gltf.document import GltfData
+    from .gltf.primitives import gltf_pieces, material_images
 
     data = GltfData(path)
     check_extensions(data.document, path)

@@ -8,8 +8,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Sequence
 
-from ..assets.images import output_path
-from ..assets.views import load_view
+from ..assets.image_writers import output_path
+from ..assets.view_loader import load_view
 from ..errors import UsageError
 from .viewer_options import add_view_arguments, view_options_from_args
 

@@ -29,7 +29,7 @@ def command_bench_accuracy(args: argparse.Namespace) -> int:
     config = with_changes(config, **changes)
     if args.markdown is not None and not Path(args.markdown).parent.is_dir():
         raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
-    from ..assets.images import check_folder_writable, check_writable
+    from ..assets.image_writers import check_folder_writable, check_writable
 
     if args.markdown is not None:
         check_writable(Path(args.markdown), "--markdown")

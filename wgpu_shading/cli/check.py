@@ -23,7 +23,7 @@ def command_check(args: argparse.Namespace) -> int:
         raise GoldenError(f"--output-dir {args.output_dir!r} is not an existing folder")
     if args.update and not reference.parent.exists():
         raise GoldenError(f"--ref {args.ref!r}: folder {str(reference.parent)!r} does not exist")
-    from ..assets.images import check_folder_writable
+    from ..assets.image_writers import check_folder_writable
 
     # Where this run may write (the reference with --update, the failure images), before rendering.
     failure_folder = Path(args.output_dir) if args.output_dir is not None else reference.parent

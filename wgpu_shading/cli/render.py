@@ -14,7 +14,7 @@ from .arguments import add_scene_arguments, check_output, default_output, error_
 def command_render(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from ..assets.images import DEPTH_SUFFIXES, STDOUT, output_path, png_bytes, write_depth, write_image
+    from ..assets.image_writers import DEPTH_SUFFIXES, STDOUT, output_path, png_bytes, write_depth, write_image
     from ..render.renderer import Renderer
 
     to_stdout = args.output == STDOUT

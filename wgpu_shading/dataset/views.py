@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from ..assets.views import DEFAULT_SIZE, is_scene_file, load_source
+from ..assets.view_loader import DEFAULT_SIZE, is_scene_file, load_source
 from ..errors import UsageError
 from ..scene import Scene
 from ..scene.framing import FRAMING_DIRECTION
@@ -69,11 +69,11 @@ def is_bare_mesh(job: Job) -> bool:
 
 def base_scene(job: Job) -> Scene:
     """What the job's source loads to, before the view options that do not change what is
-    loaded (assets/views.py load_source). Loads the mesh: call once per load_key()."""
+    loaded (assets/view_loader.py load_source). Loads the mesh: call once per load_key()."""
     return load_source(job.source, job.view_options())
 
 
 def job_scene(base: Scene, job: Job) -> Scene:
     """The base scene with the job's view options applied: the Scene `wgpu-shading render`
-    draws for the job's source and the same options (assets/views.py load_view)."""
+    draws for the job's source and the same options (assets/view_loader.py load_view)."""
     return apply_view_options(base, job.view_options(), follow_camera=is_bare_mesh(job))

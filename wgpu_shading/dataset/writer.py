@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 from ..assets import atomic
-from ..assets.images import save_depth_png
+from ..assets.image_writers import save_depth_png
 from ..assets.png import write_png
 from ..render.extra_outputs import ExtraFrame
 from ..render.renderer import Frame
@@ -49,7 +49,7 @@ def color16(color: np.ndarray) -> np.ndarray:
 
 
 def _depth_png(depth: np.ndarray, near: float, far: float, level: int) -> Callable[[object], None]:
-    # The encoding of `render --depth d.png` (assets/images.py), near and far in its text chunks.
+    # The encoding of `render --depth d.png` (assets/image_writers.py), near and far in its text chunks.
     return lambda file: save_depth_png(file, depth, near, far, level)
 
 

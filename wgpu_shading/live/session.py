@@ -26,7 +26,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..assets.views import is_scene_file, load_source
+from ..assets.view_loader import is_scene_file, load_source
 from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
@@ -260,7 +260,7 @@ class LiveView:
         """The current picture as NAME-NNN.png in `folder` (the first free NNN; an existing
         file is never replaced), written completely under a temporary name and then linked
         into place (os.link fails rather than replace a file made meanwhile)."""
-        from ..assets.images import write_image
+        from ..assets.image_writers import write_image
 
         color = self.frame().color
         folder = Path(folder)

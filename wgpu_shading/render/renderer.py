@@ -63,7 +63,7 @@ class Frame:
 
     def _repr_png_(self) -> bytes:
         """Jupyter (and IPython's display) shows a Frame as its color image."""
-        from ..assets.images import png_bytes
+        from ..assets.image_writers import png_bytes
 
         return png_bytes(self.color)
 

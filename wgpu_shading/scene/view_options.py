@@ -10,7 +10,7 @@ lists them; tests/test_view_options.py checks that they agree):
 `render_command` writes options back as a `wgpu-shading render` command line.
 
 Options that act when a file is read (crease_angle; up and size also frame a bare mesh)
-are given to the loader as well: assets/views.py `load_view` does both.
+are given to the loader as well: assets/view_loader.py `load_view` does both.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ environment the numbers were measured on.
 Frame time: the median of warm frames rendered to the user-facing RGBA8 target, render and
 readback, with all shading variants of one mesh interleaved round-robin. The same-mesh
 float64 reference of each mesh is rasterized once and shaded for every variant
-(reference/mesh.py, RasterizedScene).
+(reference/shading.py, RasterizedScene).
 """
 
 from __future__ import annotations

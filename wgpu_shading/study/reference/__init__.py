@@ -39,7 +39,7 @@ from __future__ import annotations
 from .analytic import render_analytic_rectangle, render_analytic_sphere
 from .image import ReferenceImage
 from .lighting import combine, guarded_power, lights_in_eye_space, safe_normalize, sample_texture_bilinear, shade, view_vectors
-from .mesh import RasterizedScene, render_reference
+from .shading import RasterizedScene, render_reference
 from .transforms import eye_from_world, normal_matrix, pixel_rays, sphere_in_world, world_from_model
 
 __all__ = [

@@ -27,10 +27,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene.lights import DirectionalLight, PositionalLight, SpotLight
-from ..scene.values import MAX_COLOR, MAX_LIGHTS
-from .gltf_data import GltfData, gltf_error
-from .gltf_nodes import scene_nodes, scene_roots, world_matrices
+from ...scene.lights import DirectionalLight, PositionalLight, SpotLight
+from ...scene.values import MAX_COLOR, MAX_LIGHTS
+from .document import GltfData, gltf_error
+from .nodes import scene_nodes, scene_roots, world_matrices
 
 _EXTENSION = "KHR_lights_punctual"
 _INVERSE_SQUARE = (0.0, 0.0, 1.0)

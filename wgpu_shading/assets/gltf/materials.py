@@ -43,8 +43,8 @@ import warnings
 
 import numpy as np
 
-from ..scene.maps import srgb_decode, srgb_encode
-from ..scene.material import Material, Texture
+from ...scene.maps import srgb_decode, srgb_encode
+from ...scene.material import Material, Texture
 
 SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 _NEAREST = 9728  # GL_NEAREST (and 9984/9986 NEAREST_MIPMAP_* count as nearest too)
@@ -127,7 +127,7 @@ def _resized(values: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
 def _specular_extension(extension: dict, images) -> np.ndarray:
     """KHR_materials_specular's dielectric f0 = min(0.04 · specularColorFactor (× the sRGB
     specularColorTexture), 1) · specularFactor (× specularTexture's alpha): (3,), or
-    (H, W, 3) per texel when it has textures (decoded by gltf_mesh.material_images)."""
+    (H, W, 3) per texel when it has textures (decoded by primitives.material_images)."""
     color = np.array(extension.get("specularColorFactor", [1.0, 1.0, 1.0]), dtype=np.float64)
     factor = float(extension.get("specularFactor", 1.0))
     color_image = getattr(images, "specularColorTexture", None)
@@ -167,7 +167,7 @@ def _with_diffuse_factor(texture: Texture | None, factor: np.ndarray, label: str
 
 def gltf_material(document: dict, row: dict, images, name: str) -> Material:
     """The classic material of one primitive (module docstring); `images` holds its decoded
-    textures (gltf_mesh.material_images). A primitive without a material gets the glTF
+    textures (primitives.material_images). A primitive without a material gets the glTF
     default material."""
     material = row["material"]
     if material is None:
@@ -176,7 +176,7 @@ def gltf_material(document: dict, row: dict, images, name: str) -> Material:
     pbr = material.get("pbrMetallicRoughness", {})
     extensions = material.get("extensions", {})
     glossiness = extensions.get(SPECULAR_GLOSSINESS)
-    image_of = lambda key: getattr(images, key, None)  # noqa: E731 (the reader's decoded PIL images, gltf_mesh.material_images)
+    image_of = lambda key: getattr(images, key, None)  # noqa: E731 (the reader's decoded PIL images, primitives.material_images)
     if glossiness is not None:  # the classic model already (module docstring)
         base = np.array(glossiness.get("diffuseFactor", [1.0, 1.0, 1.0, 1.0]), dtype=np.float64)
         roughness = 1.0 - float(np.clip(glossiness.get("glossinessFactor", 1.0), 0.0, 1.0))

@@ -1,9 +1,9 @@
-"""glTF primitives → triangle pieces, one per primitive instance (our own reader, gltf_data.py).
+"""glTF primitives → triangle pieces, one per primitive instance (our own reader, document.py).
 
 Triangles, triangle strips and triangle fans are drawn (§3.7.2.1: strips alternate their
 winding, fans turn around their first vertex); points and lines are not surfaces and are
 skipped. A primitive instance is its node's world matrix applied to the accessors, or,
-for a skinned mesh, the joints' pose (gltf_nodes.pose). Draco-compressed primitives are
+for a skinned mesh, the joints' pose (nodes.pose). Draco-compressed primitives are
 decoded with DracoPy (the `draco` extra).
 """
 
@@ -14,10 +14,10 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..errors import MeshError
-from ..scene.mesh import MAX_TRIANGLES, MAX_VERTICES
-from .gltf_data import MAX_GLTF_ITEMS, GltfData, gltf_error
-from .gltf_nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices
+from ...errors import MeshError
+from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from .document import MAX_GLTF_ITEMS, GltfData, gltf_error
+from .nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices
 
 _TRIANGLES, _STRIP, _FAN = 4, 5, 6
 _DRACO = "KHR_draco_mesh_compression"
@@ -80,7 +80,7 @@ def _draco(data: GltfData, primitive: dict, where: str) -> dict:
     try:
         import DracoPy
     except ImportError:
-        from ..errors import install_hint
+        from ...errors import install_hint
 
         raise MeshError(f"mesh file {str(data.path)!r} uses Draco mesh compression ({_DRACO}); to decode it, {install_hint('draco')}") from None
     extension = primitive["extensions"][_DRACO]
@@ -236,7 +236,7 @@ def material_images(data: GltfData, material: dict, warn_name: str):
         "normalTexture": material.get("normalTexture"),
         "occlusionTexture": material.get("occlusionTexture"),
     }
-    specular = extensions.get("KHR_materials_specular")  # its textures (gltf_material.py)
+    specular = extensions.get("KHR_materials_specular")  # its textures (materials.py)
     if isinstance(specular, dict):
         infos |= {"specularTexture": specular.get("specularTexture"), "specularColorTexture": specular.get("specularColorTexture")}
     return SimpleNamespace(**{name: _image(data, info) for name, info in infos.items()})
@@ -245,8 +245,8 @@ def material_images(data: GltfData, material: dict, warn_name: str):
 def _image(data: GltfData, info: object):
     from PIL import Image
 
-    from ..scene.material import MAX_TEXTURE_SIDE
-    from .textures import MAX_TEXTURE_FILE_BYTES
+    from ...scene.material import MAX_TEXTURE_SIDE
+    from ..textures import MAX_TEXTURE_FILE_BYTES
 
     if not isinstance(info, dict):
         return None

@@ -1,6 +1,7 @@
-"""Defects found by checking files from outside the repository (issue 12's "real files that are
-not in the repository"): each test is a small generated file with the same trait as the real
-one (named in the test), checked against what the format's author meant."""
+"""OBJ and MTL files as their writers meant them (assets/mesh_formats/obj.py, mtl.py): traits of real
+files found outside the repository (issue 12: each named in its test, reproduced by a small
+generated file), encodings, line endings and material libraries."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -8,6 +9,7 @@ import pytest
 
 from test_file_parts import head_on, pixel
 from wgpu_shading import MeshError, SceneObject, load_mesh
+
 
 SQUARE_FACES = "f 1 2 3\nf 1 3 4\n"
 
@@ -38,79 +40,6 @@ def test_explicit_d_0_is_kept_but_warned_about(tmp_path):
     with pytest.warns(UserWarning, match=r"material 'm': 'd 0' makes it fully transparent; its faces draw nothing"):
         mesh = load_mesh(obj)
     assert mesh.parts[0].material.diffuse[3] == 0.0
-
-
-def _facet(a, b, c) -> str:
-    return "facet normal 0 0 1\nouter loop\n" + "".join(f"vertex {x} {y} 0\n" for x, y in (a, b, c)) + "endloop\nendfacet\n"
-
-
-def _solid(name: str, x0: float) -> str:
-    corners = [(x0, -0.5), (x0 + 1, -0.5), (x0 + 1, 0.5), (x0, 0.5)]
-    return f"solid {name}\n" + _facet(corners[0], corners[1], corners[2]) + _facet(corners[0], corners[2], corners[3]) + f"endsolid {name}\n"
-
-
-def test_ascii_stl_with_several_solids_draws_them_all(tmp_path, renderer):
-    """CAD tools export an assembly as one ASCII STL with a `solid` per body (trimesh's
-    models/multibody.stl, two_objects_mixed_case_names.stl); f3d and slicers draw every body.
-    It used to stop with "expected one mesh, found 2"."""
-    (tmp_path / "two.stl").write_text(_solid("left", -1.5) + _solid("Right", 0.5))
-    mesh = load_mesh(tmp_path / "two.stl")
-    assert sum(p.count for p in mesh.parts) == 4
-    image = renderer.render(head_on([SceneObject(mesh)], "flat"))
-    left, right, gap = pixel(image, -1.0, 0.0), pixel(image, 1.0, 0.0), pixel(image, 0.0, 0.0)
-    assert left[3] == right[3] == 255 and left[:3].sum() > 100
-    assert tuple(left) == tuple(right)  # same default material, same facing
-    assert tuple(gap[:3]) == (0, 0, 0)
-
-
-def test_a_file_with_no_mesh_says_it_has_no_triangles(tmp_path):
-    """trimesh's models/empty.ply and emptyIO/ply_empty_bin.ply: the message said
-    "expected one mesh, found 0"."""
-    (tmp_path / "empty.stl").write_text("solid empty\nendsolid empty\n")
-    with pytest.raises(MeshError, match=r"empty.stl': contains no triangles"):
-        load_mesh(tmp_path / "empty.stl")
-
-
-def _as_glb(gltf_path, glb_path):
-    """The same document as a GLB (JSON chunk only; the buffers stay data URIs)."""
-    import struct
-
-    text = gltf_path.read_bytes()
-    text += b" " * (-len(text) % 4)
-    glb_path.write_bytes(b"glTF" + struct.pack("<II", 2, 20 + len(text)) + struct.pack("<I", len(text)) + b"JSON" + text)
-    return glb_path
-
-
-@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
-def test_gltf_specular_glossiness_shows_the_diffuse_texture(tmp_path, renderer, suffix):
-    """KHR_materials_pbrSpecularGlossiness (older Sketchfab/3ds Max exports; assimp's
-    BoxTextured-glTF-pbrSpecularGlossiness): trimesh bakes the specular color into a new base
-    color texture, which rendered the box grey and washed out where f3d shows the diffuse
-    texture. Under a white head-on light with no specular part, each texel shows as it is."""
-    import numpy as np
-
-    from gltf_builder import quad, write_gltf
-    from test_file_parts import _checker
-
-    positions, indices = quad(-1.0, -0.5, 1.0)
-    path = write_gltf(
-        tmp_path / "sg.gltf",
-        meshes=[[{"positions": positions * [2, 1, 1], "indices": indices, "normals": np.tile(np.float32([0, 0, 1]), (4, 1)),
-                  "uvs": np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32), "material": 0}]],
-        materials=[{"extensions": {"KHR_materials_pbrSpecularGlossiness": {
-            "diffuseTexture": {"index": 0}, "specularFactor": [0.2, 0.3, 0.4], "glossinessFactor": 0.5}}}],
-        images=[_checker()], samplers=[{"magFilter": 9728, "minFilter": 9728}], textures=[{"source": 0, "sampler": 0}],
-        extra={"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]},
-    )
-    if suffix == ".glb":
-        path = _as_glb(path, tmp_path / "sg.glb")
-    material = load_mesh(path).parts[0].material
-    assert material.specular[:3] == pytest.approx((0.2, 0.3, 0.4)) and material.diffuse[:3] == (1.0, 1.0, 1.0)
-    assert material.shininess == pytest.approx((2 / 0.25**2 - 2) / 4)  # roughness 1 − 0.5, the metallic-roughness rule
-    assert material.texture is not None and material.texture.nearest
-    image = renderer.render(head_on([SceneObject(load_mesh(path))], size=(128, 64)))  # a light without specular
-    # the checker's texels exactly (test_gltf_textured_and_untextured_parts_with_instanced_nodes's layout)
-    assert tuple(pixel(image, -1.5, 0.25)[:3]) == (0, 0, 255) and tuple(pixel(image, -0.5, 0.25)[:3]) == (255, 255, 0)
 
 
 def test_concave_obj_polygon_leaves_its_notch_open(tmp_path, renderer):
@@ -186,46 +115,35 @@ def test_mtllib_with_several_files_and_map_colorspace(tmp_path):
     assert textured.texture is not None and textured.texture.pixels[0, 0, 0] == 200
 
 
-def test_gltf_texture_transform_moves_the_uvs(tmp_path, renderer):
-    """KHR_texture_transform (assimp's TextureTransformTest.gltf showed its own "not
-    supported" tiles; f3d applies it). A 2×2 texture of four colors on two quads, nearest
-    sampling: an offset of half the texture in u (left quad) or in glTF's v, which runs down
-    the image (right quad), shows the neighbouring texel. Without a transform the quads'
-    upper-left quarter shows the image's lower-left texel (blue)."""
-    from gltf_builder import quad, write_gltf
-
-    pixels = np.zeros((2, 2, 4), np.uint8)
-    pixels[0, 0], pixels[0, 1], pixels[1, 0], pixels[1, 1] = (255, 0, 0, 255), (0, 255, 0, 255), (0, 0, 255, 255), (255, 255, 255, 255)
-    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
-    normals = np.tile(np.float32([0, 0, 1]), (4, 1))
-    left, indices = quad(-1.75, -0.5)
-    right, _ = quad(0.25, -0.5)
-
-    def material(offset):
-        return {"pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {
-            "index": 0, "extensions": {"KHR_texture_transform": {"offset": offset}}}}}
-
-    path = write_gltf(
-        tmp_path / "tt.gltf",
-        meshes=[[{"positions": left, "indices": indices, "normals": normals, "uvs": uvs, "material": 0}],
-                [{"positions": right, "indices": indices, "normals": normals, "uvs": uvs, "material": 1}]],
-        materials=[material([0.5, 0.0]), material([0.0, 0.5])],
-        images=[pixels], samplers=[{"magFilter": 9728, "minFilter": 9728}], textures=[{"source": 0, "sampler": 0}],
-        extra={"extensionsUsed": ["KHR_texture_transform"]},
-    )
-    image = renderer.render(head_on([SceneObject(load_mesh(path))], size=(128, 64)))
-    assert tuple(pixel(image, -1.5, 0.25)[:3]) == (255, 255, 255)  # u + 0.5: the lower-right texel
-    assert tuple(pixel(image, -1.5, -0.25)[:3]) == (0, 255, 0)  # the upper-right one
-    assert tuple(pixel(image, 0.5, 0.25)[:3]) == (255, 0, 0)  # v + 0.5: the upper-left texel
-    assert tuple(pixel(image, 0.5, -0.25)[:3]) == (0, 0, 255)  # the lower-left one
+def test_an_mtllib_that_is_a_folder_is_skipped_like_a_missing_one(tmp_path, capsys):
+    # It raised IsADirectoryError's "[Errno 21] Is a directory: '...'", naming neither the
+    # OBJ nor the material library.
+    (tmp_path / "sub").mkdir()
+    path = tmp_path / "m.obj"
+    path.write_bytes(b"mtllib sub\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.warns(UserWarning, match="material library 'sub'"):
+        mesh = load_mesh(path)
+    assert len(mesh.indices) == 1
 
 
 def test_indented_obj_lines_are_read(tmp_path):
     """Blanks before a keyword are allowed; they used to hide every line ('0 vertices')."""
-    from wgpu_shading.assets import load_mesh
-
     path = tmp_path / "indented.obj"
     path.write_text("  v 0 0 0\n\tv 1 0 0\n v 0 1 0\n   f 1 2 3\n")
     mesh = load_mesh(path)
     assert (mesh.vertex_count, mesh.triangle_count) == (3, 1)
     assert sorted(map(tuple, mesh.world_positions().round(6).tolist())) == [(0, 0, 0), (0, 1, 0), (1, 0, 0)]
+
+
+def test_a_latin1_comment_in_an_obj_loads(tmp_path):
+    path = tmp_path / "latin.obj"
+    path.write_bytes("# café, naïve\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".encode("latin-1"))
+    mesh = load_mesh(path)
+    assert mesh.triangle_count == 1 and mesh.vertex_count == 3
+
+
+def test_an_obj_with_classic_mac_line_endings_loads(tmp_path):
+    path = tmp_path / "cr.obj"
+    path.write_bytes(b"v 0 0 0\rv 1 0 0\rv 0 1 0\rv 1 1 0\rf 1 2 3\rf 2 4 3\r")
+    mesh = load_mesh(path)
+    assert len(mesh.indices) == 2 and len(mesh.positions) >= 4

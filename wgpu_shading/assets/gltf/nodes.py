@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .gltf_data import GltfData, gltf_error
+from .document import GltfData, gltf_error
 
 _SKIN_CHUNK = 1 << 16  # vertices posed at a time: the (n, k, 4, 4) gathered matrices stay near 32 MB
 

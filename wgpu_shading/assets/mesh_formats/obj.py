@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeshError
-from ..scene.material import Material
-from ..scene.mesh import MAX_TRIANGLES, MAX_VERTICES
-from .files import read_text_bytes
+from ...errors import MeshError
+from ...scene.material import Material
+from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ..files import read_text_bytes
 from .mtl import read_mtl_files
 
 

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeshError
-from ..scene.mesh import MAX_TRIANGLES
+from ...errors import MeshError
+from ...scene.mesh import MAX_TRIANGLES
 
 HEADER_BYTES = 84  # 80 bytes of free text, then the little-endian uint32 triangle count
 RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])  # 50 bytes

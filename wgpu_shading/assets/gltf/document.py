@@ -19,9 +19,9 @@ from urllib.parse import unquote
 
 import numpy as np
 
-from ..errors import MeshError
-from ..scene.mesh import MAX_VERTICES
-from .files import check_regular_file
+from ...errors import MeshError
+from ...scene.mesh import MAX_VERTICES
+from ..files import check_regular_file
 
 MAX_GLTF_ITEMS = 1 << 20  # nodes, meshes, accessors, ... in one file (each list)
 MAX_ACCESSOR_COUNT = MAX_VERTICES  # elements of one accessor (2^25)

@@ -13,7 +13,7 @@ import numpy as np
 from ...scene import Scene, SceneObject, Shading
 from .image import ReferenceImage
 from .lighting import FALLBACK_NORMAL, dot, clamp_vertex_colors, combine, safe_normalize, shade, view_vectors
-from .maps import color_map, combine_factors, is_linear, lighting_factors, perturb, perturb_with_tangents, tangent_normal
+from .map_sampling import color_map, combine_factors, is_linear, lighting_factors, perturb, perturb_with_tangents, tangent_normal
 from .raster import edge_margins, rasterize, screen_triangles, signed_area_fixed
 from .transforms import eye_from_world, normal_matrix, pixel_rays, transform_points, world_from_model
 

@@ -26,10 +26,10 @@ import warnings
 from pathlib import Path
 
 
-from ..errors import MeshError, SceneError
-from ..scene.maps import alpha_pixels, classify_bump_image
-from ..scene.material import Material, Texture
-from .textures import load_texture
+from ...errors import MeshError, SceneError
+from ...scene.maps import alpha_pixels, classify_bump_image
+from ...scene.material import Material, Texture
+from ..textures import load_texture
 
 # MTL map statements → the Material field they fill (bump maps are classified first).
 _MAP_KEYS = {"map_ks": "specular_map", "map_ns": "shininess_map", "map_ke": "emissive_map", "map_d": "alpha_map",

@@ -12,12 +12,12 @@ import io
 import re
 from pathlib import Path
 
-from ..errors import MeshError
-from ..scene.mesh import MAX_TRIANGLES, MAX_VERTICES
-from .files import read_text_bytes
+from ...errors import MeshError
+from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ..files import read_text_bytes
 
 MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format
-_TEXT_FORMATS = (".obj", ".off")  # always text: decoded here, handed to trimesh as UTF-8
+_TEXT_FORMATS = (".obj",)  # always text: decoded here, handed to trimesh as UTF-8
 _PLY_SIZES = {
     "char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2, "int16": 2, "uint16": 2,
     "int": 4, "uint": 4, "int32": 4, "uint32": 4, "float": 4, "float32": 4, "double": 8, "float64": 8,
@@ -33,7 +33,7 @@ def check_file_size(path: Path, where: str) -> int:
     return size
 
 
-def _check_counts(where: str, vertices: int, faces: int, needed_bytes: int, available: int) -> None:
+def check_declared_counts(where: str, vertices: int, faces: int, needed_bytes: int, available: int) -> None:
     if vertices > MAX_VERTICES or faces > MAX_TRIANGLES:
         raise MeshError(
             f"{where}: declares {vertices} vertices and {faces} faces; at most {MAX_VERTICES} of each are supported"
@@ -84,28 +84,8 @@ def ply_declared_counts(path: Path, where: str, file_size: int) -> tuple[int, in
                 per_item = _PLY_SIZES.get(words[1], 1) if binary else 2  # a digit and a separator
             minimum += count * per_item
     vertices, faces = counts.get("vertex", 0), counts.get("face", 0)
-    _check_counts(where, vertices, faces, minimum, file_size - header_bytes)
+    check_declared_counts(where, vertices, faces, minimum, file_size - header_bytes)
     return vertices, faces
-
-
-def off_declared_counts(text: str, where: str, file_size: int) -> None:
-    """OFF's counts line (vertices, faces, edges), checked against the file size."""
-    lines = (line.split("#")[0].strip() for line in text.splitlines())
-    numbers: list[str] = []
-    for line in lines:
-        if not line:
-            continue
-        words = line.split()
-        if not numbers and re.fullmatch(r"[A-Z]*OFF", words[0]):
-            words = words[1:]
-        numbers += words
-        if len(numbers) >= 2:
-            break
-    try:
-        vertices, faces = int(numbers[0]), int(numbers[1])
-    except (IndexError, ValueError):
-        raise MeshError(f"{where}: not an OFF file (no vertex and face counts)") from None
-    _check_counts(where, vertices, faces, 6 * vertices + 8 * faces, file_size)
 
 
 def text_source(path: Path, where: str, file_size: int) -> io.BytesIO | None:
@@ -121,8 +101,6 @@ def text_source(path: Path, where: str, file_size: int) -> io.BytesIO | None:
     except UnicodeDecodeError:
         text = data.decode("latin-1")
         utf8 = False
-    if path.suffix.lower() == ".off":
-        off_declared_counts(text, where, file_size)
     return io.BytesIO(data if utf8 else text.encode("utf-8"))
 
 

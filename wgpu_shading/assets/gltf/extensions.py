@@ -1,7 +1,7 @@
-"""glTF 2.0 (.gltf/.glb) materials and extensions; the geometry is read by gltf_data.py
-(buffers, accessors), gltf_nodes.py (node graph, skins) and gltf_mesh.py (primitives).
+"""glTF 2.0 (.gltf/.glb) materials and extensions; the geometry is read by document.py
+(buffers, accessors), nodes.py (node graph, skins) and primitives.py (primitives).
 
-Materials: gltf_material.py (linear colours, metallic-roughness with maps, the default material).
+Materials: materials.py (linear colours, metallic-roughness with maps, the default material).
 KHR_texture_transform on the base color texture is applied to the uvs (texCoord ignored).
 """
 
@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeshError
-from .gltf_material import SPECULAR_GLOSSINESS as _SPECULAR_GLOSSINESS
-from .gltf_material import gltf_material  # noqa: F401 (the loader's entry point for materials)
+from ...errors import MeshError
+from .materials import SPECULAR_GLOSSINESS as _SPECULAR_GLOSSINESS
+from .materials import gltf_material  # noqa: F401 (the loader's entry point for materials)
 
 
 # Every extension some part of the reader implements: a file may list these in
@@ -45,7 +45,7 @@ def check_extensions(document: dict, path: Path) -> None:
         try:
             import DracoPy  # noqa: F401
         except ImportError:
-            from ..errors import install_hint
+            from ...errors import install_hint
 
             raise MeshError(
                 f"mesh file {str(path)!r} uses Draco mesh compression (KHR_draco_mesh_compression); "

@@ -1,0 +1,12 @@
+"""Our own glTF 2.0 reader (.gltf/.glb), one module per part of the format:
+
+- document.py: the binary side: GLB chunks, buffers, buffer views, accessors, images, with
+  every count checked before anything is allocated (docs/reliability.md);
+- nodes.py: the node graph, scene instances and skin poses;
+- primitives.py: primitives into triangle pieces (strips, fans, Draco);
+- materials.py: glTF materials into classic Materials with maps, in linear colour space;
+- extensions.py: required extensions and KHR_texture_transform;
+- punctual_lights.py: KHR_lights_punctual into classic lights.
+
+assets/meshes.py puts the pieces together into one Mesh (docs/real-world-files.md).
+"""
