@@ -4,7 +4,7 @@
 
 For each scene, both variants run through the same harness (same meshes, targets, render
 pass, copy and readback); only the pipeline and its uniform data differ:
-  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.pipeline_cache)
+  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.gpu.pipelines)
   uber         benchmarks/uber.wgsl: every feature compiled in, switched by uniforms
 Reported: median warm frame time (render + readback) with frames of the two variants
 interleaved (the machine is shared and noisy, so only side-by-side ratios mean anything),
@@ -42,10 +42,12 @@ from wgpu_shading import (  # noqa: E402
 from wgpu_shading.assets import load_texture  # noqa: E402
 from wgpu_shading.render.device import default_device, describe_device  # noqa: E402
 from wgpu_shading.render.features import FeatureSet, object_features  # noqa: E402
-from wgpu_shading.render.layout import Layouts  # noqa: E402
-from wgpu_shading.render.bindings import binding_plan  # noqa: E402
-from wgpu_shading.render.pipeline_cache import DEPTH_FORMAT, PipelineCache  # noqa: E402
-from wgpu_shading.render.uniforms import clip_from_eye, eye_from_model, frame_uniforms, object_uniforms  # noqa: E402
+from wgpu_shading.render.shaders.layout import Layouts  # noqa: E402
+from wgpu_shading.render.shaders.bindings import binding_plan  # noqa: E402
+from wgpu_shading.render.gpu.pipelines import PipelineCache  # noqa: E402
+from wgpu_shading.render.passes.color import color_key  # noqa: E402
+from wgpu_shading.render.gpu.targets import DEPTH_FORMAT  # noqa: E402
+from wgpu_shading.render.shaders.uniforms import clip_from_eye, eye_from_model, frame_uniforms, object_uniforms  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 UBER_SOURCE = (Path(__file__).resolve().parent / "uber.wgsl").read_text()
@@ -98,7 +100,7 @@ def scenes(size: int) -> dict[str, Scene]:
 
 
 def uber_uniforms(scene: Scene, layouts: Layouts) -> tuple[np.ndarray, np.ndarray]:
-    """UberFrame and UberObject contents, computed like wgpu_shading.render.uniforms does."""
+    """UberFrame and UberObject contents, computed like wgpu_shading.render.shaders.uniforms does."""
     frame = np.zeros((), layouts.dtype("UberFrame"))
     view = scene.camera.eye_from_world()
     width, height = scene.size
@@ -203,9 +205,9 @@ class Harness:
 
     def specialized(self, scene: Scene) -> Variant:
         features = object_features(scene, scene.objects[0])
-        entry = self.pipelines.get(features)
-        frame = self.buffer(frame_uniforms(scene, entry.frame_dtype), wgpu.BufferUsage.UNIFORM)
-        obj = self.buffer(object_uniforms(eye_from_model(scene, scene.objects[0]), scene.objects[0].material, entry.object_dtype, scene), wgpu.BufferUsage.UNIFORM)
+        entry = self.pipelines.get(color_key(features))
+        frame = self.buffer(frame_uniforms(scene, entry.uniform_dtypes["frame"]), wgpu.BufferUsage.UNIFORM)
+        obj = self.buffer(object_uniforms(eye_from_model(scene, scene.objects[0]), scene.objects[0].material, entry.uniform_dtypes["object"], scene), wgpu.BufferUsage.UNIFORM)
         object_resources = [obj] + ([self.view, self.sampler] if features.texture_mode else [])
         groups = [self._group(entry.bind_group_layouts[0], [frame]), self._group(entry.bind_group_layouts[1], object_resources)]
         return Variant(entry.pipeline, groups, uses_uvs=features.texture_mode is not None)

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from wgpu_shading import Renderer, Scene
-from wgpu_shading.render.resources import map_for_reading
+from wgpu_shading.render.gpu.readback import map_for_reading
 
 from .scenes import GeometryDraw
 
@@ -124,8 +124,8 @@ class RawWgslPeer(Peer):
     def __init__(self, scene: Scene, renderer: Renderer, draw: GeometryDraw, kind: str = "limit"):
         import wgpu
 
-        from wgpu_shading.render.pipeline_cache import COLOR_FORMATS, DEPTH_FORMAT
-        from wgpu_shading.render.uniforms import clip_from_eye
+        from wgpu_shading.render.gpu.targets import COLOR_FORMATS, DEPTH_FORMAT
+        from wgpu_shading.render.shaders.uniforms import clip_from_eye
 
         if kind not in ("floor", "limit", "seed"):
             raise ValueError(kind)

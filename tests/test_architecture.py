@@ -86,6 +86,62 @@ def test_imports_point_only_downward():
     assert not wrong, "imports that point up or sideways:\n" + "\n".join(wrong)
 
 
+# Inside render/ the stages are floors too (docs/architecture.md#render--the-gpu): the feature
+# set and the device at the bottom, then what a shader is (shaders/), the GPU objects that
+# outlive a frame (gpu/), the passes that draw a frame (passes/), and the Renderer's frame
+# API on top. A module imports its own floor or a lower one.
+RENDER_FLOORS = {
+    "features": 0, "device": 0, "_prebuilt_ffi": 0, "image_error": 0,
+    "shaders": 1,
+    "gpu": 2,
+    "passes": 3,
+    "renderer": 4, "frames_in_flight": 4,
+    "auto_shading": 5,
+}
+
+
+def _render_floor(module: str) -> int | None:
+    parts = module.split(".")
+    if len(parts) < 3 or parts[1] != "render":
+        return None
+    return RENDER_FLOORS[parts[2]]
+
+
+def test_render_floors_point_only_downward():
+    wrong = []
+    for name, path in _modules().items():
+        floor = _render_floor(name)
+        if floor is None:
+            continue
+        for target in _imports(path):
+            target_floor = _render_floor(target)
+            if target_floor is not None and target_floor > floor:
+                wrong.append(f"{name} (floor {floor}) -> {target} (floor {target_floor})")
+    assert not wrong, "render/ imports that point up:\n" + "\n".join(wrong)
+
+
+def test_every_render_module_has_a_floor():
+    render = PACKAGE / "render"
+    names = {p.stem for p in render.glob("*.py") if p.stem != "__init__"} | {p.name for p in render.iterdir() if (p / "__init__.py").exists()}
+    assert names == set(RENDER_FLOORS), "give each render/ module or folder its floor in RENDER_FLOORS (docs/architecture.md)"
+
+
+def test_every_subpackage_ships():
+    """A folder of the package is listed in pyproject.toml's packages, or the wheel lacks it."""
+    import tomllib
+
+    listed = set(tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["setuptools"]["packages"])
+    folders = {_module_name(p) for p in PACKAGE.rglob("__init__.py")}
+    assert folders <= listed, f"add to pyproject.toml [tool.setuptools] packages: {sorted(folders - listed)}"
+
+
+def test_every_import_names_a_module_that_exists():
+    """Lazy imports inside functions are not run by importing the package: a module that
+    moved must not leave one behind (the `shader` command once imported a moved module)."""
+    missing = [f"{name} -> {target}" for name, path in _modules().items() for target in _imports(path) if not _exists(target)]
+    assert not missing, "imports of modules that do not exist:\n" + "\n".join(missing)
+
+
 def test_no_import_cycles():
     graph = {name: {t for t in _imports(path) if t in _modules()} for name, path in _modules().items()}
     # A package's __init__ re-exports its modules: an edge module -> its own package's

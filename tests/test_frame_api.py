@@ -11,7 +11,7 @@ import pytest
 
 from wgpu_shading import Camera, PositionalLight, Renderer, Scene, SceneObject, load_mesh, material
 from wgpu_shading.errors import SceneError
-from wgpu_shading.render.caches import TARGET_CACHE_ENTRIES
+from wgpu_shading.render.gpu.caches import TARGET_CACHE_ENTRIES
 
 
 @pytest.fixture(scope="module")

@@ -10,8 +10,8 @@ import pytest
 import wgpu
 
 from wgpu_shading.render.features import FeatureSet
-from wgpu_shading.render.layout import Layouts, field_offsets
-from wgpu_shading.render.shadergen import generate_wgsl, preprocess
+from wgpu_shading.render.shaders.layout import Layouts, field_offsets
+from wgpu_shading.render.shaders.shadergen import generate_wgsl, preprocess
 
 EVERY_EXTRA = FeatureSet(
     frequency="phong",

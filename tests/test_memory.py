@@ -87,8 +87,8 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
     set cycles through more pipelines than the cache holds: the number of live GPU objects
     must stop growing once the caches are full."""
     from wgpu_shading import PositionalLight, Renderer, Scene, SceneObject, Shading
-    from wgpu_shading.render.caches import MESH_CACHE_ENTRIES, TARGET_CACHE_ENTRIES
-    from wgpu_shading.render.pipeline_cache import PipelineCache
+    from wgpu_shading.render.gpu.caches import MESH_CACHE_ENTRIES, TARGET_CACHE_ENTRIES
+    from wgpu_shading.render.gpu.pipelines import PipelineCache
     from wgpu_shading.scene.builtins import uv_sphere
 
     long_run = Renderer(device=renderer.device)
@@ -119,7 +119,7 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
 def test_the_first_mip_level_is_computed_in_strips_with_the_same_values():
     """A 16384² texture would need 4 GiB as float32 at once; strips of rows give the same
     exact means (odd sizes: the last row and column are repeated, then dropped)."""
-    from wgpu_shading.render.resources import _first_level
+    from wgpu_shading.render.gpu.mips import _first_level
 
     rng = np.random.default_rng(3)
     for height, width in [(1, 1), (7, 1), (5, 5), (1025, 3), (130, 77)]:
@@ -141,7 +141,7 @@ def test_one_byte_bound_holds_for_every_stored_format_of_an_object():
     draw) is two entries of ONE cache, so TEXTURE_CACHE_BYTES bounds both together."""
     import gc
 
-    from wgpu_shading.render.caches import ObjectCache
+    from wgpu_shading.render.gpu.caches import ObjectCache
 
     class Image:  # any weak-referenceable object
         pass
@@ -167,8 +167,8 @@ def test_a_renderer_keeps_its_textures_in_one_bounded_cache(renderer, monkeypatc
     from dataclasses import replace
 
     from wgpu_shading import Renderer, Texture, load_scene
-    from wgpu_shading.render import device_cache
-    from wgpu_shading.render.caches import ObjectCache
+    from wgpu_shading.render.gpu import device_cache
+    from wgpu_shading.render.gpu.caches import ObjectCache
 
     textured = load_scene(Path(__file__).resolve().parent.parent / "examples" / "checker_sphere_modulate.toml")
     (obj,) = textured.objects

@@ -1,4 +1,4 @@
-"""Property-based test: random scenes within the documented valid ranges (wgpu_shading/scene/)
+"""Property-based test: random scenes within the documented valid ranges (docs/valid-ranges.md)
 render to finite values in [0, 1] that equal the float64 reference.
 
 Lights of every kind with random colors, positions, directions, attenuation (including

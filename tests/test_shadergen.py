@@ -14,7 +14,7 @@ import pytest
 from wgpu_shading.render.features import FeatureSet
 from wgpu_shading.scene import FREQUENCIES, REFLECTIONS, TEXTURE_MODES
 from wgpu_shading.scene.material import ALPHA_MODES
-from wgpu_shading.render.shadergen import ShaderSourceError, generate_wgsl, preprocess
+from wgpu_shading.render.shaders.shadergen import ShaderSourceError, generate_wgsl, preprocess
 
 FILES = {
     "main.wgsl": '#include "part.wgsl"\n#include "part.wgsl"\nmain\n',

@@ -13,7 +13,7 @@ from PIL import Image, ImageSequence
 
 from wgpu_shading import SceneError, load_scene
 from wgpu_shading.assets.animation import write_animation
-from wgpu_shading.scene.turntable import spun, turntable
+from wgpu_shading.scene.view.turntable import spun, turntable
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

@@ -1,4 +1,4 @@
-"""Meshes are uploaded in vertex-cache order (render/vertex_order.py): the same pixels.
+"""Meshes are uploaded in vertex-cache order (render/gpu/vertex_order.py): the same pixels.
 
 The reference is the same scene drawn from the mesh's own order (WGPU_SHADING_VERTEX_ORDER=0):
 images must be bit-identical, for shuffled meshes (so the reorder really changes the
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading import Camera, Renderer, Scene, SceneObject, load_mesh
-from wgpu_shading.render.vertex_order import cache_order
+from wgpu_shading.render.gpu.vertex_order import cache_order
 from wgpu_shading.scene import Material, Mesh, PositionalLight, Shading
 from wgpu_shading.scene.mesh import MeshPart
 

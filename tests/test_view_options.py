@@ -1,4 +1,4 @@
-"""One view vocabulary (wgpu_shading/scene/view_options.py): every option has its four
+"""One view vocabulary (wgpu_shading/scene/view/options.py): every option has its four
 spellings (the `render` flag, the `batch` flag, the manifest column, the scene-file key),
 they read to the same value, and `render` and a one-job `batch` draw the same pixels."""
 
@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import json
 from pathlib import Path
 
 import numpy as np
@@ -19,48 +20,60 @@ from wgpu_shading.cli.arguments import view_options_from_args
 from wgpu_shading.cli.main import build_parser
 from wgpu_shading.dataset.manifest import read_manifest, row_view_options
 from wgpu_shading.errors import UsageError
-from wgpu_shading.scene.view_options import VIEW_OPTIONS, ViewOptions, render_command, spellings_table
+from wgpu_shading.scene import Camera
+from wgpu_shading.scene.view.apply import unappliable
+from wgpu_shading.scene.view.options import VIEW_OPTIONS, ViewOptions, render_command, spellings_table
+from wgpu_shading.scene.view.reading import parse_light, spell
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 
-# name: (command-line words, manifest cell, value, scene-file text). Each changes the picture
-# of the tall box below (no normals in the file, Y up unless --up).
-SAMPLES = {
-    "size": (["--size", "40x32"], "40x32", (40, 32), "[output]\nsize = [40, 32]"),
-    "samples": (["--samples", "4"], "4", 4, "[output]\nsamples = 4"),
-    "background": (["--background-color", "0.2,0.3,0.4"], "0.2 0.3 0.4", (0.2, 0.3, 0.4), "[output]\nbackground = [0.2, 0.3, 0.4]"),
-    "transparent": (["--no-background"], "true", True, "[output]\ntransparent = true"),
-    "material": (["--material", "silver"], "silver", "silver", 'OBJECT material = "silver"'),
-    "shininess": (["--shininess", "3"], "3", 3.0, 'OBJECT material = { base = "gold", shininess = 3.0 }'),
-    "frequency": (["--frequency", "gouraud"], "gouraud", "gouraud", '[shading]\nfrequency = "gouraud"'),
-    "reflection": (["--reflection", "blinn-phong"], "blinn-phong", "blinn-phong", '[shading]\nreflection = "blinn-phong"'),
-    "blinn_exponent_scale": (["--reflection", "blinn-phong", "--blinn-exponent-scale", "0.25"], "0.25", 0.25,
-                             "[shading]\nblinn_exponent_scale = 0.25"),
-    "local_viewer": (["--infinite-viewer"], "false", False, "[shading]\nlocal_viewer = false"),
-    "two_sided": (["--two-sided"], "true", True, "[shading]\ntwo_sided = true"),
-    "clamp_vertex_colors": (["--clamp-vertex-colors"], "true", True, "[shading]\nclamp_vertex_colors = true"),
-    "color_space": (["--color-space", "linear"], "linear", "linear", '[shading]\ncolor_space = "linear"'),
-    "crease_angle": (["--crease-angle", "120"], "120", 120.0, "OBJECT crease_angle = 120"),
-    "up": (["--up", "+Z"], "+Z", "+Z", 'OBJECT up = "+Z"'),
-    "camera_position": (["--camera-position", "2,1,5"], "2 1 5", (2.0, 1.0, 5.0), "[camera]\neye = [2, 1, 5]"),
-    "camera_focal_point": (["--camera-focal-point", "0.3,0.2,0.1"], "0.3 0.2 0.1", (0.3, 0.2, 0.1), "[camera]\ntarget = [0.3, 0.2, 0.1]"),
-    "camera_direction": (["--camera-direction=-1,-1,-1"], "-1 -1 -1", (-1.0, -1.0, -1.0), "[camera]\ndirection = [-1, -1, -1]"),
-    "camera_view_up": (["--camera-view-up", "1,1,0"], "1 1 0", (1.0, 1.0, 0.0), "[camera]\nup = [1, 1, 0]"),
-    "camera_view_angle": (["--camera-view-angle", "30"], "30", 30.0, "[camera]\nfov_y = 30"),
-    "camera_near": (["--camera-near", "5.0"], "5.0", 5.0, "[camera]\nnear = 5.0"),
-    "camera_far": (["--camera-far", "5.5"], "5.5", 5.5, "[camera]\nfar = 5.5"),
-    "camera_projection": (["--camera-orthographic"], "orthographic", "orthographic", '[camera]\nprojection = "orthographic"'),
-    "camera_ortho_height": (["--camera-ortho-height", "8"], "8", 8.0, '[camera]\nprojection = "orthographic"\northo_height = 8'),
-    "camera_azimuth": (["--camera-azimuth-angle", "40"], "40", 40.0, "[camera]\nazimuth = 40"),
-    "camera_elevation": (["--camera-elevation-angle=-30"], "-30", -30.0, "[camera]\nelevation = -30"),
-    "camera_distance": (["--camera-distance", "9"], "9", 9.0, "[camera]\ndistance = 9"),
-    "lights": (["--light", "directional:dir=-1,-1,-1:color=1,0.5,0.5"], "directional:dir=-1,-1,-1:color=1,0.5,0.5",
-               ("directional:dir=-1,-1,-1:color=1,0.5,0.5",),
-               "[[lights]]\ntype = \"directional\"\ndirection = [-1, -1, -1]\ndiffuse = [1, 0.5, 0.5]\nspecular = [1, 0.5, 0.5]"),
-    # glTF files' own lights (tests/test_gltf_lights.py): nothing to change on an OBJ box or in a scene file
-    "viewer_lights": (["--viewer-lights"], "true", True, ""),
-}
-_NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")
+# Every option's sample is its row's `example` (a value that changes the picture of the tall
+# box below: no normals in the file, Y up unless --up), spelled four ways: command-line
+# words, a manifest cell, the value, scene-file text ("OBJECT key = value" goes on the
+# object, "LIGHT key = value" on the light, other text before them).
+
+
+def _toml(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (tuple, list)):
+        return "[" + ", ".join(_toml(item) for item in value) + "]"
+    return json.dumps(value) if isinstance(value, str) else repr(value)
+
+
+def _scene_text(option, value) -> str:
+    if option.key is None:
+        return ""
+    if option.key == "lights":
+        tables = []
+        for light in (parse_light(spec, Camera()) for spec in value):
+            keys = {"type": light.kind, **dataclasses.asdict(light)}
+            tables.append("[[lights]]\n" + "".join(f"{key} = {_toml(v)}\n" for key, v in keys.items()))
+        return "".join(tables)
+    if option.section == "objects" and option.field.startswith("material."):
+        return f'OBJECT material = {{ base = "gold", {option.field.removeprefix("material.")} = {_toml(value)} }}'
+    if option.section in ("objects", "lights"):
+        return f"{option.section.upper().rstrip('S')} {option.field} = {_toml(value)}"
+    return f"[{option.section}]\n{option.field} = {_toml(value)}"
+
+
+# Where a key alone does not say what the option says: a scene file's ortho_height keeps a
+# perspective camera unless it says `projection` (the flag implies orthographic).
+SCENE_TEXT = {"camera_ortho_height": '[camera]\nprojection = "orthographic"\northo_height = 8.0'}
+
+
+def _sample(option) -> tuple:
+    value = option.example
+    words = render_command("x", ViewOptions(**{option.name: value}))[3:]
+    cell = ";".join(value) if option.repeated else spell(value)
+    return words, cell, value, SCENE_TEXT.get(option.name, _scene_text(option, value))
+
+
+SAMPLES = {option.name: _sample(option) for option in VIEW_OPTIONS}
+# What else a sample needs to show in the pictures below.
+WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"]}
+_NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")  # no back faces, colours or file lights
+BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")
 BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)) + "".join(
     f"f {a} {b} {c}\n" for a, b, c in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
                                        (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4))
@@ -87,10 +100,11 @@ def _parse(command: str, words: list[str]):
     return view_options_from_args(build_parser().parse_args(HEADS[command] + words))
 
 
-def test_every_option_has_a_sample_and_four_spellings():
-    assert set(SAMPLES) == {option.name for option in VIEW_OPTIONS}
+def test_every_option_has_an_example_its_spellings_and_a_way_to_apply():
     for option in VIEW_OPTIONS:
         assert option.all_flags and option.column and option.scene_key and option.help, option.name
+        assert option.read(option.example, option.name) == option.example, option.name
+        assert unappliable(option) is None
 
 
 @pytest.mark.parametrize("option", VIEW_OPTIONS, ids=lambda option: option.name)
@@ -107,17 +121,21 @@ def test_render_flag_batch_flag_and_manifest_column_read_the_same_value(option):
 
 
 def _scene_file(folder: Path, extra: str) -> Path:
-    """The box as a scene file with one option's key: "OBJECT key = value" goes on the
-    object, other text before it."""
-    object_keys = {"mesh": '"box.obj"', "material": '"gold"'}
+    """The box, lit by one light, as a scene file with one option's key: "OBJECT key = value"
+    goes on the object, "LIGHT key = value" on the light, other text before them."""
+    tables = {"objects": {"mesh": '"box.obj"', "material": '"gold"'}, "lights": {"type": '"positional"'}}
     top = ""
-    if extra.startswith("OBJECT "):
-        key, _, value = extra.removeprefix("OBJECT ").partition(" = ")
-        object_keys[key] = value
+    if extra.startswith(("OBJECT ", "LIGHT ")):
+        table, _, rest = extra.partition(" ")
+        key, _, value = rest.partition(" = ")
+        tables[table.lower() + "s"][key] = value
     else:
         top = extra
+    if "[[lights]]" in top:
+        del tables["lights"]
     path = folder / f"scene-{hashlib.sha1(extra.encode()).hexdigest()[:8]}.toml"
-    path.write_text(top + "\n[[objects]]\n" + "".join(f"{key} = {value}\n" for key, value in object_keys.items()))
+    path.write_text(top + "".join(f"\n[[{name}]]\n" + "".join(f"{key} = {value}\n" for key, value in keys.items())
+                                  for name, keys in tables.items()))
     return path
 
 
@@ -142,7 +160,7 @@ def _pixels(path: Path) -> np.ndarray:
 
 @pytest.mark.parametrize("option", VIEW_OPTIONS, ids=lambda option: option.name)
 def test_render_and_a_one_job_batch_draw_the_same_pixels(option, box, tmp_path):
-    words = SAMPLES[option.name][0]
+    words = WITH.get(option.name, []) + SAMPLES[option.name][0]
     size = [] if option.name == "size" else ["--size", "48"]
     if option.name in ("frequency", "reflection", "local_viewer"):
         size += ["--crease-angle", "180"]  # a smooth box: the shading options show
@@ -170,7 +188,7 @@ def test_a_manifest_row_per_option_draws_what_render_draws(box, tmp_path):
     assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"]) == 0
     for option in options:
         output = tmp_path / f"{option.name}.png"
-        assert main(["render", str(box), "--size", "40x32", *SAMPLES[option.name][0], "-o", str(output), "-q"]) == 0
+        assert main(["render", str(box), "--size", "40x32", *WITH.get(option.name, []), *SAMPLES[option.name][0], "-o", str(output), "-q"]) == 0
         assert np.array_equal(_pixels(output), _pixels(tmp_path / "out" / "box" / f"{option.name}.png")), option.name
 
 
@@ -188,7 +206,7 @@ def test_render_command_spells_every_option_back_exactly():
 
 def test_the_docs_table_is_the_table_in_the_code():
     text = (DOCS / "view-options.md").read_text(encoding="utf-8")
-    assert spellings_table() in text, "docs/view-options.md: paste spellings_table()'s output (python -m wgpu_shading.scene.view_options)"
+    assert spellings_table() in text, "docs/view-options.md: paste spellings_table()'s output (python -m wgpu_shading.scene.view.options)"
 
 
 def test_a_manifest_up_column_means_the_model_axis_and_a_vector_the_camera_up(tmp_path):

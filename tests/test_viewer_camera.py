@@ -19,7 +19,7 @@ from wgpu_shading.cli import main
 from wgpu_shading.cli.main import build_parser
 from wgpu_shading.cli.arguments import scene_from_args
 from wgpu_shading.errors import SceneError
-from wgpu_shading.scene.framing import parse_direction
+from wgpu_shading.scene.view.bare_mesh import parse_direction
 
 SIZE = (160, 120)
 
@@ -153,11 +153,34 @@ def test_bad_camera_flags_are_one_line_errors(argv, message, tmp_path, capsys):
     assert message in err and "Traceback" not in err
 
 
-def test_reference_refuses_orthographic_cameras():
+@pytest.mark.parametrize("frequency", ["flat", "gouraud", "phong"])
+def test_the_float64_reference_draws_orthographic_cameras_as_the_gpu_does(renderer, frequency):
+    """The reference derives glOrtho itself (window = NDC of x / half width, depth affine on
+    screen): the same coverage, colour and depth as the GPU, off-axis and tilted."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from support import EDGE_BAND, compare
+    from wgpu_shading.scene import Shading
     from wgpu_shading.study.reference import render_reference
 
-    with pytest.raises(SceneError, match="perspective cameras only"):
-        render_reference(_sphere_scene(3.0, dict(projection="orthographic")))
+    scene = replace(
+        _sphere_scene(3.0, dict(projection="orthographic", ortho_height=2.6)),
+        camera=Camera(eye=(0.7, 1.1, 3.0), target=(0.2, 0.1, 0.0), up=(0.2, 1.0, 0.0), near=0.5, far=8.0,
+                      projection="orthographic", ortho_height=2.6),
+        objects=(SceneObject(load_mesh("builtin:sphere?slices=24&stacks=12"), material("gold"), rotate=(20, 30, 0)),),
+        lights=(DirectionalLight(direction=(-0.3, -0.5, -1.0)),),
+        shading=Shading(frequency=frequency),
+    )
+    compare(renderer.render_frame(scene, float32=True, depth=True), render_reference(scene), EDGE_BAND, f"orthographic {frequency}")
+
+
+def test_analytic_shapes_refuse_orthographic_cameras():
+    from wgpu_shading.study.reference import render_analytic_sphere
+
+    with pytest.raises(SceneError, match="orthographic"):
+        render_analytic_sphere(_sphere_scene(3.0, dict(projection="orthographic")), (0, 0, 0), 1.0, material("gold"))
 
 
 def test_resolution_is_f3ds_name_for_size():

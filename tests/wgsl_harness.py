@@ -3,7 +3,7 @@ set) in a compute shader on chosen inputs, and read the results back as float32.
 
 Some hard cases need exact inputs that rasterization only hits by luck — a light exactly
 at the shaded point, L exactly −V, a normal of exactly zero length. Here the inputs are
-given directly, the uniforms are the scene's (filled by wgpu_shading.render.uniforms), and the
+given directly, the uniforms are the scene's (filled by wgpu_shading.render.shaders.uniforms), and the
 result is compared with the float64 reference at the same inputs.
 """
 
@@ -15,10 +15,10 @@ import numpy as np
 import wgpu
 
 from wgpu_shading.render.features import object_features
-from wgpu_shading.render.layout import layouts_for
+from wgpu_shading.render.shaders.layout import layouts_for
 from wgpu_shading.scene import Scene
-from wgpu_shading.render.shadergen import generate_wgsl, preprocess, sources_for
-from wgpu_shading.render.uniforms import eye_from_model, frame_uniforms, object_uniforms
+from wgpu_shading.render.shaders.shadergen import generate_wgsl, preprocess, sources_for
+from wgpu_shading.render.shaders.uniforms import eye_from_model, frame_uniforms, object_uniforms
 
 
 def run_kernel(device, scene: Scene, inputs: np.ndarray, body: str, outputs: int, object_index: int = 0) -> np.ndarray:

@@ -1,4 +1,4 @@
-// Extra per-pixel outputs for dataset rendering (wgpu_shading/render/extra_outputs.py):
+// Extra per-pixel outputs for dataset rendering (wgpu_shading/render/passes/extra_outputs.py):
 // the interpolated surface normal (eye or world space) and the object id, in one rgba32float
 // target. Positions go through exactly the matrices and operations of the lit shaders
 // (clip_from_eye * (eye_from_model * p), the same float32 values), so the same pixels are
@@ -13,7 +13,7 @@ struct ExtraUniforms {
     object_id: f32,
 }
 
-// extra_uniforms (group 0) and VertexInput (position, normal): render/bindings.py's
+// extra_uniforms (group 0) and VertexInput (position, normal): render/shaders/bindings.py's
 // extra_outputs_plan.
 #include "bindings.wgsl"
 

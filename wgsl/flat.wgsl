@@ -13,7 +13,7 @@
 #include "surface.wgsl"
 
 // Group 2 (the mesh: mesh_positions, mesh_indices, mesh_uvs, mesh_colors) is declared by
-// the binding plan (wgpu_shading/render/bindings.py).
+// the binding plan (wgpu_shading/render/shaders/bindings.py).
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,

@@ -1,5 +1,5 @@
 // Uniform layouts: the one declaration of every uniform block.
-// wgpu_shading/render/layout.py parses these structs (after the #if lines are resolved) into
+// wgpu_shading/render/shaders/layout.py parses these structs (after the #if lines are resolved) into
 // numpy dtypes, so the Python side can never disagree with the shader about offsets.
 //
 // PositionalLight and Material keep the seed shaders' fields at their offsets:
@@ -96,7 +96,7 @@ struct FrameUniforms {
 
 // One light's colors times the object's material colors (ambient_i·ambient_m,
 // diffuse_i·diffuse_m, specular_i·specular_m), multiplied once per draw on the CPU
-// (wgpu_shading/render/uniforms.py) instead of once per fragment. Besides the multiplies,
+// (wgpu_shading/render/shaders/uniforms.py) instead of once per fragment. Besides the multiplies,
 // this saves uniform reads, which are the expensive part: Mesa 22.3's llvmpipe/lavapipe
 // gathers every uniform component a fragment shader reads lane by lane, with a bounds check
 // per lane (docs/performance.md, "Why the same shader was slower").

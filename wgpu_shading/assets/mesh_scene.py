@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Any, Mapping
 
 import numpy as np
 
 from ..errors import MeshError, SceneError
 from ..scene import Material, Mesh, Scene, SceneObject, material
-from ..scene.framing import framing_camera
+from ..scene.view.bare_mesh import framing_camera
 from ..scene.maps import bare_mesh_lighting
 from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
 
@@ -21,14 +22,16 @@ def mesh_scene(
     crease_angle: float = DEFAULT_CREASE_ANGLE,
     up: str = "+Y",
     file_lights: bool = True,
+    reading: Mapping[str, Any] | None = None,
 ):
     """A scene for a bare mesh: framed by the camera, lit by a key light and a headlight fill
-    as model viewers do (scene/viewer_lights.py; global ambient 0.2), the file's materials or gold.
+    as model viewers do (scene/view/viewer_lights.py; global ambient 0.2), the file's materials or gold.
     `up` is the file's up axis: the mesh is turned so that it points up on screen, which is
     f3d's --up view (its camera turned instead: the same picture). A glTF file with
     KHR_lights_punctual lights is lit by them instead (as viewers do; gltf/punctual_lights.py),
-    unless `file_lights` is False (`--viewer-lights`)."""
-    mesh = load_mesh(mesh_source, crease_angle=crease_angle)
+    unless `file_lights` is False (`--viewer-lights`). `reading`: more of the mesh reader's
+    options (ViewOptions.mesh_reading()), its crease_angle replacing `crease_angle`."""
+    mesh = load_mesh(mesh_source, **{"crease_angle": crease_angle, **(reading or {})})
     if material_name:
         chosen = material(material_name)
     elif any(part.material is not None for part in mesh.parts):

@@ -12,37 +12,20 @@ from __future__ import annotations
 
 import os
 import warnings
-from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeshError, SceneError
+from ..errors import MeshError
 from ..scene.builtins import BUILTIN_PREFIX, builtin
-from ..scene.material import Material
-from ..scene.mesh import Mesh, MeshPart, face_normals
-from ..scene.normals import crease_normals
+from ..scene.mesh import Mesh
 from .examples import resolve_example
 from .files import check_regular_file
+from .mesh_pieces import MeshPiece, assemble, with_face_colors
 from .mesh_formats.checks import describe_load_error, file_size_or_error, ply_declared_counts, text_source
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 DEFAULT_CREASE_ANGLE = 60.0  # degrees (docs/real-world-files.md)
-
-
-@dataclass
-class _Piece:
-    """One vertex set of a file: an OBJ, a glTF primitive instance, a PLY."""
-
-    positions: np.ndarray
-    faces: np.ndarray
-    normals: np.ndarray | None = None
-    uvs: np.ndarray | None = None
-    colors: np.ndarray | None = None  # (n, 4) float in [0, 1]
-    flat: np.ndarray | None = None  # (f,) bool: faces that are always flat
-    all_flat: bool = False
-    parts: list = field(default_factory=list)  # (first face, count, material, name)
-    tangents: np.ndarray | None = None  # (n, 4) glTF TANGENT, only with the file's normals
 
 
 def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE) -> Mesh:
@@ -66,28 +49,34 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     if suffix not in MESH_SUFFIXES:
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")
     file_size = file_size_or_error(path, f"mesh file {text!r}")  # size limit, before anything is read
+    notes: list[str] = []  # what the user should be told once the file is read (glTF)
     with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
         if suffix == ".obj":
             from .mesh_formats.obj import read_obj
 
             data = read_obj(path)
-            pieces = [_Piece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
+            pieces = [MeshPiece(data.positions, data.faces, data.normals, data.uvs, data.colors, data.flat, parts=data.parts)]
         elif suffix in (".glb", ".gltf"):
-            pieces = _gltf_pieces(path)
+            from .gltf.reader import gltf_mesh_pieces
+
+            pieces, notes = gltf_mesh_pieces(path)
         elif suffix == ".stl" and (binary := _binary_stl(path, file_size)) is not None:
             pieces = [binary]
         elif suffix == ".off":
             from .mesh_formats.off import read_off
 
             off = read_off(path, file_size)
-            piece = _Piece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])
-            pieces = [piece if off.face_colors is None else _with_face_colors(piece, off.face_colors)]
+            piece = MeshPiece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])
+            pieces = [piece if off.face_colors is None else with_face_colors(piece, off.face_colors)]
         else:
             pieces = [_trimesh_piece(path, file_size)]
         pieces = [p for p in pieces if len(p.faces)]
-        if not pieces:
-            raise MeshError(f"mesh file {text!r} contains no triangles")
-        return _assemble(pieces, path.name, float(crease_angle))
+        mesh = assemble(pieces, path.name, float(crease_angle)) if pieces else None
+    for note in dict.fromkeys(notes):  # once each, once the file was read without error (or to say why nothing is left)
+        warnings.warn(note, stacklevel=2)
+    if mesh is None:
+        raise MeshError(f"mesh file {text!r} contains no triangles")
+    return mesh
 
 
 # --------------------------------------------------------------------------- trimesh formats
@@ -128,7 +117,7 @@ def _file_normals(geometry) -> np.ndarray | None:
     return None
 
 
-def _binary_stl(path: Path, file_size: int) -> _Piece | None:
+def _binary_stl(path: Path, file_size: int) -> MeshPiece | None:
     """A binary STL read with numpy (mesh_formats/stl.py); None for ASCII STL (read by trimesh)."""
     from .mesh_formats.stl import binary_stl_count, read_binary_stl
 
@@ -142,10 +131,10 @@ def _binary_stl(path: Path, file_size: int) -> _Piece | None:
         raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {file_size} bytes of STL") from None
-    return _Piece(positions, faces, parts=[(0, len(faces), None, path.name)])
+    return MeshPiece(positions, faces, parts=[(0, len(faces), None, path.name)])
 
 
-def _trimesh_piece(path: Path, file_size: int) -> _Piece:
+def _trimesh_piece(path: Path, file_size: int) -> MeshPiece:
     import trimesh
 
     # A PLY header's counts are checked against the file size before trimesh allocates them.
@@ -192,22 +181,8 @@ def _trimesh_piece(path: Path, file_size: int) -> _Piece:
             f"the file holds {len(positions)} vertices and {len(faces)} triangles"
         )
     normals = _file_normals(loaded)
-    piece = _Piece(positions, faces, normals, uvs, None if colors is None else _unit_colors(colors), parts=[(0, len(faces), None, path.name)])
-    return piece if face_colors is None else _with_face_colors(piece, _unit_colors(face_colors))
-
-
-def _with_face_colors(piece: _Piece, face_colors: np.ndarray) -> _Piece:
-    """One colour per face, unblended: every corner its own vertex (MeshLab; averaging
-    into vertices would blur the faces' colours)."""
-    corners = piece.faces.reshape(-1)
-    return replace(
-        piece,
-        positions=piece.positions[corners],
-        faces=np.arange(len(corners)).reshape(-1, 3),
-        normals=None if piece.normals is None else piece.normals[corners],
-        uvs=None if piece.uvs is None else piece.uvs[corners],
-        colors=np.repeat(face_colors, 3, axis=0),
-    )
+    piece = MeshPiece(positions, faces, normals, uvs, None if colors is None else _unit_colors(colors), parts=[(0, len(faces), None, path.name)])
+    return piece if face_colors is None else with_face_colors(piece, _unit_colors(face_colors))
 
 
 def _unit_colors(colors: np.ndarray) -> np.ndarray:
@@ -219,140 +194,3 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
     return colors[:, :4]
 
 
-# --------------------------------------------------------------------------- glTF
-
-
-def _gltf_pieces(path: Path) -> list[_Piece]:
-    from .gltf.extensions import check_extensions, gltf_material, transform_uvs
-    from .gltf.document import GltfData
-    from .gltf.primitives import gltf_pieces, material_images
-
-    data = GltfData(path)
-    check_extensions(data.document, path)
-    materials: dict[tuple[int, int], Material | None] = {}
-    pieces = []
-    for piece in gltf_pieces(data):
-        attributes = piece.primitive["attributes"]
-        index = piece.primitive.get("material")
-        document_material = None if index is None else data.item("materials", index, f"meshes[{piece.key[0]}].primitives[{piece.key[1]}].material")
-        row = {"has_normal": "NORMAL" in attributes, "has_color": "COLOR_0" in attributes, "material": document_material}
-        if piece.key not in materials:
-            try:
-                images = material_images(data, document_material, path.name) if document_material is not None else None
-                materials[piece.key] = gltf_material(data.document, row, images, path.name)
-            except (SceneError, AttributeError, TypeError, ValueError, KeyError, IndexError) as error:
-                if isinstance(error, MeshError):
-                    raise
-                # A hostile document's material (a list where an object belongs, a string
-                # factor, a colour beyond the limits): one line naming the file.
-                detail = str(error) if isinstance(error, SceneError) else f"{type(error).__name__}: {error}"
-                raise MeshError(f"mesh file {str(path)!r}: material of {piece.name!r}: {detail}") from None
-        uvs = piece.uvs
-        if uvs is not None:
-            try:
-                uvs = transform_uvs(uvs, document_material)
-            except (AttributeError, TypeError, ValueError, KeyError, IndexError) as error:
-                raise MeshError(f"mesh file {str(path)!r}: KHR_texture_transform of {piece.name!r}: {type(error).__name__}: {error}") from None
-            if not np.isfinite(uvs).all():
-                raise MeshError(f"mesh file {str(path)!r}: KHR_texture_transform of {piece.name!r}: the texture coordinates become non-finite")
-        normals = piece.normals if row["has_normal"] else None
-        material = materials[piece.key]
-        if uvs is None and material is not None and material.maps:  # maps need texture coordinates
-            material = replace(material, **{key: None for key in material.maps})
-        # TANGENT is used with the file's normals (never welded) for a normal map.
-        tangents = piece.tangents if normals is not None and material is not None and material.normal_map is not None else None
-        pieces.append(
-            _Piece(piece.positions, piece.faces, normals, uvs, piece.colors, all_flat=not row["has_normal"],
-                   parts=[(0, len(piece.faces), material, piece.name)], tangents=tangents)
-        )
-    return pieces
-
-
-# --------------------------------------------------------------------------- assembly
-
-
-def _piece_normals(piece: _Piece, crease_angle: float) -> _Piece:
-    """The piece with normals: the file's, flat, or welded and creased."""
-    if piece.normals is not None:
-        return piece
-    if piece.all_flat:  # every corner its own vertex, with its face's normal
-        corners = piece.faces.reshape(-1)
-        unit, _ = face_normals(piece.positions, piece.faces)
-        return replace(
-            piece,
-            positions=piece.positions[corners],
-            faces=np.arange(len(corners)).reshape(-1, 3),
-            normals=np.repeat(unit, 3, axis=0),
-            uvs=None if piece.uvs is None else piece.uvs[corners],
-            colors=None if piece.colors is None else piece.colors[corners],
-        )
-    source, faces, normals = crease_normals(piece.positions, piece.faces, crease_angle, piece.flat)
-    if source is None:
-        return replace(piece, normals=normals)
-    return replace(
-        piece,
-        positions=piece.positions[source],
-        faces=faces,
-        normals=normals,
-        uvs=None if piece.uvs is None else piece.uvs[source],
-        colors=None if piece.colors is None else piece.colors[source],
-    )
-
-
-def _check_piece(piece: _Piece, name: str) -> None:
-    """What normals and welding index with must be valid first (trimesh reads PLY, STL and
-    OFF faces without checking them, process=False): finite positions, indices in range."""
-    if piece.faces.ndim != 2 or piece.faces.shape[1] != 3:
-        raise MeshError(f"{name}: faces must be triangles, got an array of shape {piece.faces.shape}")
-    if not np.isfinite(piece.positions).all():
-        bad = int(np.flatnonzero(~np.isfinite(piece.positions).all(axis=1))[0])
-        raise MeshError(f"{name}: vertex {bad} has a NaN or infinite coordinate: {piece.positions[bad].tolist()}")
-    low, high = int(piece.faces.min()), int(piece.faces.max())
-    if low < 0 or high >= len(piece.positions):
-        culprit = low if low < 0 else high
-        raise MeshError(
-            f"{name}: a face refers to vertex {culprit}, but the file has {len(piece.positions)} vertices "
-            f"(valid: 0..{len(piece.positions) - 1})"
-        )
-
-
-def _assemble(pieces: list[_Piece], name: str, crease_angle: float) -> Mesh:
-    for piece in pieces:
-        _check_piece(piece, name)
-    pieces = [_piece_normals(piece, crease_angle) for piece in pieces]
-    any_uvs = any(p.uvs is not None for p in pieces)
-    any_colors = any(p.colors is not None for p in pieces)
-    any_tangents = any(p.tangents is not None for p in pieces)
-    positions, faces, normals, uvs, colors, tangents, parts = [], [], [], [], [], [], []
-    vertex_offset = face_offset = 0
-    for piece in pieces:
-        count = len(piece.positions)
-        positions.append(piece.positions)
-        faces.append(piece.faces + vertex_offset if vertex_offset else piece.faces)  # one piece: no copy
-        normals.append(piece.normals)
-        if any_uvs:
-            uvs.append(piece.uvs if piece.uvs is not None else np.zeros((count, 2)))
-        if any_colors:
-            colors.append(piece.colors if piece.colors is not None else np.ones((count, 4)))
-        if any_tangents:  # zeros: no tangent, the derivative frame
-            tangents.append(piece.tangents if piece.tangents is not None else np.zeros((count, 4)))
-        for first, length, material, part_name in piece.parts:
-            if material is not None and material.texture is not None and piece.uvs is None:
-                warnings.warn(f"{name}: part {part_name!r} has a texture but no texture coordinates; drawn untextured", stacklevel=3)
-                material = replace(material, texture=None)
-            parts.append(MeshPart(face_offset + first, length, material, part_name))
-        vertex_offset += count
-        face_offset += len(piece.faces)
-    def joined(arrays: list) -> np.ndarray:  # one piece (a PLY, an STL): no copy
-        return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
-
-    return Mesh.from_arrays(
-        joined(positions),
-        joined(faces),
-        normals=joined(normals),
-        uvs=joined(uvs) if any_uvs else None,
-        colors=joined(colors) if any_colors else None,
-        tangents=joined(tangents) if any_tangents else None,
-        parts=tuple(parts),
-        name=name,
-    )

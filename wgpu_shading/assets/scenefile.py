@@ -19,15 +19,17 @@ from __future__ import annotations
 import difflib
 import os
 import tomllib
+from dataclasses import fields as dataclass_fields
 from pathlib import Path
 from typing import Any, Mapping
 
 from ..errors import MeshError, SceneError, UsageError, shown
-from ..scene.view_options import OPTIONS_BY_NAME, ViewOptions, place_camera
+from ..scene.view.apply import BACKGROUND_KEYS, CAMERA_MOVES, place_camera, with_background
+from ..scene.view.options import ViewOptions, scene_file_keys
 from ..scene import BUILTIN_PREFIX
 from ..scene.material_table import material as named_material
 from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
-from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
+from .meshes import load_mesh
 from ..scene.maps import MAP_FIELDS, alpha_pixels
 from ..scene.material import Texture
 from ..scene.values import MAX_LIGHTS, MAX_OBJECTS
@@ -43,21 +45,27 @@ from ..scene import (
     image_size,
 )
 
+# The keys of each table. [output], [shading] and [camera] hold view options only, and the
+# view options of objects, their materials and lights join those tables' own keys: all
+# from the one table of options (scene/view/options.py), so a new option is a new key.
 _TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
 _SECTIONS = {
-    "output": {"size", "background", "samples", "transparent"},
-    "shading": {"frequency", "reflection", "blinn_exponent_scale", "local_viewer", "two_sided", "clamp_vertex_colors", "color_space"},
-    "camera": {"eye", "target", "up", "fov_y", "near", "far", "projection", "ortho_height", "azimuth", "elevation", "direction", "distance"},
+    "output": set(scene_file_keys("output")),
+    "shading": set(scene_file_keys("shading")),
+    "camera": set(scene_file_keys("camera")),
     "ambient": {"color"},
 }
 _LIGHT_KEYS = {
-    "directional": {"type", "direction", "ambient", "diffuse", "specular"},
-    "positional": {"type", "position", "ambient", "diffuse", "specular", "attenuation", "range"},
-    "spot": {"type", "position", "direction", "ambient", "diffuse", "specular", "attenuation", "range", "cutoff", "exponent"},
+    kind: {"type", *(f.name for f in dataclass_fields(light_type)), *scene_file_keys("lights")} for kind, light_type in LIGHT_TYPES.items()
 }
-_OBJECT_KEYS = {"mesh", "material", "translate", "rotate", "scale", "crease_angle", "up"}
-_MATERIAL_KEYS = {"base", "ambient", "diffuse", "specular", "emission", "shininess", "texture", "texture_mode", "alpha_mode", "alpha_cutoff",
-                  *MAP_FIELDS, "normal_scale", "bump_scale", "occlusion_strength", "color_space"}
+_OBJECT_PLACEMENT = ("translate", "rotate", "scale")
+_OBJECT_KEYS = {"mesh", *_OBJECT_PLACEMENT, *scene_file_keys("objects")}
+_MATERIAL_IMAGES = ("texture", *MAP_FIELDS)  # paths of image files, relative to the scene file
+_MATERIAL_VALUES = tuple(dict.fromkeys((
+    "ambient", "diffuse", "specular", "emission", "shininess", "texture_mode", "alpha_mode", "alpha_cutoff",
+    "normal_scale", "bump_scale", "occlusion_strength", "color_space", *scene_file_keys("objects", "material"),
+)))
+_MATERIAL_KEYS = {"base", *_MATERIAL_IMAGES, *_MATERIAL_VALUES}
 _COLOR_KEYS = ("ambient", "diffuse", "specular")
 
 
@@ -111,11 +119,10 @@ def _material(value: Any, base: Path, where: str) -> Material:
     elif "texture" in value and not any(key in value for key in _COLOR_KEYS):
         # The seed's material-less texture example: lighting terms are not scaled by a material.
         fields.update(ambient=(1.0, 1.0, 1.0, 1.0), diffuse=(1.0, 1.0, 1.0, 1.0), specular=(1.0, 1.0, 1.0, 1.0))
-    for key in ("ambient", "diffuse", "specular", "emission", "shininess", "texture_mode", "alpha_mode", "alpha_cutoff",
-                "normal_scale", "bump_scale", "occlusion_strength", "color_space"):
+    for key in _MATERIAL_VALUES:
         if key in value:
             fields[key] = value[key]
-    for key in ("texture", *MAP_FIELDS):
+    for key in _MATERIAL_IMAGES:
         if key not in value:
             continue
         if not isinstance(value[key], str):
@@ -148,7 +155,20 @@ def _light(table: Mapping[str, Any], index: int):
         raise SceneError(f"{where}: {error}") from None
 
 
-def _object(table: Mapping[str, Any], index: int, base: Path, crease_angle: float | None = None) -> SceneObject:
+def _mesh_reading(table: Mapping[str, Any], where: str, reading: Mapping[str, Any]) -> dict[str, Any]:
+    """The object's keys the mesh reader takes (options with load="mesh": crease_angle),
+    read by their options' readers; `reading` (the command line's) replaces them."""
+    found = {}
+    for key, option in scene_file_keys("objects").items():
+        if option.load == "mesh" and (key in reading or key in table):
+            try:
+                found[key] = option.read(reading[key] if key in reading else table[key], f"{where}.{key}")
+            except UsageError as error:
+                raise SceneError(str(error)) from None
+    return found
+
+
+def _object(table: Mapping[str, Any], index: int, base: Path, reading: Mapping[str, Any]) -> SceneObject:
     where = f"[[objects]] #{index + 1}"
     _check_keys(table, _OBJECT_KEYS, where)
     if "mesh" not in table:
@@ -157,11 +177,9 @@ def _object(table: Mapping[str, Any], index: int, base: Path, crease_angle: floa
     if not isinstance(mesh_text, str):
         raise SceneError(f"{where}.mesh: expected a string, got {shown(mesh_text)}")
     source = mesh_text if mesh_text.startswith((BUILTIN_PREFIX, EXAMPLE_PREFIX)) else str(_resolve(mesh_text, base))
-    crease = table.get("crease_angle", DEFAULT_CREASE_ANGLE) if crease_angle is None else crease_angle
-    if isinstance(crease, bool) or not isinstance(crease, (int, float)) or not 0 <= crease <= 180:
-        raise SceneError(f"{where}.crease_angle: expected degrees between 0 and 180, got {crease!r}")
+    mesh_reading = _mesh_reading(table, where, reading)
     try:
-        mesh = load_mesh(source, crease_angle=float(crease))
+        mesh = load_mesh(source, **mesh_reading)
     except MeshError as error:
         hint = models_hint(Path(source)) if not Path(source).exists() else ""
         raise SceneError(f"{where}.mesh: {error}{hint}") from None
@@ -173,51 +191,50 @@ def _object(table: Mapping[str, Any], index: int, base: Path, crease_angle: floa
             raise SceneError(message if message.startswith(where) else f"{where}.material: {message}") from None
     else:
         material = None  # the file's own materials, part by part
-    transform = {key: table[key] for key in ("translate", "rotate", "scale", "up") if key in table}
+    # Every other key is a field of the object: its placement and its view options (up).
+    placed = {key: value for key, value in table.items() if key not in ("mesh", "material", *mesh_reading)}
     try:
-        return SceneObject(mesh=mesh, material=material, **transform)
+        return SceneObject(mesh=mesh, material=material, **placed)
     except SceneError as error:
         raise SceneError(f"{where}: {error}") from None
 
 
 def _background(output: Mapping[str, Any], default) -> Any:
-    """[output] background, with alpha 0 when `transparent = true` (docs/conventions.md#the-lighting-equation)."""
+    """[output] background and transparent, as the options of the same names set them
+    (scene/view/apply.py with_background; docs/conventions.md#the-lighting-equation)."""
     background = output.get("background", default)
-    transparent = output.get("transparent", False)
-    if not isinstance(transparent, bool):
+    transparent = output.get("transparent")
+    if transparent is not None and not isinstance(transparent, bool):
         raise SceneError(f"output.transparent: expected true or false, got {transparent!r}")
-    if not transparent:
-        return background
     if not isinstance(background, (list, tuple)) or len(background) not in (3, 4):
         return background  # Scene reports what is wrong with it
-    return (*background[:3], 0.0)
-
-
-# [camera] keys that move the camera after the others placed it, as the view options of the
-# same names do (scene/view_options.py place_camera): f3d's --camera-direction,
-# --camera-azimuth-angle, --camera-elevation-angle, then the eye's distance to the target.
-_CAMERA_MOVES = {"direction": "camera_direction", "azimuth": "camera_azimuth", "elevation": "camera_elevation", "distance": "camera_distance"}
+    return with_background(default, tuple(background), transparent)
 
 
 def _camera(table: Mapping[str, Any]) -> Camera:
     """[camera]: direction, azimuth, elevation (degrees) and distance move the camera after
-    the other keys placed it, as f3d's --camera-direction/--camera-azimuth-angle/... do."""
-    keys = {key: value for key, value in table.items() if key not in _CAMERA_MOVES}
+    the other keys placed it, as f3d's --camera-direction/--camera-azimuth-angle/... and
+    the view options of the same keys do (scene/view/apply.py place_camera)."""
+    keys = {key: value for key, value in table.items() if key not in CAMERA_MOVES}
     if "direction" in table and "eye" in table:
         raise SceneError("camera: give eye or direction (the eye along it at the same distance), not both")
     moves = {}
-    for key, name in _CAMERA_MOVES.items():
-        if key in table:
+    for key, option in scene_file_keys("camera").items():
+        if key in CAMERA_MOVES and key in table:
             try:
-                moves[name] = OPTIONS_BY_NAME[name].read(table[key], f"camera.{key}")
+                moves[option.name] = option.read(table[key], f"camera.{key}")
             except UsageError as error:
                 raise SceneError(str(error)) from None
     return place_camera(Camera(**keys), ViewOptions(**moves))
 
 
-def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".", *, crease_angle: float | None = None) -> Scene:
+def parse_scene(
+    document: Mapping[str, Any], base: str | os.PathLike[str] = ".", *,
+    crease_angle: float | None = None, reading: Mapping[str, Any] | None = None,
+) -> Scene:
     """A Scene from an already-parsed TOML document (paths relative to `base`).
-    crease_angle, when given, replaces every object's (the CLI's --crease-angle)."""
+    reading: the mesh reader's options (ViewOptions.mesh_reading(), e.g. the CLI's
+    --crease-angle) replacing every object's; crease_angle is short for {"crease_angle": ...}."""
     if not isinstance(document, Mapping):
         raise SceneError(f"scene: expected a table (a parsed TOML document), got {type(document).__name__}")
     base_path = Path(base)
@@ -231,21 +248,25 @@ def parse_scene(document: Mapping[str, Any], base: str | os.PathLike[str] = ".",
         if count > limit:
             raise SceneError(f"[[{key}]]: {count} {key}; at most {limit} are supported")
     lights = [_light(table, i) for i, table in enumerate(_array_of_tables(document, "lights"))]
-    objects = [_object(table, i, base_path, crease_angle) for i, table in enumerate(_array_of_tables(document, "objects"))]
+    reading = {**(reading or {}), **({} if crease_angle is None else {"crease_angle": crease_angle})}
+    objects = [_object(table, i, base_path, reading) for i, table in enumerate(_array_of_tables(document, "objects"))]
     defaults = Scene()
+    # [output] keys are Scene fields (size, samples, ...), but for the background's two.
+    fields = {key: value for key, value in output.items() if key not in BACKGROUND_KEYS}
+    if "size" in fields:
+        fields["size"] = image_size(fields["size"])
     return Scene(
         objects=tuple(objects),
         lights=tuple(lights),
         camera=_camera(camera),
         shading=Shading(**shading),
         ambient=ambient.get("color", defaults.ambient),
-        size=image_size(output.get("size", defaults.size)),
         background=_background(output, defaults.background),
-        samples=output.get("samples", defaults.samples),
+        **fields,
     )
 
 
-def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = None) -> Scene:
+def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = None, reading: Mapping[str, Any] | None = None) -> Scene:
     """Read a scene file (or `example:NAME.toml`). Errors name the file and the offending key."""
     if not isinstance(path, (str, os.PathLike)):
         raise SceneError(f"load_scene: expected a path to a scene file, got {type(path).__name__}")
@@ -270,7 +291,7 @@ def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = Non
     except ValueError as error:  # e.g. an integer of more than 4300 digits
         raise SceneError(f"{path}: invalid TOML: {error}") from None
     try:
-        scene = parse_scene(document, path.parent, crease_angle=crease_angle)
+        scene = parse_scene(document, path.parent, crease_angle=crease_angle, reading=reading)
     except (SceneError, MeshError) as error:
         raise SceneError(f"{path}: {error}") from None
     except RecursionError:

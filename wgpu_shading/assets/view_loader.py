@@ -3,7 +3,8 @@
 
 from __future__ import annotations
 
-from ..scene.view_options import ViewOptions, apply_view_options
+from ..scene.view.apply import apply_view_options
+from ..scene.view.options import ViewOptions
 
 DEFAULT_SIZE = (512, 512)  # a bare mesh's image when no size is given
 
@@ -14,22 +15,22 @@ def is_scene_file(source: str) -> bool:
 
 def load_source(source: str, options: ViewOptions):
     """The scene file or the framed bare mesh, read with the options that act when a file is
-    read (crease_angle; a bare mesh is framed for its up axis and image size). Load it once
-    and apply several ViewOptions to it: load_view(source, o) == apply_view_options(
-    load_source(source, o), o, follow_camera=not is_scene_file(source))."""
+    read (ViewOptions.loading(): crease_angle for the mesh reader; a bare mesh is framed for
+    its up axis and image size). Load it once and apply several ViewOptions to it:
+    load_view(source, o) == apply_view_options(load_source(source, o), o,
+    follow_camera=not is_scene_file(source))."""
     from .mesh_scene import mesh_scene
-    from .meshes import DEFAULT_CREASE_ANGLE
     from .scenefile import load_scene
 
     if is_scene_file(source):
-        return load_scene(source, crease_angle=options.crease_angle)
+        return load_scene(source, reading=options.mesh_reading())
     return mesh_scene(
         source,
         options.size or DEFAULT_SIZE,
         None,  # the material, like every option that does not change what is read, is applied after
-        crease_angle=DEFAULT_CREASE_ANGLE if options.crease_angle is None else options.crease_angle,
         up=options.up or "+Y",
         file_lights=not options.viewer_lights,
+        reading=options.mesh_reading(),
     )
 
 

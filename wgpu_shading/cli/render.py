@@ -88,7 +88,7 @@ def _write_stdout(data: bytes) -> None:
 
 def command_turntable(args: argparse.Namespace) -> int:
     from ..assets.animation import check_animation_path, write_animation
-    from ..scene.turntable import turntable
+    from ..scene.view.turntable import turntable
     from ..render.renderer import Renderer
 
     if args.frames < 1:
@@ -133,7 +133,7 @@ def _auto_shading(args: argparse.Namespace, scene, renderer):
 
 def command_shader(args: argparse.Namespace) -> int:
     from ..render.features import object_features
-    from ..render.shadergen import generate_wgsl
+    from ..render.shaders.shadergen import generate_wgsl
 
     scene = scene_from_args(args)
     seen = set()

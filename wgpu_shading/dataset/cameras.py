@@ -77,7 +77,7 @@ CONVENTION = {
 
 def id_legend(scene: Scene) -> list[dict]:
     """What each value of an ids mask is: object index, part index within its mesh, names."""
-    from ..render.extra_outputs import segments
+    from ..render.passes.extra_outputs import segments
 
     legend = []
     for segment, (obj, part) in enumerate(segments(scene), 1):

@@ -18,7 +18,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 
 from ..errors import WgpuShadingError
-from ..render.extra_outputs import ExtraFrame
+from ..render.passes.extra_outputs import ExtraFrame
 from ..render.renderer import Renderer
 from .cameras import camera_record, id_legend
 from .jobs import Job
@@ -142,7 +142,7 @@ class ChunkRenderer:
     def _render_stream(self, items, out_dir, color, depth, normals, ids, writes, records) -> None:
         scenes = [scene for _, scene in items]
         # One pipelined stream: each frame's colour pass (when colour or depth is written)
-        # and its normals-and-ids pass are encoded together (render/extra_outputs.py).
+        # and its normals-and-ids pass are encoded together (render/passes/extra_outputs.py).
         extras = normals != "none" or ids
         frames = self.renderer.render_many(
             scenes, float32=color == "png16", depth=depth != "none",

@@ -19,8 +19,8 @@ import math
 from ..assets.view_loader import DEFAULT_SIZE, is_scene_file, load_source
 from ..errors import UsageError
 from ..scene import Scene
-from ..scene.framing import FRAMING_DIRECTION
-from ..scene.view_options import apply_view_options
+from ..scene.view.bare_mesh import FRAMING_DIRECTION
+from ..scene.view.apply import apply_view_options
 from .jobs import Job
 
 __all__ = ["DEFAULT_SIZE", "FRAMING_ELEVATION", "MAX_VIEWS", "base_scene", "job_scene", "sphere_views", "turntable_views"]

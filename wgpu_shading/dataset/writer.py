@@ -15,7 +15,7 @@ import numpy as np
 from ..assets import atomic
 from ..assets.image_writers import save_depth_png
 from ..assets.png import write_png
-from ..render.extra_outputs import ExtraFrame
+from ..render.passes.extra_outputs import ExtraFrame
 from ..render.renderer import Frame
 from .jobs import Job
 

@@ -1,7 +1,7 @@
 """A live view without its window: settings → scene → frame, events → settings.
 
 LiveView holds a ViewState, a Renderer and the view's source. The scene it draws is made
-from the settings as ViewOptions through the one vocabulary (scene/view_options.py):
+from the settings as ViewOptions through the one vocabulary (scene/view/options.py):
 `load_source` reads the file once per set of options that act when a file is read (size,
 crease angle, up axis), and `apply_view_options` applies everything else, so that
 
@@ -30,8 +30,9 @@ from ..assets.view_loader import is_scene_file, load_source
 from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
-from ..scene.view_options import VIEW_OPTIONS, ViewOptions, apply_view_options, render_command
-from .state import Settings, ViewState, help_text
+from ..scene.view.apply import apply_view_options, scene_value
+from ..scene.view.options import OPTIONS_BY_NAME, ViewOptions, render_command
+from .state import ViewState, help_text, opening_settings
 
 COMPARE_AXES = {"frequency": FREQUENCIES, "reflection": REFLECTIONS}
 LOAD_CACHE_ENTRIES = 4  # scenes read with different load options (crease angles...), kept
@@ -76,18 +77,13 @@ class LiveView:
         self.on_quit: Callable[[], None] = lambda: None  # the window's close (canvas.attach)
         opened = self._scene_for(options)
         self._panel = opened.size
-        material = _material_name(opened)
+        material = scene_value(opened, OPTIONS_BY_NAME["material"])
+        shininess = scene_value(opened, OPTIONS_BY_NAME["shininess"])
         self.state = ViewState(
-            Settings(
-                frequency=opened.shading.frequency,
-                reflection=opened.shading.reflection,
-                crease_angle=options.crease_angle,
-                two_sided=opened.shading.two_sided,
-                samples=opened.samples,
-            ),
+            opening_settings(options, opened),
             opened.camera,
-            shininess=_shininess(opened),
-            material=material,
+            shininess=MATERIALS["gold"].shininess if shininess is None else float(shininess),
+            material=material if material in MATERIALS else None,
         )
         self._drawn = self.state.settings  # the last settings a frame was drawn with
 
@@ -107,14 +103,8 @@ class LiveView:
         """The view options of what is shown now: the opening options changed by the keys and
         the mouse (a setting left as it opened leaves the option as the user gave it)."""
         s, opened, options = self.state.settings, self.state.opened, self.user_options
-        changes: dict = {}
-        for key in ("frequency", "reflection", "two_sided", "samples", "crease_angle"):
-            if getattr(s, key) != getattr(opened, key):
-                changes[key] = getattr(s, key)
-        if s.material is not None:
-            changes["material"] = s.material
-        if s.shininess is not None or s.material is not None:
-            changes["shininess"] = s.shininess  # a new material drops an older --shininess
+        # (a new material drops an older --shininess: the M key sets shininess to None)
+        changes = {name: getattr(s, name) for name in OPTIONS_BY_NAME if getattr(s, name) != getattr(opened, name)}
         if s.camera is not None:
             camera = s.camera
             changes.update(
@@ -137,9 +127,8 @@ class LiveView:
             return apply_view_options(self.source, options)
         # Only the options that act when a file is read (the table's `load` ones: size, crease
         # angle, up axis, file or viewer lights) select, and key, the scene read.
-        loading = {option.name: getattr(options, option.name) for option in VIEW_OPTIONS if option.load}
-        load = ViewOptions(**loading)
-        key = tuple(sorted(loading.items()))
+        load = options.loading()
+        key = tuple(sorted(load.given().items()))
         base = self._loaded.get(key)
         if base is None:
             base = load_source(self.source, load)
@@ -277,20 +266,6 @@ class LiveView:
                     number += 1
         finally:
             temporary.unlink(missing_ok=True)
-
-
-def _material_name(scene: Scene) -> str | None:
-    if not scene.objects:
-        return None
-    material = scene.objects[0].material
-    name = getattr(material, "name", None)
-    return name if name in MATERIALS else None
-
-
-def _shininess(scene: Scene) -> float:
-    if not scene.objects:
-        return MATERIALS["gold"].shininess
-    return float(scene.objects[0].surface_material.shininess)
 
 
 def _shell_line(argv: list[str]) -> str:

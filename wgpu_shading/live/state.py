@@ -1,7 +1,8 @@
 """What a live view shows, and how the keys and the mouse change it: pure logic, no window.
 
-A ViewState is the view's settings (frequency, reflection, material, shininess, crease
-angle, two-sided, samples, camera). Every key of the viewer is a transition of it
+A ViewState is the view's settings: its view options (scene/view/options.py: the ones
+`render` takes, which the keys change: frequency, reflection, material, shininess, crease
+angle, two-sided, samples) and the camera the mouse moved. Every key of the viewer is a transition of it
 (`press`), every drag or wheel turn a camera move (`drag`, `wheel`); the window, the
 notebook widget and the tests drive the same object. The scene drawn and the `render`
 command printed are both made from the settings (viewer.py), never from each other.
@@ -12,8 +13,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS
+from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
 from ..scene.camera import Camera
+from ..scene.view.apply import scene_value
+from ..scene.view.options import OPTIONS_BY_NAME, ViewOptions
 from . import navigation
 
 CREASE_ANGLES = (0.0, 30.0, 60.0, 180.0)  # the `C` key's cycle, degrees
@@ -44,17 +47,22 @@ MOUSE_HELP = (
 
 
 @dataclass(frozen=True)
-class Settings:
-    """One view. None means "as the scene has it" (the file's materials, its normals)."""
+class Settings(ViewOptions):
+    """One view: every view option (None: as the scene has it, e.g. the file's materials,
+    its normals) and the camera the mouse moved (None: the one `render` places)."""
 
-    frequency: str
-    reflection: str
-    material: str | None = None
-    shininess: float | None = None
-    crease_angle: float | None = None
-    two_sided: bool = False
-    samples: int = 1
-    camera: Camera | None = None  # None: the camera `render` places (the view as opened)
+    camera: Camera | None = None
+
+
+# Options whose keys step from the value the scene has, so the settings hold it from the start.
+SCENE_VALUED = ("frequency", "reflection", "two_sided", "samples")
+
+
+def opening_settings(options: ViewOptions, scene: Scene) -> Settings:
+    """The settings of a view opened with `options`, which drew `scene`."""
+    values = options.given()
+    values.update({name: scene_value(scene, OPTIONS_BY_NAME[name]) for name in SCENE_VALUED})
+    return Settings(**values)
 
 
 def key_name(key: str) -> str:
@@ -179,4 +187,4 @@ def _next(cycle, current):
     return cycle[(cycle.index(current) + 1) % len(cycle)] if current in cycle else cycle[0]
 
 
-__all__ = ["CREASE_ANGLES", "KEYS", "REFLECTIONS", "Settings", "ViewState", "help_text", "key_name"]
+__all__ = ["CREASE_ANGLES", "KEYS", "REFLECTIONS", "Settings", "ViewState", "help_text", "key_name", "opening_settings"]

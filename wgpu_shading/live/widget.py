@@ -18,7 +18,7 @@ from functools import lru_cache
 from ..errors import UsageError, install_hint
 from ..render.renderer import Frame, Renderer
 from ..scene import Scene
-from ..scene.view_options import ViewOptions
+from ..scene.view.options import ViewOptions
 from .canvas import attach
 from .session import LiveView
 

@@ -6,13 +6,13 @@ from dataclasses import dataclass
 from typing import Union
 
 from ..errors import SceneError
-from .values import MAX_COORDINATE, MAX_EXPONENT, Color, Vec3, finite_numbers, set_fields, color, direction, number, vec3
+from .values import MAX_COORDINATE, MAX_EXPONENT, Color, Vec3, boolean, finite_numbers, set_fields, color, direction, number, vec3
 
 
-def _light_colors(light: object, prefix: str) -> dict[str, Color]:
-    return {
-        key: color(getattr(light, key), f"{prefix}.{key}") for key in ("ambient", "diffuse", "specular")
-    }
+def _common_fields(light: object, prefix: str) -> dict[str, object]:
+    """The fields every kind of light has: its three colours and whether it casts shadows."""
+    colors = {key: color(getattr(light, key), f"{prefix}.{key}") for key in ("ambient", "diffuse", "specular")}
+    return colors | {"shadows": boolean(getattr(light, "shadows"), f"{prefix}.shadows")}
 
 
 def _attenuation(value: object, name: str) -> Vec3:
@@ -36,11 +36,12 @@ class DirectionalLight:
     ambient: Color = (0.0, 0.0, 0.0, 1.0)
     diffuse: Color = (1.0, 1.0, 1.0, 1.0)
     specular: Color = (1.0, 1.0, 1.0, 1.0)
+    shadows: bool = False  # objects between a point and the light shade it (docs/shadows.md)
 
     kind = "directional"
 
     def __post_init__(self) -> None:
-        set_fields(self, direction=direction(self.direction, "light.direction"), **_light_colors(self, "light"))
+        set_fields(self, direction=direction(self.direction, "light.direction"), **_common_fields(self, "light"))
 
 
 @dataclass(frozen=True)
@@ -56,6 +57,7 @@ class PositionalLight:
     specular: Color = (1.0, 1.0, 1.0, 1.0)
     attenuation: Vec3 = (1.0, 0.0, 0.0)  # constant, linear, quadratic
     range: float = 0.0  # distance where the light fades out (0: never)
+    shadows: bool = False  # as DirectionalLight.shadows
 
     kind = "positional"
 
@@ -65,7 +67,7 @@ class PositionalLight:
             position=vec3(self.position, "light.position"),
             attenuation=_attenuation(self.attenuation, "light.attenuation"),
             range=number(self.range, "light.range", 0.0, MAX_COORDINATE),
-            **_light_colors(self, "light"),
+            **_common_fields(self, "light"),
         )
 
 
@@ -86,6 +88,7 @@ class SpotLight:
     specular: Color = (1.0, 1.0, 1.0, 1.0)
     attenuation: Vec3 = (1.0, 0.0, 0.0)
     range: float = 0.0  # as PositionalLight.range
+    shadows: bool = False  # as DirectionalLight.shadows
 
     kind = "spot"
 
@@ -98,7 +101,7 @@ class SpotLight:
             exponent=number(self.exponent, "light.exponent", 0.0, MAX_EXPONENT),
             attenuation=_attenuation(self.attenuation, "light.attenuation"),
             range=number(self.range, "light.range", 0.0, MAX_COORDINATE),
-            **_light_colors(self, "light"),
+            **_common_fields(self, "light"),
         )
 
 

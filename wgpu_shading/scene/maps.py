@@ -103,14 +103,14 @@ def linear_color(color) -> tuple[float, float, float, float]:
 
 
 def bare_mesh_lighting(objects, camera) -> tuple[tuple, tuple[float, float, float, float]]:
-    """The viewer lights and global ambient of a bare mesh (scene/viewer_lights.py; 0.2).
+    """The viewer lights and global ambient of a bare mesh (scene/view/viewer_lights.py; 0.2).
 
     A bare glTF (every part drawn with its file's linear-colour-space material) gets them
     decoded to linear light: they were chosen as display values, and decoding keeps a white
     surface as bright as in display values (neutral grey, as viewers show it)."""
     from dataclasses import replace
 
-    from .viewer_lights import viewer_lights
+    from .view.viewer_lights import viewer_lights
 
     lights, ambient = viewer_lights(camera), (0.2, 0.2, 0.2, 1.0)
     linear = bool(objects) and all(

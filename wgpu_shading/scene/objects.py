@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from pyglm import glm
@@ -14,6 +14,7 @@ from .lights import DirectionalLight, Light, PositionalLight, SpotLight
 from .maps import SCENE_COLOR_SPACES
 from .material import Material
 from .mesh import Mesh
+from .shadows import ShadowSettings
 from .values import (
     FREQUENCIES,
     MAX_EXPONENT,
@@ -26,6 +27,7 @@ from .values import (
     Frequency,
     Reflection,
     Vec3,
+    boolean,
     set_fields,
     choice,
     color,
@@ -81,8 +83,12 @@ class SceneObject:
     rotate: Vec3 = (0.0, 0.0, 0.0)  # degrees about X, then Y, then Z
     scale: Vec3 = (1.0, 1.0, 1.0)
     up: str = "+Y"
+    cast_shadows: bool = True  # it hides lights that cast shadows from what lies behind it
+    receive_shadows: bool = True  # its surface is darkened where such a light is hidden
 
     def __post_init__(self) -> None:
+        for key in ("cast_shadows", "receive_shadows"):
+            set_fields(self, **{key: boolean(getattr(self, key), f"object.{key}")})
         if not isinstance(self.mesh, Mesh):
             raise SceneError(f"object.mesh: expected a Mesh, got {type(self.mesh).__name__}: {shown(self.mesh)}")
         if self.material is not None and not isinstance(self.material, Material):
@@ -194,6 +200,8 @@ class Scene:
     background: Color = (0.0, 0.0, 0.0, 1.0)
     # Antialiasing: MSAA samples per pixel, 1 (off: pixel-comparable with the GL references) or 4.
     samples: int = 1
+    # How the GPU approximates shadows (scene/shadows.py); which lights cast them is each light's `shadows`.
+    shadows: ShadowSettings = field(default_factory=ShadowSettings)
 
     def __post_init__(self) -> None:
         if self.samples not in SAMPLE_COUNTS or isinstance(self.samples, bool):
@@ -223,6 +231,8 @@ class Scene:
             raise SceneError(f"camera: expected a Camera, got {type(self.camera).__name__}")
         if not isinstance(self.shading, Shading):
             raise SceneError(f"shading: expected a Shading, got {type(self.shading).__name__}")
+        if not isinstance(self.shadows, ShadowSettings):
+            raise SceneError(f"shadows: expected ShadowSettings, got {type(self.shadows).__name__}")
         background = color(self.background, "output.background")
         if max(background) > 1.0:
             raise SceneError(f"output.background: components must be between 0 and 1, got {list(background)}")
@@ -260,3 +270,26 @@ def check_scene_argument(scene: object, where: str) -> None:
     if not isinstance(scene, Scene):
         hint = " (load a scene file with load_scene(path))" if isinstance(scene, (str, bytes)) or hasattr(scene, "__fspath__") else ""
         raise SceneError(f"{where}: expected a Scene, got {type(scene).__name__}{hint}")
+
+
+# --------------------------------------------------------------------------- shadows (scene/shadows.py)
+
+
+def shadowing_lights(scene: Scene) -> tuple[int, ...]:
+    """Indices of the scene's lights that cast shadows, in scene order."""
+    return tuple(index for index, light in enumerate(scene.lights) if light.shadows)
+
+
+def has_shadows(scene: Scene) -> bool:
+    """Whether anything in the scene can be shadowed: a light casts, some object casts and
+    some object receives. Without that, a frame has no shadow pass and no shadow code."""
+    return (
+        bool(shadowing_lights(scene))
+        and any(obj.cast_shadows for obj in scene.objects)
+        and any(obj.receive_shadows for obj in scene.objects)
+    )
+
+
+def every_light_casts(scene: Scene) -> Scene:
+    """The scene with `shadows = true` on every light: what `--shadows` means."""
+    return replace(scene, lights=tuple(replace(light, shadows=True) for light in scene.lights))

@@ -24,7 +24,7 @@ FREQUENCIES: tuple[str, ...] = ("flat", "gouraud", "phong")
 REFLECTIONS: tuple[str, ...] = ("phong", "blinn-phong")
 TEXTURE_MODES: tuple[str, ...] = ("modulate", "modulate_all", "blend")
 
-# Limits (docs/reliability.md). Every value derived from these for the GPU (matrices, normal
+# Limits (docs/valid-ranges.md). Every value derived from these for the GPU (matrices, normal
 # matrices, eye-space positions, squared distances, lit colours summed over MAX_LIGHTS)
 # stays finite in float32 (max 3.4e38).
 MAX_COORDINATE = 1e15
@@ -106,6 +106,13 @@ def number(value: object, name: str, low: float, high: float, *, low_open: bool 
         bracket = "(" if low_open else "["
         raise SceneError(f"{name}: expected a number in {bracket}{low:g}, {high:g}], got {shown(value)}")
     return result
+
+
+def boolean(value: object, name: str) -> bool:
+    """true or false, nothing else (not 0/1, not "yes"): a typo must not pass as truthy."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise SceneError(f"{name}: expected true or false, got {shown(value)}")
+    return bool(value)
 
 
 def choice(value: object, name: str, options: Sequence[str]) -> str:

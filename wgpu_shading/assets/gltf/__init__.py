@@ -1,5 +1,6 @@
 """Our own glTF 2.0 reader (.gltf/.glb), one module per part of the format:
 
+- reader.py: a file into mesh pieces with their materials (what assets/meshes.py calls);
 - document.py: the binary side: GLB chunks, buffers, buffer views, accessors, images, with
   every count checked before anything is allocated (docs/reliability.md);
 - nodes.py: the node graph, scene instances and skin poses;
@@ -8,5 +9,5 @@
 - extensions.py: required extensions and KHR_texture_transform;
 - punctual_lights.py: KHR_lights_punctual into classic lights.
 
-assets/meshes.py puts the pieces together into one Mesh (docs/real-world-files.md).
+assets/mesh_pieces.py puts the pieces together into one Mesh (docs/real-world-files.md).
 """

@@ -66,9 +66,18 @@ def split_glb(raw: bytes, path: Path) -> tuple[bytes, memoryview | None]:
     return bytes(chunks[0][1]), binary
 
 
+def _json_number(text: str) -> int | float:
+    """A JSON number with a fraction or exponent: an int when it is a whole number. JSON has
+    one number type, so `1.0` and `10e-1` are valid integers wherever glTF asks for one (the
+    glTF-Validator's json/integer_written_as_float case); 1.5 stays a float and is refused
+    where an index belongs, naming the field. Beyond 2^53 floats are not exact integers."""
+    value = float(text)
+    return int(value) if value.is_integer() and abs(value) <= 2.0**53 else value
+
+
 def parse_json(text: bytes, path: Path) -> dict:
     try:
-        document = json.loads(text)
+        document = json.loads(text, parse_float=_json_number)
     except (ValueError, struct.error) as error:
         raise MeshError(f"mesh file {str(path)!r}: not a valid glTF file ({error})") from None
     except RecursionError:
@@ -97,6 +106,7 @@ class GltfData:
         else:
             text = raw
         self.document = parse_json(text, path)
+        self.notes: list[str] = []  # warnings for the user, said once the file is read (meshes.py)
         self._buffers: dict[int, bytes] = {}
         self._accessors: dict[int, np.ndarray] = {}
 
@@ -116,7 +126,8 @@ class GltfData:
         """Entry `index` of a top-level list, with an error naming `field` if it is not one."""
         table = self.items(key)
         if not isinstance(index, int) or isinstance(index, bool) or not 0 <= index < len(table):
-            raise gltf_error(self.path, field, f"{_short(index)} is not an index into {key} (0..{len(table) - 1})")
+            kind = "an integer index" if isinstance(index, float) else "an index"
+            raise gltf_error(self.path, field, f"{_short(index)} is not {kind} into {key} (0..{len(table) - 1})")
         entry = table[index]
         if not isinstance(entry, dict):
             raise gltf_error(self.path, f"{key}[{index}]", f"expected an object, got {type(entry).__name__}")

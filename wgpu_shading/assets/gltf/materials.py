@@ -39,8 +39,6 @@ specularFactor, roughness = 1 − glossinessFactor (specularGlossinessTexture ig
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
 from ...scene.maps import srgb_decode, srgb_encode
@@ -165,10 +163,11 @@ def _with_diffuse_factor(texture: Texture | None, factor: np.ndarray, label: str
     return Texture(pixels, name=texture.name, nearest=texture.nearest, wrap=texture.wrap, encoding=texture.encoding)
 
 
-def gltf_material(document: dict, row: dict, images, name: str) -> Material:
+def gltf_material(document: dict, row: dict, images, name: str, notes: list[str]) -> Material:
     """The classic material of one primitive (module docstring); `images` holds its decoded
     textures (primitives.material_images). A primitive without a material gets the glTF
-    default material."""
+    default material. What the user should be told (a texture that could not be read) is
+    added to `notes`: said once the whole file is read (GltfData.notes)."""
     material = row["material"]
     if material is None:
         material, images = DEFAULT_MATERIAL, None
@@ -212,8 +211,7 @@ def gltf_material(document: dict, row: dict, images, name: str) -> Material:
     elif base_texture_info is not None:
         # The reader gives None for an image it cannot load (missing, a folder, a FIFO, not
         # an image); say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
-        warnings.warn(f"{name}: material {material.get('name', '')!r}: its base colour texture could not be read; drawn untextured",
-                      stacklevel=3)
+        notes.append(f"{name}: material {material.get('name', '')!r}: its base colour texture could not be read; drawn untextured")
     unlit = "KHR_materials_unlit" in extensions
     if "diffuse_factor" in fields:
         factor = fields.pop("diffuse_factor")

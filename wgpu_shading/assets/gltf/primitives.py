@@ -103,13 +103,16 @@ def _draco(data: GltfData, primitive: dict, where: str) -> dict:
 
 def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | None:
     """POSITION, NORMAL, TEXCOORD_0, COLOR_0, JOINTS_0/WEIGHTS_0 and the triangles of one
-    primitive, in the primitive's own space; None for points and lines."""
+    primitive, in the primitive's own space; None for points, lines and a primitive without POSITION."""
     mode = data.integer(primitive.get("mode", _TRIANGLES), f"{where}.mode", 0, 6)
     if mode not in (_TRIANGLES, _STRIP, _FAN):
         return None
     attributes = primitive.get("attributes")
-    if not isinstance(attributes, dict) or "POSITION" not in attributes:
-        raise gltf_error(data.path, f"{where}.attributes", "expected an object with POSITION")
+    if not isinstance(attributes, dict):
+        raise gltf_error(data.path, f"{where}.attributes", f"expected an object, got {type(attributes).__name__}")
+    if "POSITION" not in attributes:  # §3.7.2.1: the client skips it (with extensions that supply positions)
+        data.notes.append(f"{data.path.name}: {where} has no POSITION attribute; skipped")
+        return None
     extensions = primitive.get("extensions", {})
     if isinstance(extensions, dict) and _DRACO in extensions:
         decoded = _draco(data, primitive, where)

@@ -27,6 +27,10 @@ class ReferenceImage:
                  largest change of (u·W, v·H) towards any of the four neighbouring pixel
                  centres, on the visible triangle's plane); 0 elsewhere. The reference samples
                  level 0 only, which is what the GPU does where this is below 1 (magnified).
+    visibility:  (lights, H, W) float64, the exact V_i of each light at the pixel's surface
+                 point: 0 where the segment towards light i meets a shadow
+                 caster, else 1 (lights without shadows, objects that receive none and
+                 uncovered pixels: 1). None where the renderer computed no shadows.
     """
 
     color: np.ndarray
@@ -36,3 +40,10 @@ class ReferenceImage:
     depth: np.ndarray
     edge_margin: np.ndarray
     texel_footprint: np.ndarray
+    visibility: np.ndarray | None = None
+
+    def shadow_mask(self, light: int) -> np.ndarray:
+        """(H, W) bool: covered pixels whose surface point is in light `light`'s exact shadow."""
+        if self.visibility is None:
+            return np.zeros(self.covered.shape, dtype=bool)
+        return self.covered & (self.visibility[light] < 1.0)

@@ -136,6 +136,7 @@ def specular_factor(normals, to_light, to_viewer, shininess: float, reflection: 
 def shade(
     points: np.ndarray, normals: np.ndarray, to_viewer: np.ndarray, scene: Scene, material: Material,
     *, ambient_scale: np.ndarray | None = None, shininess_scale: np.ndarray | None = None, with_emission: bool = True,
+    visibility: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The lighting equation (docs/conventions.md) at N eye-space points with unit normals and unit view vectors, all (N, 3).
 
@@ -143,7 +144,9 @@ def shade(
     (textures treat them apart; the clamp comes last, in `combine`). Maps
     (docs/conventions.md): `ambient_scale` (N,) multiplies the material's ambient
     (occlusion), `shininess_scale` (N,) its shininess; without `with_emission` the emission
-    is left out (an emissive map adds it after the combine).
+    is left out (an emissive map adds it after the combine). `visibility` (lights, N) is
+    each light's V_i: it scales that light's diffuse and specular terms, after
+    attenuation and the spot factor; its ambient term is not shadowed.
     """
     points = np.asarray(points, dtype=np.float64)
     normals = np.asarray(normals, dtype=np.float64)
@@ -160,7 +163,8 @@ def shade(
     ambient_diffuse = m_emission + np.asarray(scene.ambient[:3]) * m_ambient * np.ones((count, 1))
     specular = np.zeros((count, 3))
     shading = scene.shading
-    for light in lights_in_eye_space(scene):
+    for index, light in enumerate(lights_in_eye_space(scene)):
+        shadow = np.ones(count) if visibility is None else np.asarray(visibility[index], dtype=np.float64)
         if light.kind == "directional":
             to_light = np.broadcast_to(light.to_light, points.shape)
             scale = np.ones(count)
@@ -177,13 +181,13 @@ def shade(
                 scale = scale * np.where(inside, spot, 0.0)
         n_dot_l = dot(normals, to_light)
         ambient_diffuse += scale[:, None] * (
-            light.ambient * m_ambient + np.maximum(n_dot_l, 0.0)[:, None] * light.diffuse * m_diffuse
+            light.ambient * m_ambient + (shadow * np.maximum(n_dot_l, 0.0))[:, None] * light.diffuse * m_diffuse
         )
         highlight = specular_factor(
             normals, to_light, to_viewer, shininess, shading.reflection, shading.blinn_exponent_scale
         )
         lit_side = n_dot_l > 0.0  # f_i: no highlight where the light does not reach
-        specular += np.where(lit_side, scale * highlight, 0.0)[:, None] * light.specular * m_specular
+        specular += np.where(lit_side, shadow * scale * highlight, 0.0)[:, None] * light.specular * m_specular
     return ambient_diffuse, specular
 
 

@@ -10,13 +10,12 @@ seconds. Shading is not done here: see `mesh.py`.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...scene import Camera
-from .transforms import window_coordinates
+from .transforms import half_extents, window_coordinates
 
 SUBPIXEL = 256  # lavapipe snaps window coordinates to 1/256 pixel
 # Triangles reaching further than this many pixels outside the image are clipped in eye
@@ -32,14 +31,16 @@ CANDIDATE_CHUNK = 1 << 21
 def _clip_planes(camera: Camera, size: tuple[int, int]) -> list[tuple[np.ndarray, float]]:
     """Eye-space half-spaces n·p + d >= 0: the near plane and the guard band's four sides."""
     width, height = size
-    tan_half = math.tan(math.radians(camera.fov_y) / 2.0)
     # |x_ndc| <= gx keeps window x within GUARD_BAND_PIXELS of the image; same for y.
     gx = 1.0 + 2.0 * GUARD_BAND_PIXELS / width
     gy = 1.0 + 2.0 * GUARD_BAND_PIXELS / height
-    sx = tan_half * width / height
-    sy = tan_half
+    sx, sy = half_extents(camera, size)
+    near = (np.array([0.0, 0.0, -1.0]), -camera.near)  # depth >= near
+    if camera.orthographic:  # |x| <= gx·sx, a box
+        return [near] + [(np.array(axis), limit) for axis, limit in (
+            ([-1.0, 0.0, 0.0], gx * sx), ([1.0, 0.0, 0.0], gx * sx), ([0.0, -1.0, 0.0], gy * sy), ([0.0, 1.0, 0.0], gy * sy))]
     return [
-        (np.array([0.0, 0.0, -1.0]), -camera.near),  # depth >= near
+        near,
         (np.array([-1.0, 0.0, -gx * sx]), 0.0),  # x <= gx·sx·depth
         (np.array([1.0, 0.0, -gx * sx]), 0.0),
         (np.array([0.0, -1.0, -gy * sy]), 0.0),
@@ -134,11 +135,13 @@ def signed_area_fixed(fixed: np.ndarray) -> np.ndarray:
     return e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
 
 
-def _inverse_depth_planes(window: np.ndarray, depth: np.ndarray) -> np.ndarray:
-    """Per triangle (a, b, c) with 1/depth = a·x + b·y + c in window coordinates: 1/w is
-    affine in screen space, which is what makes perspective-correct interpolation work."""
+def _depth_planes(window: np.ndarray, depth: np.ndarray, orthographic: bool) -> np.ndarray:
+    """Per triangle (a, b, c) with f(depth) = a·x + b·y + c in window coordinates, f the
+    function of depth that is affine in screen space: 1/depth for a perspective camera
+    (which is what makes perspective-correct interpolation work), depth itself for an
+    orthographic one."""
     p0, p1, p2 = window[:, 0], window[:, 1], window[:, 2]
-    inverse = 1.0 / depth
+    inverse = depth if orthographic else 1.0 / depth
     e1, e2 = p1 - p0, p2 - p0
     area = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
     safe_area = np.where(area != 0.0, area, 1.0)  # zero float area: the triangle is dropped anyway
@@ -173,7 +176,7 @@ class Visibility:
     triangle: np.ndarray  # index into ScreenTriangles, -1 where uncovered
 
 
-def rasterize(tris: ScreenTriangles, size: tuple[int, int], near: float, far: float) -> Visibility:
+def rasterize(tris: ScreenTriangles, size: tuple[int, int], near: float, far: float, orthographic: bool = False) -> Visibility:
     """Coverage (pixel centres, top-left rule, exact integer edge functions) and a z-buffer on
     eye depth. Ties in depth go to the earlier triangle, as the `greater` depth test does."""
     width, height = size
@@ -190,7 +193,7 @@ def rasterize(tris: ScreenTriangles, size: tuple[int, int], near: float, far: fl
     if len(ids) == 0:
         return Visibility(best_depth, best_triangle)
     edge_a, edge_b, edge_c = (e[ids] for e in _edge_coefficients(fixed))
-    planes = _inverse_depth_planes(tris.window, tris.depth)[ids]
+    planes = _depth_planes(tris.window, tris.depth, orthographic)[ids]
     col0, row0 = col0[ids], row0[ids]
     box_width = col1[ids] - col0 + 1
     counts = box_width * (row1[ids] - row0 + 1)
@@ -216,9 +219,12 @@ def rasterize(tris: ScreenTriangles, size: tuple[int, int], near: float, far: fl
         tri, col, row = tri[inside], col[inside], row[inside]
         # Eye depth at the pixel centre from the unsnapped plane of 1/depth.
         x, y = col + 0.5, row + 0.5
-        inverse_depth = planes[tri, 0] * x + planes[tri, 1] * y + planes[tri, 2]
-        with np.errstate(divide="ignore"):
-            depth = np.where(inverse_depth > 0.0, 1.0 / np.where(inverse_depth > 0.0, inverse_depth, 1.0), np.inf)
+        interpolated = planes[tri, 0] * x + planes[tri, 1] * y + planes[tri, 2]
+        if orthographic:
+            depth = interpolated
+        else:
+            with np.errstate(divide="ignore"):
+                depth = np.where(interpolated > 0.0, 1.0 / np.where(interpolated > 0.0, interpolated, 1.0), np.inf)
         in_range = (depth >= near * (1.0 - 1e-12)) & (depth <= far)  # clip to [near, far]
         tri, depth = tri[in_range], depth[in_range]
         pixel = row[in_range] * width + col[in_range]

@@ -5,17 +5,17 @@ perspective-correct barycentrics; `render_reference` does both for the scene's o
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ...scene import Scene, SceneObject, Shading
+from ...scene import Scene, SceneObject, Shading, has_shadows
 from .image import ReferenceImage
 from .lighting import FALLBACK_NORMAL, dot, clamp_vertex_colors, combine, safe_normalize, shade, view_vectors
 from .map_sampling import color_map, combine_factors, is_linear, lighting_factors, perturb, perturb_with_tangents, tangent_normal
 from .raster import edge_margins, rasterize, screen_triangles, signed_area_fixed
-from .transforms import eye_from_world, normal_matrix, pixel_rays, transform_points, world_from_model
+from .transforms import eye_from_world, normal_matrix, transform_points, window_rays, world_from_model
+from .visibility import ShadowRays
 
 
 @dataclass
@@ -47,14 +47,14 @@ def _prepare(scene: Scene, obj: SceneObject) -> _PreparedObject:
     )
 
 
-def _ray_barycentrics(corners: np.ndarray, rays: np.ndarray) -> np.ndarray:
+def _ray_barycentrics(corners: np.ndarray, origins: np.ndarray, rays: np.ndarray) -> np.ndarray:
     """Perspective-correct barycentrics: where each eye ray meets its triangle's plane,
     expressed in the triangle's (N, 3, 3) eye-space corners. Exact for clipped triangles too."""
     p0, p1, p2 = corners[:, 0], corners[:, 1], corners[:, 2]
     normal = np.cross(p1 - p0, p2 - p0)
     along = dot(normal, rays)
     safe_along = np.where(along != 0.0, along, 1.0)
-    point = rays * (dot(normal, p0) / safe_along)[:, None]
+    point = origins + rays * (dot(normal, p0 - origins) / safe_along)[:, None]
     twice_area = dot(normal, normal)
     safe_area = np.where(twice_area > 0.0, twice_area, 1.0)
     b0 = dot(normal, np.cross(p2 - p1, point - p1)) / safe_area
@@ -72,15 +72,11 @@ def _texel_footprint(obj: SceneObject, prepared: _PreparedObject, faces: np.ndar
     texture_scale = np.array([width, height], dtype=np.float64)
     corners = prepared.eye_positions[faces]
     uvs = obj.mesh.uvs.astype(np.float64)[faces] * texture_scale
-    image_width, image_height = scene.size
-    rows, columns = np.divmod(pixels, image_width)
-    tan_half = math.tan(math.radians(scene.camera.fov_y) / 2.0)
+    rows, columns = np.divmod(pixels, scene.size[0])
 
     def texel_position(column_offset, row_offset):
-        x = 2.0 * (columns + 0.5 + column_offset) / image_width - 1.0
-        y = 1.0 - 2.0 * (rows + 0.5 + row_offset) / image_height
-        rays = np.stack([x * tan_half * image_width / image_height, y * tan_half, -np.ones_like(x)], axis=1)
-        return np.einsum("nk,nkc->nc", _ray_barycentrics(corners, rays), uvs)
+        origins, rays = window_rays(scene.camera, scene.size, columns + 0.5 + column_offset, rows + 0.5 + row_offset)
+        return np.einsum("nk,nkc->nc", _ray_barycentrics(corners, origins, rays), uvs)
 
     centre = texel_position(0, 0)
     steps = [texel_position(dx, dy) - centre for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))]
@@ -94,8 +90,10 @@ def _shade_pixels(
     triangles: np.ndarray,
     weights: np.ndarray,
     front_facing: np.ndarray,
+    visibility: np.ndarray | None = None,
 ) -> np.ndarray:
-    """RGBA of the pixels where `obj` is visible: triangle index, barycentrics (N, 3) and facing."""
+    """RGBA of the pixels where `obj` is visible: triangle index, barycentrics (N, 3) and
+    facing; `visibility` (lights, N) is each light's V_i at those pixels (None: all lit)."""
     shading = scene.shading
     material = obj.surface_material
     faces = prepared.faces[triangles]
@@ -110,40 +108,58 @@ def _shade_pixels(
             raise ValueError(f"material {material.name!r} has a texture or maps but mesh {obj.mesh.name!r} has no UVs")
         uvs = obj.mesh.uvs.astype(np.float64)
 
-    def shade_with(points, normals, uv=None):
+    def shade_with(points, normals, uv=None, light_visibility=None):
         return shade(points, normals, view_vectors(points, normals, shading.local_viewer), scene, material,
-                     **lighting_factors(material, uv))
+                     **lighting_factors(material, uv), visibility=light_visibility)
 
-    def vertex_color(points, normals, uv=None):  # what the vertex stage passes on (flat, Gouraud)
-        parts = shade_with(points, normals, uv)
+    def vertex_color(points, normals, uv=None, lights_on=None):  # what the vertex stage passes on (flat, Gouraud)
+        # lights_on (lights,): a constant V_i for every vertex (None: all 1)
+        light_visibility = None if lights_on is None else np.repeat(lights_on[:, None], len(points), axis=1)
+        parts = shade_with(points, normals, uv, light_visibility)
         if shading.clamp_vertex_colors:
             texture_mode = material.texture_mode if material.texture is not None else None
             parts = clamp_vertex_colors(*parts, texture_mode)
         return parts
 
     uv = None if uvs is None else np.einsum("nk,nkc->nc", weights, uvs[faces])
-    if shading.frequency == "flat":
-        # One evaluation per triangle: face normal from the stored positions, at the centroid
-        # (maps that change the lighting are read at the centroid's uv).
-        p = prepared.model_positions[faces]
-        face_normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) @ prepared.normal_matrix.T
-        normals = safe_normalize(face_normal, FALLBACK_NORMAL) * flip
-        centroids = prepared.eye_positions[faces].mean(axis=1)
-        ambient_diffuse, specular = vertex_color(centroids, normals, None if uvs is None else uvs[faces].mean(axis=1))
-    elif shading.frequency == "gouraud":
-        # Light each vertex (front with N, back with -N), then interpolate both parts
-        # (unclamped like the seeds, or clamped per vertex like OpenGL: clamp_vertex_colors).
-        vertex_normals = safe_normalize(prepared.eye_normals, FALLBACK_NORMAL)
-        used = np.unique(faces)
-        vertex_uv = None if uvs is None else uvs[used]
-        front = vertex_color(prepared.eye_positions[used], vertex_normals[used], vertex_uv)
-        back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used], vertex_uv) if two_sided else front
-        slot = np.searchsorted(used, faces)  # (N, 3) rows of `used`
-        parts = []
-        for k in range(2):
-            chosen = np.where(back[:, None, None], back_parts[k][slot], front[k][slot])
-            parts.append(np.einsum("nk,nkc->nc", weights, chosen))
-        ambient_diffuse, specular = parts
+    if shading.frequency in ("flat", "gouraud"):
+        if shading.frequency == "flat":
+            # One evaluation per triangle: face normal from the stored positions, at the centroid
+            # (maps that change the lighting are read at the centroid's uv).
+            p = prepared.model_positions[faces]
+            face_normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) @ prepared.normal_matrix.T
+            normals = safe_normalize(face_normal, FALLBACK_NORMAL) * flip
+            centroids = prepared.eye_positions[faces].mean(axis=1)
+
+            def interpolated(lights_on=None):
+                return vertex_color(centroids, normals, None if uvs is None else uvs[faces].mean(axis=1), lights_on)
+        else:
+            # Light each vertex (front with N, back with -N), then interpolate both parts
+            # (unclamped like the seeds, or clamped per vertex like OpenGL: clamp_vertex_colors).
+            vertex_normals = safe_normalize(prepared.eye_normals, FALLBACK_NORMAL)
+            used = np.unique(faces)
+            vertex_uv = None if uvs is None else uvs[used]
+            slot = np.searchsorted(used, faces)  # (N, 3) rows of `used`
+
+            def interpolated(lights_on=None):
+                front = vertex_color(prepared.eye_positions[used], vertex_normals[used], vertex_uv, lights_on)
+                back_parts = vertex_color(prepared.eye_positions[used], -vertex_normals[used], vertex_uv, lights_on) if two_sided else front
+                parts = []
+                for k in range(2):
+                    chosen = np.where(back[:, None, None], back_parts[k][slot], front[k][slot])
+                    parts.append(np.einsum("nk,nkc->nc", weights, chosen))
+                return parts
+        full_ambient_diffuse, full_specular = ambient_diffuse, specular = interpolated()
+        # Shadows are per fragment (docs/shadows.md#flat-and-gouraud-shading): each shadowed
+        # light's own share of the interpolated colour, scaled by 1 − V_i at the pixel.
+        for index in range(0 if visibility is None else len(visibility)):
+            shadowed = 1.0 - visibility[index]
+            if shadowed.any():
+                lights_on = np.ones(len(visibility))
+                lights_on[index] = 0.0
+                without_ambient_diffuse, without_specular = interpolated(lights_on)
+                ambient_diffuse = ambient_diffuse - shadowed[:, None] * (full_ambient_diffuse - without_ambient_diffuse)
+                specular = specular - shadowed[:, None] * (full_specular - without_specular)
     else:  # phong
         normals = safe_normalize(np.einsum("nk,nkc->nc", weights, prepared.eye_normals[faces]), FALLBACK_NORMAL) * flip
         points = np.einsum("nk,nkc->nc", weights, prepared.eye_positions[faces])
@@ -160,7 +176,7 @@ def _shade_pixels(
                 )
                 front = safe_normalize(np.einsum("nk,nkc->nc", weights, prepared.eye_normals[faces]), FALLBACK_NORMAL)
                 normals = perturb_with_tangents(front, np.einsum("nk,nkc->nc", weights, eye_tangents[faces]), mapped, face_sign, normals)
-        ambient_diffuse, specular = shade_with(points, normals, uv)
+        ambient_diffuse, specular = shade_with(points, normals, uv, visibility)
 
     linear = is_linear(scene, material)
     texel = color_map(material.texture, uv, linear) if uv is not None else None
@@ -187,7 +203,7 @@ class RasterizedScene:
         else:
             eye_corners = np.zeros((0, 3, 3))
         tris = screen_triangles(eye_corners, np.arange(len(eye_corners)), camera, scene.size)
-        visibility = rasterize(tris, scene.size, camera.near, camera.far)
+        visibility = rasterize(tris, scene.size, camera.near, camera.far, camera.orthographic)
 
         covered_flat = visibility.triangle >= 0
         pixels = np.flatnonzero(covered_flat)
@@ -203,14 +219,27 @@ class RasterizedScene:
         mirrored = np.array([p.mirrored for p in self._prepared], dtype=bool)
         self._front_facing = ccw_in_ndc != mirrored[self._object_index]
 
-        rays = pixel_rays(camera, scene.size).reshape(-1, 3)[pixels]
-        self._weights = _ray_barycentrics(eye_corners[source], rays)
+        origins, rays = window_rays(camera, scene.size, columns + 0.5, rows + 0.5)
+        self._weights = _ray_barycentrics(eye_corners[source], origins, rays)
 
         self.covered = covered_flat.reshape(height, width)
         self.triangle = self._image(self._local_triangle, -1, np.int64)
         self.object = self._image(self._object_index, -1, np.int64)
         self.depth = visibility.depth.reshape(height, width)
         self.edge_margin = self._image(edge_margins(tris.fixed[screen_triangle], columns, rows), np.inf, np.float64)
+        self.visibility = self._light_visibility(eye_corners[source])
+
+    def _light_visibility(self, pixel_corners: np.ndarray) -> np.ndarray:
+        """(lights, H, W) V_i at each covered pixel's surface point (1 elsewhere), ray-cast
+        (visibility.py) from the point in world space; all 1 when nothing casts shadows."""
+        scene = self.scene
+        width, height = scene.size
+        result = np.ones((len(scene.lights), height * width))
+        if has_shadows(scene) and len(self._pixels):
+            eye_points = np.einsum("nk,nkc->nc", self._weights, pixel_corners)
+            world_points = transform_points(np.linalg.inv(eye_from_world(scene.camera)), eye_points)
+            result[:, self._pixels] = ShadowRays(scene).visibility(world_points, self._object_index, self._local_triangle)
+        return result.reshape(len(scene.lights), height, width)
 
     def _image(self, values: np.ndarray, fill, dtype) -> np.ndarray:
         width, height = self.scene.size
@@ -218,16 +247,23 @@ class RasterizedScene:
         result[self._pixels] = values
         return result.reshape(height, width)
 
-    def shade(self, shading: Shading | None = None) -> np.ndarray:
-        """(H, W, 4) float64 color with the scene's shading, or with `shading` instead."""
+    def shade(self, shading: Shading | None = None, visibility: np.ndarray | None = None) -> np.ndarray:
+        """(H, W, 4) float64 color with the scene's shading, or with `shading` instead, and
+        the exact shadows, or the per-light `visibility` (lights, H, W) instead."""
         scene = self.scene if shading is None else replace(self.scene, shading=shading)
         width, height = scene.size
+        visibility = self.visibility if visibility is None else np.asarray(visibility, dtype=np.float64)
+        if visibility.shape != (len(scene.lights), height, width):
+            raise ValueError(f"visibility: expected shape {(len(scene.lights), height, width)}, got {visibility.shape}")
+        per_pixel = visibility.reshape(len(scene.lights), height * width)
+        shadowed = bool((per_pixel[:, self._pixels] != 1.0).any())
         color = np.broadcast_to(np.asarray(scene.background, dtype=np.float64), (height * width, 4)).copy()
         for index, (obj, geometry) in enumerate(zip(scene.objects, self._prepared)):
             mine = self._object_index == index
             if mine.any():
                 color[self._pixels[mine]] = _shade_pixels(
-                    scene, obj, geometry, self._local_triangle[mine], self._weights[mine], self._front_facing[mine]
+                    scene, obj, geometry, self._local_triangle[mine], self._weights[mine], self._front_facing[mine],
+                    per_pixel[:, self._pixels[mine]] if shadowed else None,
                 )
         return color.reshape(height, width, 4)
 
@@ -254,4 +290,5 @@ def render_reference(scene: Scene) -> ReferenceImage:
         depth=rasterized.depth,
         edge_margin=rasterized.edge_margin,
         texel_footprint=rasterized.texel_footprint(),
+        visibility=rasterized.visibility,
     )

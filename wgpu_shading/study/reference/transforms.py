@@ -1,7 +1,8 @@
 """The spaces of the float64 reference: model → world → eye with 4×4 matrices derived here
 from docs/conventions.md (gluLookAt, T · Rz · Ry · Rx · S, the inverse-transpose normal
 matrix), and eye → window per point (the perspective divide written out, no projection
-matrix), plus the eye-space rays back through the pixel centres.
+matrix; glOrtho's box for orthographic cameras), plus the eye-space rays back through the
+pixel centres.
 
 Why numpy and not pyglm, as the renderer uses: this reference exists to check the renderer,
 so it derives every matrix itself from the written conventions. Importing the renderer's
@@ -71,27 +72,49 @@ def sphere_in_world(obj: SceneObject, radius: float = 1.0) -> tuple[np.ndarray, 
 # --------------------------------------------------------------------------- pixels and rays
 
 
-def pixel_rays(camera: Camera, size: tuple[int, int]) -> np.ndarray:
-    """(H, W, 3) eye-space directions through the pixel centres, z = -1."""
-    if camera.orthographic:  # every path of the reference starts from these rays
-        raise SceneError("the float64 reference renders perspective cameras only; camera.projection is 'orthographic'")
+def half_extents(camera: Camera, size: tuple[int, int]) -> tuple[float, float]:
+    """Half the image's width and height on the plane at eye depth 1 (perspective: the
+    tangents of the half angles) or in world units (orthographic: glOrtho's box)."""
     width, height = size
-    tan_half = math.tan(math.radians(camera.fov_y) / 2.0)
-    aspect = width / height
-    x = 2.0 * (np.arange(width) + 0.5) / width - 1.0
-    y = 1.0 - 2.0 * (np.arange(height) + 0.5) / height
-    rays = np.empty((height, width, 3))
-    rays[:, :, 0] = x[None, :] * tan_half * aspect
-    rays[:, :, 1] = y[:, None] * tan_half
-    rays[:, :, 2] = -1.0
-    return rays
+    half_height = camera.view_height() / 2.0 if camera.orthographic else math.tan(math.radians(camera.fov_y) / 2.0)
+    return half_height * width / height, half_height
+
+
+def window_rays(camera: Camera, size: tuple[int, int], x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eye-space rays through window positions (x right, y down, in pixels; pixel centres
+    at +0.5): (origins, directions), each (..., 3). Perspective: from the eye, z = -1;
+    orthographic: from the plane z = 0, along -Z."""
+    width, height = size
+    half_width, half_height = half_extents(camera, size)
+    x_ndc = 2.0 * np.asarray(x, dtype=np.float64) / width - 1.0
+    y_ndc = 1.0 - 2.0 * np.asarray(y, dtype=np.float64) / height
+    x_ndc, y_ndc = np.broadcast_arrays(x_ndc, y_ndc)
+    on_plane = np.stack([x_ndc * half_width, y_ndc * half_height, -np.ones_like(x_ndc)], axis=-1)
+    if not camera.orthographic:
+        return np.zeros_like(on_plane), on_plane
+    origins = on_plane.copy()
+    origins[..., 2] = 0.0
+    directions = np.zeros_like(on_plane)
+    directions[..., 2] = -1.0
+    return origins, directions
+
+
+def pixel_rays(camera: Camera, size: tuple[int, int]) -> np.ndarray:
+    """(H, W, 3) eye-space directions through the pixel centres, z = -1, from the eye at the
+    origin. Perspective cameras only: orthographic rays start at different points
+    (`window_rays` gives both)."""
+    if camera.orthographic:
+        raise SceneError("pixel_rays: an orthographic camera's rays do not start at the eye; use window_rays")
+    width, height = size
+    columns, rows = np.meshgrid(np.arange(width) + 0.5, np.arange(height) + 0.5)
+    return window_rays(camera, size, columns, rows)[1]
 
 
 def window_coordinates(eye_points: np.ndarray, camera: Camera, size: tuple[int, int]) -> np.ndarray:
-    """Eye space → window coordinates (x right, y down, in pixels); needs depth > 0."""
+    """Eye space → window coordinates (x right, y down, in pixels); perspective needs depth > 0."""
     width, height = size
-    tan_half = math.tan(math.radians(camera.fov_y) / 2.0)
-    depth = -eye_points[..., 2]
-    x_ndc = eye_points[..., 0] / (depth * tan_half * (width / height))
-    y_ndc = eye_points[..., 1] / (depth * tan_half)
+    half_width, half_height = half_extents(camera, size)
+    scale = 1.0 if camera.orthographic else -eye_points[..., 2]  # the perspective divide by depth
+    x_ndc = eye_points[..., 0] / (scale * half_width)
+    y_ndc = eye_points[..., 1] / (scale * half_height)
     return np.stack([(x_ndc + 1.0) * width / 2.0, (1.0 - y_ndc) * height / 2.0], axis=-1)

@@ -1,6 +1,6 @@
 """Everything one device keeps between frames, for every pass that draws on it.
 
-The colour pass (color_pass.py) and the extra outputs (extra_outputs.py: normals, object
+The colour pass (passes/color.py) and the extra outputs (passes/extra_outputs.py: normals, object
 ids) share one DeviceCache per Renderer: the same pipeline cache, mesh and texture
 uploads, samplers, uniform buffers, bind groups and render targets, each bounded as
 caches.py documents. Not thread-safe by itself: the Renderer uses it under its lock.
@@ -18,8 +18,8 @@ from itertools import count
 import numpy as np
 import wgpu
 
-from ..scene import Mesh, Texture
-from .bindings import BindingPlan
+from ...scene import Mesh, Texture
+from ..shaders.bindings import BindingPlan
 from .caches import (
     BIND_GROUP_CACHE_ENTRIES,
     MESH_CACHE_BYTES,
@@ -31,24 +31,15 @@ from .caches import (
     LruCache,
     ObjectCache,
 )
-from .device import uses_direct_upload
-from .pipeline_cache import PipelineCache
-from .resources import (
-    GpuMesh,
-    GpuTexture,
-    Target,
-    cached_bind_group,
-    check_target_size,
-    create_sampler,
-    new_target,
-    uniform_buffer,
-    upload_colors,
-    upload_mesh,
-    upload_tangents,
-    upload_texture,
-    upload_uvs,
-)
-from .uniforms import finite_uniform_bytes
+from ..device import uses_direct_upload
+from .pipelines import PipelineCache
+from ..shaders.uniforms import finite_uniform_bytes
+from .bind_groups import cached_bind_group
+from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh
+from .samplers import create_sampler
+from .targets import Target, check_target_size, new_target
+from .texture_uploads import GpuTexture, upload_texture
+from .uniform_buffers import uniform_buffer
 
 
 class DeviceCache:
@@ -82,12 +73,10 @@ class DeviceCache:
             gpu_mesh = None
         if gpu_mesh is None:
             gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order))
-        if plan is not None and "uvs" in plan:
-            upload_uvs(self.device, gpu_mesh, mesh, self._mesh_usage)
-        if plan is not None and "colors" in plan:
-            upload_colors(self.device, gpu_mesh, mesh, self._mesh_usage)
-        if plan is not None and "tangents" in plan:
-            upload_tangents(self.device, gpu_mesh, mesh, self._mesh_usage)
+        if plan is not None:
+            for name in OPTIONAL_ATTRIBUTES:
+                if name in plan:
+                    upload_attribute(self.device, gpu_mesh, mesh, name, self._mesh_usage)
         return gpu_mesh
 
     def gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:

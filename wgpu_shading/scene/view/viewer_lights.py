@@ -21,8 +21,8 @@ import math
 
 from pyglm import glm
 
-from .camera import Camera
-from .lights import DirectionalLight
+from ..camera import Camera
+from ..lights import DirectionalLight
 
 KEY_ELEVATION = 45.0  # degrees above the view direction
 KEY_AZIMUTH = 30.0  # degrees to the right

@@ -4,7 +4,7 @@ the same value (floats through repr, so they round-trip exactly).
 
 Every reader takes (value, where) and raises UsageError naming `where` (the flag, the
 manifest line and column, ...) and what was expected. The options themselves are listed
-in view_options.py.
+in options.py.
 """
 
 from __future__ import annotations
@@ -13,13 +13,13 @@ import math
 from dataclasses import replace
 from typing import Any
 
-from ..errors import SceneError, UsageError
-from .framing import parse_direction
+from ...errors import SceneError, UsageError
+from .bare_mesh import parse_direction
 from .viewer_lights import headlight
-from .lights import LIGHT_TYPES
-from .material_table import material as named_material
-from .objects import SAMPLE_COUNTS, up_axis
-from .values import MAX_EXPONENT, image_size
+from ..lights import LIGHT_TYPES
+from ..material_table import material as named_material
+from ..objects import SAMPLE_COUNTS, up_axis
+from ..values import MAX_EXPONENT, image_size
 
 TRUE_WORDS = ("1", "true", "yes", "on")
 FALSE_WORDS = ("0", "false", "no", "off")
@@ -160,7 +160,7 @@ def read_lights(value: Any, where: str) -> tuple[str, ...]:
     specs = [part.strip() for part in value.split(";")] if isinstance(value, str) else value
     if not isinstance(specs, (list, tuple)) or not all(isinstance(spec, str) for spec in specs):
         raise UsageError(f"{where}: expected light SPECs ({LIGHT_SYNTAX}), got {value!r}")
-    from .camera import Camera
+    from ..camera import Camera
 
     for spec in specs:
         try:

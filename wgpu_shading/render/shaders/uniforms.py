@@ -14,8 +14,8 @@ import math
 import numpy as np
 from pyglm import glm
 
-from ..errors import SceneError
-from ..scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
+from ...errors import SceneError
+from ...scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
 
 
 def clip_from_eye(camera: Camera, aspect: float) -> np.ndarray:

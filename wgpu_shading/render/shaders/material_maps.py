@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import weakref
 
-from ..scene import Material, Texture
-from ..scene.maps import height_to_normal
-from .features import FeatureSet
+from ...scene import Material, Texture
+from ...scene.maps import height_to_normal
+from ..features import FeatureSet
 
 _bump_normals: "weakref.WeakKeyDictionary[Texture, dict[float, Texture]]" = weakref.WeakKeyDictionary()
 

@@ -14,11 +14,11 @@ import math
 import numpy as np
 from pyglm import glm
 
-from ..errors import SceneError
-from .camera import Camera
-from .mesh import Mesh
-from .objects import SceneObject
-from .values import Vec3, direction
+from ...errors import SceneError
+from ..camera import Camera
+from ..mesh import Mesh
+from ..objects import SceneObject
+from ..values import Vec3, direction
 
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 # The view direction of the default framing (+Y up): from the front, a little above.

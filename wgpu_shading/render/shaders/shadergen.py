@@ -25,7 +25,7 @@ from importlib.resources import files
 from typing import Callable, Mapping
 
 from .bindings import BindingPlan, binding_plan, extra_outputs_plan
-from .features import FeatureSet
+from ..features import FeatureSet
 
 _DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif)\b(.*)$")
 _INCLUDE = re.compile(r'^\s*"([\w.\-/]+)"\s*$')

@@ -1,0 +1,71 @@
+"""The shadow part of the accuracy study (docs/accuracy.md#shadows): its grid, the rule
+that `auto` follows (docs/shadows.md#auto), and the sweep itself once the GPU draws shadows."""
+
+from __future__ import annotations
+
+import pytest
+
+from wgpu_shading.errors import AccuracyError, SceneError
+from wgpu_shading.scene import ShadowSettings
+from wgpu_shading.study.accuracy import (
+    ShadowBudget,
+    ShadowPoint,
+    ShadowSetting,
+    cheapest_shadow_setting,
+    gpu_draws_shadows,
+    run_shadow_study,
+    shadow_grid,
+    shadow_table,
+)
+
+
+def point(size, filter_, bias, ms, wrong_far=0, displacement=0.5, color=0.2, case="a"):
+    return ShadowPoint(case, ShadowSetting(size, filter_, bias), wrong_far + 3, wrong_far, displacement, color, color, ms)
+
+
+def test_the_grid_is_every_combination_and_validated():
+    grid = shadow_grid((512, 1024), ("nearest", "pcf3"), (0.0, 1.0))
+    assert len(grid) == 8 and ShadowSetting(1024, "pcf3", 1.0) in grid
+    assert grid[0].settings() == ShadowSettings(512, "nearest", 0.0)
+    with pytest.raises(SceneError, match="shadows.map_size"):
+        shadow_grid((8,))
+
+
+def test_auto_is_the_cheapest_setting_within_the_budget_on_every_case():
+    points = [
+        point(512, "nearest", 0.0, 1.0, wrong_far=40),  # acne: out
+        point(512, "pcf3", 1.0, 2.0, displacement=1.4),  # boundary too far: out
+        point(1024, "pcf3", 1.0, 3.0),
+        point(1024, "pcf3", 1.0, 3.1, case="b"),
+        point(2048, "bilinear", 1.0, 2.95),
+        point(2048, "bilinear", 1.0, 9.0, case="b", color=1.5),  # fails on case b: out
+        point(4096, "pcf5", 2.0, 8.0),
+    ]
+    assert cheapest_shadow_setting(points) == ShadowSetting(1024, "pcf3", 1.0)
+    # Within 5 % of the fastest, the smaller map wins; a looser budget lets the fast ones in.
+    assert cheapest_shadow_setting(points, ShadowBudget(wrong_far=50, displacement_p99=2.0)) == ShadowSetting(512, "nearest", 0.0)
+    assert cheapest_shadow_setting([point(512, "nearest", 0.0, 1.0, wrong_far=1)]) is None
+
+
+def test_the_table_has_a_row_per_setting():
+    table = shadow_table([point(1024, "pcf3", 1.0, 3.0), point(1024, "pcf3", 1.0, 5.0, case="b", wrong_far=2)])
+    assert "| 1024 | pcf3 | 1 | 2 | 0.50 | 0.20 | 4.00 |" in table
+
+
+@pytest.mark.skipif(gpu_draws_shadows(), reason="the renderer draws shadows: the sweep runs below")
+def test_the_sweep_says_when_the_renderer_draws_no_shadows(renderer):
+    with pytest.raises(AccuracyError, match="needs a renderer that draws shadows"):
+        run_shadow_study(renderer, shadow_grid((512,), ("nearest",), (1.0,)))
+
+
+@pytest.mark.skipif(not gpu_draws_shadows(), reason="the renderer draws no shadows yet (FeatureSet has no shadow field)")
+def test_a_small_sweep_measures_every_point(renderer):
+    grid = shadow_grid((256, 1024), ("nearest", "pcf3"), (1.0,))
+    points = run_shadow_study(renderer, grid, cases=(("sphere_over_plane_30", 1.0, "perspective"),), size=(96, 96), frames=1)
+    assert len(points) == 4 and all(p.frame_ms > 0 for p in points)
+
+
+def test_auto_resolves_field_by_field():
+    resolved = ShadowSettings(map_size=512).resolved()
+    assert resolved.map_size == 512 and resolved.filter != "auto" and resolved.bias != "auto"
+    assert ShadowSettings(512, "nearest", 0.0).resolved() == ShadowSettings(512, "nearest", 0.0)

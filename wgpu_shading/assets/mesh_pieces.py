@@ -1,0 +1,133 @@
+"""The vertex sets a mesh file is read into ("pieces": an OBJ, a PLY, a glTF primitive
+instance, each with its parts and materials) and their assembly into one Mesh, with
+normals as docs/real-world-files.md says: the file's normals win; glTF primitives
+without NORMAL are flat; otherwise vertices are welded by position and split at the crease
+angle (scene/normals.py)."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..errors import MeshError
+from ..scene.mesh import Mesh, MeshPart, face_normals
+from ..scene.normals import crease_normals
+
+
+@dataclass
+class MeshPiece:
+    """One vertex set of a file: an OBJ, a glTF primitive instance, a PLY."""
+
+    positions: np.ndarray
+    faces: np.ndarray
+    normals: np.ndarray | None = None
+    uvs: np.ndarray | None = None
+    colors: np.ndarray | None = None  # (n, 4) float in [0, 1]
+    flat: np.ndarray | None = None  # (f,) bool: faces that are always flat
+    all_flat: bool = False
+    parts: list = field(default_factory=list)  # (first face, count, material, name)
+    tangents: np.ndarray | None = None  # (n, 4) glTF TANGENT, only with the file's normals
+
+
+def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:
+    """One colour per face, unblended: every corner its own vertex (MeshLab; averaging
+    into vertices would blur the faces' colours)."""
+    corners = piece.faces.reshape(-1)
+    return replace(
+        piece,
+        positions=piece.positions[corners],
+        faces=np.arange(len(corners)).reshape(-1, 3),
+        normals=None if piece.normals is None else piece.normals[corners],
+        uvs=None if piece.uvs is None else piece.uvs[corners],
+        colors=np.repeat(face_colors, 3, axis=0),
+    )
+
+
+def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
+    """The piece with normals: the file's, flat, or welded and creased."""
+    if piece.normals is not None:
+        return piece
+    if piece.all_flat:  # every corner its own vertex, with its face's normal
+        corners = piece.faces.reshape(-1)
+        unit, _ = face_normals(piece.positions, piece.faces)
+        return replace(
+            piece,
+            positions=piece.positions[corners],
+            faces=np.arange(len(corners)).reshape(-1, 3),
+            normals=np.repeat(unit, 3, axis=0),
+            uvs=None if piece.uvs is None else piece.uvs[corners],
+            colors=None if piece.colors is None else piece.colors[corners],
+        )
+    source, faces, normals = crease_normals(piece.positions, piece.faces, crease_angle, piece.flat)
+    if source is None:
+        return replace(piece, normals=normals)
+    return replace(
+        piece,
+        positions=piece.positions[source],
+        faces=faces,
+        normals=normals,
+        uvs=None if piece.uvs is None else piece.uvs[source],
+        colors=None if piece.colors is None else piece.colors[source],
+    )
+
+
+def _check_piece(piece: MeshPiece, name: str) -> None:
+    """What normals and welding index with must be valid first (trimesh reads PLY, STL and
+    OFF faces without checking them, process=False): finite positions, indices in range."""
+    if piece.faces.ndim != 2 or piece.faces.shape[1] != 3:
+        raise MeshError(f"{name}: faces must be triangles, got an array of shape {piece.faces.shape}")
+    if not np.isfinite(piece.positions).all():
+        bad = int(np.flatnonzero(~np.isfinite(piece.positions).all(axis=1))[0])
+        raise MeshError(f"{name}: vertex {bad} has a NaN or infinite coordinate: {piece.positions[bad].tolist()}")
+    low, high = int(piece.faces.min()), int(piece.faces.max())
+    if low < 0 or high >= len(piece.positions):
+        culprit = low if low < 0 else high
+        raise MeshError(
+            f"{name}: a face refers to vertex {culprit}, but the file has {len(piece.positions)} vertices "
+            f"(valid: 0..{len(piece.positions) - 1})"
+        )
+
+
+def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
+    """The pieces as one Mesh: each with its normals, then joined, parts in order."""
+    for piece in pieces:
+        _check_piece(piece, name)
+    pieces = [_piece_normals(piece, crease_angle) for piece in pieces]
+    any_uvs = any(p.uvs is not None for p in pieces)
+    any_colors = any(p.colors is not None for p in pieces)
+    any_tangents = any(p.tangents is not None for p in pieces)
+    positions, faces, normals, uvs, colors, tangents, parts = [], [], [], [], [], [], []
+    vertex_offset = face_offset = 0
+    for piece in pieces:
+        count = len(piece.positions)
+        positions.append(piece.positions)
+        faces.append(piece.faces + vertex_offset if vertex_offset else piece.faces)  # one piece: no copy
+        normals.append(piece.normals)
+        if any_uvs:
+            uvs.append(piece.uvs if piece.uvs is not None else np.zeros((count, 2)))
+        if any_colors:
+            colors.append(piece.colors if piece.colors is not None else np.ones((count, 4)))
+        if any_tangents:  # zeros: no tangent, the derivative frame
+            tangents.append(piece.tangents if piece.tangents is not None else np.zeros((count, 4)))
+        for first, length, material, part_name in piece.parts:
+            if material is not None and material.texture is not None and piece.uvs is None:
+                warnings.warn(f"{name}: part {part_name!r} has a texture but no texture coordinates; drawn untextured", stacklevel=3)
+                material = replace(material, texture=None)
+            parts.append(MeshPart(face_offset + first, length, material, part_name))
+        vertex_offset += count
+        face_offset += len(piece.faces)
+    def joined(arrays: list) -> np.ndarray:  # one piece (a PLY, an STL): no copy
+        return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
+
+    return Mesh.from_arrays(
+        joined(positions),
+        joined(faces),
+        normals=joined(normals),
+        uvs=joined(uvs) if any_uvs else None,
+        colors=joined(colors) if any_colors else None,
+        tangents=joined(tangents) if any_tangents else None,
+        parts=tuple(parts),
+        name=name,
+    )

@@ -1,0 +1,98 @@
+"""Mesh uploads: positions, normals and indices in GPU buffers (in vertex-cache order,
+vertex_order.py), and the optional attributes (uvs, colors, tangents) once a draw needs them."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+import wgpu
+
+from ...scene import Mesh
+from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
+from .vertex_order import VertexOrder, cache_order
+
+
+@dataclass
+class GpuMesh:
+    positions: object
+    normals: object
+    indices: object
+    uvs: object | None
+    triangle_count: int
+    colors: object | None = None
+    tangents: object | None = None
+    # flat shading's vertex-pulling bind groups (one per layout: a handful)
+    storage_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
+    # the vertex-cache order the buffers hold (render/gpu/vertex_order.py); None: the mesh's own
+    order: VertexOrder | None = None
+
+    @property
+    def nbytes(self) -> int:
+        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents)
+        return sum(b.size for b in buffers if b is not None)
+
+def vertex_order_enabled() -> bool:
+    """Meshes are uploaded in vertex-cache order unless WGPU_SHADING_VERTEX_ORDER=0 (for
+    A/B measurements and the test that the pixels do not change)."""
+    return os.environ.get("WGPU_SHADING_VERTEX_ORDER", "1") != "0"
+
+def upload_mesh(device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] = frozenset()) -> GpuMesh:
+    """Positions, normals and indices of `mesh` in GPU buffers. One upload serves every
+    frequency: vertex buffers for Gouraud/Phong, storage buffers for flat shading's vertex
+    pulling. `extra_usage` is MAP_WRITE where the device writes such buffers in place.
+
+    The triangles of every part not in `in_order` (the alpha-blended parts) are uploaded in
+    vertex-cache order, and the vertices in first-use order (render/gpu/vertex_order.py: same
+    pixels, less vertex work). The vertices are written into their buffers in the new order
+    a chunk at a time, and the reordered indices live in scratch memory that is handed back
+    right after their upload: the upload still leaves one copy of the mesh (the driver's)."""
+    usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
+    index_usage = wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | extra_usage
+    if not vertex_order_enabled():
+        return GpuMesh(
+            positions=device.create_buffer_with_data(data=mesh.positions, usage=usage),
+            normals=device.create_buffer_with_data(data=mesh.normals, usage=wgpu.BufferUsage.VERTEX | extra_usage),
+            indices=device.create_buffer_with_data(data=mesh.indices, usage=index_usage),
+            uvs=None,
+            triangle_count=mesh.triangle_count,
+        )
+    scratch, order = cache_order(mesh.indices, mesh.vertex_count, mesh.parts, in_order)
+    try:
+        indices = device.create_buffer_with_data(data=scratch.array, usage=index_usage)
+    finally:
+        scratch.close()
+    return GpuMesh(
+        positions=_reordered_buffer(device, mesh.positions, order, usage),
+        normals=_reordered_buffer(device, mesh.normals, order, wgpu.BufferUsage.VERTEX | extra_usage),
+        indices=indices,
+        uvs=None,
+        triangle_count=mesh.triangle_count,
+        order=order,
+    )
+
+def _reordered_buffer(device, array: np.ndarray, order: VertexOrder | None, usage: int):
+    """A buffer holding `array` (per-vertex rows) in the upload's vertex order."""
+    if order is None:
+        return device.create_buffer_with_data(data=array, usage=usage)
+    row_bytes = array.itemsize * int(np.prod(array.shape[1:]))
+    buffer = device.create_buffer(size=(len(order.gather) * row_bytes + 3) & ~3, usage=usage, mapped_at_creation=True)
+    order.write_vertices(buffer, array)
+    buffer.unmap()
+    return buffer
+
+
+# The per-vertex arrays a draw may need besides positions and normals: GpuMesh and Mesh
+# attributes of these names (the binding plan's VertexAttribute names).
+OPTIONAL_ATTRIBUTES = ("uvs", "colors", "tangents")
+
+
+def upload_attribute(device, gpu_mesh: GpuMesh, mesh: Mesh, name: str, extra_usage: int) -> None:
+    """The mesh's `name` array (uvs, float32 RGBA colors, a file's float32 xyzw tangents),
+    uploaded only once a draw needs it: most meshes are drawn untextured, and a big mesh's
+    uvs are a seventh of its memory."""
+    values = getattr(mesh, name)
+    if getattr(gpu_mesh, name) is None and values is not None:
+        usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
+        setattr(gpu_mesh, name, _reordered_buffer(device, values, gpu_mesh.order, usage))

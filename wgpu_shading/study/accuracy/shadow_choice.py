@@ -1,0 +1,49 @@
+"""What `auto` means for shadows (docs/shadows.md#auto): the cheapest setting within the
+budget — no acne or leak (no wrong pixel beyond 2 px of the exact boundary), the boundary
+within 1 px (p99), the colour within 1/255 away from the boundary — on every case the
+study measured. The renderer resolves "auto" with the constant the study's run wrote into
+scene/shadows.py (`AUTO_SHADOW_SETTING`); this is the rule that chooses it, and the check
+that the constant is still the rule's answer (tests/test_shadow_study.py)."""
+
+from __future__ import annotations
+
+import statistics
+from dataclasses import dataclass
+from typing import Iterable
+
+from ...scene import SHADOW_FILTERS
+from .shadow_sweep import ShadowPoint, ShadowSetting
+
+TIE = 0.05  # frame times within 5 % of the fastest are a tie, won by the smaller map, then the cheaper filter
+
+
+@dataclass(frozen=True)
+class ShadowBudget:
+    wrong_far: int = 0  # pixels beyond 2 px of the exact boundary with the wrong state
+    displacement_p99: float = 1.0  # px
+    color_error: float = 1.0  # 1/255
+
+    def allows(self, point: ShadowPoint) -> bool:
+        return (point.wrong_far <= self.wrong_far and point.displacement_p99 <= self.displacement_p99
+                and point.color_error <= self.color_error)
+
+
+def qualifying_settings(points: Iterable[ShadowPoint], budget: ShadowBudget = ShadowBudget()) -> dict[ShadowSetting, float]:
+    """Settings within the budget on every case they were measured on → their median frame time (ms)."""
+    by_setting: dict[ShadowSetting, list[ShadowPoint]] = {}
+    for point in points:
+        by_setting.setdefault(point.setting, []).append(point)
+    return {setting: statistics.median(p.frame_ms for p in rows)
+            for setting, rows in by_setting.items() if all(budget.allows(p) for p in rows)}
+
+
+def cheapest_shadow_setting(points: Iterable[ShadowPoint], budget: ShadowBudget = ShadowBudget()) -> ShadowSetting | None:
+    """The cheapest qualifying setting (None if none qualifies): least median frame time;
+    within 5 % of it, the smaller map, then the filter earlier in SHADOW_FILTERS, then the
+    smaller bias (the least a receiver is moved)."""
+    qualifying = qualifying_settings(points, budget)
+    if not qualifying:
+        return None
+    fastest = min(qualifying.values())
+    ties = [s for s, ms in qualifying.items() if ms <= fastest * (1.0 + TIE)]
+    return min(ties, key=lambda s: (s.map_size, SHADOW_FILTERS.index(s.filter), s.bias))

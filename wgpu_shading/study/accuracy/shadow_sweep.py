@@ -1,0 +1,143 @@
+"""The shadow part of the accuracy/time study (docs/accuracy.md#shadows): map size × filter ×
+bias on the shadow hard cases (study/shadows/cases.py), each point measured against the
+exact ray-cast visibility with `measure_shadows` (misclassified pixels, boundary
+displacement, colour error) and timed (median warm RGBA8 frame).
+
+    from wgpu_shading.study.accuracy import shadow_grid, run_shadow_study, cheapest_shadow_setting
+    points = run_shadow_study(renderer, shadow_grid())          # needs GPU shadows
+    print(cheapest_shadow_setting(points))                      # what `auto` should be
+
+It needs a renderer that draws shadows (`gpu_draws_shadows()`); until then
+`run_shadow_study` raises AccuracyError saying so. Everything else (the grid, the rule,
+the table) works on any list of points.
+"""
+
+from __future__ import annotations
+
+import itertools
+import statistics
+import time
+from dataclasses import dataclass, fields, replace
+from typing import Callable, Iterable
+
+from ...errors import AccuracyError
+from ...scene import SHADOW_FILTERS, ShadowSettings
+from ..shadows import ShadowReference, measure_shadows, shadow_case
+
+MAP_SIZES = (256, 512, 1024, 2048, 4096)
+BIASES = (0.0, 0.5, 1.0, 1.5, 2.0, 3.0)  # shadow-map texels
+# The cases the sweep measures: grazing light, contact, zero thickness, self-shadowing,
+# the terminator, the cube map, at the scales and projections of the guarantees.
+STUDY_CASES = (
+    ("sphere_over_plane_30", 1.0, "perspective"),
+    ("sphere_over_plane_2", 1.0, "perspective"),
+    ("sphere_on_plane", 1e3, "perspective"),
+    ("quad_occluder", 1.0, "orthographic"),
+    ("torus_self_shadow", 1e-3, "perspective"),
+    ("low_poly_terminator", 1.0, "perspective"),
+    ("ring_of_boxes", 1.0, "perspective"),
+)
+
+
+@dataclass(frozen=True, order=True)
+class ShadowSetting:
+    """One point of the grid: what ShadowSettings would hold, every field explicit."""
+
+    map_size: int
+    filter: str
+    bias: float
+
+    def settings(self) -> ShadowSettings:
+        return ShadowSettings(map_size=self.map_size, filter=self.filter, bias=self.bias)
+
+    @property
+    def label(self) -> str:
+        return f"{self.map_size} {self.filter} bias {self.bias:g}"
+
+
+@dataclass(frozen=True)
+class ShadowPoint:
+    """One setting on one case: errors against the exact shadows, and the frame time."""
+
+    case: str
+    setting: ShadowSetting
+    wrong: int  # pixels with the wrong state (all lights)
+    wrong_far: int  # of those, farther than 2 px from the exact boundary: acne and leaks
+    displacement_p99: float  # px, the worst light's
+    lit_error: float  # 1/255, where exactly lit, away from the boundaries
+    shadowed_error: float  # 1/255, where exactly shadowed, away from the boundaries
+    frame_ms: float  # median warm RGBA8 frame
+
+    @property
+    def color_error(self) -> float:
+        return max(self.lit_error, self.shadowed_error)
+
+
+def shadow_grid(map_sizes: Iterable[int] = MAP_SIZES, filters: Iterable[str] = SHADOW_FILTERS,
+                biases: Iterable[float] = BIASES) -> tuple[ShadowSetting, ...]:
+    """Every combination, validated as ShadowSettings would validate it."""
+    grid = tuple(ShadowSetting(int(m), f, float(b)) for m, f, b in itertools.product(map_sizes, filters, biases))
+    for setting in grid:
+        setting.settings()  # a SceneError names a bad value
+    return grid
+
+
+def gpu_draws_shadows() -> bool:
+    """Whether this renderer has shadow passes (its FeatureSet has a shadow field)."""
+    from ...render.features import FeatureSet
+
+    return any("shadow" in f.name for f in fields(FeatureSet))
+
+
+def _median_frame_ms(renderer, scene, frames: int) -> float:
+    renderer.render_frame(scene)  # warm: pipelines, uploads, shadow maps' targets
+    times = []
+    for _ in range(frames):
+        start = time.perf_counter()
+        renderer.render_frame(scene)
+        times.append(time.perf_counter() - start)
+    return 1000.0 * statistics.median(times)
+
+
+def run_shadow_study(renderer, grid: tuple[ShadowSetting, ...], cases=STUDY_CASES, size: tuple[int, int] = (256, 256),
+                     frames: int = 3, progress: Callable[[int, int], None] | None = None) -> tuple[ShadowPoint, ...]:
+    """Measure every setting of `grid` on every case (name, scale, projection)."""
+    if not gpu_draws_shadows():
+        raise AccuracyError("the shadow study needs a renderer that draws shadows; this one has no shadow passes yet")
+    points, done, total = [], 0, len(grid) * len(cases)
+    for name, scale, projection in cases:
+        case = shadow_case(name, size, scale=scale, projection=projection)
+        reference = ShadowReference(case.scene)
+        no_shadows = replace(case.scene, lights=tuple(replace(light, shadows=False) for light in case.scene.lights))
+        shadowless = renderer.render_frame(no_shadows, float32=True).color
+        for setting in grid:
+            scene = replace(case.scene, shadows=setting.settings())
+            report = measure_shadows(reference, renderer.render_frame(scene, float32=True).color, shadowless, name=case.name)
+            points.append(ShadowPoint(
+                case=case.name, setting=setting,
+                wrong=sum(r.wrong for r in report.lights), wrong_far=sum(r.wrong_far for r in report.lights),
+                displacement_p99=max((r.displacement_p99 for r in report.lights), default=0.0),
+                lit_error=report.lit_error, shadowed_error=report.shadowed_error,
+                frame_ms=_median_frame_ms(renderer, scene, frames),
+            ))
+            done += 1
+            if progress is not None:
+                progress(done, total)
+    return tuple(points)
+
+
+def shadow_table(points: Iterable[ShadowPoint]) -> str:
+    """Markdown: one row per setting, the worst case's errors and the median frame time."""
+    by_setting: dict[ShadowSetting, list[ShadowPoint]] = {}
+    for point in points:
+        by_setting.setdefault(point.setting, []).append(point)
+    lines = ["| map | filter | bias | wrong far (max) | boundary p99 px (max) | colour /255 (max) | ms (median) |",
+             "|---:|---|---:|---:|---:|---:|---:|"]
+    for setting in sorted(by_setting):
+        rows = by_setting[setting]
+        lines.append(
+            f"| {setting.map_size} | {setting.filter} | {setting.bias:g} | {max(r.wrong_far for r in rows)} | "
+            f"{max(r.displacement_p99 for r in rows):.2f} | {max(r.color_error for r in rows):.2f} | "
+            f"{statistics.median(r.frame_ms for r in rows):.2f} |"
+        )
+    return "\n".join(lines)
