@@ -73,7 +73,6 @@ SAMPLES = {option.name: _sample(option) for option in VIEW_OPTIONS}
 # What else a sample needs to show in the pictures below.
 WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"]}
 _NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")  # no back faces, colours or file lights
-BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")
 BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)) + "".join(
     f"f {a} {b} {c}\n" for a, b, c in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
                                        (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4))

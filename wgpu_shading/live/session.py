@@ -26,7 +26,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..assets.view_loader import is_scene_file, load_source
+from ..assets.view_loader import load_source, source_name
 from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
@@ -94,10 +94,7 @@ class LiveView:
         """The source's stem (screenshots are NAME-NNN.png)."""
         if isinstance(self.source, Scene):
             return "view"
-        source = self.source.split("?")[0]
-        for prefix in ("builtin:", "example:"):
-            source = source.removeprefix(prefix)
-        return Path(source).stem or "view"
+        return source_name(self.source, "view")
 
     def options(self) -> ViewOptions:
         """The view options of what is shown now: the opening options changed by the keys and
@@ -135,7 +132,7 @@ class LiveView:
             if len(self._loaded) >= LOAD_CACHE_ENTRIES:
                 self._loaded.pop(next(iter(self._loaded)))
             self._loaded[key] = base
-        return apply_view_options(base, options, follow_camera=not is_scene_file(self.source))
+        return apply_view_options(base, options)
 
     def scenes(self) -> list[Scene]:
         return [self._scene_for(panel.options) for panel in self.panels()]
