@@ -49,18 +49,6 @@ def status(key: str) -> int:
     raise KeyError(key)
 
 
-def framed_scene(mesh, size: int):
-    """The scene `wgpu-shading render MESH` draws (assets/mesh_scene.py), for a mesh already loaded."""
-    from wgpu_shading.scene import Scene, SceneObject, material
-    from wgpu_shading.scene.framing import framing_camera
-    from wgpu_shading.scene.maps import bare_mesh_lighting
-
-    placed = SceneObject(mesh, material("gold"))
-    camera = framing_camera(mesh, (size, size))
-    lights, ambient = bare_mesh_lighting((placed,), camera)
-    return Scene(objects=(placed,), lights=lights, camera=camera, size=(size, size), ambient=ambient)
-
-
 def main() -> None:
     triangles, path = int(sys.argv[1]), Path(sys.argv[2])
     render_size = int(sys.argv[sys.argv.index("--render") + 1]) if "--render" in sys.argv else None
@@ -90,7 +78,9 @@ def main() -> None:
         "load_seconds": round(seconds, 1), "load_cpu_seconds": round(cpu_seconds, 1),
     }
     if render_size is not None:
-        scene = framed_scene(mesh, render_size)
+        from wgpu_shading.scene.view.bare_mesh import bare_mesh_scene
+
+        scene = bare_mesh_scene(mesh, (render_size, render_size))  # what `render MESH` draws, for the loaded mesh
         start, cpu = time.perf_counter(), time.process_time()
         image = renderer.render(scene)
         result["render_seconds"], result["render_cpu_seconds"] = round(time.perf_counter() - start, 1), round(time.process_time() - cpu, 1)
