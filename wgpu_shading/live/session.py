@@ -171,6 +171,14 @@ class LiveView:
         return width * len(self.panels()), height
 
     def title(self) -> str:
+        """The window's title: what is shown (`description`) and the last frame's time."""
+        parts = [self.description()]
+        if self.frame_ms is not None:
+            parts.append(f"{self.frame_ms:.1f} ms")
+        return " — ".join(parts)
+
+    def description(self) -> str:
+        """What is shown: source, frequency, reflection (or the compared variants), material."""
         s = self.state.settings
         source = "scene" if isinstance(self.source, Scene) else self.source
         material = s.material or self.state.scene_material or "file materials"
@@ -182,8 +190,6 @@ class LiveView:
         if self.compare:
             parts.append("compare " + " | ".join(COMPARE_AXES[self.compare]))
         parts.append(material)
-        if self.frame_ms is not None:
-            parts.append(f"{self.frame_ms:.1f} ms")
         return " — ".join(parts)
 
     # ------------------------------------------------------------------ events
