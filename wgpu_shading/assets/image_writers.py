@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import numpy as np
 
@@ -12,10 +12,48 @@ from ..errors import UsageError
 from .atomic import atomic_open, atomic_path, check_target
 from .png import encode_png, write_png
 
-IMAGE_SUFFIXES = (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
-DEPTH_SUFFIXES = (".npy", ".png", ".tif", ".tiff")
+class FileFormat(NamedTuple):
+    """One suffix of the table below: Pillow's format (None: numpy's .npy), what the file holds
+    (shown by --help) and whether it keeps alpha."""
+
+    pillow: str | None
+    holds: str
+    alpha: bool = True
+
+
+# The files `render -o` and `--depth` write. What `-o` accepts, its --help and the writers
+# are all read from here (one truth: a suffix not listed is refused, with the list).
+_RGB = FileFormat("JPEG", "8-bit RGB, no alpha", alpha=False)
+_TIFF = FileFormat("TIFF", "8-bit RGBA")
+IMAGE_FORMATS = {
+    ".png": FileFormat("PNG", "8-bit RGBA"),
+    ".npy": FileFormat(None, "float32 RGBA, exact"),
+    ".jpg": _RGB,
+    ".jpeg": _RGB,
+    ".bmp": FileFormat("BMP", "8-bit RGB, no alpha", alpha=False),
+    ".tif": _TIFF,
+    ".tiff": _TIFF,
+}
+_FLOAT_TIFF = FileFormat("TIFF", "float32, inf = background")
+DEPTH_FORMATS = {
+    ".npy": FileFormat(None, "float32, inf = background"),
+    ".tif": _FLOAT_TIFF,
+    ".tiff": _FLOAT_TIFF,
+    ".png": FileFormat("PNG", "16-bit, 0 = background, 1..65535 = near..far plane linearly, as batch --depth png16"),
+}
+IMAGE_SUFFIXES = tuple(IMAGE_FORMATS)
+DEPTH_SUFFIXES = tuple(DEPTH_FORMATS)
 STDOUT = "-"  # `-o -`: the PNG goes to standard output
 PNG_LEVEL = 6  # zlib level of `render`'s PNGs (zlib's and Pillow's default); `batch --compression` chooses its own
+
+
+def formats_text(formats: dict[str, FileFormat]) -> str:
+    """A format table for --help: ".png (8-bit RGBA), .jpg/.jpeg (8-bit RGB, no alpha), ..."
+    (suffixes that write the same format together)."""
+    groups: dict[FileFormat, list[str]] = {}
+    for suffix, kind in formats.items():
+        groups.setdefault(kind, []).append(suffix)
+    return ", ".join(f"{'/'.join(suffixes)} ({kind.holds})" for kind, suffixes in groups.items())
 
 
 def output_path(path: os.PathLike[str] | str, suffixes: Sequence[str], what: str = "output") -> Path:
@@ -116,9 +154,6 @@ def write_depth(path: Path, depth: np.ndarray, near: float, far: float) -> str:
     return f"16-bit, linear: 0 = background, 1..65535 = near plane ({near:g}) .. far plane ({far:g})"
 
 
-_PIL_FORMATS = {".png": "PNG", ".jpg": "JPEG", ".jpeg": "JPEG", ".bmp": "BMP", ".tif": "TIFF", ".tiff": "TIFF"}
-
-
 def write_image(path: Path, image: np.ndarray, what: str = "output") -> None:
     """.npy keeps float32 exactly; image formats get the 8-bit image, written by Pillow
     directly (imageio's plugin discovery would add ~0.1 s to every cold start). Written
@@ -135,10 +170,11 @@ def write_image(path: Path, image: np.ndarray, what: str = "output") -> None:
         return
     from PIL import Image
 
-    if suffix in (".jpg", ".jpeg"):
-        # JPEG has no alpha. The color is already over the background; alpha only marks
-        # translucent materials, which an opaque framebuffer (OpenGL's default) shows as RGB.
+    if not IMAGE_FORMATS[suffix].alpha:
+        # JPEG and BMP (as readers take it) keep no alpha. The color is already over the
+        # background; alpha only marks translucent materials, which an opaque framebuffer
+        # (OpenGL's default) shows as RGB.
         image = image[:, :, :3]
     picture = Image.fromarray(np.ascontiguousarray(image))
     with atomic_path(path, what) as temporary:
-        picture.save(temporary, format=_PIL_FORMATS.get(suffix))
+        picture.save(temporary, format=IMAGE_FORMATS[suffix].pillow)

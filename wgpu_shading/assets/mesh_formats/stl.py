@@ -7,7 +7,7 @@ against the file's size before anything is allocated, the corners are read in bl
 one float32 array, and corners with equal coordinates are joined into one vertex at once
 (STL repeats each vertex for every triangle around it; the crease normals weld by exact
 position anyway, docs/conventions.md), so everything after works on ~1/6 of the vertices.
-ASCII STL stays with trimesh.
+ASCII STL stays with trimesh (trimesh_reader.py).
 """
 
 from __future__ import annotations
@@ -18,6 +18,8 @@ import numpy as np
 
 from ...errors import MeshError
 from ...scene.mesh import MAX_TRIANGLES
+from ..mesh_pieces import MeshFile, MeshPiece
+from .trimesh_reader import read_with_trimesh
 
 HEADER_BYTES = 84  # 80 bytes of free text, then the little-endian uint32 triangle count
 RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])  # 50 bytes
@@ -26,6 +28,21 @@ RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attrib
 MAX_ASCII_BYTES = 512 << 20
 BLOCK = 1 << 18  # triangles read at a time: 13 MB of records, and the block's corners
 _KEY = np.dtype("V12")  # a corner's three coordinates as big-endian bits: compared bytewise, in coordinate order
+
+
+def read_stl(path: Path, file_size: int) -> MeshFile:
+    """An STL file: binary with numpy, ASCII through trimesh."""
+    where = f"mesh file {str(path)!r}"
+    try:
+        count = binary_stl_count(path, where, file_size)
+        if count is None:
+            return read_with_trimesh(path, file_size)
+        positions, faces = read_binary_stl(path, count)
+    except OSError as error:
+        raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
+    except MemoryError:
+        raise MeshError(f"{where}: not enough memory to read {file_size} bytes of STL") from None
+    return MeshFile([MeshPiece(positions, faces, parts=[(0, len(faces), None, path.name)])])
 
 
 def binary_stl_count(path: Path, where: str, file_size: int) -> int | None:
