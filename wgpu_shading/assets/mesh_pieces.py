@@ -87,7 +87,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
     return replace(
         piece,
         positions=piece.positions[source],
-        faces=faces.astype(np.int64),
+        faces=faces,
         normals=normals,
         uvs=None if piece.uvs is None else piece.uvs[source],
         colors=None if piece.colors is None else piece.colors[source],
@@ -124,7 +124,7 @@ def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
     for piece in pieces:
         count = len(piece.positions)
         positions.append(piece.positions)
-        faces.append(piece.faces + vertex_offset)
+        faces.append(piece.faces + vertex_offset if vertex_offset else piece.faces)  # one piece: no copy
         normals.append(piece.normals)
         if any_uvs:
             uvs.append(piece.uvs if piece.uvs is not None else np.zeros((count, 2)))
