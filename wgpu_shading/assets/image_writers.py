@@ -10,6 +10,7 @@ import numpy as np
 
 from ..errors import UsageError
 from .atomic import atomic_open, atomic_path, check_target
+from .png import encode_png, write_png
 
 class FileFormat(NamedTuple):
     """One suffix of the table below: Pillow's format (None: numpy's .npy), what the file holds
@@ -43,6 +44,7 @@ DEPTH_FORMATS = {
 IMAGE_SUFFIXES = tuple(IMAGE_FORMATS)
 DEPTH_SUFFIXES = tuple(DEPTH_FORMATS)
 STDOUT = "-"  # `-o -`: the PNG goes to standard output
+PNG_LEVEL = 6  # zlib level of `render`'s PNGs (zlib's and Pillow's default); `batch --compression` chooses its own
 
 
 def formats_text(formats: dict[str, FileFormat]) -> str:
@@ -86,15 +88,9 @@ def check_folder_writable(folder: Path, what: str) -> None:
 
 def png_bytes(image: np.ndarray) -> bytes:
     """An 8-bit RGBA (or RGB) image as PNG file contents (for `-o -` and Jupyter)."""
-    import io
-
-    from PIL import Image
-
     if image.dtype != np.uint8:  # a float32 render: [0, 1] to 8 bits, as the 8-bit target rounds
         image = np.round(np.clip(image, 0.0, 1.0) * 255.0).astype(np.uint8)
-    buffer = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(image)).save(buffer, format="PNG")
-    return buffer.getvalue()
+    return encode_png(image, PNG_LEVEL)
 
 
 # The one 16-bit depth PNG encoding (`render --depth d.png` and `batch --depth png16`):
@@ -113,18 +109,11 @@ def depth_png_levels(depth: np.ndarray, near: float, far: float) -> np.ndarray:
     return np.where(covered, levels, 0).astype(np.uint16)
 
 
-def save_depth_png(target, depth: np.ndarray, near: float, far: float, compress_level: int = 6) -> None:
-    """Write depth as a 16-bit grey PNG to a path or a binary file, with near, far and the
-    convention in its text chunks (tEXt `near`, `far`: repr of the floats; `depth_encoding`)."""
-    from PIL import Image
-    from PIL.PngImagePlugin import PngInfo
-
-    info = PngInfo()
-    info.add_text("near", repr(float(near)))
-    info.add_text("far", repr(float(far)))
-    info.add_text("depth_encoding", DEPTH_PNG_CONVENTION)
-    image = Image.fromarray(np.ascontiguousarray(depth_png_levels(depth, near, far)))
-    image.save(target, format="png", pnginfo=info, compress_level=compress_level)
+def save_depth_png(file, depth: np.ndarray, near: float, far: float, compress_level: int = PNG_LEVEL) -> None:
+    """Write depth as a 16-bit grey PNG to a binary file, with near, far and the convention
+    in its text chunks (tEXt `near`, `far`: repr of the floats; `depth_encoding`)."""
+    text = {"near": repr(float(near)), "far": repr(float(far)), "depth_encoding": DEPTH_PNG_CONVENTION}
+    write_png(file, depth_png_levels(depth, near, far), compress_level, text)
 
 
 def read_depth_png(path: os.PathLike[str] | str) -> np.ndarray:
@@ -160,8 +149,8 @@ def write_depth(path: Path, depth: np.ndarray, near: float, far: float) -> str:
         with atomic_path(path, "--depth") as temporary:
             Image.fromarray(np.ascontiguousarray(distances)).save(temporary, format="TIFF")  # float32 → mode F
         return "32-bit float eye-space distance, inf = background"
-    with atomic_path(path, "--depth") as temporary:
-        save_depth_png(temporary, depth, near, far)
+    with atomic_open(path, "--depth") as file:
+        save_depth_png(file, depth, near, far)
     return f"16-bit, linear: 0 = background, 1..65535 = near plane ({near:g}) .. far plane ({far:g})"
 
 
@@ -174,6 +163,10 @@ def write_image(path: Path, image: np.ndarray, what: str = "output") -> None:
     if suffix == ".npy":
         with atomic_open(path, what) as file:
             np.save(file, image)
+        return
+    if suffix == ".png":
+        with atomic_open(path, what) as file:
+            write_png(file, np.ascontiguousarray(image), PNG_LEVEL)
         return
     from PIL import Image
 

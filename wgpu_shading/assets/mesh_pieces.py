@@ -106,7 +106,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
     return replace(
         piece,
         positions=piece.positions[source],
-        faces=faces.astype(np.int64),
+        faces=faces,
         normals=normals,
         uvs=None if piece.uvs is None else piece.uvs[source],
         colors=None if piece.colors is None else piece.colors[source],
@@ -152,8 +152,8 @@ def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
         count = len(piece.positions)
         offsets["points"] = vertex_offset
         positions.append(piece.positions)
-        if piece.primitive != "points":
-            (faces if piece.primitive == "triangles" else lines).append(piece.faces + vertex_offset)
+        if piece.primitive != "points":  # (one piece: no copy)
+            (faces if piece.primitive == "triangles" else lines).append(piece.faces + vertex_offset if vertex_offset else piece.faces)
         normals.append(piece.normals)
         if any_uvs:
             uvs.append(piece.uvs if piece.uvs is not None else np.zeros((count, 2)))
