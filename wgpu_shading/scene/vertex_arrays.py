@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-BLOCK_ROWS = 1 << 20
+BLOCK_ROWS = 1 << 16  # 65,536 rows: a few MB of float64 temporaries
 
 
 def _blocks(count: int):
