@@ -91,14 +91,6 @@ class PipelineEntry:
     plan: BindingPlan
     indexed: bool
 
-    @property
-    def source(self) -> str:
-        return self.descriptor.source
-
-    @property
-    def features(self) -> FeatureSet | None:
-        return self.key.features
-
 
 # alphaMode BLEND: "over" compositing (premultiplied by the source alpha), and the
 # destination alpha accumulates coverage, so a translucent part over the background
