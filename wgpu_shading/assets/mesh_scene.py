@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import MeshError, SceneError
 from ..scene.view.bare_mesh import DEFAULT_SIZE, bare_mesh_scene
-from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
+from .meshes import DEFAULT_CREASE_ANGLE, read_mesh
 
 
 def mesh_scene(
@@ -30,9 +30,10 @@ def mesh_scene(
     (as viewers do; gltf/punctual_lights.py), unless `file_lights` is False
     (`--viewer-lights`). `reading`: more of the mesh reader's options
     (ViewOptions.mesh_reading()), its crease_angle replacing `crease_angle`."""
-    mesh = load_mesh(mesh_source, **{"crease_angle": crease_angle, **(reading or {})})
+    loaded = read_mesh(mesh_source, **{"crease_angle": crease_angle, **(reading or {})})  # the file, parsed once
+    mesh = loaded.mesh
     try:
-        own = _file_lights(mesh_source) if file_lights else ()
+        own = loaded.lights() if file_lights else ()
         return bare_mesh_scene(mesh, size, material_name, up=up, file_lights=own)
     except SceneError as error:
         # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.
@@ -42,17 +43,3 @@ def mesh_scene(
             f"mesh {str(mesh_source)!r} ({mesh.vertex_count} vertices around {center.tolist()}, radius {radius:.3g}): "
             f"the automatic camera and lights cannot be placed for it ({error})"
         ) from None
-
-
-def _file_lights(mesh_source: str) -> list:
-    """The file's own lights with their nodes' matrices, in the file's space (glTF
-    KHR_lights_punctual); [] when it has none."""
-    from pathlib import Path
-
-    from .examples import resolve_example
-    from .gltf.punctual_lights import gltf_lights
-
-    path = Path(resolve_example(str(mesh_source)))
-    if path.suffix.lower() not in (".gltf", ".glb"):
-        return []
-    return gltf_lights(path)

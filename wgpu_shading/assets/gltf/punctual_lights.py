@@ -52,10 +52,11 @@ def _light_table(data: GltfData) -> list:
     return extension.get("lights", [])
 
 
-def gltf_lights(path: Path) -> list[tuple[object, np.ndarray]]:
+def gltf_lights(source: Path | GltfData) -> list[tuple[object, np.ndarray]]:
     """The file's lights of its scene's nodes as (classic light in the file's space, its
-    node's world matrix) pairs; [] when it has none."""
-    data = GltfData(path, json_only=True)
+    node's world matrix) pairs; [] when it has none. `source`: the file, or the document
+    already read for its meshes (reader.py: a file is parsed once)."""
+    data = source if isinstance(source, GltfData) else GltfData(source, json_only=True)
     table = _light_table(data)
     if not table:
         return []

@@ -1,6 +1,7 @@
-"""A glTF file read into mesh pieces (assets/mesh_pieces.py): every primitive instance of
+"""A glTF file read into a MeshFile (assets/mesh_pieces.py): every primitive instance of
 its scene (primitives.py) with its classic material (materials.py), its texture
-coordinates transformed (extensions.py).
+coordinates transformed (extensions.py); its own lights (punctual_lights.py) read from the
+same parsed document when the caller asks for them.
 
 Materials are made once per (material, NORMAL present, COLOR_0 present), however many
 primitives use them, so a texture is decoded once and a lost one is said once; what the
@@ -16,16 +17,24 @@ import numpy as np
 
 from ...errors import MeshError, SceneError
 from ...scene.material import Material
-from ..mesh_pieces import MeshPiece
+from ..mesh_pieces import MeshFile, MeshPiece
 from .document import GltfData
 from .extensions import check_extensions, transform_uvs
 from .materials import gltf_material
 from .primitives import gltf_pieces, material_images
+from .punctual_lights import gltf_lights
 
 
-def gltf_mesh_pieces(path: Path) -> tuple[list[MeshPiece], list[str]]:
-    """The file's pieces and the notes for the user."""
+def read_gltf(path: Path, file_size: int | None = None) -> MeshFile:
+    """A .gltf or .glb file (its size is checked by GltfData against what it declares)."""
     data = GltfData(path)
+    pieces, notes = gltf_mesh_pieces(data)
+    return MeshFile(pieces, notes, lights=lambda: gltf_lights(data))
+
+
+def gltf_mesh_pieces(data: GltfData) -> tuple[list[MeshPiece], list[str]]:
+    """The file's pieces and the notes for the user."""
+    path = data.path
     check_extensions(data.document, path)
     materials: dict[tuple, Material | None] = {}
     pieces = []
