@@ -261,7 +261,7 @@ def test_a_scene_without_points_lines_or_edges_makes_no_stroke_pipeline_upload_o
     assert all(entry.key.render_pass.name == "colour" for entry in entries)
     for entry in entries:
         for name in ("quad_corner", "stroke_pixels", "edge_color", "point_on_disc", "viewport_size"):
-            assert name not in entry.source
+            assert name not in entry.descriptor.source
     assert all(cache.meshes.get(mesh, kind) is None for kind in ("points", "lines", "edges"))
     other = renderer.render(replace(scene, shading=Shading(point_size=40.0, line_width=30.0, edge_width=9.0, edge_color=(1.0, 0.0, 0.0))))
     assert np.array_equal(image, other)

@@ -106,7 +106,7 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
             if part.primitive != "triangles":  # points and lines (passes/strokes.py)
                 draw = stroke_draw(cache, scene, obj, part, material, model_view, color_format, samples,
                                    len(opaque) + len(blended) + len(edges))
-                if draw.entry.features.alpha_mode == "blend":
+                if draw.entry.key.features.alpha_mode == "blend":
                     blended.append(((model_view * glm.dvec4(*obj.mesh.part_centre(part), 1.0)).z, draw))
                 else:
                     opaque.append(draw)
