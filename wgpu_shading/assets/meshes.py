@@ -28,17 +28,23 @@ MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 DEFAULT_CREASE_ANGLE = 60.0  # degrees (docs/real-world-files.md)
 
 
-def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE) -> Mesh:
+def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
+              animation_time: float | None = None, animation_index: int | str = 0) -> Mesh:
     """A built-in (`builtin:torus`), a shipped sample (`example:knot.obj`) or a mesh file
     (OBJ, PLY, STL, OFF, GLB/glTF).
 
     crease_angle (degrees, 0..180): where the file has no normals, edges sharper than this
-    are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat."""
+    are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat.
+    animation_time (seconds): a glTF file as its animation `animation_index` (0, 1, ... or
+    "all") poses it then (docs/animation.md); None: as the file's nodes say, unanimated."""
     text = resolve_example(str(source))
     if text.startswith(BUILTIN_PREFIX):
         return builtin(text)
     if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
         raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
+    if animation_time is not None and not (isinstance(animation_time, (int, float)) and not isinstance(animation_time, bool)
+                                           and abs(animation_time) <= 1e9):  # NaN fails too
+        raise MeshError(f"animation_time: expected a number of seconds (at most 1e9 in size), got {animation_time!r}")
     if "\x00" in text:
         raise MeshError(f"mesh file {text!r}: a path cannot contain a NUL character")
     path = Path(text)
@@ -59,7 +65,7 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         elif suffix in (".glb", ".gltf"):
             from .gltf.reader import gltf_mesh_pieces
 
-            pieces, notes = gltf_mesh_pieces(path)
+            pieces, notes = gltf_mesh_pieces(path, animation_time, animation_index)
         elif suffix == ".stl" and (binary := _binary_stl(path, file_size)) is not None:
             pieces = [binary]
         elif suffix == ".off":
@@ -70,6 +76,8 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
             pieces = [piece if off.face_colors is None else with_face_colors(piece, off.face_colors)]
         else:
             pieces = [_trimesh_piece(path, file_size)]
+        if animation_time is not None and suffix not in (".glb", ".gltf"):
+            notes.append(f"{path.name}: only glTF files hold animations; the animation time {animation_time:g} s is ignored")
         pieces = [p for p in pieces if len(p.faces)]
         mesh = assemble(pieces, path.name, float(crease_angle)) if pieces else None
     for note in dict.fromkeys(notes):  # once each, once the file was read without error (or to say why nothing is left)

@@ -1,6 +1,7 @@
 """A glTF file read into mesh pieces (assets/mesh_pieces.py): every primitive instance of
 its scene (primitives.py) with its classic material (materials.py), its texture
-coordinates transformed (extensions.py).
+coordinates transformed (extensions.py), posed at an animation time if one is asked for
+(animations.py; morph targets: morph_targets.py).
 
 Materials are made once per (material, NORMAL present, COLOR_0 present), however many
 primitives use them, so a texture is decoded once and a lost one is said once; what the
@@ -17,19 +18,22 @@ import numpy as np
 from ...errors import MeshError, SceneError
 from ...scene.material import Material
 from ..mesh_pieces import MeshPiece
+from .animations import posed_nodes
 from .document import GltfData
 from .extensions import check_extensions, transform_uvs
 from .materials import gltf_material
 from .primitives import gltf_pieces, material_images
 
 
-def gltf_mesh_pieces(path: Path) -> tuple[list[MeshPiece], list[str]]:
-    """The file's pieces and the notes for the user."""
+def gltf_mesh_pieces(path: Path, animation_time: float | None = None, animation_index: int | str = 0) -> tuple[list[MeshPiece], list[str]]:
+    """The file's pieces and the notes for the user. animation_time (seconds): the scene as
+    animation `animation_index` (or "all") poses it then; None: as the file's nodes say."""
     data = GltfData(path)
     check_extensions(data.document, path)
+    nodes = posed_nodes(data, animation_time, animation_index)
     materials: dict[tuple, Material | None] = {}
     pieces = []
-    for piece in gltf_pieces(data):
+    for piece in gltf_pieces(data, nodes):
         attributes = piece.primitive["attributes"]
         index = piece.primitive.get("material")
         document_material = None if index is None else data.item("materials", index, f"meshes[{piece.key[0]}].primitives[{piece.key[1]}].material")
