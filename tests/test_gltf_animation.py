@@ -166,3 +166,17 @@ def test_a_skin_follows_its_animated_joint(time, degrees):
         w1 = vertex[1] / 2.0  # the file's weights: 0, 0.25, 0.5, 0.75, 1 up the strip
         turned = (vertex - pivot) @ _rotation((0, 0, 1), degrees).T + pivot
         np.testing.assert_allclose(got, (1 - w1) * vertex + w1 * turned, atol=2e-6)
+
+
+@pytest.mark.parametrize("time, elbow", [(1.0, 70), (2.5, -35)])
+def test_the_shipped_arm_bends_its_elbow_and_turns_as_documented(time, elbow):
+    # example:arm.glb: the bar's top ring (y = 2.2, all weight on the elbow at (0, 1.2, 0))
+    # turns about Z with the elbow: 0°, 70°, 0°, −70°, 0° at 0..4 s ("wave", animation 0)
+    posed = load_mesh("example:arm.glb", animation_time=time).world_positions()
+    rest = load_mesh("example:arm.glb").world_positions()
+    top = np.isclose(rest[:, 1], 2.2)
+    pivot = np.array([0.0, 1.2, 0.0])
+    np.testing.assert_allclose(posed[top], (rest[top] - pivot) @ _rotation((0, 0, 1), elbow).T + pivot, atol=1e-5)
+    # "turn" (animation 1) turns the whole arm about Y by 90° a second
+    turned = load_mesh("example:arm.glb", animation_time=1.5, animation_index=1).world_positions()
+    np.testing.assert_allclose(turned, rest @ _rotation((0, 1, 0), 135).T, atol=1e-5)

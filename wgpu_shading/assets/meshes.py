@@ -19,6 +19,7 @@ import numpy as np
 from ..errors import MeshError
 from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.mesh import Mesh
+from ..scene.view_values import MAX_SECONDS
 from .examples import resolve_example
 from .files import check_regular_file
 from .mesh_pieces import MeshPiece, assemble, with_face_colors
@@ -29,22 +30,25 @@ DEFAULT_CREASE_ANGLE = 60.0  # degrees (docs/real-world-files.md)
 
 
 def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
-              animation_time: float | None = None, animation_index: int | str = 0) -> Mesh:
+              animation_time: float | None = None, animation_index: int | str | None = None) -> Mesh:
     """A built-in (`builtin:torus`), a shipped sample (`example:knot.obj`) or a mesh file
     (OBJ, PLY, STL, OFF, GLB/glTF).
 
     crease_angle (degrees, 0..180): where the file has no normals, edges sharper than this
     are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat.
-    animation_time (seconds): a glTF file as its animation `animation_index` (0, 1, ... or
-    "all") poses it then (docs/animation.md); None: as the file's nodes say, unanimated."""
+    animation_time (seconds): a glTF file as its animation `animation_index` (0 unless given;
+    1, 2, ... or "all") poses it then (docs/animation.md); None: as the file's nodes say,
+    unanimated, unless an animation_index is given (then its start, time 0)."""
+    if animation_index is not None and animation_time is None:
+        animation_time = 0.0
     text = resolve_example(str(source))
     if text.startswith(BUILTIN_PREFIX):
         return builtin(text)
     if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
         raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
     if animation_time is not None and not (isinstance(animation_time, (int, float)) and not isinstance(animation_time, bool)
-                                           and abs(animation_time) <= 1e9):  # NaN fails too
-        raise MeshError(f"animation_time: expected a number of seconds (at most 1e9 in size), got {animation_time!r}")
+                                           and abs(animation_time) <= MAX_SECONDS):  # NaN fails too
+        raise MeshError(f"animation_time: expected a number of seconds (at most {MAX_SECONDS:g} in size), got {animation_time!r}")
     if "\x00" in text:
         raise MeshError(f"mesh file {text!r}: a path cannot contain a NUL character")
     path = Path(text)
@@ -65,7 +69,7 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         elif suffix in (".glb", ".gltf"):
             from .gltf.reader import gltf_mesh_pieces
 
-            pieces, notes = gltf_mesh_pieces(path, animation_time, animation_index)
+            pieces, notes = gltf_mesh_pieces(path, animation_time, 0 if animation_index is None else animation_index)
         elif suffix == ".stl" and (binary := _binary_stl(path, file_size)) is not None:
             pieces = [binary]
         elif suffix == ".off":

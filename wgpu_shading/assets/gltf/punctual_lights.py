@@ -29,6 +29,7 @@ import numpy as np
 
 from ...scene.lights import DirectionalLight, PositionalLight, SpotLight
 from ...scene.values import MAX_COLOR, MAX_LIGHTS
+from .animations import read_posed
 from .document import GltfData, gltf_error
 from .nodes import scene_nodes, scene_roots, world_matrices
 
@@ -52,15 +53,16 @@ def _light_table(data: GltfData) -> list:
     return extension.get("lights", [])
 
 
-def gltf_lights(path: Path) -> list[tuple[object, np.ndarray]]:
+def gltf_lights(path: Path, animation_time: float | None = None, animation_index: int | str = 0) -> list[tuple[object, np.ndarray]]:
     """The file's lights of its scene's nodes as (classic light in the file's space, its
-    node's world matrix) pairs; [] when it has none."""
-    data = GltfData(path, json_only=True)
+    node's world matrix) pairs, the nodes posed at `animation_time` if given
+    (animations.py); [] when it has none."""
+    data, nodes = read_posed(path, animation_time, animation_index)
     table = _light_table(data)
     if not table:
         return []
-    world, roots = world_matrices(data)
-    nodes = data.items("nodes")
+    world, roots = world_matrices(data, nodes)
+    nodes = data.items("nodes") if nodes is None else nodes
     lights = []
     for index in scene_nodes(data, scene_roots(data, roots)):
         extensions = nodes[index].get("extensions", {})
