@@ -27,7 +27,7 @@ import numpy as np
 
 from wgpu_shading import Renderer
 from wgpu_shading.assets.mesh_scene import mesh_scene
-from wgpu_shading.scene.turntable import turntable
+from wgpu_shading.scene.view.turntable import turntable
 
 from .measure import progress, thread_breakdown
 from .scenes import BUNNY, bunny_scene, torus_scene

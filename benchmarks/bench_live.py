@@ -63,7 +63,7 @@ def main() -> int:
     from wgpu_shading import Renderer
     from wgpu_shading.live.canvas import attach
     from wgpu_shading.live.session import LiveView
-    from wgpu_shading.scene.view_options import ViewOptions
+    from wgpu_shading.scene.view.options import ViewOptions
 
     width, height = (int(v) for v in args.size.split("x"))
     renderer = Renderer()

@@ -4,7 +4,7 @@
 
 For each scene, both variants run through the same harness (same meshes, targets, render
 pass, copy and readback); only the pipeline and its uniform data differ:
-  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.gpu.pipeline_cache)
+  specialized  the renderer's shader for the scene's feature set (wgpu_shading.render.gpu.pipelines)
   uber         benchmarks/uber.wgsl: every feature compiled in, switched by uniforms
 Reported: median warm frame time (render + readback) with frames of the two variants
 interleaved (the machine is shared and noisy, so only side-by-side ratios mean anything),
@@ -44,7 +44,8 @@ from wgpu_shading.render.device import default_device, describe_device  # noqa: 
 from wgpu_shading.render.features import FeatureSet, object_features  # noqa: E402
 from wgpu_shading.render.shaders.layout import Layouts  # noqa: E402
 from wgpu_shading.render.shaders.bindings import binding_plan  # noqa: E402
-from wgpu_shading.render.gpu.pipeline_cache import PipelineCache  # noqa: E402
+from wgpu_shading.render.gpu.pipelines import PipelineCache  # noqa: E402
+from wgpu_shading.render.passes.color import color_key  # noqa: E402
 from wgpu_shading.render.gpu.targets import DEPTH_FORMAT  # noqa: E402
 from wgpu_shading.render.shaders.uniforms import clip_from_eye, eye_from_model, frame_uniforms, object_uniforms  # noqa: E402
 
@@ -204,9 +205,9 @@ class Harness:
 
     def specialized(self, scene: Scene) -> Variant:
         features = object_features(scene, scene.objects[0])
-        entry = self.pipelines.get(features)
-        frame = self.buffer(frame_uniforms(scene, entry.frame_dtype), wgpu.BufferUsage.UNIFORM)
-        obj = self.buffer(object_uniforms(eye_from_model(scene, scene.objects[0]), scene.objects[0].material, entry.object_dtype, scene), wgpu.BufferUsage.UNIFORM)
+        entry = self.pipelines.get(color_key(features))
+        frame = self.buffer(frame_uniforms(scene, entry.uniform_dtypes["frame"]), wgpu.BufferUsage.UNIFORM)
+        obj = self.buffer(object_uniforms(eye_from_model(scene, scene.objects[0]), scene.objects[0].material, entry.uniform_dtypes["object"], scene), wgpu.BufferUsage.UNIFORM)
         object_resources = [obj] + ([self.view, self.sampler] if features.texture_mode else [])
         groups = [self._group(entry.bind_group_layouts[0], [frame]), self._group(entry.bind_group_layouts[1], object_resources)]
         return Variant(entry.pipeline, groups, uses_uvs=features.texture_mode is not None)

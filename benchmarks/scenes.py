@@ -145,7 +145,7 @@ def _one_light(scene: Scene) -> Scene:
     light before it got a key light plus headlight): the peers (moderngl, pygfx) implement
     exactly one positional light, and the numbers in docs/performance.md were measured so."""
     from wgpu_shading import PositionalLight
-    from wgpu_shading.scene.framing import bounding_sphere
+    from wgpu_shading.scene.view.bare_mesh import bounding_sphere
 
     center, radius = bounding_sphere(scene.objects[0].mesh)
     position = center + np.array([5.0, 2.0, 2.0]) * radius * 1.5

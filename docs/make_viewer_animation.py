@@ -13,7 +13,7 @@ from pathlib import Path
 
 from wgpu_shading.assets.animation import write_animation
 from wgpu_shading.live.session import LiveView
-from wgpu_shading.scene.view_options import ViewOptions
+from wgpu_shading.scene.view.options import ViewOptions
 
 SOURCE = "builtin:torus?segments=24&rings=12"  # coarse: the three frequencies differ visibly
 OUTPUT = Path(__file__).resolve().parent / "images" / "viewer_compare.gif"

@@ -12,7 +12,7 @@ import pytest
 from cli_errors import one_line_error, run_cli
 from wgpu_shading import UsageError, load_mesh
 from wgpu_shading.assets.animation_frames import MAX_FRAMES, AnimationFrames, frame_times
-from wgpu_shading.scene.view_options import ViewOptions
+from wgpu_shading.scene.view.options import ViewOptions
 
 DATA = Path(__file__).parent / "data" / "real"
 MOVING = DATA / "asset_generator" / "Animation_Node_00.gltf"  # x from −0.1 to 0.1 and back over 0..2 s

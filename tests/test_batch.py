@@ -13,7 +13,7 @@ import pytest
 from wgpu_shading import Camera, PositionalLight, Renderer, Scene, SceneObject, SpotLight, DirectionalLight, load_mesh, material
 from wgpu_shading.assets.animation import write_animation
 from wgpu_shading.render.frames_in_flight import default_parallelism
-from wgpu_shading.scene.turntable import spun, turntable
+from wgpu_shading.scene.view.turntable import spun, turntable
 from wgpu_shading.cli import main
 
 from test_cli import run_cli

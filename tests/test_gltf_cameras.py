@@ -14,7 +14,7 @@ import pytest
 from cli_errors import one_line_error, run_cli
 from gltf_builder import quad, write_gltf
 from wgpu_shading import load_view
-from wgpu_shading.scene.view_options import ViewOptions
+from wgpu_shading.scene.view.options import ViewOptions
 
 SIZE = 100
 RED = {"pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}, "extensions": {"KHR_materials_unlit": {}}}

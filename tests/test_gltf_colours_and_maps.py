@@ -123,8 +123,8 @@ def test_metallic_roughness_texture_applies_per_texel(renderer, tmp_path):
 def test_a_bare_gltf_gets_the_viewer_lights_in_linear_light_unless_its_materials_are_replaced(tmp_path):
     from wgpu_shading.assets.view_loader import load_view
     from wgpu_shading.scene.maps import srgb_decode
-    from wgpu_shading.scene.view_options import ViewOptions
-    from wgpu_shading.scene.viewer_lights import KEY_DIFFUSE
+    from wgpu_shading.scene.view.options import ViewOptions
+    from wgpu_shading.scene.view.bare_mesh import KEY_DIFFUSE
 
     path = write_gltf(tmp_path / "plain.gltf", [[square()]])
     for options in (ViewOptions(), ViewOptions(camera_position=(0.0, 0.0, 5.0))):  # the lights follow the camera

@@ -66,7 +66,7 @@ def test_a_file_with_lights_is_lit_by_them_and_viewer_lights_keeps_ours(tmp_path
     assert len(scene.lights) == 1 and isinstance(scene.lights[0], SpotLight)
     assert len(mesh_scene(str(path), (64, 64), file_lights=False).lights) == 2
     from wgpu_shading.assets.view_loader import load_view
-    from wgpu_shading.scene.view_options import ViewOptions
+    from wgpu_shading.scene.view.options import ViewOptions
 
     assert len(load_view(str(path), ViewOptions(viewer_lights=True)).lights) == 2
     moved = load_view(str(path), ViewOptions(camera_azimuth=30.0))  # the file's lights stay when the camera moves

@@ -14,7 +14,7 @@ import pytest
 from PIL import Image
 
 from wgpu_shading.cli import main
-from wgpu_shading.scene.view_options import ViewOptions
+from wgpu_shading.scene.view.options import ViewOptions
 
 offscreen = pytest.importorskip("rendercanvas.offscreen", reason="the [view] extra (rendercanvas) is not installed")
 

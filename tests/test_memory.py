@@ -88,7 +88,7 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
     must stop growing once the caches are full."""
     from wgpu_shading import PositionalLight, Renderer, Scene, SceneObject, Shading
     from wgpu_shading.render.gpu.caches import MESH_CACHE_ENTRIES, TARGET_CACHE_ENTRIES
-    from wgpu_shading.render.gpu.pipeline_cache import PipelineCache
+    from wgpu_shading.render.gpu.pipelines import PipelineCache
     from wgpu_shading.scene.builtins import uv_sphere
 
     long_run = Renderer(device=renderer.device)

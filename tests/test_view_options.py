@@ -1,4 +1,4 @@
-"""One view vocabulary (wgpu_shading/scene/view_options.py): every option has its four
+"""One view vocabulary (wgpu_shading/scene/view/options.py): every option has its four
 spellings (the `render` flag, the `batch` flag, the manifest column, the scene-file key),
 they read to the same value, and `render` and a one-job `batch` draw the same pixels."""
 
@@ -21,9 +21,9 @@ from wgpu_shading.cli.main import build_parser
 from wgpu_shading.dataset.manifest import read_manifest, row_view_options
 from wgpu_shading.errors import UsageError
 from wgpu_shading.scene import Camera
-from wgpu_shading.scene.view_apply import unappliable
-from wgpu_shading.scene.view_options import VIEW_OPTIONS, ViewOptions, render_command, spellings_table
-from wgpu_shading.scene.view_values import parse_light, spell
+from wgpu_shading.scene.view.apply import unappliable
+from wgpu_shading.scene.view.options import VIEW_OPTIONS, ViewOptions, render_command, spellings_table
+from wgpu_shading.scene.view.reading import parse_light, spell
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 
@@ -73,7 +73,6 @@ SAMPLES = {option.name: _sample(option) for option in VIEW_OPTIONS}
 # What else a sample needs to show in the pictures below.
 WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"]}
 _NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")  # no back faces, colours or file lights
-BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")
 BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)) + "".join(
     f"f {a} {b} {c}\n" for a, b, c in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
                                        (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4))
@@ -253,7 +252,7 @@ def test_render_command_spells_every_option_back_exactly():
 
 def test_the_docs_table_is_the_table_in_the_code():
     text = (DOCS / "view-options.md").read_text(encoding="utf-8")
-    assert spellings_table() in text, "docs/view-options.md: paste spellings_table()'s output (python -m wgpu_shading.scene.view_options)"
+    assert spellings_table() in text, "docs/view-options.md: paste spellings_table()'s output (python -m wgpu_shading.scene.view.options)"
 
 
 def test_a_manifest_up_column_means_the_model_axis_and_a_vector_the_camera_up(tmp_path):

@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # pragma: no cover
     from .errors import DeviceError, MeshError, SceneError, UsageError, WgpuShadingError
     from .assets.view_loader import load_view
-    from .scene.view_apply import apply_view_options
-    from .scene.view_options import ViewOptions, render_command
+    from .scene.view.apply import apply_view_options
+    from .scene.view.options import ViewOptions, render_command
     from .assets import load_mesh, load_scene, parse_scene
     from .assets.mesh_scene import mesh_scene
     from .render.auto_shading import AutoChoice, auto_shading
@@ -41,7 +41,7 @@ if TYPE_CHECKING:  # pragma: no cover
         Texture,
         material,
     )
-    from .scene.turntable import turntable
+    from .scene.view.turntable import turntable
 
 __version__ = "0.1.0"
 
@@ -50,12 +50,12 @@ __version__ = "0.1.0"
 # numpy (~0.1 s) and wgpu (~0.1 s) load only when something needs them.
 _LAZY = {
     "DeviceError": "errors", "MeshError": "errors", "SceneError": "errors", "UsageError": "errors", "WgpuShadingError": "errors",
-    "ViewOptions": "scene.view_options", "apply_view_options": "scene.view_apply", "render_command": "scene.view_options",
+    "ViewOptions": "scene.view.options", "apply_view_options": "scene.view.apply", "render_command": "scene.view.options",
     "load_view": "assets.view_loader",
     "FeatureSet": "render.features",
     "MATERIALS": "scene", "material": "scene", "Mesh": "scene",
     "load_mesh": "assets", "load_scene": "assets", "parse_scene": "assets", "mesh_scene": "assets.mesh_scene",
-    "AutoChoice": "render.auto_shading", "auto_shading": "render.auto_shading", "turntable": "scene.turntable",
+    "AutoChoice": "render.auto_shading", "auto_shading": "render.auto_shading", "turntable": "scene.view.turntable",
     "Frame": "render.renderer", "PendingFrame": "render.renderer", "Renderer": "render.renderer",
     "Camera": "scene", "DirectionalLight": "scene", "Light": "scene", "Material": "scene",
     "PositionalLight": "scene", "Scene": "scene", "SceneObject": "scene", "Shading": "scene",

@@ -80,7 +80,6 @@ def vertex_order(scene, rounds: int) -> None:
 
 
 def depth(scene, rounds: int) -> None:
-    import wgpu_shading.render.renderer as renderer_module
     from wgpu_shading import Renderer
     from wgpu_shading.render.passes import color as color_pass
     from wgpu_shading.render.gpu.readback import read_buffer
@@ -96,11 +95,11 @@ def depth(scene, rounds: int) -> None:
 
     def with_depth(read):
         def frame():
-            renderer_module.read_color_frame = read
+            color_pass.read_color_frame = read
             try:
                 return renderer.render_frame(scene, depth=True)
             finally:
-                renderer_module.read_color_frame = current
+                color_pass.read_color_frame = current
 
         return frame
 

@@ -45,11 +45,12 @@ adapter = device_module.select_adapter()
 mark("instance + adapter enumeration")
 device = device_module.default_device()
 mark("device")
+from wgpu_shading.render.passes.color import color_key  # noqa: E402
 from wgpu_shading.render.renderer import Renderer  # noqa: E402
 
 renderer = Renderer(device=device)
 mark("import renderer + Renderer()")
-renderer.device_cache.pipelines.get(renderer.features(scene)[0])
+renderer.device_cache.pipelines.get(color_key(renderer.features(scene)[0]))
 mark("first pipeline (WGSL -> SPIR-V -> NIR)")
 image = renderer.render(scene)
 mark("first draw + readback (LLVM JIT of shader variants)")

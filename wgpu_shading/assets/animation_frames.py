@@ -6,7 +6,7 @@ an animation at a frame rate (VTK's glTF importer: from 0 to the animation's las
 Every frame keeps one camera: the bare mesh is framed once, around every pose it takes
 (the union of the frames' bounding boxes), so that the model moves in a still picture
 instead of the picture following the model. Frames are made when asked for, one at a time,
-as `scene/turntable.py` makes its views.
+as `scene/view/turntable.py` makes its views.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 from ..errors import MeshError, UsageError
 from ..scene.mesh import Mesh
 from ..scene.objects import Scene
-from ..scene.view_options import ViewOptions
+from ..scene.view.options import ViewOptions
 from .examples import resolve_example
 
 MAX_FRAMES = 100_000  # an hour at 30 fps; frames beyond are surely a typo in --fps or --end

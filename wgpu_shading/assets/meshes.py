@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import MeshError
 from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.mesh import Mesh
-from ..scene.view_values import MAX_SECONDS
+from ..scene.view.reading import MAX_SECONDS
 from .examples import resolve_example
 from .files import check_regular_file
 from .mesh_pieces import MeshPiece, assemble, with_face_colors

@@ -24,8 +24,8 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..errors import MeshError, SceneError, UsageError, shown
-from ..scene.view_apply import BACKGROUND_KEYS, CAMERA_MOVES, place_camera, with_background
-from ..scene.view_options import ViewOptions, scene_file_keys
+from ..scene.view.apply import BACKGROUND_KEYS, CAMERA_MOVES, place_camera, with_background
+from ..scene.view.options import ViewOptions, scene_file_keys
 from ..scene import BUILTIN_PREFIX
 from ..scene.material_table import material as named_material
 from .examples import EXAMPLE_PREFIX, models_hint, resolve_example
@@ -47,7 +47,7 @@ from ..scene import (
 
 # The keys of each table. [output], [shading] and [camera] hold view options only, and the
 # view options of objects, their materials and lights join those tables' own keys: all
-# from the one table of options (scene/view_options.py), so a new option is a new key.
+# from the one table of options (scene/view/options.py), so a new option is a new key.
 _TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
 _SECTIONS = {
     "output": set(scene_file_keys("output")),
@@ -201,7 +201,7 @@ def _object(table: Mapping[str, Any], index: int, base: Path, reading: Mapping[s
 
 def _background(output: Mapping[str, Any], default) -> Any:
     """[output] background and transparent, as the options of the same names set them
-    (scene/view_apply.py with_background; docs/conventions.md#the-lighting-equation)."""
+    (scene/view/apply.py with_background; docs/conventions.md#the-lighting-equation)."""
     background = output.get("background", default)
     transparent = output.get("transparent")
     if transparent is not None and not isinstance(transparent, bool):
@@ -214,7 +214,7 @@ def _background(output: Mapping[str, Any], default) -> Any:
 def _camera(table: Mapping[str, Any]) -> Camera:
     """[camera]: direction, azimuth, elevation (degrees) and distance move the camera after
     the other keys placed it, as f3d's --camera-direction/--camera-azimuth-angle/... and
-    the view options of the same keys do (scene/view_apply.py place_camera)."""
+    the view options of the same keys do (scene/view/apply.py place_camera)."""
     keys = {key: value for key, value in table.items() if key not in CAMERA_MOVES}
     if "direction" in table and "eye" in table:
         raise SceneError("camera: give eye or direction (the eye along it at the same distance), not both")

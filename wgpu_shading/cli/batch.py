@@ -8,7 +8,7 @@ import sys
 from dataclasses import replace
 
 from ..errors import UsageError
-from ..scene.view_options import OPTIONS_BY_NAME, ViewOptions
+from ..scene.view.options import OPTIONS_BY_NAME, ViewOptions
 from .viewer_options import add_view_arguments, view_options_from_args
 
 

@@ -88,7 +88,7 @@ def _write_stdout(data: bytes) -> None:
 
 def command_turntable(args: argparse.Namespace) -> int:
     from ..assets.animation import check_animation_path, write_animation
-    from ..scene.turntable import turntable
+    from ..scene.view.turntable import turntable
     from ..render.renderer import Renderer
 
     if args.frames < 1:
@@ -117,7 +117,7 @@ def command_animate(args: argparse.Namespace) -> int:
     from ..assets.animation import check_animation_path, write_animation
     from ..assets.animation_frames import AnimationFrames
     from ..render.renderer import Renderer
-    from ..scene.view_values import MAX_SECONDS
+    from ..scene.view.reading import MAX_SECONDS
     from .arguments import view_options_from_args
 
     _check_fps(args.fps)

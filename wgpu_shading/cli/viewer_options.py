@@ -1,5 +1,5 @@
 """The view options as command-line flags, generated from the one table
-(wgpu_shading/scene/view_options.py; docs/view-options.md lists every option's spellings).
+(wgpu_shading/scene/view/options.py; docs/view-options.md lists every option's spellings).
 `render`, `turntable`, `check`, `shader` and `batch` all add them here, so a flag one of
 them accepts the others accept too."""
 
@@ -8,8 +8,8 @@ from __future__ import annotations
 import argparse
 
 from ..errors import UsageError
-from ..scene.view_options import OPTIONS_BY_NAME, VIEW_OPTIONS, ViewOption, ViewOptions
-from ..scene.view_values import LIGHT_SYNTAX, parse_light
+from ..scene.view.options import OPTIONS_BY_NAME, VIEW_OPTIONS, ViewOption, ViewOptions
+from ..scene.view.reading import LIGHT_SYNTAX, parse_light
 
 __all__ = ["LIGHT_SYNTAX", "add_view_arguments", "parse_light", "view_options_from_args"]
 

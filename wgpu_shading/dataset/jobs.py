@@ -14,13 +14,13 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from ..errors import UsageError
-from ..scene.view_options import VIEW_OPTIONS, ViewOptions
+from ..scene.view.options import VIEW_OPTIONS, ViewOptions
 
 COLOR_FORMATS = ("png", "png16", "none")
 DEPTH_FORMATS = ("none", "npy", "png16")
 NORMAL_SPACES = ("none", "eye", "world")
 
-# Where a job keeps each view option (scene/view_options.py): the image size; the camera
+# Where a job keeps each view option (scene/view/options.py): the image size; the camera
 # under the scene file's [camera] names; the turns about the target; the rest (material,
 # shading, lights, ...) under the option's name. Stable names keep the digests of rows
 # written before the options were unified, so reruns still skip their finished jobs.
@@ -88,7 +88,7 @@ class Job:
     folder/name: outputs go to OUTPUT/folder/name*.png|npy, plus name.json (camera, row hash)
     size: (width, height); None = the scene file's size, or 512² for a mesh (like `render`)
     camera: scene-file camera keys (eye, target, up, fov_y, near, far, projection, ortho_height)
-    orbit: azimuth, elevation (degrees), distance (see scene/view_apply.py place_camera)
+    orbit: azimuth, elevation (degrees), distance (see scene/view/apply.py place_camera)
     overrides: the other view options by name (material, frequency, lights, ...)
     Together they are the job's ViewOptions (view_options()): what `render` would be given.
     """

@@ -6,7 +6,7 @@ Columns / keys (all but the first optional):
     id, folder, name             job id (default FOLDER/NAME), output folder (default: the
                                  mesh's stem) and file stem (default view_000, view_001, ... per folder)
     every view option's column   size, material, up, eye, azimuth, lights, ...: the table in
-                                 scene/view_options.py (docs/view-options.md), read by the
+                                 scene/view/options.py (docs/view-options.md), read by the
                                  option's own reader ("1 2 3" or "1,2,3" for a vector in CSV)
 Older manifests keep working: `infinite_viewer` (true = local_viewer false), and `up` holding
 a vector (the camera's up vector, now `camera_up`; `up` holding an axis such as +Z is the
@@ -23,10 +23,11 @@ from pathlib import Path
 from typing import Any, Iterable
 
 from ..assets.files import check_regular_file
+from ..assets.view_loader import source_name
 from ..errors import UsageError
 from ..scene import BUILTIN_PREFIX, BUILTINS
-from ..scene.view_options import COLUMNS, ViewOptions
-from ..scene.view_values import read_bool, read_vector
+from ..scene.view.options import COLUMNS, ViewOptions
+from ..scene.view.reading import read_bool, read_vector
 from .jobs import Job, Outputs
 
 SOURCE_KEYS = ("mesh", "scene", "source")
@@ -174,7 +175,7 @@ def _resolve(source: str, base: Path) -> str:
 
 def _folder_for(source: str, taken: dict[str, str]) -> str:
     """The mesh's stem; a second mesh with the same stem gets a short hash of its path."""
-    stem = Path(source.split("?")[0].replace("builtin:", "").replace("example:", "")).stem or "mesh"
+    stem = source_name(source, "mesh")
     if stem in taken.values():
         stem = f"{stem}-{hashlib.sha1(source.encode()).hexdigest()[:6]}"
     return stem

@@ -1,6 +1,6 @@
 """What a live view shows, and how the keys and the mouse change it: pure logic, no window.
 
-A ViewState is the view's settings: its view options (scene/view_options.py: the ones
+A ViewState is the view's settings: its view options (scene/view/options.py: the ones
 `render` takes, which the keys change: frequency, reflection, material, shininess, crease
 angle, two-sided, samples) and the camera the mouse moved. Every key of the viewer is a transition of it
 (`press`), every drag or wheel turn a camera move (`drag`, `wheel`); the window, the
@@ -15,8 +15,8 @@ from dataclasses import dataclass, replace
 
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
 from ..scene.camera import Camera
-from ..scene.view_apply import scene_value
-from ..scene.view_options import OPTIONS_BY_NAME, ViewOptions
+from ..scene.view.apply import scene_value
+from ..scene.view.options import OPTIONS_BY_NAME, ViewOptions
 from . import navigation
 
 CREASE_ANGLES = (0.0, 30.0, 60.0, 180.0)  # the `C` key's cycle, degrees

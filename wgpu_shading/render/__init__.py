@@ -3,7 +3,7 @@
 and frame pipelining.
 
 Data path: Scene → features.object_features (FeatureSet) → shaders/ (WGSL, binding plan,
-uniform layouts and values) → gpu/pipeline_cache (one pipeline per key) → passes/ (the
+uniform layouts and values) → gpu/pipelines (one cached pipeline per PipelineKey) → passes/ (the
 colour pass, the extra outputs) → renderer.Renderer → Frame. Folders in floors, imports
 only downward: features/device → shaders/ → gpu/ → passes/ → renderer
 (tests/test_architecture.py). Imports `scene/` (and `assets/` nowhere: the renderer never

@@ -2,7 +2,7 @@
 
 The feature set is the key of everything downstream: it selects the WGSL that
 `shadergen` emits (code and uniform fields for absent effects are left out), and
-`pipeline_cache` caches one pipeline per feature set. It is a frozen, hashable dataclass.
+the pipeline key (gpu/pipelines.py) holds it. It is a frozen, hashable dataclass.
 """
 
 from __future__ import annotations

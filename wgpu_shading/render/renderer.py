@@ -1,7 +1,7 @@
-"""The render pass: scene → GPU resources → one frame read back into numpy.
+"""The frame API: scene → the frame's passes → one frame read back into numpy.
 
 A Renderer owns one wgpu device (the shared default one, or the caller's) and keeps
-everything that outlives a frame: pipelines (per feature set), mesh and texture
+everything that outlives a frame: pipelines (per PipelineKey), mesh and texture
 uploads (per Mesh/Texture object, released when those are garbage-collected), uniform
 buffers, render targets and readback buffers (per size and format). Rendering the same
 scene again, or the same meshes from another camera, only rewrites uniforms. Every one
@@ -11,8 +11,9 @@ The frame API: `submit(scene, ...)` encodes and submits a frame and returns a
 PendingFrame at once; `read(pending)` waits for the GPU and returns the Frame. Between the
 two the caller may submit more frames (render_many keeps two per device in flight,
 frames_in_flight.py). Each pending frame holds its own render targets, lent by the device
-cache and given back by `read`. The colour pass is passes/color.py; the normals and ids of
-datasets are passes/extra_outputs.py, on the same caches and targets.
+cache and given back by `read`. A frame is the list of passes it asks for
+(passes/frame.py): the colour pass (passes/color.py) and the normals and ids of datasets
+(passes/extra_outputs.py), on the same caches and targets.
 
 Threads: a Renderer may be shared. Submitting and reading back a frame, and every cache
 mutation, happen under the renderer's lock (the uniform buffers are reused between
@@ -33,13 +34,14 @@ import wgpu
 from ..errors import DeviceError
 from ..scene import Scene
 from ..scene.objects import check_scene_argument
-from .passes.color import encode_color_frame, read_color_frame
 from .device import default_device, lost_device_errors
-from .gpu.device_cache import DeviceCache
-from .passes.extra_outputs import TARGET_FORMAT, check_space, encode_extra_outputs, read_extra_outputs
 from .features import FeatureSet, object_features
 from .frames_in_flight import render_many
+from .gpu.device_cache import DeviceCache
 from .gpu.targets import Target
+from .passes.extra_outputs import check_space
+from .passes.frame import frame_passes
+from .passes.frame_context import FrameContext, FramePass
 
 
 @dataclass(frozen=True)
@@ -75,9 +77,8 @@ class PendingFrame:
 
     renderer: "Renderer"  # the one that submitted it (read on it)
     scene: Scene
-    depth: bool
-    color_target: Target | None  # None: no colour pass (color=False, no depth)
-    extra_target: Target | None = None  # normals and ids
+    # The frame's passes (passes/frame.py), each with the target lent to it (None: none).
+    passes: list[tuple[FramePass, Target | None]]
     done: bool = field(default=False)
 
 
@@ -110,7 +111,7 @@ class Renderer:
 
     @property
     def pipeline_count(self) -> int:
-        """How many pipelines this renderer has compiled (one per feature set and format)."""
+        """How many pipelines this renderer keeps compiled (one per PipelineKey: pass, feature set, format, …)."""
         return len(self._cache.pipelines)
 
     # ------------------------------------------------------------------ one frame
@@ -137,25 +138,24 @@ class Renderer:
         check_scene_argument(scene, "render")
         if normals is not None:
             check_space(normals)
-        color_format = "float32" if float32 else "rgba8"
+        passes = frame_passes(
+            scene, color_format="float32" if float32 else "rgba8", color=color, depth=depth, normals=normals, ids=ids,
+        )
         with self._lock, lost_device_errors(self._device):
             cache = self._cache
-            color_target = extra_target = None
+            lent: list[tuple[FramePass, Target | None]] = []
             try:
                 encoder = self._device.create_command_encoder()
-                if color or depth:
-                    color_target = cache.take_target(scene.size, color_format, scene.samples)
-                    encode_color_frame(cache, encoder, scene, color_target, read_depth=depth)
-                if normals is not None or ids:
-                    extra_target = cache.take_target(scene.size, TARGET_FORMAT)
-                    encode_extra_outputs(cache, encoder, scene, normals or "eye", extra_target)
+                frame = FrameContext.of(scene)
+                for render_pass in passes:
+                    target = render_pass.take_target(cache, scene)
+                    lent.append((render_pass, target))
+                    render_pass.encode(cache, encoder, frame, target)
                 self._device.queue.submit([encoder.finish()])
             except BaseException:
-                for target in (color_target, extra_target):
-                    if target is not None:
-                        cache.give_back(target)
+                self._give_back(lent)
                 raise
-        return PendingFrame(self, scene, depth, color_target, extra_target)
+        return PendingFrame(self, scene, lent)
 
     def read(self, pending: PendingFrame) -> Frame:
         """Wait for a submitted frame and copy it out (once per PendingFrame)."""
@@ -165,17 +165,18 @@ class Renderer:
             if pending.done:
                 raise ValueError("this PendingFrame has been read already")
             pending.done = True
-            color = depth = normal_pixels = id_pixels = None
+            outputs: dict[str, np.ndarray | None] = {"color": None}
             try:
-                if pending.color_target is not None:
-                    color, depth = read_color_frame(pending.color_target, pending.scene.camera, read_depth=pending.depth)
-                if pending.extra_target is not None:
-                    normal_pixels, id_pixels = read_extra_outputs(pending.extra_target)
+                for render_pass, target in pending.passes:
+                    outputs.update(render_pass.read(target, pending.scene))
             finally:
-                for target in (pending.color_target, pending.extra_target):
-                    if target is not None:
-                        self._cache.give_back(target)
-        return Frame(color=color, depth=depth, normals=normal_pixels, ids=id_pixels)
+                self._give_back(pending.passes)
+        return Frame(**outputs)
+
+    def _give_back(self, lent: list[tuple[FramePass, Target | None]]) -> None:
+        for _, target in lent:
+            if target is not None:
+                self._cache.give_back(target)
 
     def check_size(self, size: tuple[int, int], *, float32: bool = False, samples: int = 1) -> None:
         """Raise SceneError if this adapter cannot render or read back an output of `size`

@@ -12,32 +12,23 @@ output's aspect ratio), between `znear` and `zfar`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ...errors import SceneError
+from ...scene.camera import Camera
 from .animations import read_posed
 from .document import GltfData, gltf_error
 from .nodes import scene_nodes, scene_roots, world_matrices
 
 
-@dataclass(frozen=True)
-class FileCamera:
-    """One glTF camera where its node puts it, in the file's space (float64)."""
-
-    world: np.ndarray  # (4, 4): the camera node's world matrix
-    projection: str  # "perspective" | "orthographic"
-    fov_y: float | None  # degrees (perspective)
-    half_height: float | None  # ymag (orthographic)
-    near: float
-    far: float | None  # None: infinite (perspective without zfar)
-    name: str
-
-
-def gltf_camera(path: Path, index: int, animation_time: float | None = None, animation_index: int | str = 0) -> FileCamera:
-    """cameras[index] placed by the first node of the scene that uses it, the nodes posed at
-    `animation_time` if given (animations.py)."""
+def gltf_camera(path: Path, index: int, animation_time: float | None = None,
+                animation_index: int | str = 0) -> tuple[Camera, np.ndarray, bool]:
+    """cameras[index] as (the Camera in its node's frame: at the origin looking down −Z with
+    +Y up; its node's world matrix; whether its far plane is infinite), the node the first
+    of the scene that uses it, posed at `animation_time` if given (animations.py). Where
+    it lands in the world is the bare-mesh policy's (scene/view/bare_mesh.py)."""
     data, nodes = read_posed(path, animation_time, animation_index)
     cameras = data.items("cameras")
     count = len(cameras)
@@ -57,17 +48,22 @@ def gltf_camera(path: Path, index: int, animation_time: float | None = None, ani
     settings = camera.get(kind) if kind in ("perspective", "orthographic") else None
     if not isinstance(settings, dict):
         raise gltf_error(data.path, where, f"expected type perspective or orthographic with its object, got {kind!r:.40}")
-    name = str(camera.get("name", where))
-    if kind == "perspective":
-        fov = _number(data, settings.get("yfov"), f"{where}.perspective.yfov", 0.0, np.pi)
-        near = _number(data, settings.get("znear"), f"{where}.perspective.znear", 0.0, np.inf)
-        far = settings.get("zfar")
-        far = None if far is None else _number(data, far, f"{where}.perspective.zfar", near, np.inf)
-        return FileCamera(world[node], "perspective", float(np.degrees(fov)), None, near, far, name)
-    half_height = _number(data, settings.get("ymag"), f"{where}.orthographic.ymag", 0.0, np.inf)
-    near = _number(data, settings.get("znear"), f"{where}.orthographic.znear", 0.0, np.inf, low_open=False)
-    far = _number(data, settings.get("zfar"), f"{where}.orthographic.zfar", near, np.inf)
-    return FileCamera(world[node], "orthographic", None, half_height, near, far, name)
+    local = {"eye": (0.0, 0.0, 0.0), "target": (0.0, 0.0, -1.0), "up": (0.0, 1.0, 0.0)}
+    try:
+        if kind == "perspective":
+            fov = _number(data, settings.get("yfov"), f"{where}.perspective.yfov", 0.0, np.pi)
+            near = _number(data, settings.get("znear"), f"{where}.perspective.znear", 0.0, np.inf)
+            far = settings.get("zfar")
+            far = None if far is None else _number(data, far, f"{where}.perspective.zfar", near, np.inf)
+            # without zfar the projection is infinite: the policy puts the far plane beyond the scene
+            return Camera(fov_y=float(np.degrees(fov)), near=near, far=near * 2.0 if far is None else far, **local), world[node], far is None
+        half_height = _number(data, settings.get("ymag"), f"{where}.orthographic.ymag", 0.0, np.inf)
+        near = _number(data, settings.get("znear"), f"{where}.orthographic.znear", 0.0, np.inf, low_open=False)
+        far = _number(data, settings.get("zfar"), f"{where}.orthographic.zfar", near, np.inf)
+        near = near if near > 0.0 else far * 1e-6  # znear 0 is valid for orthographic cameras; ours needs a plane in front
+        return Camera(projection="orthographic", ortho_height=2.0 * half_height, near=near, far=far, **local), world[node], False
+    except SceneError as error:  # a projection float32 cannot hold (a yfov of 1e-30 ...)
+        raise gltf_error(data.path, where, str(error)) from None
 
 
 def _number(data: GltfData, value: object, field: str, low: float, high: float, low_open: bool = True) -> float:

@@ -32,7 +32,7 @@ from .caches import (
     ObjectCache,
 )
 from ..device import uses_direct_upload
-from .pipeline_cache import PipelineCache
+from .pipelines import PipelineCache
 from ..shaders.uniforms import finite_uniform_bytes
 from .bind_groups import cached_bind_group
 from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh

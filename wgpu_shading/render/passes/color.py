@@ -1,8 +1,11 @@
 """The colour pass: a scene's draws (one per object part, with the pipeline, uploads and
-textures its binding plan names), encoded into a render target of the device cache.
+textures its binding plan names) into a colour target, with the depth image on request.
 
-The renderer calls `encode_color_frame` under its lock and `read_color_frame` once the
-GPU is done; every resource comes from the DeviceCache (device_cache.py), by name.
+Its one pipeline-descriptor builder is `color_pipeline`: the feature set's shader and
+binding plan, culling and blending from the material, the target's format and samples.
+With MSAA and a depth image the pass runs twice (`encode`): multisampled depth cannot be
+copied out, so a single-sample pass first writes the depth that is read (pixel centres, as
+without MSAA) and the multisampled pass then overwrites the colour with its resolved image.
 """
 
 from __future__ import annotations
@@ -15,41 +18,67 @@ from pyglm import glm
 
 from ...errors import SceneError
 from ...scene import Camera, Scene
-from ..shaders.bindings import Binding
-from ..gpu.caches import LruCache
+from ..features import FeatureSet, object_features
 from ..gpu.device_cache import DeviceCache
-from ..features import object_features
-from ..shaders.material_maps import decodes_srgb
-from ..gpu.pipeline_cache import PipelineEntry
-from ..gpu.mesh_uploads import GpuMesh
+from ..gpu.pipelines import BLEND_OVER, PassKind, PipelineDescriptor, PipelineKey
 from ..gpu.readback import read_buffer, read_mapped_rows
 from ..gpu.targets import Target
-from ..gpu.texture_uploads import GpuTexture
+from ..shaders.bindings import binding_plan
+from ..shaders.material_maps import decodes_srgb
+from ..shaders.shadergen import generate_wgsl
 from ..shaders.uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
+from .draws import Draw, encode_draws
+from .frame_context import FrameContext
 
 
-@dataclass
-class Draw:
-    """One draw call: one part of one object (a range of its triangles) with its material."""
+def color_pipeline(key: PipelineKey) -> PipelineDescriptor:
+    """The colour pass's pipelines: one per feature set, target format, samples and winding."""
+    features = key.features
+    return PipelineDescriptor(
+        label=features.describe(),
+        source=generate_wgsl(features),
+        plan=binding_plan(features),
+        # Flat shading pulls its vertices from storage buffers (wgsl/flat.wgsl says why).
+        indexed=features.frequency != "flat",
+        # A mirrored model-view reverses the winding on screen; flip what counts as front
+        # so `front_facing` still means "the outward side faces the viewer".
+        front_face_cw=key.mirrored,
+        # No culling, like OpenGL's default: open meshes show their inside; a glTF material
+        # with doubleSided false culls its back faces (glTF 2.0 §3.9.6).
+        cull_mode=wgpu.CullMode.back if features.cull_back else wgpu.CullMode.none,
+        # Blended parts are drawn after the opaque ones, back to front, and do not hide each
+        # other (they still hide behind opaque parts).
+        depth_write=features.alpha_mode != "blend",
+        color_format=key.target_format,
+        blend=BLEND_OVER if features.alpha_mode == "blend" else None,
+        samples=key.samples,
+    )
 
-    entry: PipelineEntry
-    draw_index: int  # which object-uniform buffer it uses
-    gpu_mesh: GpuMesh
-    object_data: np.ndarray
-    textures: dict[str, object]  # the plan's *_texture and *_sampler entries: views and samplers
-    texture_owner: GpuTexture | None  # whose cache keeps the object bind group (the first texture)
-    first_triangle: int
-    triangle_count: int
+
+COLOR = PassKind("colour", color_pipeline)
 
 
-def group_cache(group: tuple[Binding, ...], draw: Draw) -> LruCache | None:
-    """Who keeps a bind group: the mesh (its storage buffers), else the first texture it
-    binds, else the device cache (None), so a group goes when what it binds is evicted."""
-    if any(binding.kind == "storage" for binding in group):
-        return draw.gpu_mesh.storage_groups
-    if draw.texture_owner is not None and any(binding.kind == "texture" for binding in group):
-        return draw.texture_owner.object_groups
-    return None
+def color_key(features: FeatureSet, target_format: str = "rgba8", samples: int = 1, mirrored: bool = False) -> PipelineKey:
+    """The key of the colour pipeline that draws `features` (culling comes with the features)."""
+    return PipelineKey(COLOR, features, target_format, samples, mirrored, features.cull_back)
+
+
+@dataclass(frozen=True)
+class ColorPass:
+    """The colour image of a frame, and its eye-space depth with `read_depth`."""
+
+    color_format: str  # "rgba8" | "float32"
+    read_depth: bool
+
+    def take_target(self, cache: DeviceCache, scene: Scene) -> Target:
+        return cache.take_target(scene.size, self.color_format, scene.samples)
+
+    def encode(self, cache: DeviceCache, encoder, frame: FrameContext, target: Target) -> None:
+        encode_color_frame(cache, encoder, frame, target, read_depth=self.read_depth)
+
+    def read(self, target: Target, scene: Scene) -> dict[str, np.ndarray | None]:
+        color, depth = read_color_frame(target, scene.camera, read_depth=self.read_depth)
+        return {"color": color, "depth": depth}
 
 
 def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_world: glm.dmat4, samples: int = 1) -> list[Draw]:
@@ -68,7 +97,7 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
             if part.count == 0:
                 continue
             features = object_features(scene, obj, index, material)
-            entry = cache.pipelines.get(features, color_format, mirrored, samples)
+            entry = cache.pipelines.get(PipelineKey(COLOR, features, color_format, samples, mirrored, features.cull_back))
             textures: dict[str, object] = {}
             owner = None
             for sampled in entry.plan.textures:
@@ -81,11 +110,11 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
                 entry=entry,
                 draw_index=len(opaque) + len(blended),
                 gpu_mesh=cache.gpu_mesh(obj.mesh, entry.plan, blended_parts),
-                object_data=object_uniforms(model_view, material, entry.object_dtype, scene),
-                textures=textures,
-                texture_owner=owner,
+                object_data=object_uniforms(model_view, material, entry.uniform_dtypes["object"], scene),
                 first_triangle=part.first,
                 triangle_count=part.count,
+                textures=textures,
+                texture_owner=owner,
             )
             if features.alpha_mode == "blend":
                 centre = obj.mesh.part_centre(part)
@@ -97,27 +126,18 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
     return opaque + [draw for _, draw in blended]
 
 
-def encode_color_frame(cache: DeviceCache, encoder, scene: Scene, target: Target, *, read_depth: bool) -> None:
-    """The colour pass of `scene` into `target`, and the copies into its readback buffers."""
-    eye_from_world = glm.dmat4(scene.camera.eye_from_world())  # double precision, once per frame
+def encode_color_frame(cache: DeviceCache, encoder, frame: FrameContext, target: Target, *, read_depth: bool) -> None:
+    """The colour pass of the frame's scene into `target`, and the copies into its readback buffers."""
+    scene, eye_from_world = frame.scene, frame.eye_from_world
     if target.samples > 1 and read_depth:
-        # Multisampled depth cannot be copied out: a single-sample pass first writes the
-        # depth that is read (pixel centres, as without MSAA); the MSAA pass then
-        # overwrites the color with its resolved, antialiased image.
         single = prepare_draws(cache, scene, target.color_format, eye_from_world, 1)
-        encode_pass(
-            cache, encoder, scene, single, eye_from_world, target.color_view, None, target.depth_view, store_depth=True
-        )
+        encode_pass(cache, encoder, frame, single, target.color_view, None, target.depth_view, store_depth=True)
     if target.samples > 1:
         draws = prepare_draws(cache, scene, target.color_format, eye_from_world, target.samples)
-        encode_pass(
-            cache, encoder, scene, draws, eye_from_world, target.msaa_color_view, target.color_view, target.msaa_depth_view
-        )
+        encode_pass(cache, encoder, frame, draws, target.msaa_color_view, target.color_view, target.msaa_depth_view)
     else:
         draws = prepare_draws(cache, scene, target.color_format, eye_from_world)
-        encode_pass(
-            cache, encoder, scene, draws, eye_from_world, target.color_view, None, target.depth_view, store_depth=read_depth
-        )
+        encode_pass(cache, encoder, frame, draws, target.color_view, None, target.depth_view, store_depth=read_depth)
     size = (target.width, target.height, 1)
     encoder.copy_texture_to_buffer(
         {"texture": target.color},
@@ -133,13 +153,14 @@ def encode_color_frame(cache: DeviceCache, encoder, scene: Scene, target: Target
 
 
 def encode_pass(
-    cache: DeviceCache, encoder, scene: Scene, draws: list[Draw], eye_from_world, color_view, resolve_view, depth_view,
+    cache: DeviceCache, encoder, frame: FrameContext, draws: list[Draw], color_view, resolve_view, depth_view,
     *, store_depth: bool = False,
 ) -> None:
     """One render pass drawing `draws`; with `resolve_view`, the multisampled color is
     averaged into it at the end of the pass. The depth attachment is kept after the
     pass only with `store_depth` (a frame whose depth is read back): otherwise it is
     scratch, and StoreOp.discard tells the driver it need not write it out."""
+    scene = frame.scene
     color_attachment = {
         "view": color_view,
         "clear_value": scene.background,
@@ -157,9 +178,11 @@ def encode_pass(
             "depth_store_op": wgpu.StoreOp.store if store_depth else wgpu.StoreOp.discard,
         },
     )
+    shared = frame.bound
     if draws:
         # Every object shares the frame uniforms; their layout depends only on scene-level features.
-        frame_data = frame_uniforms(scene, draws[0].entry.frame_dtype, eye_from_world)
+        frame_dtype = draws[0].entry.uniform_dtypes["frame"]
+        frame_data = frame_uniforms(scene, frame_dtype, frame.eye_from_world)
         uniform_limit = cache.device.limits["max-uniform-buffer-binding-size"]
         if frame_data.nbytes > uniform_limit:
             render_pass.end()
@@ -167,30 +190,9 @@ def encode_pass(
                 f"lights: the {len(scene.lights)} lights need {frame_data.nbytes} bytes of uniforms; this adapter "
                 f"binds at most {uniform_limit} (use fewer lights)"
             )
-        frame_buffer = cache.uniform_buffer("frame", 0, frame_data, "camera and lights")
-    for draw in draws:
-        entry = draw.entry
-        assert entry.frame_dtype == frame_data.dtype
-        gpu_mesh = draw.gpu_mesh
-        render_pass.set_pipeline(entry.pipeline)
-        resources = {
-            "frame": frame_buffer,
-            "object": cache.uniform_buffer("object", draw.draw_index, draw.object_data, f"objects[{draw.draw_index}]"),
-            **draw.textures,
-        }
-        # Every entry of the plan, by name: uniform buffers, textures, else the mesh's buffer.
-        for index, (group, layout) in enumerate(zip(entry.plan.groups, entry.bind_group_layouts)):
-            bound = tuple(resources[b.name] if b.name in resources else getattr(gpu_mesh, b.name) for b in group)
-            render_pass.set_bind_group(index, cache.bind_group(group_cache(group, draw), layout, bound))
-        for vertex_buffer in entry.plan.vertex_buffers:
-            render_pass.set_vertex_buffer(vertex_buffer.slot, getattr(gpu_mesh, vertex_buffer.name))
-        first_corner, corner_count = 3 * draw.first_triangle, 3 * draw.triangle_count
-        if entry.features.frequency == "flat":
-            # vertex_index counts from first_vertex: corner k of the whole mesh
-            render_pass.draw(corner_count, 1, first_corner, 0)
-        else:
-            render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
-            render_pass.draw_indexed(corner_count, 1, first_corner, 0, 0)
+        assert all(draw.entry.uniform_dtypes["frame"] == frame_dtype for draw in draws)
+        shared = {**shared, "frame": cache.uniform_buffer("frame", 0, frame_data, "camera and lights")}
+    encode_draws(cache, render_pass, draws, shared, "object", "objects[{}]")
     render_pass.end()
 
 
@@ -207,4 +209,3 @@ def read_color_frame(target: Target, camera: Camera, *, read_depth: bool) -> tup
             lambda rows: linear_depth(rows, camera),
         )
     return color, depth
-

@@ -5,10 +5,10 @@ second, small render pass (wgsl/extra_outputs.wgsl) into an rgba32float target: 
 xyz, the segment id in w (1 + the index of the object's part in `segments`; 0 = background).
 Every part is drawn opaque: alpha masks and blending of the colour pass do not apply (ids
 and normals are of the nearest surface). It runs on the colour pass's path: the same
-DeviceCache (device_cache.py) gives its pipeline (from the pipeline cache), mesh uploads,
-uniform buffers, bind groups and its render target (lent and returned like the colour
-pass's, within the same bound), and it uses the same float32 matrices as the lit pass, so
-its coverage and depth order are those of the colour image.
+DeviceCache (gpu/device_cache.py) gives its pipeline (its one pipeline-descriptor builder is
+`extra_outputs_pipeline`), mesh uploads, uniform buffers, bind groups and its render target
+(lent and returned like the colour pass's, within the same bound), and it uses the same
+float32 matrices as the lit pass, so its coverage and depth order are those of the colour image.
 """
 
 from __future__ import annotations
@@ -23,12 +23,38 @@ from ...errors import SceneError
 from ...scene import Scene, SceneObject
 from ...scene.mesh import MeshPart
 from ..gpu.device_cache import DeviceCache
+from ..gpu.pipelines import PassKind, PipelineDescriptor, PipelineKey
 from ..gpu.readback import read_buffer
 from ..gpu.targets import Target
+from ..shaders.bindings import extra_outputs_plan
+from ..shaders.shadergen import generate_extra_outputs_wgsl
 from ..shaders.uniforms import clip_from_eye, is_mirrored
+from .draws import Draw, encode_draws
+from .frame_context import FrameContext
 
 NORMAL_SPACES = ("eye", "world")
 TARGET_FORMAT = "float32"  # an rgba32float target, like `render --float`'s: the same pool
+
+
+def extra_outputs_pipeline(key: PipelineKey) -> PipelineDescriptor:
+    """One shader for every draw; `cull_back` for the parts the lit pass culls (glTF
+    doubleSided false), whose winding then depends on `mirrored`."""
+    return PipelineDescriptor(
+        label="extra outputs",
+        source=generate_extra_outputs_wgsl(),
+        plan=extra_outputs_plan(),
+        front_face_cw=key.mirrored,
+        cull_mode=wgpu.CullMode.back if key.cull_back else wgpu.CullMode.none,
+        color_format=key.target_format,
+    )
+
+
+EXTRA_OUTPUTS = PassKind("extra outputs", extra_outputs_pipeline)
+
+
+def extra_outputs_key(cull_back: bool = False, mirrored: bool = False) -> PipelineKey:
+    # The winding matters only where back faces are culled: one pipeline for both otherwise.
+    return PipelineKey(EXTRA_OUTPUTS, None, TARGET_FORMAT, 1, mirrored and cull_back, cull_back)
 
 
 def segments(scene: Scene) -> list[tuple[SceneObject, MeshPart]]:
@@ -51,14 +77,50 @@ def check_space(space: str) -> None:
         raise SceneError(f"normals: expected eye or world, got {space!r}")
 
 
-def encode_extra_outputs(cache: DeviceCache, encoder, scene: Scene, space: str, target: Target) -> None:
-    """The normals-and-ids pass of `scene` into `target` (a float32 target), and the copy
-    into its readback buffer."""
-    entry = cache.pipelines.extra_outputs()
-    (layout,) = entry.bind_group_layouts
-    eye_from_world = glm.dmat4(scene.camera.eye_from_world())
+@dataclass(frozen=True)
+class ExtraOutputsPass:
+    """The normals (in `space`) and ids of a frame."""
+
+    space: str  # "eye" | "world"
+
+    def take_target(self, cache: DeviceCache, scene: Scene) -> Target:
+        return cache.take_target(scene.size, TARGET_FORMAT)
+
+    def encode(self, cache: DeviceCache, encoder, frame: FrameContext, target: Target) -> None:
+        encode_extra_outputs(cache, encoder, frame, self.space, target)
+
+    def read(self, target: Target, scene: Scene) -> dict[str, np.ndarray]:
+        normals, ids = read_extra_outputs(target)
+        return {"normals": normals, "ids": ids}
+
+
+def prepare_draws(cache: DeviceCache, frame: FrameContext, space: str, aspect: float) -> list[Draw]:
+    """One draw per segment, its uniforms holding the segment's id."""
+    scene = frame.scene
     # The same float64 → float32 values as uniforms.frame_uniforms / object_uniforms.
-    clip = clip_from_eye(scene.camera, target.width / target.height).T
+    clip = clip_from_eye(scene.camera, aspect).T
+    materials = {id(obj): dict(zip(map(id, obj.mesh.parts), obj.part_materials())) for obj in scene.objects}
+    draws = []
+    for segment, (obj, part) in enumerate(segments(scene), 1):
+        model = glm.dmat4(obj.world_from_model())
+        model_view = frame.eye_from_world * model
+        # the back faces the lit pass culls (glTF doubleSided false) are culled here too
+        cull = materials[id(obj)][id(part)].double_sided is False and not scene.shading.two_sided
+        entry = cache.pipelines.get(extra_outputs_key(cull, is_mirrored(model_view)))
+        normal_from_model = glm.inverseTranspose(glm.dmat3(model_view if space == "eye" else model))
+        data = np.zeros((), entry.uniform_dtypes["object"])
+        data["clip_from_eye"] = clip
+        data["eye_from_model"] = np.array(model_view).T
+        data["output_normal_from_model"][:, :3] = np.array(normal_from_model).T
+        data["object_id"] = segment
+        draws.append(Draw(entry, segment, cache.gpu_mesh(obj.mesh, entry.plan), data, part.first, part.count, {}))
+    return draws
+
+
+def encode_extra_outputs(cache: DeviceCache, encoder, frame: FrameContext, space: str, target: Target) -> None:
+    """The normals-and-ids pass of the frame's scene into `target` (a float32 target), and
+    the copy into its readback buffer."""
+    draws = prepare_draws(cache, frame, space, target.width / target.height)
     render_pass = encoder.begin_render_pass(
         color_attachments=[
             {"view": target.color_view, "clear_value": (0, 0, 0, 0), "load_op": wgpu.LoadOp.clear, "store_op": wgpu.StoreOp.store}
@@ -70,27 +132,7 @@ def encode_extra_outputs(cache: DeviceCache, encoder, scene: Scene, space: str, 
             "depth_store_op": wgpu.StoreOp.discard,
         },
     )
-    materials = {id(obj): dict(zip(map(id, obj.mesh.parts), obj.part_materials())) for obj in scene.objects}
-    for segment, (obj, part) in enumerate(segments(scene), 1):
-        model = glm.dmat4(obj.world_from_model())
-        model_view = eye_from_world * model
-        # the back faces the lit pass culls (glTF doubleSided false) are culled here too
-        cull = materials[id(obj)][id(part)].double_sided is False and not scene.shading.two_sided
-        render_pass.set_pipeline(cache.pipelines.extra_outputs(cull, is_mirrored(model_view)).pipeline)
-        normal_from_model = glm.inverseTranspose(glm.dmat3(model_view if space == "eye" else model))
-        data = np.zeros((), entry.object_dtype)
-        data["clip_from_eye"] = clip
-        data["eye_from_model"] = np.array(model_view).T
-        data["output_normal_from_model"][:, :3] = np.array(normal_from_model).T
-        data["object_id"] = segment
-        gpu_mesh = cache.gpu_mesh(obj.mesh, entry.plan)
-        resources = {"object": cache.uniform_buffer("extra outputs", segment, data, f"segment {segment}")}
-        bound = tuple(resources[b.name] for b in entry.plan.groups[0])
-        render_pass.set_bind_group(0, cache.bind_group(None, layout, bound))
-        for vertex_buffer in entry.plan.vertex_buffers:
-            render_pass.set_vertex_buffer(vertex_buffer.slot, getattr(gpu_mesh, vertex_buffer.name))
-        render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
-        render_pass.draw_indexed(3 * part.count, 1, 3 * part.first, 0, 0)
+    encode_draws(cache, render_pass, draws, {}, "extra outputs", "segment {}")
     render_pass.end()
     encoder.copy_texture_to_buffer(
         {"texture": target.color},

@@ -8,7 +8,7 @@ order, never written by hand). Everything else follows from the plan:
 
 - the WGSL declarations (`BindingPlan.wgsl()`; shadergen pastes them where a source says
   `#include "bindings.wgsl"`),
-- the bind group layouts and the vertex buffer layouts of a pipeline (pipeline_cache.py),
+- the bind group layouts and the vertex buffer layouts of a pipeline (gpu/pipelines.py),
 - the bind groups and vertex buffers the render pass sets (renderer.py binds each entry by
   its name: uniform buffers "frame" and "object", a GpuMesh buffer of the same name, or a
   texture's view and sampler).
@@ -22,7 +22,7 @@ GpuMesh attribute of the same name).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Callable
 
@@ -115,18 +115,35 @@ VERTEX_ATTRIBUTES: tuple[VertexAttribute, ...] = (
 )
 
 
+# The bind group layout entry of each WGSL texture and sampler type a plan may declare:
+# colour images (filtered floats) and depth textures (a shadow map: 2D, 2D array, cube)
+# read through comparison samplers (textureSampleCompare).
+TEXTURE_LAYOUTS = {
+    "texture_2d<f32>": {"sample_type": wgpu.TextureSampleType.float, "view_dimension": wgpu.TextureViewDimension.d2},
+    "texture_depth_2d": {"sample_type": wgpu.TextureSampleType.depth, "view_dimension": wgpu.TextureViewDimension.d2},
+    "texture_depth_2d_array": {"sample_type": wgpu.TextureSampleType.depth, "view_dimension": wgpu.TextureViewDimension.d2_array},
+    "texture_depth_cube": {"sample_type": wgpu.TextureSampleType.depth, "view_dimension": wgpu.TextureViewDimension.cube},
+}
+SAMPLER_LAYOUTS = {
+    "sampler": {"type": wgpu.SamplerBindingType.filtering},
+    "sampler_comparison": {"type": wgpu.SamplerBindingType.comparison},
+}
+
+
 @dataclass(frozen=True)
 class Binding:
-    """One bind group entry. `kind`: uniform | storage | texture | sampler."""
+    """One bind group entry. `kind`: uniform | storage | texture | sampler; a texture's or
+    sampler's WGSL type says which (TEXTURE_LAYOUTS, SAMPLER_LAYOUTS). `binding` is
+    numbered by `make_plan`, in the order of the entries of each group."""
 
     name: str
     group: int
-    binding: int
     kind: str
     variable: str  # the WGSL variable
     wgsl_type: str
     stages: int
     comment: str = ""
+    binding: int = -1
 
     def wgsl(self) -> str:
         space = {"uniform": "<uniform>", "storage": "<storage, read>"}.get(self.kind, "")
@@ -140,9 +157,9 @@ class Binding:
         elif self.kind == "storage":
             entry["buffer"] = {"type": wgpu.BufferBindingType.read_only_storage}
         elif self.kind == "texture":
-            entry["texture"] = {"sample_type": wgpu.TextureSampleType.float, "view_dimension": "2d"}
+            entry["texture"] = TEXTURE_LAYOUTS[self.wgsl_type]
         else:
-            entry["sampler"] = {"type": wgpu.SamplerBindingType.filtering}
+            entry["sampler"] = SAMPLER_LAYOUTS[self.wgsl_type]
         return entry
 
 
@@ -164,25 +181,24 @@ class VertexBuffer:
         }
 
 
-def _candidate_bindings(features: FeatureSet) -> list[tuple[int, str, str, str, str, int, str]]:
-    """(group, name, kind, WGSL variable, WGSL type, stages, comment) of every entry the
-    feature set needs, in binding order."""
+def _candidate_bindings(features: FeatureSet) -> list[Binding]:
+    """Every entry the feature set needs, in binding order within each group."""
     entries = [
-        (0, "frame", "uniform", "frame_uniforms", "FrameUniforms", VERTEX_AND_FRAGMENT, "Group 0: one per frame, shared by every object."),
-        (1, "object", "uniform", "object_uniforms", "ObjectUniforms", VERTEX_AND_FRAGMENT, "Group 1: one per object (and its textures)."),
+        Binding("frame", 0, "uniform", "frame_uniforms", "FrameUniforms", VERTEX_AND_FRAGMENT, "Group 0: one per frame, shared by every object."),
+        Binding("object", 1, "uniform", "object_uniforms", "ObjectUniforms", VERTEX_AND_FRAGMENT, "Group 1: one per object (and its textures)."),
     ]
     for texture in SAMPLED_TEXTURES:
         if texture.when(features):
-            entries.append((1, f"{texture.name}_texture", "texture", f"{texture.name}_texture", "texture_2d<f32>", texture.stages, texture.comment))
-            entries.append((1, f"{texture.name}_sampler", "sampler", f"{texture.name}_sampler", "sampler", texture.stages, ""))
+            entries.append(Binding(f"{texture.name}_texture", 1, "texture", f"{texture.name}_texture", "texture_2d<f32>", texture.stages, texture.comment))
+            entries.append(Binding(f"{texture.name}_sampler", 1, "sampler", f"{texture.name}_sampler", "sampler", texture.stages))
     if flat(features):
         comment = "Group 2: the mesh, pulled by flat shading's vertex stage."
         for attribute in VERTEX_ATTRIBUTES:
             if attribute.when(features) and attribute.name != "normals":  # flat shading makes face normals
-                entries.append((2, attribute.name, "storage", f"mesh_{attribute.name}", attribute.storage_type, VERTEX,
-                                f"{comment} {attribute.comment}" if attribute.name == "positions" else attribute.comment))
+                entries.append(Binding(attribute.name, 2, "storage", f"mesh_{attribute.name}", attribute.storage_type, VERTEX,
+                                       f"{comment} {attribute.comment}" if attribute.name == "positions" else attribute.comment))
             if attribute.name == "positions":
-                entries.append((2, "indices", "storage", "mesh_indices", "array<u32>", VERTEX, "three per triangle"))
+                entries.append(Binding("indices", 2, "storage", "mesh_indices", "array<u32>", VERTEX, "three per triangle"))
     return entries
 
 
@@ -196,11 +212,16 @@ class BindingPlan:
     vertex_buffers: tuple[VertexBuffer, ...]
     textures: tuple[SampledTexture, ...]  # what fills the *_texture/*_sampler entries
 
-    def names(self) -> set[str]:
-        return {b.name for group in self.groups for b in group} | {v.name for v in self.vertex_buffers}
+    def __post_init__(self) -> None:
+        # Asked per draw (which optional mesh attributes to upload): computed once.
+        names = frozenset(b.name for group in self.groups for b in group) | {v.name for v in self.vertex_buffers}
+        object.__setattr__(self, "_names", names)
+
+    def names(self) -> frozenset[str]:
+        return self._names
 
     def __contains__(self, name: str) -> bool:
-        return name in self.names()
+        return name in self._names
 
     def vertex_buffer_layouts(self) -> list[dict]:
         return [buffer.layout() for buffer in self.vertex_buffers]
@@ -221,14 +242,19 @@ class BindingPlan:
         return "\n".join(lines) + "\n"
 
 
-def _plan(features: FeatureSet | None, candidates: list, attributes: list[VertexAttribute]) -> BindingPlan:
-    groups: list[list[Binding]] = [[] for _ in range(1 + max(candidate[0] for candidate in candidates))]
-    for group, name, kind, variable, wgsl_type, stages, comment in candidates:
-        groups[group].append(Binding(name, group, len(groups[group]), kind, variable, wgsl_type, stages, comment))
+def make_plan(
+    features: FeatureSet | None, entries: list[Binding], attributes: list[VertexAttribute],
+    textures: tuple[SampledTexture, ...] = (),
+) -> BindingPlan:
+    """A plan of these bind group entries (numbered in order within each group, groups from
+    0 without gaps) and vertex buffers (slots in order); `textures`: what fills the
+    *_texture/*_sampler entries from a draw's material. Every pass's plan is made here."""
+    groups: list[list[Binding]] = [[] for _ in range(1 + max((entry.group for entry in entries), default=-1))]
+    for entry in entries:
+        groups[entry.group].append(replace(entry, binding=len(groups[entry.group])))
     vertex_buffers = tuple(
         VertexBuffer(a.name, slot, a.field, a.wgsl_type, a.vertex_format, a.stride) for slot, a in enumerate(attributes)
     )
-    textures = () if features is None else tuple(t for t in SAMPLED_TEXTURES if t.when(features))
     return BindingPlan(features, tuple(tuple(group) for group in groups), vertex_buffers, textures)
 
 
@@ -236,12 +262,13 @@ def _plan(features: FeatureSet | None, candidates: list, attributes: list[Vertex
 def binding_plan(features: FeatureSet) -> BindingPlan:
     """The plan for one feature set (cached: a FeatureSet is hashable)."""
     attributes = [] if flat(features) else [a for a in VERTEX_ATTRIBUTES if a.when(features)]
-    return _plan(features, _candidate_bindings(features), attributes)
+    textures = tuple(t for t in SAMPLED_TEXTURES if t.when(features))
+    return make_plan(features, _candidate_bindings(features), attributes, textures)
 
 
 @lru_cache(maxsize=1)
 def extra_outputs_plan() -> BindingPlan:
     """The normals-and-ids pass (extra_outputs.py): one uniform block per object part and
     the mesh's positions and normals."""
-    candidates = [(0, "object", "uniform", "extra_uniforms", "ExtraUniforms", VERTEX_AND_FRAGMENT, "One per object part.")]
-    return _plan(None, candidates, [a for a in VERTEX_ATTRIBUTES if a.name in ("positions", "normals")])
+    entries = [Binding("object", 0, "uniform", "extra_uniforms", "ExtraUniforms", VERTEX_AND_FRAGMENT, "One per object part.")]
+    return make_plan(None, entries, [a for a in VERTEX_ATTRIBUTES if a.name in ("positions", "normals")])

@@ -7,7 +7,7 @@ from its row (docs/view-options.md, "Adding an option"):
   - its manifest column (dataset/manifest.py reads rows through `COLUMNS`);
   - its scene-file key and what the scene-file reader accepts (assets/scenefile.py asks
     `scene_file_keys`), per light or per object where the row's key says so;
-  - how it changes a Scene (view_apply.py `apply_view_options`, generic by its key);
+  - how it changes a Scene (apply.py `apply_view_options`, generic by its key);
   - the live viewer's settings (live/state.py: `Settings` is ViewOptions plus a camera);
   - the tests' samples (tests/test_view_options.py draws every row's `example`).
 `render_command` writes options back as a `wgpu-shading render` command line.
@@ -26,11 +26,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field, make_dataclass
 from typing import Any, Callable
 
-from .camera import PROJECTIONS
-from .maps import SCENE_COLOR_SPACES
-from .material_table import material as named_material
-from .values import FREQUENCIES, REFLECTIONS
-from .view_values import (
+from ..camera import PROJECTIONS
+from ..maps import SCENE_COLOR_SPACES
+from ..material_table import material as named_material
+from ..values import FREQUENCIES, REFLECTIONS
+from .reading import (
     LIGHT_SYNTAX,
     read_bool,
     read_choice,
@@ -297,5 +297,5 @@ def spellings_table() -> str:
     return "\n".join(rows) + "\n"
 
 
-if __name__ == "__main__":  # python -m wgpu_shading.scene.view_options > the table for docs/view-options.md
+if __name__ == "__main__":  # python -m wgpu_shading.scene.view.options > the table for docs/view-options.md
     print(spellings_table(), end="")

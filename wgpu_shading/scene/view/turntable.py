@@ -8,9 +8,9 @@ from typing import Iterator, Sequence, overload
 
 from pyglm import glm
 
-from ..errors import SceneError
-from .lights import DirectionalLight, PositionalLight, SpotLight
-from .objects import Scene
+from ...errors import SceneError
+from ..lights import DirectionalLight, PositionalLight, SpotLight
+from ..objects import Scene
 
 
 def spun(scene: Scene, degrees: float) -> Scene:

@@ -4,7 +4,7 @@ the same value (floats through repr, so they round-trip exactly).
 
 Every reader takes (value, where) and raises UsageError naming `where` (the flag, the
 manifest line and column, ...) and what was expected. The options themselves are listed
-in view_options.py.
+in options.py.
 """
 
 from __future__ import annotations
@@ -13,13 +13,12 @@ import math
 from dataclasses import replace
 from typing import Any
 
-from ..errors import SceneError, UsageError
-from .framing import parse_direction
-from .viewer_lights import headlight
-from .lights import LIGHT_TYPES
-from .material_table import material as named_material
-from .objects import SAMPLE_COUNTS, up_axis
-from .values import MAX_EXPONENT, image_size
+from ...errors import SceneError, UsageError
+from ..lights import LIGHT_TYPES
+from ..material_table import material as named_material
+from ..objects import SAMPLE_COUNTS, up_axis
+from ..values import MAX_EXPONENT, Vec3, direction, image_size
+from .bare_mesh import headlight
 
 TRUE_WORDS = ("1", "true", "yes", "on")
 FALSE_WORDS = ("0", "false", "no", "off")
@@ -37,6 +36,25 @@ def _numbers(value: Any, where: str, counts: tuple[int, ...], expected: str) -> 
     if len(numbers) not in counts or not all(math.isfinite(n) for n in numbers):
         raise UsageError(f"{where}: expected {expected}, got {value!r}")
     return numbers
+
+
+_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+
+
+def parse_direction(value: str | Vec3, name: str = "direction") -> Vec3:
+    """A direction as f3d spells it: an axis '+Y', '-Z', 'X', or a vector 'X,Y,Z' / (x, y, z)
+    (not normalized; zero is an error). `name` is the flag or key for the message."""
+    if isinstance(value, str):
+        text = value.strip().upper()
+        sign = -1.0 if text.startswith("-") else 1.0
+        axis = text.lstrip("+-")
+        if axis in _AXES and len(text) - len(axis) <= 1:
+            return tuple(sign * c for c in _AXES[axis])
+        try:
+            value = tuple(float(part) for part in text.split(","))
+        except ValueError:
+            raise SceneError(f"{name}: expected +X, -X, +Y, -Y, +Z, -Z or a direction X,Y,Z, got {value!r}") from None
+    return direction(value, name)
 
 
 def read_size(value: Any, where: str) -> tuple[int, int]:
@@ -195,7 +213,7 @@ def read_lights(value: Any, where: str) -> tuple[str, ...]:
     specs = [part.strip() for part in value.split(";")] if isinstance(value, str) else value
     if not isinstance(specs, (list, tuple)) or not all(isinstance(spec, str) for spec in specs):
         raise UsageError(f"{where}: expected light SPECs ({LIGHT_SYNTAX}), got {value!r}")
-    from .camera import Camera
+    from ..camera import Camera
 
     for spec in specs:
         try:

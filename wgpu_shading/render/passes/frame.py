@@ -1,0 +1,28 @@
+"""A frame is the list of passes it calls for, encoded in order into one command buffer.
+
+Today: the colour pass (when the colour or depth image is asked for) and the normals-and-
+ids pass of datasets (when normals or ids are). A pass a scene feature needs goes in this
+list where its outputs are needed: a shadow map pass, for instance, before the colour pass
+that samples it (its `encode` puts the map into `FrameContext.bound`). Only what a frame
+calls for runs: without the feature, no pass and no code.
+"""
+
+from __future__ import annotations
+
+from ...scene import Scene
+from .color import ColorPass
+from .extra_outputs import ExtraOutputsPass
+from .frame_context import FramePass
+
+
+def frame_passes(
+    scene: Scene, *, color_format: str = "rgba8", color: bool = True, depth: bool = False,
+    normals: str | None = None, ids: bool = False,
+) -> list[FramePass]:
+    """The passes of one frame of `scene`, in the order they run."""
+    passes: list[FramePass] = []
+    if color or depth:
+        passes.append(ColorPass(color_format, read_depth=depth))
+    if normals is not None or ids:
+        passes.append(ExtraOutputsPass(normals or "eye"))
+    return passes
