@@ -59,15 +59,17 @@ class AnimationFrames(Sequence[Scene]):
         self.end = animation_duration(data, indices) if end is None else end
         self.times = frame_times(self.start, self.end, fps)
         self.source, self.options = str(source), options
-        self.framing = None if options.camera_index is not None else self._framing(path)
+        self.framing = None if options.camera_index is not None else self._framing(data)
 
-    def _framing(self, path: Path) -> Mesh:
-        """A mesh holding the corners of the box around every frame's pose."""
+    def _framing(self, data) -> Mesh:
+        """A mesh holding the corners of the box around every frame's pose (the file parsed once)."""
+        from .gltf.animations import posed_nodes
         from .gltf.reader import gltf_mesh_pieces
 
+        path = data.path
         lower, upper = np.full(3, np.inf), np.full(3, -np.inf)
         for time in self.times:
-            pieces, _ = gltf_mesh_pieces(path, time, self.animation)
+            pieces, _ = gltf_mesh_pieces(data, posed_nodes(data, time, self.animation))
             for piece in pieces:
                 if len(piece.faces):
                     used = piece.positions[np.unique(piece.faces)]

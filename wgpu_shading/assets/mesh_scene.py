@@ -3,13 +3,14 @@ here, every choice made by the bare-mesh policy (scene/view/bare_mesh.py)."""
 
 from __future__ import annotations
 
+import warnings
 from typing import Any, Mapping
 
 import numpy as np
 
 from ..errors import MeshError, SceneError
 from ..scene.view.bare_mesh import DEFAULT_SIZE, bare_mesh_scene
-from .meshes import DEFAULT_CREASE_ANGLE, load_mesh
+from .meshes import DEFAULT_CREASE_ANGLE, read_mesh
 
 
 def mesh_scene(
@@ -32,14 +33,17 @@ def mesh_scene(
     (as viewers do; gltf/punctual_lights.py), unless `file_lights` is False
     (`--viewer-lights`). `reading`: more of the mesh reader's options
     (ViewOptions.mesh_reading()), its crease_angle replacing `crease_angle`; the file's
-    lights and camera are posed at its animation time as the mesh is. `camera_index`: the
-    glTF file's own camera N instead of the framing one (gltf/cameras.py). `framing`: a Mesh
-    to frame instead of the file's (animation_frames.py: every pose of an animation)."""
-    reading = {"crease_angle": crease_angle, **(reading or {})}
-    mesh = load_mesh(mesh_source, **reading)
+    lights and camera hang on its nodes as posed at its animation time. `camera_index`: the
+    glTF file's own camera N instead of the framing one (gltf/cameras.py; other formats have
+    none: a warning). `framing`: a Mesh to frame instead of the file's (animation_frames.py:
+    every pose of an animation)."""
+    loaded = read_mesh(mesh_source, **{"crease_angle": crease_angle, **(reading or {})})  # the file, parsed once
+    mesh = loaded.mesh
     try:
-        own = _file_lights(mesh_source, reading) if file_lights else ()
-        camera = None if camera_index is None else _file_camera(mesh_source, camera_index, reading)
+        own = loaded.lights() if file_lights else ()
+        camera = None if camera_index is None else loaded.camera(camera_index)
+        if camera_index is not None and camera is None:
+            warnings.warn(f"{mesh_source}: only glTF files hold cameras; the camera index {camera_index} is ignored", stacklevel=2)
         return bare_mesh_scene(mesh, size, material_name, up=up, file_lights=own, file_camera=camera, framing=framing)
     except SceneError as error:
         # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.
@@ -49,45 +53,3 @@ def mesh_scene(
             f"mesh {str(mesh_source)!r} ({mesh.vertex_count} vertices around {center.tolist()}, radius {radius:.3g}): "
             f"the automatic camera and lights cannot be placed for it ({error})"
         ) from None
-
-
-def _gltf_path(mesh_source: str):
-    """The file's path when it is a glTF file (the one format with lights and cameras), else None."""
-    from pathlib import Path
-
-    from .examples import resolve_example
-
-    path = Path(resolve_example(str(mesh_source)))
-    return path if path.suffix.lower() in (".gltf", ".glb") else None
-
-
-def _animation(reading: Mapping[str, Any]) -> tuple[float | None, int | str]:
-    """(time, animation) the mesh was read at, as load_mesh reads them: an animation chosen
-    alone is shown at its start."""
-    time, animation = reading.get("animation_time"), reading.get("animation_index")
-    if animation is not None and time is None:
-        time = 0.0
-    return time, 0 if animation is None else animation
-
-
-def _file_lights(mesh_source: str, reading: Mapping[str, Any]) -> list:
-    """The file's own lights with their nodes' matrices, in the file's space (glTF
-    KHR_lights_punctual), their nodes posed as the mesh's; [] when it has none."""
-    from .gltf.punctual_lights import gltf_lights
-
-    path = _gltf_path(mesh_source)
-    return [] if path is None else gltf_lights(path, *_animation(reading))
-
-
-def _file_camera(mesh_source: str, index: int, reading: Mapping[str, Any]):
-    """The glTF file's camera `index` (gltf/cameras.py), its node posed as the mesh's; None,
-    with a warning, for the formats that hold no cameras."""
-    import warnings
-
-    from .gltf.cameras import gltf_camera
-
-    path = _gltf_path(mesh_source)
-    if path is None:
-        warnings.warn(f"{mesh_source}: only glTF files hold cameras; the camera index {index} is ignored", stacklevel=3)
-        return None
-    return gltf_camera(path, index, *_animation(reading))

@@ -14,7 +14,7 @@ from .arguments import add_scene_arguments, check_output, default_output, error_
 def command_render(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from ..assets.image_writers import DEPTH_SUFFIXES, STDOUT, output_path, png_bytes, write_depth, write_image
+    from ..assets.image_writers import DEPTH_SUFFIXES, IMAGE_SUFFIXES, STDOUT, output_path, png_bytes, write_depth, write_image
     from ..render.renderer import Renderer
 
     to_stdout = args.output == STDOUT
@@ -26,7 +26,7 @@ def command_render(args: argparse.Namespace) -> int:
     if to_stdout:
         _check_stdout()
     if output is not None:
-        check_output(output, (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"), float_target)
+        check_output(output, IMAGE_SUFFIXES, float_target)
     depth_path = None if args.depth is None else output_path(Path(args.depth), DEPTH_SUFFIXES, "--depth")
     if depth_path is not None and output is not None and depth_path.resolve() == output.resolve():
         # Otherwise the depth image silently replaces the colour image.
@@ -188,16 +188,15 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
         "render", parents=[gpu], help="render a scene or a mesh to an image", description="Render a scene file or a mesh to an image."
     )
     add_scene_arguments(render)
+    from ..assets.animation import ANIMATION_SUFFIXES
+    from ..assets.image_writers import DEPTH_FORMATS, IMAGE_FORMATS, formats_text
+
     render.add_argument(
         "-o", "--output",
-        help="output image: .png (8-bit), .npy (float32), .jpg, .tif, or - for PNG on standard output (default: INPUT.png)",
+        help=f"output image: {formats_text(IMAGE_FORMATS)}, or - for PNG on standard output (default: INPUT.png)",
     )
     render.add_argument("--float", action="store_true", help="render to a float32 target and save it as .npy (implied by -o x.npy)")
-    render.add_argument(
-        "--depth", metavar="DEPTH",
-        help="also save eye-space depth: .npy or .tiff (float32, inf = background) or .png "
-        "(16-bit, 0 = background, 1..65535 = near..far plane linearly, as batch --depth png16)",
-    )
+    render.add_argument("--depth", metavar="DEPTH", help=f"also save eye-space depth: {formats_text(DEPTH_FORMATS)}")
     render.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     render.add_argument(
         "--shading", choices=["auto"],
@@ -217,7 +216,7 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
         "and write an animated GIF (looping) or an MP4 (needs imageio-ffmpeg: the [video] extra).",
     )
     add_scene_arguments(spin)
-    spin.add_argument("-o", "--output", help="output animation: .gif or .mp4 (default: INPUT.gif)")
+    spin.add_argument("-o", "--output", help=f"output animation: {' or '.join(ANIMATION_SUFFIXES)} (default: INPUT.gif)")
     spin.add_argument("--frames", type=int, default=360, help="number of frames (default: 360, one per degree)")
     spin.add_argument("--degrees", type=float, default=360.0, help="total turn in degrees (default: 360, a loop)")
     spin.add_argument("--fps", type=float, default=30.0, help="frames per second of the animation (default: 30)")

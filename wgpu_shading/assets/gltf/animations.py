@@ -16,8 +16,6 @@ for a file without animation (nodes.py, primitives.py).
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from .document import GltfData, gltf_error
@@ -115,13 +113,6 @@ def posed_nodes(data: GltfData, time: float | None, index: int | str = 0) -> lis
         data.notes.append(f"{data.path.name}: the file has no animations; the animation time {time:g} s is ignored")
         return None
     return animated_nodes(data, chosen_animations(data, index), time)
-
-
-def read_posed(path: Path, time: float | None, index: int | str = 0) -> tuple[GltfData, list | None]:
-    """The file and its nodes as posed at `time` (posed_nodes), for what hangs on nodes
-    besides meshes (lights, cameras): without a time only a GLB's JSON chunk is read."""
-    data = GltfData(path, json_only=time is None)
-    return data, posed_nodes(data, time, index)
 
 
 def _trs(node: dict) -> dict:

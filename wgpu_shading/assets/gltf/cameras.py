@@ -12,24 +12,20 @@ output's aspect ratio), between `znear` and `zfar`.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from ...errors import SceneError
 from ...scene.camera import Camera
-from .animations import read_posed
 from .document import GltfData, gltf_error
 from .nodes import scene_nodes, scene_roots, world_matrices
 
 
-def gltf_camera(path: Path, index: int, animation_time: float | None = None,
-                animation_index: int | str = 0) -> tuple[Camera, np.ndarray, bool]:
+def gltf_camera(data: GltfData, index: int, nodes: list | None = None) -> tuple[Camera, np.ndarray, bool]:
     """cameras[index] as (the Camera in its node's frame: at the origin looking down −Z with
     +Y up; its node's world matrix; whether its far plane is infinite), the node the first
-    of the scene that uses it, posed at `animation_time` if given (animations.py). Where
-    it lands in the world is the bare-mesh policy's (scene/view/bare_mesh.py)."""
-    data, nodes = read_posed(path, animation_time, animation_index)
+    of the scene that uses it; `nodes`: the nodes as an animation poses them
+    (animations.posed_nodes), else the file's own. Where it lands in the world is the
+    bare-mesh policy's (scene/view/bare_mesh.py)."""
     cameras = data.items("cameras")
     count = len(cameras)
     if not isinstance(index, int) or isinstance(index, bool) or not 0 <= index < count:

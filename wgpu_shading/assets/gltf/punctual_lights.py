@@ -29,7 +29,6 @@ import numpy as np
 
 from ...scene.lights import DirectionalLight, PositionalLight, SpotLight
 from ...scene.values import MAX_COLOR, MAX_LIGHTS
-from .animations import read_posed
 from .document import GltfData, gltf_error
 from .nodes import scene_nodes, scene_roots, world_matrices
 
@@ -53,11 +52,12 @@ def _light_table(data: GltfData) -> list:
     return extension.get("lights", [])
 
 
-def gltf_lights(path: Path, animation_time: float | None = None, animation_index: int | str = 0) -> list[tuple[object, np.ndarray]]:
+def gltf_lights(source: Path | GltfData, nodes: list | None = None) -> list[tuple[object, np.ndarray]]:
     """The file's lights of its scene's nodes as (classic light in the file's space, its
-    node's world matrix) pairs, the nodes posed at `animation_time` if given
-    (animations.py); [] when it has none."""
-    data, nodes = read_posed(path, animation_time, animation_index)
+    node's world matrix) pairs; [] when it has none. `source`: the file, or the document
+    already read for its meshes (reader.py: a file is parsed once); `nodes`: the nodes as
+    an animation poses them (animations.posed_nodes), else the file's own."""
+    data = source if isinstance(source, GltfData) else GltfData(source, json_only=True)
     table = _light_table(data)
     if not table:
         return []
