@@ -79,12 +79,14 @@ def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
               animation_time: float | None = None, animation_index: int | str | None = None) -> LoadedMesh:
     """load_mesh's mesh with the file's own lights (a bare glTF is lit by them) and cameras,
     the file parsed once."""
+    # Checked before anything else: a built-in ignores the angle (its normals are exact), but
+    # a bad value is still the caller's mistake, whatever the source.
+    if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
+        raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
     animation = _animation(animation_time, animation_index)
     text = resolve_example(str(source))
     if text.startswith(BUILTIN_PREFIX):
         return LoadedMesh(builtin(text), lambda: [])
-    if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
-        raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
     if "\x00" in text:
         raise MeshError(f"mesh file {text!r}: a path cannot contain a NUL character")
     path = Path(text)
