@@ -126,6 +126,19 @@ def f3d(python: str, source: Path, options: list[str], output: Path) -> str:
     return "" if result.returncode == 0 else (result.stderr.strip().splitlines() or ["error"])[-1]
 
 
+def paste_cell(sheet, draw, corner: tuple[int, int], picture: Path, error: str, size: int) -> None:
+    """One cell of a sheet: the picture, or the error that replaced it, in red on grey."""
+    from PIL import Image
+
+    x, y = corner
+    if error:
+        draw.rectangle([x, y, x + size - 1, y + size - 1], fill=(235, 235, 235))
+        for k in range(0, len(error), 34):
+            draw.text((x + 4, y + 4 + 12 * (k // 34)), error[k : k + 34], fill="red")
+    else:
+        sheet.paste(Image.open(picture).convert("RGB").resize((size, size)), (x, y))
+
+
 def extract_commit(commit: str, folder: Path) -> Path:
     """The package at `commit`, from a `git archive` of it, importable from the folder returned."""
     old = folder / "before"
@@ -149,13 +162,7 @@ def draw_sheet(rows: list, columns: list, folder: Path, output: str, label_width
         for c, (_, run) in enumerate(columns):
             picture = folder / f"{r}_{c}.png"
             error = run(source, options, picture)
-            x, y = label_width + c * size, 20 + r * size
-            if error:
-                draw.rectangle([x, y, x + size - 1, y + size - 1], fill=(235, 235, 235))
-                for k in range(0, len(error), 34):
-                    draw.text((x + 4, y + 4 + 12 * (k // 34)), error[k : k + 34], fill="red")
-            else:
-                sheet.paste(Image.open(picture).convert("RGB").resize((size, size)), (x, y))
+            paste_cell(sheet, draw, (label_width + c * size, 20 + r * size), picture, error, size)
     sheet.save(output)
 
 

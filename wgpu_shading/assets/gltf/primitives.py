@@ -3,8 +3,9 @@
 Every mode of §3.7.2.1 is read: triangles, triangle strips (alternating their winding) and
 triangle fans (turning around their first vertex) as triangles; LINES, LINE_STRIP and
 LINE_LOOP as line segments; POINTS as points (docs/primitives.md). Every TEXCOORD_n is
-read (a texture's `texCoord` picks one: reader.py). A primitive instance is its node's world matrix applied to the accessors, or,
-for a skinned mesh, the joints' pose (nodes.pose). Draco-compressed primitives are
+read (a texture's `texCoord` picks one: reader.py). A primitive instance is its morph
+targets moved by its node's weights (morph_targets.py), then its node's world matrix
+applied, or, for a skinned mesh, the joints' pose (nodes.pose). Draco-compressed primitives are
 decoded with DracoPy (the `draco` extra).
 """
 
@@ -18,6 +19,7 @@ import numpy as np
 from ...errors import MeshError
 from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
 from .document import MAX_GLTF_ITEMS, GltfData, gltf_error
+from .morph_targets import apply_morph_targets, morph_weights
 from .nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices
 
 _POINTS, _LINES, _LINE_LOOP, _LINE_STRIP, _TRIANGLES, _STRIP, _FAN = range(7)
@@ -173,18 +175,19 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
             arrays[name] = arrays[name].astype(np.float64)
     arrays["POSITION"] = positions.astype(np.float64)
     arrays["kind"] = PRIMITIVE_OF_MODE.get(mode, "triangles")
-    if arrays["kind"] == "points":  # every listed vertex a point: the vertices in index order
-        arrays = {name: value[indices] if isinstance(value, np.ndarray) else value for name, value in arrays.items()}
+    if arrays["kind"] == "points":  # every listed vertex a point (in index order, after morphing: _listed_points)
         arrays["faces"] = None
+        arrays["point_order"] = None if "indices" not in primitive else indices
     else:
         arrays["faces"] = segments(mode, indices) if arrays["kind"] == "lines" else triangles(mode, indices)
     return arrays
 
 
-def gltf_pieces(data: GltfData) -> list[GltfPiece]:
-    """Every primitive instance of the file's scene, in node order, in world space."""
-    world, roots = world_matrices(data)
-    nodes = data.items("nodes")
+def gltf_pieces(data: GltfData, nodes: list | None = None) -> list[GltfPiece]:
+    """Every primitive instance of the file's scene, in node order, in world space; `nodes`:
+    the file's nodes as an animation poses them (animations.py), else the file's own."""
+    world, roots = world_matrices(data, nodes)
+    nodes = data.items("nodes") if nodes is None else nodes
     data.items("meshes")  # checked to be a list within the limit
     cache: dict[tuple[int, int], dict | None] = {}
     pieces: list[GltfPiece] = []
@@ -202,6 +205,7 @@ def gltf_pieces(data: GltfData) -> list[GltfPiece]:
         if not isinstance(primitives, list) or len(primitives) > MAX_GLTF_ITEMS:
             raise gltf_error(data.path, f"meshes[{mesh_index}].primitives", f"expected a list of at most {MAX_GLTF_ITEMS} primitives")
         skin = skin_matrices(data, node["skin"], world, f"nodes[{node_index}].skin") if skinned else None
+        weights = morph_weights(data, node, mesh, f"nodes[{node_index}]")
         for primitive_index, primitive in enumerate(primitives):
             where = f"meshes[{mesh_index}].primitives[{primitive_index}]"
             if not isinstance(primitive, dict):
@@ -216,8 +220,20 @@ def gltf_pieces(data: GltfData) -> list[GltfPiece]:
             faces += 0 if arrays["faces"] is None else len(arrays["faces"])
             if vertices > MAX_VERTICES or faces > MAX_TRIANGLES:
                 raise gltf_error(data.path, "scene", f"its instances hold more than {MAX_VERTICES} vertices or triangles (the limit)")
+            arrays = _listed_points(apply_morph_targets(data, primitive, arrays, weights, where))
             pieces.append(_instance(data, arrays, primitive, where, world[node_index], skin, key, mesh.get("name") or where))
     return pieces
+
+
+_PER_VERTEX = ("POSITION", "NORMAL", "TANGENT", "COLOR_0", "JOINTS_0", "WEIGHTS_0") + _UV_SET_NAMES
+
+
+def _listed_points(arrays: dict) -> dict:
+    """An indexed POINTS primitive's vertices in the order its indices list them (each index a point)."""
+    order = arrays.get("point_order")
+    if order is None:
+        return arrays
+    return {**arrays, "point_order": None, **{name: arrays[name][order] for name in _PER_VERTEX if arrays.get(name) is not None}}
 
 
 def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPiece:
