@@ -127,4 +127,45 @@ struct ObjectUniforms {
     spot_products: array<LightProducts, SPOT_LIGHT_COUNT>,
 #endif
 #endif
+#if SHADOWS
+    // A closed surface hides a light from its own points that face away from it
+    // (docs/shadows.md#closed-surfaces): bit s is set for each casting light s (by slot) it
+    // hides that way; none for an open surface. The sign turns the winding normal outward
+    // (−1: a mesh wound inside out).
+    self_shadowing_lights: u32,
+    outward_sign: f32,
+#endif
 }
+
+#if SHADOWS
+// One layer of the shadow maps: a casting light's view (render/passes/shadow_views.py).
+struct ShadowView {
+    // Rigid: eye space to the view's space; the view looks along its −z.
+    light_from_eye: mat4x4<f32>,
+    // A point's texel coordinates: (x, y) · texels.xy + texels.zw, where (x, y) are the
+    // view's x and y (orthographic) or x/t and y/t, t = −z (perspective).
+    texels: vec4<f32>,
+    // x: 1 / (far − near) (orthographic) or the near distance (perspective); y: the bias,
+    // world units (orthographic) or world units per unit of distance (perspective).
+    depth: vec4<f32>,
+    layer: i32,
+}
+
+// One casting light: its view, or a cube map's six views (−1: a face no visible receiver
+// needs, or no view: nothing visible it can shadow).
+struct ShadowLight {
+    // A cube map's frame: eye space to world axes with the origin at the light.
+    cube_from_eye: mat4x4<f32>,
+    // Views of the faces +X, −X, +Y, −Y; of a single map: x.
+    views: vec4<i32>,
+    // Views of the faces +Z, −Z; z: 1 for a cube map, 0 for a single map.
+    more_views: vec4<i32>,
+}
+
+// Group 0, with the maps: the casting lights by slot (render/features.py casting_lights)
+// and every view's layer (render/passes/shadow.py fills it).
+struct ShadowUniforms {
+    lights: array<ShadowLight, SHADOW_LIGHT_COUNT>,
+    views: array<ShadowView, SHADOW_VIEW_CAPACITY>,
+}
+#endif

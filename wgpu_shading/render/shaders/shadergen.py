@@ -24,8 +24,11 @@ from functools import lru_cache
 from importlib.resources import files
 from typing import Callable, Mapping
 
-from .bindings import BindingPlan, binding_plan, extra_outputs_plan
-from ..features import FeatureSet
+from .bindings import BindingPlan, binding_plan, extra_outputs_plan, shadow_map_plan
+import numpy as np
+
+from ..features import FeatureSet, shadow_view_capacity
+from .layout import layouts_for
 
 _DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif)\b(.*)$")
 _INCLUDE = re.compile(r'^\s*"([\w.\-/]+)"\s*$')
@@ -44,10 +47,12 @@ def read_source(name: str) -> str:
     return (files("wgpu_shading.wgsl") / name).read_text(encoding="utf-8")
 
 
-def sources_for(features: FeatureSet | None) -> Callable[[str], str]:
-    """The reader `preprocess` uses for `features` (None: the extra outputs pass): files of
-    `wgsl/`, and the generated binding declarations under the name "bindings.wgsl"."""
-    plan: BindingPlan = extra_outputs_plan() if features is None else binding_plan(features)
+def sources_for(features: FeatureSet | None, plan: BindingPlan | None = None) -> Callable[[str], str]:
+    """The reader `preprocess` uses for `features` (None: the extra outputs pass; or the
+    `plan` given): files of `wgsl/`, and the generated binding declarations under the name
+    "bindings.wgsl"."""
+    if plan is None:
+        plan = extra_outputs_plan() if features is None else binding_plan(features)
 
     def reader(name: str) -> str:
         return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
@@ -164,8 +169,43 @@ def generate_wgsl(features: FeatureSet) -> str:
     ):
         if count:
             header.append(f"const {constant}: u32 = {count}u;")
+    header += _shadow_constants(features)
     body = preprocess(ENTRY_FILES[features.frequency], features.defines(), sources_for(features))
     return _tidy("\n".join(header) + "\n\n" + body)
+
+
+def _shadow_constants(features: FeatureSet) -> list[str]:
+    """The shadow lookup's sizes (wgsl/structs.wgsl ShadowUniforms, the chunk's loops)."""
+    if not features.shadow_lights:
+        return []
+    point_like = features.spot_shadows + features.positional_shadows
+    return [
+        f"const SHADOW_LIGHT_COUNT: u32 = {features.shadow_lights}u;",
+        f"const DIRECTIONAL_SHADOW_COUNT: u32 = {features.directional_shadows}u;",
+        f"const SPOT_SHADOW_COUNT: u32 = {features.spot_shadows}u;",
+        f"const POSITIONAL_SHADOW_COUNT: u32 = {features.positional_shadows}u;",
+        f"const SHADOW_VIEW_CAPACITY: u32 = {shadow_view_capacity(features.directional_shadows, point_like)}u;",
+        f"const SHADOW_FILTER_RADIUS: i32 = {SHADOW_FILTER_RADIUS[features.shadow_filter]};",
+    ]
+
+
+# The bilinear taps of a PCF filter on each side of the centre one (0: one tap, or nearest).
+SHADOW_FILTER_RADIUS = {"nearest": 0, "bilinear": 0, "pcf3": 1, "pcf5": 2}
+
+
+@lru_cache(maxsize=32)
+def shadow_uniforms_dtype(directional: int, point_like: int) -> np.dtype:
+    """The ShadowUniforms block of every shader that looks up `directional` + `point_like`
+    casting lights (wgsl/structs.wgsl, the one declaration), for the shadow pass to fill."""
+    features = FeatureSet(directional_shadows=directional, positional_shadows=point_like, shadow_filter="nearest")
+    source = "\n".join(_shadow_constants(features)) + "\n" + preprocess("structs.wgsl", features.defines())
+    return layouts_for(source).dtype("ShadowUniforms")
+
+
+@lru_cache(maxsize=1)
+def generate_shadow_map_wgsl() -> str:
+    """The shadow pass's depth-only shader (wgsl/shadow_map.wgsl with its generated bindings)."""
+    return _tidy(preprocess("shadow_map.wgsl", {}, sources_for(None, shadow_map_plan())))
 
 
 @lru_cache(maxsize=1)

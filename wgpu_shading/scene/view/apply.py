@@ -22,6 +22,7 @@ from ..lights import LIGHT_TYPES
 from ..maps import bare_mesh_lighting
 from ..material import Material
 from ..objects import Scene, SceneObject, Shading
+from ..shadows import ShadowSettings
 from .options import VIEW_OPTIONS, ViewOption, ViewOptions
 from .reading import parse_light
 from .viewer_lights import viewer_lights
@@ -43,6 +44,7 @@ def unappliable(option: ViewOption) -> str | None:
         "output": _names(Scene) | set(BACKGROUND_KEYS),
         "shading": _names(Shading),
         "camera": _names(Camera) | set(CAMERA_MOVES),
+        "shadows": _names(ShadowSettings),
         "objects": _names(SceneObject) | {f"material.{key}" for key in _names(Material)},
         "lights": set.intersection(*(_names(kind) for kind in LIGHT_TYPES.values())) | {""},
     }
@@ -70,7 +72,8 @@ def with_background(background: tuple, color: tuple | None = None, transparent: 
 
 def apply_view_options(scene: Scene, options: ViewOptions, *, follow_camera: bool = False) -> Scene:
     """`scene` with `options` applied, in table order: output, objects (up, material,
-    shininess), shading, camera (keys, then azimuth and elevation, then distance), lights.
+    shininess, shadows), shading, shadows, camera (keys, then azimuth and elevation, then
+    distance), lights (their shadows after the lights themselves).
 
     follow_camera: the scene is a framed bare mesh (assets/mesh_scene.py): when the options
     move its camera, its depth range and its viewer lights follow, as in `render MESH`.
@@ -88,6 +91,9 @@ def apply_view_options(scene: Scene, options: ViewOptions, *, follow_camera: boo
     shading = {option.field: value for option, value in _of(options, "shading")}
     if shading:
         changes["shading"] = replace(scene.shading, **shading)
+    shadows = {option.field: value for option, value in _of(options, "shadows")}
+    if shadows:
+        changes["shadows"] = replace(scene.shadows, **shadows)
     camera = place_camera(scene.camera, options)
     if camera is not scene.camera:
         if follow_camera and scene.objects:
@@ -167,7 +173,7 @@ def scene_value(scene: Scene, option: ViewOption) -> Any:
     """The value an option has in `scene` (the first object's, for object options): where
     the live viewer's keys start from. None where the scene holds no such value."""
     section, name = option.section, option.field
-    holder = {"output": scene, "shading": scene.shading, "camera": scene.camera}.get(section)
+    holder = {"output": scene, "shading": scene.shading, "camera": scene.camera, "shadows": scene.shadows}.get(section)
     if section == "objects" and scene.objects:
         holder = scene.objects[0]
         if name.startswith("material."):
