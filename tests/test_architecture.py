@@ -135,6 +135,17 @@ def test_every_subpackage_ships():
     assert folders <= listed, f"add to pyproject.toml [tool.setuptools] packages: {sorted(folders - listed)}"
 
 
+def test_every_shader_source_ships():
+    """Every file of wgsl/ (chunks in subfolders too) matches the wheel's package-data patterns."""
+    import tomllib
+
+    root = PACKAGE.parent / "wgsl"
+    patterns = tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["setuptools"]["package-data"]["wgpu_shading.wgsl"]
+    shipped = {path for pattern in patterns for path in root.glob(pattern)}
+    missing = sorted(str(p.relative_to(root)) for p in root.rglob("*.wgsl") if p not in shipped)
+    assert not missing, f"add a pattern to pyproject.toml [tool.setuptools.package-data] for: {missing}"
+
+
 def test_every_import_names_a_module_that_exists():
     """Lazy imports inside functions are not run by importing the package: a module that
     moved must not leave one behind (the `shader` command once imported a moved module)."""

@@ -9,7 +9,7 @@ import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SOURCES = ("wgpu_shading/**/*.py", "wgsl/*.wgsl", "tests/**/*.py", "tests/golden/**/*.toml", "benchmarks/**/*.py",
+SOURCES = ("wgpu_shading/**/*.py", "wgsl/**/*.wgsl", "tests/**/*.py", "tests/golden/**/*.toml", "benchmarks/**/*.py",
            "docs/*.md", "docs/*.py", "README.md")
 UNREADABLE = re.compile(r"SPEC §|[Ss]eeds?(/| file | )0\d\d\b|\bfile 00\d\b")
 DOC_LINK = re.compile(r"docs/([\w-]+\.md)#([\w-]+)")

@@ -11,7 +11,8 @@ import wgpu
 
 from wgpu_shading.render.features import FeatureSet
 from wgpu_shading.render.shaders.layout import Layouts, field_offsets
-from wgpu_shading.render.shaders.shadergen import generate_wgsl, preprocess
+from wgpu_shading.render.shaders.preprocess import preprocess
+from wgpu_shading.render.shaders.shadergen import generate_wgsl
 
 EVERY_EXTRA = FeatureSet(
     frequency="phong",

@@ -93,7 +93,7 @@ def _draw(device, descriptor: PipelineDescriptor, vertex_count: int, with_color:
 
 
 def _source(shape: str) -> str:
-    from wgpu_shading.render.shaders.shadergen import preprocess
+    from wgpu_shading.render.shaders.preprocess import preprocess
 
     defines = {"TRIANGLE": shape == "triangle", "POINTS": shape == "points"}
     return preprocess("geometry.wgsl", defines, lambda name: GEOMETRY_WGSL)

@@ -12,9 +12,10 @@ import re
 import pytest
 
 from wgpu_shading.render.features import FeatureSet
-from wgpu_shading.scene import FREQUENCIES, REFLECTIONS, TEXTURE_MODES
+from wgpu_shading.scene import FREQUENCIES, REFLECTIONS, SHADOW_FILTERS, TEXTURE_MODES
 from wgpu_shading.scene.material import ALPHA_MODES
-from wgpu_shading.render.shaders.shadergen import ShaderSourceError, generate_wgsl, preprocess
+from wgpu_shading.render.shaders.preprocess import ShaderSourceError, preprocess
+from wgpu_shading.render.shaders.shadergen import generate_wgsl
 
 FILES = {
     "main.wgsl": '#include "part.wgsl"\n#include "part.wgsl"\nmain\n',
@@ -128,6 +129,10 @@ DOMAINS: dict[str, tuple] = {
     "spot_lights": (0, 1, 2),
     "texture_mode": (None, *TEXTURE_MODES),
     "alpha_mode": ALPHA_MODES,
+    "directional_shadows": (0, 1),
+    "spot_shadows": (0, 1),
+    "positional_shadows": (0, 2),
+    "shadow_filter": (None, *SHADOW_FILTERS),
 }
 STRENGTH = 3  # every combination of values of any 3 fields is compiled at least once
 
@@ -197,3 +202,74 @@ def test_every_combination_compiles(renderer):
         except Exception as error:  # noqa: BLE001 - name the feature set that failed
             raise AssertionError(f"{features.describe()} does not compile: {error}") from None
     assert len(rows) > 50
+
+
+# Named points: a chunk puts lines #at a point; the shader's #hook of that point receives
+# them, in include order, wherever the #hook is.
+POINT_FILES = {
+    "entry.wgsl": '#include "a.wgsl"\nbegin\n#hook entry.middle  // what goes here\nend\n#include "b.wgsl"\n',
+    "a.wgsl": "declare_a\n#at entry.middle\nfrom_a\n#end\n#at other_entry.point\nelsewhere\n#end\n",
+    "b.wgsl": "#if B\n#at entry.middle\nfrom_b\n#hook b.inner\n#end\n#at b.inner\ninner\n#end\n#endif\n",
+    "twice.wgsl": "#hook x.point\n#hook x.point\n",
+    "unclosed.wgsl": "#at x.point\nline\n",
+    "stray_end.wgsl": "#end\n",
+    "include_inside.wgsl": '#at x.point\n#include "a.wgsl"\n#end\n',
+    "crossing.wgsl": "#if A\n#at x.point\n#endif\n#end\n",
+}
+
+
+def run_points(name: str, **defines: int) -> list[str]:
+    return preprocess(name, {"A": 0, "B": 0, **defines}, POINT_FILES.__getitem__).split()
+
+
+def test_lines_put_at_a_point_go_to_its_hook_in_include_order():
+    assert run_points("entry.wgsl") == ["declare_a", "begin", "from_a", "end"]
+    # b.wgsl is included after the hook; its lines still go there, and hold a point of their own
+    assert run_points("entry.wgsl", B=1) == ["declare_a", "begin", "from_a", "from_b", "inner", "end"]
+
+
+@pytest.mark.parametrize("name, message", [
+    ("twice.wgsl", "appears twice"),
+    ("unclosed.wgsl", "not closed with #end"),
+    ("stray_end.wgsl", "#end without #at"),
+    ("include_inside.wgsl", "#include inside an #at block"),
+    ("crossing.wgsl", "began before the #at block"),
+])
+def test_malformed_points_are_errors(name, message):
+    with pytest.raises(ShaderSourceError, match=message):
+        run_points(name, A=1)
+
+
+def _sources() -> dict[str, str]:
+    from importlib.resources import files
+
+    root = files("wgpu_shading.wgsl")
+    found = {}
+    for folder in ("", "chunks", "chunks/lighting", "chunks/surface", "chunks/maps", "chunks/shadows"):
+        base = root.joinpath(*folder.split("/")) if folder else root
+        for entry in base.iterdir():
+            if entry.name.endswith(".wgsl"):
+                found[f"{folder}/{entry.name}".lstrip("/")] = entry.read_text(encoding="utf-8")
+    return found
+
+
+def test_every_point_a_chunk_uses_is_declared_once():
+    """A misspelt point would drop a chunk's code silently: every #at names a #hook."""
+    sources = _sources()
+    hooks = [m for text in sources.values() for m in re.findall(r"^#hook ([\w.]+)", text, re.M)]
+    assert len(hooks) == len(set(hooks)), "a point is declared in two places"
+    used = {point for text in sources.values() for line in re.findall(r"^#at (.+)$", text, re.M) for point in line.split()}
+    assert used <= set(hooks), f"#at names no #hook declares: {sorted(used - set(hooks))}"
+
+
+def test_an_effects_code_lives_in_its_chunk():
+    """The entry shaders and the shared parts (lighting, output, the vertex-lit stage) test
+    no effect: only the lit color's shape (SPECULAR) and the unlit replacement of shade().
+    Every chunk is included by some entry shader."""
+    sources = _sources()
+    shared = {name: text for name, text in sources.items() if "/" not in name and name != "structs.wgsl"}
+    tested = {word for text in shared.values() for line in re.findall(r"^#(?:if|elif) (.+)$", text, re.M)
+              for word in re.findall(r"[A-Z_]+", line) if word not in ("and", "or", "not")}
+    assert tested <= {"SPECULAR", "UNLIT"}, tested
+    included = {path for text in shared.values() for path in re.findall(r'^#include "(chunks/[\w/]+\.wgsl)"', text, re.M)}
+    assert included == {name for name in sources if name.startswith("chunks/")}

@@ -17,7 +17,8 @@ import wgpu
 from wgpu_shading.render.features import object_features
 from wgpu_shading.render.shaders.layout import layouts_for
 from wgpu_shading.scene import Scene
-from wgpu_shading.render.shaders.shadergen import generate_wgsl, preprocess, sources_for
+from wgpu_shading.render.shaders.preprocess import preprocess
+from wgpu_shading.render.shaders.shadergen import generate_wgsl, sources_for
 from wgpu_shading.render.shaders.uniforms import eye_from_model, frame_uniforms, object_uniforms
 
 

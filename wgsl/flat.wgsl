@@ -9,8 +9,24 @@
 #include "structs.wgsl"
 #include "bindings.wgsl"
 #include "lighting.wgsl"
-#include "maps.wgsl"
-#include "surface.wgsl"
+#include "output.wgsl"
+// The surface's effects, one chunk each: what they declare is pasted here, what they do
+// at the named points (#hook) below and in vertex_lit.wgsl.
+#include "chunks/surface/uvs.wgsl"
+#include "chunks/surface/vertex_colors.wgsl"
+#include "chunks/surface/two_sided.wgsl"
+#include "chunks/surface/clamp_vertex_colors.wgsl"
+#include "chunks/maps/occlusion_map.wgsl"
+#include "chunks/maps/shininess_map.wgsl"
+#include "chunks/maps/specular_map.wgsl"
+#include "chunks/surface/base_color_texture.wgsl"
+#include "chunks/maps/emissive_map.wgsl"
+#include "chunks/maps/alpha_map.wgsl"
+#include "chunks/surface/alpha_mode.wgsl"
+#include "chunks/surface/srgb_output.wgsl"
+#include "chunks/shadows/lookup.wgsl"
+#include "chunks/shadows/visibility.wgsl"
+#include "chunks/shadows/shares.wgsl"
 
 // Group 2 (the mesh: mesh_positions, mesh_indices, mesh_uvs, mesh_colors) is declared by
 // the binding plan (wgpu_shading/render/shaders/bindings.py).
@@ -21,26 +37,12 @@ struct Varyings {
 #if SPECULAR
     @location(1) @interpolate(flat) front_specular: vec3<f32>,
 #endif
-#if TWO_SIDED
-    @location(2) @interpolate(flat) back_ambient_diffuse: vec3<f32>,
-#if SPECULAR
-    @location(3) @interpolate(flat) back_specular: vec3<f32>,
-#endif
-#endif
-#if UVS
-    @location(4) uv: vec2<f32>,
-#endif
+#hook flat.varyings
 }
 
 fn model_position(vertex: u32) -> vec3<f32> {
     return vec3<f32>(mesh_positions[3u * vertex], mesh_positions[3u * vertex + 1u], mesh_positions[3u * vertex + 2u]);
 }
-
-#if UVS
-fn model_uv(vertex: u32) -> vec2<f32> {
-    return vec2<f32>(mesh_uvs[2u * vertex], mesh_uvs[2u * vertex + 1u]);
-}
-#endif
 
 @vertex
 fn vs_main(@builtin(vertex_index) corner_index: u32) -> Varyings {
@@ -58,20 +60,9 @@ fn vs_main(@builtin(vertex_index) corner_index: u32) -> Varyings {
     let centroid = (object_uniforms.eye_from_model * vec4<f32>((p0 + p1 + p2) / 3.0, 1.0)).xyz;
     var out: Varyings;
     out.clip_position = frame_uniforms.clip_from_eye * (object_uniforms.eye_from_model * vec4<f32>(corner, 1.0));
-#if VERTEX_COLORS
-    // One color per face, like its normal: the mean of its corners' colors.
-    surface_color = (mesh_colors[mesh_indices[first]] + mesh_colors[mesh_indices[first + 1u]]
-        + mesh_colors[mesh_indices[first + 2u]]) / 3.0;
-#endif
-#if OCCLUSION_MAP or SHININESS_MAP
-    // The face's maps at its centroid's uv, like its normal and position.
-    read_vertex_maps((model_uv(mesh_indices[first]) + model_uv(mesh_indices[first + 1u])
-        + model_uv(mesh_indices[first + 2u])) / 3.0);
-#endif
+#hook flat.vertex_surface  // the face before it is lit: maps read at its centroid, vertex colors
     store_lighting(&out, centroid, normal);
-#if UVS
-    out.uv = model_uv(vertex);
-#endif
+#hook flat.vertex
     return out;
 }
 

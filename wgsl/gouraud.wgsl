@@ -6,9 +6,24 @@
 #include "structs.wgsl"
 #include "bindings.wgsl"
 #include "lighting.wgsl"
-#include "maps.wgsl"
-#include "surface.wgsl"
-
+#include "output.wgsl"
+// The surface's effects, one chunk each: what they declare is pasted here, what they do
+// at the named points (#hook) below and in vertex_lit.wgsl.
+#include "chunks/surface/uvs.wgsl"
+#include "chunks/surface/vertex_colors.wgsl"
+#include "chunks/surface/two_sided.wgsl"
+#include "chunks/surface/clamp_vertex_colors.wgsl"
+#include "chunks/maps/occlusion_map.wgsl"
+#include "chunks/maps/shininess_map.wgsl"
+#include "chunks/maps/specular_map.wgsl"
+#include "chunks/surface/base_color_texture.wgsl"
+#include "chunks/maps/emissive_map.wgsl"
+#include "chunks/maps/alpha_map.wgsl"
+#include "chunks/surface/alpha_mode.wgsl"
+#include "chunks/surface/srgb_output.wgsl"
+#include "chunks/shadows/lookup.wgsl"
+#include "chunks/shadows/visibility.wgsl"
+#include "chunks/shadows/shares.wgsl"
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,
@@ -16,16 +31,7 @@ struct Varyings {
 #if SPECULAR
     @location(1) front_specular: vec3<f32>,
 #endif
-#if TWO_SIDED
-    // OpenGL's two-sided lighting computes a second color per vertex for back faces.
-    @location(2) back_ambient_diffuse: vec3<f32>,
-#if SPECULAR
-    @location(3) back_specular: vec3<f32>,
-#endif
-#endif
-#if UVS
-    @location(4) uv: vec2<f32>,
-#endif
+#hook gouraud.varyings
 }
 
 @vertex
@@ -34,16 +40,9 @@ fn vs_main(vertex: VertexInput) -> Varyings {
     let normal = safe_normalize(object_uniforms.eye_normal_from_model * vertex.normal, FALLBACK_NORMAL);
     var out: Varyings;
     out.clip_position = frame_uniforms.clip_from_eye * eye_position;
-#if VERTEX_COLORS
-    surface_color = vertex.color;
-#endif
-#if OCCLUSION_MAP or SHININESS_MAP
-    read_vertex_maps(vertex.uv);
-#endif
+#hook gouraud.vertex_surface  // the surface here before it is lit: maps read per vertex, vertex colors
     store_lighting(&out, eye_position.xyz, normal);
-#if UVS
-    out.uv = vertex.uv;
-#endif
+#hook gouraud.vertex
     return out;
 }
 

@@ -6,25 +6,29 @@
 #include "structs.wgsl"
 #include "bindings.wgsl"
 #include "lighting.wgsl"
-#include "maps.wgsl"
-#include "surface.wgsl"
-
+#include "output.wgsl"
+// The surface's effects, one chunk each: what they declare is pasted here, what they do
+// at the named points (#hook) below.
+#include "chunks/surface/uvs.wgsl"
+#include "chunks/surface/vertex_colors.wgsl"
+#include "chunks/surface/two_sided.wgsl"
+#include "chunks/maps/normal_map.wgsl"
+#include "chunks/maps/occlusion_map.wgsl"
+#include "chunks/maps/shininess_map.wgsl"
+#include "chunks/maps/specular_map.wgsl"
+#include "chunks/surface/base_color_texture.wgsl"
+#include "chunks/maps/emissive_map.wgsl"
+#include "chunks/maps/alpha_map.wgsl"
+#include "chunks/surface/alpha_mode.wgsl"
+#include "chunks/surface/srgb_output.wgsl"
+#include "chunks/shadows/lookup.wgsl"
+#include "chunks/shadows/visibility.wgsl"
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,
     @location(0) eye_position: vec3<f32>,
     @location(1) eye_normal: vec3<f32>,
-#if UVS
-    @location(2) uv: vec2<f32>,
-#endif
-#if VERTEX_COLORS
-    @location(3) color: vec4<f32>,
-#endif
-#if VERTEX_TANGENTS
-    // The file's tangent in eye space; w: the handedness, times the sign of the
-    // transform's determinant (a mirror flips the bitangent).
-    @location(4) eye_tangent: vec4<f32>,
-#endif
+#hook phong.varyings
 }
 
 @vertex
@@ -35,59 +39,22 @@ fn vs_main(vertex: VertexInput) -> Varyings {
     out.eye_position = eye_position.xyz;
     // Left unnormalized: the fragment stage normalizes after interpolation anyway.
     out.eye_normal = object_uniforms.eye_normal_from_model * vertex.normal;
-#if UVS
-    out.uv = vertex.uv;
-#endif
-#if VERTEX_COLORS
-    out.color = vertex.color;
-#endif
-#if VERTEX_TANGENTS
-    let linear = mat3x3<f32>(object_uniforms.eye_from_model[0].xyz, object_uniforms.eye_from_model[1].xyz, object_uniforms.eye_from_model[2].xyz);
-    out.eye_tangent = vec4<f32>(linear * vertex.tangent.xyz, vertex.tangent.w * sign(determinant(linear)));
-#endif
+#hook phong.vertex
     return out;
 }
 
 @fragment
 fn fs_main(
     in: Varyings,
-#if TWO_SIDED
-    @builtin(front_facing) front_facing: bool,
-#endif
+#hook phong.fragment_inputs
 ) -> @location(0) vec4<f32> {
+#hook phong.fragment_begin  // (the uv of this fragment)
     // The interpolated normal can pass through zero (opposite normals on one triangle).
     var normal = safe_normalize(in.eye_normal, FALLBACK_NORMAL);
-#if NORMAL_MAP or BUMP_MAP
+    // 1 on front faces, −1 on the back faces that two-sided lighting flips.
     var face_sign = 1.0;
-#endif
-#if TWO_SIDED
-    // GL_LIGHT_MODEL_TWO_SIDE: back faces are lit with the flipped normal.
-    if (!front_facing) {
-        normal = -normal;
-#if NORMAL_MAP or BUMP_MAP
-        face_sign = -1.0;
-#endif
-    }
-#endif
-#if NORMAL_MAP or BUMP_MAP
-    let mapped = map_normal(in.uv);
-    // The derivative frame is computed in uniform control flow (dpdx) even where the file's
-    // tangents replace it.
-    normal = perturbed_normal(normal, in.eye_position, in.uv, mapped, face_sign);
-#if VERTEX_TANGENTS
-    normal = vertex_tangent_normal(safe_normalize(in.eye_normal, FALLBACK_NORMAL), in.eye_tangent, mapped, face_sign, normal);
-#endif
-#endif
-#if OCCLUSION_MAP or SHININESS_MAP
-    read_fragment_maps(in.uv);
-#endif
-#if VERTEX_COLORS
-    surface_color = in.color;
-#endif
+#hook phong.fragment_normal  // what turns the normal: two-sided lighting, normal and bump maps
+#hook phong.fragment_surface  // the surface here before it is lit: maps read per fragment, vertex colors
     let lit = shade(in.eye_position, normal, view_direction(in.eye_position, normal));
-#if UVS
-    return final_color(lit, in.uv);
-#else
     return final_color(lit);
-#endif
 }

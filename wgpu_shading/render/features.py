@@ -114,6 +114,9 @@ class FeatureSet:
             "SPOT_SHADOWS": self.shadow_lights > 0 and self.spot_shadows > 0,
             "POSITIONAL_SHADOWS": self.shadow_lights > 0 and self.positional_shadows > 0,
             "SHADOW_FILTER_NEAREST": self.shadow_filter == "nearest",
+            # flat/Gouraud pass each casting light's ambient-diffuse and specular shares
+            # apart only where the fragment treats the two apart (chunks/shadows/shares.wgsl)
+            "SHADOW_SPLIT": self.specular and (self.texture_mode == "modulate" or self.specular_map),
         }
 
     def describe(self) -> str:

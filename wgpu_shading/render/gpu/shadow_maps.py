@@ -39,7 +39,7 @@ def new_shadow_maps(device, size: int, layers: int) -> ShadowMaps:
         )
     texture = device.create_texture(
         label="shadow maps", size=(size, size, layers), format=SHADOW_FORMAT,
-        usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.TEXTURE_BINDING,
+        usage=wgpu.TextureUsage.RENDER_ATTACHMENT | wgpu.TextureUsage.TEXTURE_BINDING | wgpu.TextureUsage.COPY_SRC,
     )
     layer_views = tuple(
         texture.create_view(dimension=wgpu.TextureViewDimension.d2, base_array_layer=layer, array_layer_count=1)
@@ -57,5 +57,5 @@ def create_comparison_sampler(device) -> object:
         address_mode_v=wgpu.AddressMode.clamp_to_edge,
         mag_filter=wgpu.FilterMode.linear,
         min_filter=wgpu.FilterMode.linear,
-        compare=wgpu.CompareFunction.less_equal,
+        compare=wgpu.CompareFunction.greater_equal,
     )

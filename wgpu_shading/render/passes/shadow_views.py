@@ -194,6 +194,11 @@ def _rigid(rotation: np.ndarray, origin: np.ndarray) -> np.ndarray:
     return matrix
 
 
+def _turn(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
+    """> 0 when a → b → c turns counter-clockwise (the 2D cross product of b − a and c − a)."""
+    return float((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+
+
 def _hull(points: np.ndarray) -> np.ndarray:
     """The 2D convex hull, counter-clockwise (Andrew's monotone chain)."""
     unique = np.unique(points, axis=0)
@@ -203,7 +208,7 @@ def _hull(points: np.ndarray) -> np.ndarray:
     def half(sequence):
         chain: list = []
         for p in sequence:
-            while len(chain) >= 2 and np.cross(chain[-1] - chain[-2], p - chain[-2]) <= 0:
+            while len(chain) >= 2 and _turn(chain[-2], chain[-1], p) <= 0:
                 chain.pop()
             chain.append(p)
         return chain[:-1]

@@ -1,15 +1,11 @@
-"""Feature set → WGSL source, from the files in `wgsl/`.
+"""Feature set → WGSL source, from the files in `wgsl/` (preprocess.py: #include, #if and
+the named points chunks put their code at).
 
-The mechanism is a tiny preprocessor, deliberately smaller than C's:
-
-    #include "lighting.wgsl"     paste a file once (later includes of it are skipped)
-    #if SPOT_LIGHTS and not ATTENUATION
-    #elif ... / #else / #endif   keep or drop lines
-
-`#if` expressions use Python's syntax restricted to names, integers, `and`, `or`,
-`not` and comparisons; every name must be one of `FeatureSet.defines()` (a typo is an
-error, not a silently false branch). The generated module starts with a comment naming
-the feature set and `const` declarations for the light counts.
+An entry shader per frequency (`flat.wgsl`, `gouraud.wgsl`, `phong.wgsl`) and per pass
+(`extra_outputs.wgsl`) reads as the list of the chunks it includes, one per effect
+(`wgsl/chunks/`); the feature set's defines keep the code of the effects a draw uses and
+drop the rest. The generated module starts with a comment naming the feature set and
+`const` declarations for the light counts.
 
 One included file is generated, not read: "bindings.wgsl" is the binding plan's
 declarations for the feature set (bind group entries and the vertex input struct; see
@@ -18,33 +14,19 @@ bindings.py), so the WGSL cannot disagree with the pipeline layout or the render
 
 from __future__ import annotations
 
-import ast
 import re
 from functools import lru_cache
-from importlib.resources import files
-from typing import Callable, Mapping
+from typing import Callable
 
-from .bindings import BindingPlan, binding_plan, extra_outputs_plan, shadow_map_plan
 import numpy as np
 
 from ..features import FeatureSet, shadow_view_capacity
+from .bindings import BindingPlan, binding_plan, extra_outputs_plan, shadow_map_plan
 from .layout import layouts_for
-
-_DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif)\b(.*)$")
-_INCLUDE = re.compile(r'^\s*"([\w.\-/]+)"\s*$')
+from .preprocess import preprocess, read_source
 
 ENTRY_FILES = {"flat": "flat.wgsl", "gouraud": "gouraud.wgsl", "phong": "phong.wgsl"}
 GENERATED_BINDINGS = "bindings.wgsl"
-
-
-class ShaderSourceError(Exception):
-    """A malformed directive in a WGSL source file (a bug in the package, not user input)."""
-
-
-@lru_cache(maxsize=None)
-def read_source(name: str) -> str:
-    """A file from the installed `wgsl/` folder (files never change while running)."""
-    return (files("wgpu_shading.wgsl") / name).read_text(encoding="utf-8")
 
 
 def sources_for(features: FeatureSet | None, plan: BindingPlan | None = None) -> Callable[[str], str]:
@@ -58,99 +40,6 @@ def sources_for(features: FeatureSet | None, plan: BindingPlan | None = None) ->
         return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
 
     return reader
-
-
-def _evaluate(expression: str, defines: Mapping[str, int | bool], where: str) -> bool:
-    try:
-        tree = ast.parse(expression.strip(), mode="eval")
-    except SyntaxError:
-        raise ShaderSourceError(f"{where}: cannot parse #if expression {expression.strip()!r}") from None
-
-    def value(node: ast.AST) -> int | bool:
-        if isinstance(node, ast.Expression):
-            return value(node.body)
-        if isinstance(node, ast.Name):
-            if node.id not in defines:
-                raise ShaderSourceError(f"{where}: unknown feature name {node.id!r} in #if")
-            return defines[node.id]
-        if isinstance(node, ast.Constant) and isinstance(node.value, (int, bool)):
-            return node.value
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Not):
-            return not value(node.operand)
-        if isinstance(node, ast.BoolOp):
-            results = [bool(value(v)) for v in node.values]
-            return all(results) if isinstance(node.op, ast.And) else any(results)
-        if isinstance(node, ast.Compare) and len(node.ops) == 1:
-            left, right = value(node.left), value(node.comparators[0])
-            operations: dict[type, Callable[[int, int], bool]] = {
-                ast.Eq: lambda a, b: a == b,
-                ast.NotEq: lambda a, b: a != b,
-                ast.Lt: lambda a, b: a < b,
-                ast.LtE: lambda a, b: a <= b,
-                ast.Gt: lambda a, b: a > b,
-                ast.GtE: lambda a, b: a >= b,
-            }
-            for kind, operation in operations.items():
-                if isinstance(node.ops[0], kind):
-                    return operation(int(left), int(right))
-        raise ShaderSourceError(f"{where}: unsupported #if expression {expression.strip()!r}")
-
-    return bool(value(tree))
-
-
-def preprocess(
-    name: str,
-    defines: Mapping[str, int | bool],
-    reader: Callable[[str], str] = read_source,
-    _included: set[str] | None = None,
-) -> str:
-    """Expand includes and conditionals of file `name` for the given defines."""
-    included = set() if _included is None else _included
-    if name in included:
-        return ""
-    included.add(name)
-    output: list[str] = []
-    # Each open #if: [enclosing block active, this branch active, some branch already taken]
-    stack: list[list[bool]] = []
-    active = True
-    for number, line in enumerate(reader(name).splitlines(), start=1):
-        where = f"{name}:{number}"
-        match = _DIRECTIVE.match(line)
-        if not match:
-            if active:
-                output.append(line)
-            continue
-        keyword, argument = match.group(1), match.group(2)
-        if keyword == "include":
-            if active:
-                target = _INCLUDE.match(argument)
-                if not target:
-                    raise ShaderSourceError(f'{where}: expected #include "file.wgsl"')
-                output.append(preprocess(target.group(1), defines, reader, included))
-        elif keyword == "if":
-            taken = active and _evaluate(argument, defines, where)
-            stack.append([active, taken, taken])
-            active = taken
-        elif keyword == "elif":
-            if not stack:
-                raise ShaderSourceError(f"{where}: #elif without #if")
-            enclosing, _, already = stack[-1]
-            taken = enclosing and not already and _evaluate(argument, defines, where)
-            stack[-1] = [enclosing, taken, already or taken]
-            active = taken
-        elif keyword == "else":
-            if not stack:
-                raise ShaderSourceError(f"{where}: #else without #if")
-            enclosing, _, already = stack[-1]
-            stack[-1] = [enclosing, enclosing and not already, True]
-            active = enclosing and not already
-        else:  # endif
-            if not stack:
-                raise ShaderSourceError(f"{where}: #endif without #if")
-            active = stack.pop()[0]
-    if stack:
-        raise ShaderSourceError(f"{name}: {len(stack)} #if block(s) not closed")
-    return "\n".join(output)
 
 
 def _tidy(source: str) -> str:

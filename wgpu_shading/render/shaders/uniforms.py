@@ -206,8 +206,9 @@ def _float_words(dtype: np.dtype) -> np.ndarray | None:
 
 
 def _has_integers(dtype: np.dtype) -> bool:
+    dtype = dtype.base  # an array field: its element
     if dtype.names is None:
-        return dtype.base.kind in "iu"
+        return dtype.kind in "iu"
     return any(_has_integers(dtype.fields[name][0]) for name in dtype.names)
 
 

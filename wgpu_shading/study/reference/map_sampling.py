@@ -73,7 +73,7 @@ def perturb(normals, corners, corner_uvs, mapped, counter_clockwise, face_sign) 
 
 
 def perturb_with_tangents(front_normals, tangents, mapped, face_sign, derivative) -> np.ndarray:
-    """Normals turned by `mapped` in the file's tangent frame (glTF TANGENT; wgsl/maps.wgsl
+    """Normals turned by `mapped` in the file's tangent frame (glTF TANGENT; wgsl/chunks/maps/normal_map.wgsl
     vertex_tangent_normal): T = normalize(t − N(N·t)), B = (N × T)·sign(w), N the front
     face's unit normal, T and B times `face_sign`; `derivative` where t is zero or along N.
     tangents (N, 4): the interpolated eye-space tangent and w."""

@@ -1,35 +1,7 @@
-// Reading the material maps (wgpu_shading/scene/maps.py, docs/conventions.md "Material maps").
-
-#if OCCLUSION_MAP
-fn occlusion_factor(texel: vec4<f32>) -> f32 {
-    return 1.0 + object_uniforms.material.occlusion_strength * (texel.r - 1.0);
-}
-#endif
-
-#if OCCLUSION_MAP or SHININESS_MAP
-// Flat and Gouraud shading light in the vertex stage: the maps that change the lighting
-// itself are read there, at the vertex (flat: the face centroid's uv), from level 0.
-fn read_vertex_maps(uv: vec2<f32>) {
-#if OCCLUSION_MAP
-    ambient_occlusion = occlusion_factor(textureSampleLevel(occlusion_map_texture, occlusion_map_sampler, uv, 0.0));
-#endif
-#if SHININESS_MAP
-    shininess_scale = textureSampleLevel(shininess_map_texture, shininess_map_sampler, uv, 0.0).r;
-#endif
-}
-
-// Phong shading reads them per fragment, filtered like any texture.
-fn read_fragment_maps(uv: vec2<f32>) {
-#if OCCLUSION_MAP
-    ambient_occlusion = occlusion_factor(textureSample(occlusion_map_texture, occlusion_map_sampler, uv));
-#endif
-#if SHININESS_MAP
-    shininess_scale = textureSample(shininess_map_texture, shininess_map_sampler, uv).r;
-#endif
-}
-#endif
-
 #if NORMAL_MAP or BUMP_MAP
+// Normal and bump maps (Phong shading: per-fragment normals): the normal turned by the
+// tangent-space normal the maps give, in the per-fragment derivative frame, or in the
+// file's tangent frame where the mesh has tangents (glTF TANGENT).
 // The tangent-space normal the maps give at uv: texel·2 − 1, the normal map's x and y
 // scaled by normal_scale. With both maps their slopes add ("whiteout" blending).
 fn map_normal(uv: vec2<f32>) -> vec3<f32> {
@@ -72,6 +44,16 @@ fn perturbed_normal(normal: vec3<f32>, eye_position: vec3<f32>, uv: vec2<f32>, m
     return safe_normalize(tangent * (scale * mapped.x) + bitangent * (scale * mapped.y) + normal * mapped.z, normal);
 }
 
+#at phong.fragment_normal
+    let mapped = map_normal(surface_uv);
+    // The derivative frame is computed in uniform control flow (dpdx) even where the file's
+    // tangents replace it.
+    normal = perturbed_normal(normal, in.eye_position, surface_uv, mapped, face_sign);
+#if VERTEX_TANGENTS
+    normal = vertex_tangent_normal(safe_normalize(in.eye_normal, FALLBACK_NORMAL), in.eye_tangent, mapped, face_sign, normal);
+#endif
+#end
+
 #if VERTEX_TANGENTS
 // The surface normal turned by `mapped` in the file's tangent frame (glTF TANGENT, as
 // three.js with vertex tangents): T = normalize(t − N·(N·t)), B = (N × T)·w, with N the
@@ -90,14 +72,15 @@ fn vertex_tangent_normal(front_normal: vec3<f32>, tangent: vec4<f32>, mapped: ve
     let normal = front_normal * face_sign;
     return safe_normalize((t * mapped.x + b * mapped.y) * face_sign + normal * mapped.z, normal);
 }
-#endif
-#endif
 
-#if SRGB_OUTPUT
-// Linear light → sRGB encoding (IEC 61966-2-1) of a colour already clamped to [0, 1]. The
-// max() keeps pow's base positive; the low branch is taken there anyway.
-fn srgb_encode(linear: vec3<f32>) -> vec3<f32> {
-    let high = 1.055 * pow(max(linear, vec3<f32>(0.0031308)), vec3<f32>(1.0 / 2.4)) - 0.055;
-    return select(high, linear * 12.92, linear <= vec3<f32>(0.0031308));
-}
+#at phong.varyings
+    // The file's tangent in eye space; w: the handedness, times the sign of the
+    // transform's determinant (a mirror flips the bitangent).
+    @location(4) eye_tangent: vec4<f32>,
+#end
+#at phong.vertex
+    let linear = mat3x3<f32>(object_uniforms.eye_from_model[0].xyz, object_uniforms.eye_from_model[1].xyz, object_uniforms.eye_from_model[2].xyz);
+    out.eye_tangent = vec4<f32>(linear * vertex.tangent.xyz, vertex.tangent.w * sign(determinant(linear)));
+#end
+#endif
 #endif

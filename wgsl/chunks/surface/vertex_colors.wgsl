@@ -1,0 +1,31 @@
+#if VERTEX_COLORS
+// Vertex colors: the mesh's colors multiply the material's ambient and diffuse (OpenGL's
+// GL_COLOR_MATERIAL with GL_AMBIENT_AND_DIFFUSE; glTF's COLOR_0 times the base color),
+// and its alpha the surface's.
+// The vertex color at the point being shaded, set before shade() runs.
+var<private> surface_color: vec4<f32> = vec4<f32>(1.0);
+
+#at lighting.surface_tint
+    tint = surface_color.rgb;
+#end
+#at output.surface_alpha
+    alpha *= surface_color.a;
+#end
+#at phong.varyings
+    @location(3) color: vec4<f32>,
+#end
+#at phong.vertex
+    out.color = vertex.color;
+#end
+#at phong.fragment_surface
+    surface_color = in.color;
+#end
+#at gouraud.vertex_surface
+    surface_color = vertex.color;
+#end
+#at flat.vertex_surface
+    // One color per face, like its normal: the mean of its corners' colors.
+    surface_color = (mesh_colors[mesh_indices[first]] + mesh_colors[mesh_indices[first + 1u]]
+        + mesh_colors[mesh_indices[first + 2u]]) / 3.0;
+#end
+#endif
