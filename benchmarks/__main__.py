@@ -44,6 +44,7 @@ SMOKE_SCRIPTS = {
     "specialization": ("bench_specialization.py", "--size", "64", "--frames", "1"),
     "reference": ("bench_reference.py", "--size", "32", "--triangles", "20", "200", "--repeat", "1"),
     "golden_noise": ("golden_noise.py", "--smoke"),
+    "gif_palette": ("gif_palette.py", "--smoke"),
     "loading": ("bench_loading.py", "--smoke"),
     "antialiasing": ("bench_antialiasing.py", "--smoke"),
     "live": ("bench_live.py", "--smoke"),

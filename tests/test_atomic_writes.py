@@ -109,6 +109,18 @@ def test_a_full_disk_keeps_the_golden_reference(full_disk):
     assert reference.read_bytes() == before and leftovers(full_disk) == []
 
 
+def test_a_full_disk_keeps_the_previous_golden_report(full_disk, tmp_path):
+    from wgpu_shading.testing.report import ReportEntry, write_report
+
+    image = tmp_path / "noise.png"
+    Image.fromarray(noise(400, 400)).save(image)  # 640 kB: the page embedding it does not fit in 256 KiB
+    page = full_disk / "report.html"
+    page.write_bytes(OLD)
+    with pytest.raises(GoldenError, match="report.html.*No space left on device"):
+        write_report(page, [ReportEntry("test_x", "ref.png", "failed", images={"actual": str(image)})])
+    assert page.read_bytes() == OLD and leftovers(full_disk) == []
+
+
 def test_cli_render_on_a_full_disk_is_one_line_naming_the_file(full_disk, capsys):
     path = full_disk / "t.npy"
     path.write_bytes(OLD)
@@ -189,9 +201,13 @@ def test_a_device_output_is_refused_not_replaced(tmp_path):
 # the signal arrives mid-write every time.
 _SLOW_WRITER = textwrap.dedent(
     """
-    import sys, time
+    import signal, sys, time
     from pathlib import Path
     from PIL import Image
+
+    # Ctrl-C as in a terminal, even when the suite runs as a background job (a shell starts
+    # those with SIGINT ignored, and children inherit that).
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
     def slow_save(self, fp, format=None, **params):
         Path(fp).write_bytes(b"\\x89PNG half of it")

@@ -83,7 +83,7 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 
 SMOKE_STEPS = (
     "warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference",
-    "golden_noise", "loading", "antialiasing", "live", "callgrind", "ab_issue21",
+    "golden_noise", "gif_palette", "loading", "antialiasing", "live", "callgrind", "ab_issue21",
     "report",
 )
 
@@ -249,6 +249,10 @@ def test_smoke_runs_the_standalone_benchmarks(smoke):
     assert re.fullmatch(r"\d/2", noise[0]["cases not bit-identical"])
     assert len(defects) == 6 and all(row["gold_torus_phong"] for row in defects)
     assert all(row["gold_torus_phong"].startswith("caught") for row in whole)  # shift, swap, no highlight
+
+    (gif,) = _tables(_section(smoke, "gif_palette"))
+    assert len(gif) == 7 and gif[-1]["method"].startswith("**chosen")
+    assert all(_positive(row["KiB/frame"]) and len(row["error mean R/G/B"].split(" / ")) == 3 for row in gif)
 
 
 def test_smoke_dataset_times_every_mode_and_the_dask_overhead(smoke):

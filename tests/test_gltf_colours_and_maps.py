@@ -124,7 +124,7 @@ def test_a_bare_gltf_gets_the_viewer_lights_in_linear_light_unless_its_materials
     from wgpu_shading.assets.view_loader import load_view
     from wgpu_shading.scene.maps import srgb_decode
     from wgpu_shading.scene.view.options import ViewOptions
-    from wgpu_shading.scene.view.viewer_lights import KEY_DIFFUSE
+    from wgpu_shading.scene.view.bare_mesh import KEY_DIFFUSE
 
     path = write_gltf(tmp_path / "plain.gltf", [[square()]])
     for options in (ViewOptions(), ViewOptions(camera_position=(0.0, 0.0, 5.0))):  # the lights follow the camera

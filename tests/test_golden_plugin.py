@@ -263,3 +263,95 @@ def test_the_failure_summary_comes_back_from_xdist_workers(pytester, monkeypatch
     result = pytester.runpytest_subprocess(*args, f"--golden-output={pytester.path / 'out'}")
     result.assert_outcomes(failed=1)
     result.stdout.fnmatch_lines(["*golden-image failures*", "test_user.py::test_array: *out*", "*--update-golden*"])
+
+
+# --------------------------------------------------------------------------- the HTML report
+
+REPORT_TEST = USER_TEST + textwrap.dedent(
+    """
+    def test_steady(assert_golden):
+        assert_golden(image(200), "refs/steady.png")
+    """
+)
+
+
+def _data_uris(page: str) -> list[bytes]:
+    import base64
+    import re
+
+    return [base64.b64decode(m) for m in re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', page)]
+
+
+def test_golden_report_under_xdist_lists_failures_first_with_images_metrics_and_the_accept_command(pytester, monkeypatch):
+    """`pytest -n 2 --golden-report DIR`: the workers' checks reach the controller, which writes
+    one page; its images are the very PNGs of the failure, embedded; failures come before passes."""
+    pytest.importorskip("xdist")
+    pytester.makepyfile(test_user=REPORT_TEST)
+    args = ("-p", "no:hypothesispytest", "-p", "no:cacheprovider", "-n", "2")
+    _value(monkeypatch, 200)
+    pytester.runpytest_subprocess(*args, "--update-golden").assert_outcomes(passed=2)
+    _value(monkeypatch, 120)
+    result = pytester.runpytest_subprocess(*args, "--golden-report=report")
+    result.assert_outcomes(failed=1, passed=1)
+    page_path = pytester.path / "report" / "golden-report.html"
+    result.stdout.fnmatch_lines([f"*golden report: {page_path}*"])
+    page = page_path.read_text(encoding="utf-8")
+    assert "1 failed, 1 passed" in page
+    failure, passes = page.index('<article class="failure"'), page.index('<section id="passes"')
+    assert failure < passes and page.index("test_user.py::test_steady") > passes
+    assert "pytest --update-golden test_user.py::test_array" in page[failure:passes]
+    assert "400 of 2400 (16.67 %)" in page and "at most 2 (0.10 %)" in page  # the metric against the tolerance
+    assert "looks like: the largest differences are in the red channel" in page
+    folder = next((pytester.path / "report").glob("*test_array*"))  # the images beside the page, one folder per test
+    embedded = _data_uris(page)
+    for kind in ("expected", "actual", "diff"):
+        assert (folder / f"square.{kind}.png").read_bytes() in embedded
+    assert "http://" not in page and "https://" not in page and " src=\"file:" not in page  # nothing fetched
+    assert not list((pytester.path / "report").rglob("*wgpu-shading-tmp*"))  # written atomically
+
+    # The accept command, typed as printed, makes the test pass; the next report has no failure.
+    accept = next(line for line in page.splitlines() if "pytest --update-golden" in line)
+    assert pytester.runpytest_subprocess(*args, "--update-golden", "test_user.py::test_array").ret == 0
+    pytester.runpytest_subprocess(*args, "--golden-report=report").assert_outcomes(passed=2)
+    page = page_path.read_text(encoding="utf-8")
+    assert "0 failed, 2 passed" in page and '<article class="failure"' not in page, accept
+
+
+def test_golden_report_names_a_missing_reference(pytester):
+    pytester.makepyfile(test_user=REPORT_TEST)
+    result = run(pytester, "--golden-report=report", "-k", "steady")
+    result.assert_outcomes(failed=1)
+    page = (pytester.path / "report" / "golden-report.html").read_text(encoding="utf-8")
+    assert "MISSING" in page and "steady.png does not exist" in page and "pytest --update-golden test_user.py::test_steady" in page
+    assert len(_data_uris(page)) == 1  # the actual image only
+
+
+def test_check_command_writes_a_report(tmp_path, torus, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["check", torus, "--ref", "torus.png", "--size", "64", "--update"]) == 0
+    assert main(["check", torus, "--ref", "torus.png", "--size", "64", "--report", "pass.html", "-q"]) == 0
+    page = (tmp_path / "pass.html").read_text(encoding="utf-8")
+    assert "0 failed, 1 passed" in page and "0 pixels (0 %) of 4096 differ" in page
+    argv = ["check", torus, "--ref", "torus.png", "--size", "64", "--material", "jade", "--report", "fail.html"]
+    assert main(argv) == 1
+    assert "report: fail.html" in capsys.readouterr().out
+    page = (tmp_path / "fail.html").read_text(encoding="utf-8")
+    assert "1 failed, 0 passed" in page and "looks like:" in page
+    import html
+    import shlex
+
+    accept = shlex.join(["wgpu-shading", *argv, "--update"])
+    assert html.escape(accept) in page
+    assert (tmp_path / "torus.diff.png").read_bytes() in _data_uris(page)
+    # The accept command does accept it.
+    assert main(shlex.split(accept)[1:]) == 0 and main(argv[:-2]) == 0
+
+
+@pytest.mark.parametrize(
+    "name, message", [("report.txt", "the report is an HTML page; name it .html"), ("nowhere/report.html", "does not exist")]
+)
+def test_check_report_path_is_checked_before_rendering(torus, capsys, name, message, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["check", torus, "--ref", "ref.png", "--report", name]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1

@@ -53,3 +53,54 @@ def test_widget_of_a_scene_object_and_compare(renderer):
     assert [next(a for a in argv if a.startswith("--reflection=")) for argv in widget.live.commands()] == [
         "--reflection=phong", "--reflection=blinn-phong"]
     assert shlex.join(widget.command()).startswith("wgpu-shading render SCENE")
+
+
+def test_widget_text_form_describes_the_view_and_nothing_else_is_printed(renderer, capsys):
+    """Where widgets are not shown (a terminal, a notebook converted to text, `print(w)`), the
+    widget reads as what it shows and the command that draws it, not `LiveWidget object at 0x…`;
+    making it prints nothing (jupyter_rfb's output area used to print `RFBOutputContext()`)."""
+    widget = wgpu_shading.view("builtin:torus", size=(160, 120), material="jade", renderer=renderer)
+    assert capsys.readouterr().out == ""
+    text = repr(widget)
+    assert text.splitlines()[:3] == [
+        "wgpu-shading live view, 160×120: builtin:torus — phong shading — phong reflection — jade",
+        "the same picture from the command line:",
+        "  wgpu-shading render builtin:torus --size=160x120 --material=jade",
+    ]
+    assert "object at 0x" not in text and str(widget) == text
+    data = widget._repr_mimebundle_()
+    data = data[0] if isinstance(data, tuple) else data
+    assert data["text/plain"] == text and "application/vnd.jupyter.widget-view+json" in data  # whole, not cut at 110 characters
+    widget.live.press("f")  # the text follows the view
+    assert "flat shading" in repr(widget) and "--frequency=flat" in repr(widget)
+
+
+IPYTHON_SESSION = """
+import json
+from IPython.core.interactiveshell import InteractiveShell
+from IPython.utils.capture import capture_output
+
+shell = InteractiveShell.instance()
+with capture_output() as captured:
+    result = shell.run_cell('import wgpu_shading\\nw = wgpu_shading.view("builtin:torus", size=(64, 48), compare="reflection")\\nw')
+assert result.success, result.error_in_exec
+print(json.dumps({"stdout": captured.stdout, "outputs": [sorted(o.data) for o in captured.outputs]}))
+"""
+
+
+def test_in_an_ipython_session_the_cell_shows_the_description_and_no_stray_output():
+    """IPython as a front end without widgets: the cell's result is the description (what a
+    terminal or a text export shows); the only other output is jupyter_rfb's error area as a
+    widget view without a text form (a front end with widgets shows it, others show nothing)."""
+    import json
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-c", IPYTHON_SESSION], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    shown = json.loads(run.stdout.strip().splitlines()[-1])
+    assert shown["outputs"] == [["application/vnd.jupyter.widget-view+json"]]
+    out = shown["stdout"]
+    assert "RFBOutputContext" not in out and "object at 0x" not in out
+    assert "wgpu-shading live view, 128×48: builtin:torus — phong shading — compare phong | blinn-phong — gold" in out
+    assert "its panels from the command line:" in out and "--reflection=blinn-phong" in out

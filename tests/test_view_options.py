@@ -77,7 +77,6 @@ _NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")  #
 # does not reach anyway (docs/shadows.md): its shadow options draw the same box (pixels
 # compared, not asserted different; tests/test_shadows_*.py show them at work).
 _NO_EFFECT_ON_THE_BOX += ("shadows", "cast_shadows", "receive_shadows", "shadow_map_size", "shadow_filter", "shadow_bias")
-BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")
 BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)) + "".join(
     f"f {a} {b} {c}\n" for a, b, c in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
                                        (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4))

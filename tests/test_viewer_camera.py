@@ -19,7 +19,7 @@ from wgpu_shading.cli import main
 from wgpu_shading.cli.main import build_parser
 from wgpu_shading.cli.arguments import scene_from_args
 from wgpu_shading.errors import SceneError
-from wgpu_shading.scene.view.bare_mesh import parse_direction
+from wgpu_shading.scene.view.reading import parse_direction
 
 SIZE = (160, 120)
 

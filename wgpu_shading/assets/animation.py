@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import math
 import os
 import queue
 import struct
@@ -45,9 +46,10 @@ def write_animation(
 ) -> int:
     """Write RGBA or RGB uint8 frames to an animated GIF (looping) or an MP4 (H.264).
 
-    Frames are encoded on a worker thread while the next ones are rendered: GIF palette
-    quantization (Pillow) and the H.264 encoder (a separate ffmpeg process) both run
-    outside the GIL. Returns the number of frames written.
+    Frames are encoded on a worker thread while the next ones are rendered: the H.264
+    encoder is a separate ffmpeg process; Pillow's GIF palette work holds the GIL while it
+    runs, so it overlaps the renderer's native work (lavapipe's threads) only. A GIF frame's
+    palette is its own (`quantize_frame`). Returns the number of frames written.
 
     The frames stream into a temporary file beside `path` (atomic.py), renamed over `path`
     once the last frame is written: a failure or an interrupt leaves the previous file (or
@@ -98,12 +100,48 @@ def _stream(encoder, frames: Iterable[np.ndarray], progress: Callable[[int], Non
     return count
 
 
+# The GIF palette of a frame (benchmarks/gif_palette.py measured the choices; the table is in
+# docs/reliability.md#animations). Frames of up to FEW_COLOURS colours (smooth shading of one
+# material: hundreds) are first mapped without dithering, kept when no channel of any pixel
+# moves by more than UNDITHERED_TOLERANCE/255 (steps that small draw no visible ring). The
+# palette of the others is chosen from an even grid of about PALETTE_SAMPLE_PIXELS pixels
+# (every 4th pixel of every 4th row at 512²): a third of the work at 512², the same error.
+FEW_COLOURS = 4096
+UNDITHERED_TOLERANCE = 2
+PALETTE_SAMPLE_PIXELS = 16384
+
+
+def quantize_frame(rgb: np.ndarray):
+    """An (H, W, 3) uint8 frame as the 256-colour Pillow "P" image a GIF frame holds.
+
+    A palette of the frame's own, chosen by maximum coverage. Where it holds the frame within
+    2/255 (always, for 256 colours or fewer: exactly) the frame is mapped onto it as it is;
+    otherwise with Floyd–Steinberg error diffusion, which trades contour rings for fine noise.
+    (The fast octree palette without dithering used before drew contour rings on smooth
+    shading.) A palette per frame keeps the GIF streaming: one frame in memory, whatever the
+    animation's length."""
+    from PIL import Image
+
+    frame = np.ascontiguousarray(rgb[:, :, :3], dtype=np.uint8)
+    image = Image.fromarray(frame)
+    if image.getcolors(FEW_COLOURS) is not None:  # None: more colours than that
+        mapped = image.quantize(256, method=Image.Quantize.MAXCOVERAGE)
+        error = np.abs(np.asarray(mapped.convert("RGB"), dtype=np.int16) - frame).max()
+        if error <= UNDITHERED_TOLERANCE:
+            return mapped
+    step = max(1, math.ceil(math.sqrt(frame.shape[0] * frame.shape[1] / PALETTE_SAMPLE_PIXELS)))
+    sample = np.ascontiguousarray(frame[::step, ::step])
+    palette = Image.fromarray(sample).quantize(256, method=Image.Quantize.MAXCOVERAGE)
+    return image.quantize(palette=palette, dither=Image.Dither.FLOYDSTEINBERG)
+
+
 class _GifEncoder:
     """A looping animated GIF written frame by frame: memory stays at one frame however
     long the animation (Pillow's own multi-frame writer keeps every frame until the end).
 
-    Each frame is quantized and LZW-encoded by Pillow as a one-frame GIF; its palette
-    becomes the frame's local color table and its image block is appended to the file."""
+    Each frame is quantized (`quantize_frame`) and LZW-encoded by Pillow as a one-frame GIF;
+    its palette becomes the frame's local color table and its image block is appended to the
+    file."""
 
     def __init__(self, path: Path, fps: float, shown: Path):
         self.path, self.shown = path, shown  # the temporary written, the name the user gave
@@ -113,12 +151,8 @@ class _GifEncoder:
         self.count = 0
 
     def add(self, rgb: np.ndarray) -> None:
-        from PIL import Image
-
         height, width = rgb.shape[:2]
-        # An adaptive palette per frame (fast octree): smooth shading keeps its gradients,
-        # unlike a fixed web palette.
-        image = Image.fromarray(np.ascontiguousarray(rgb)).quantize(256, method=Image.Quantize.FASTOCTREE)
+        image = quantize_frame(rgb)
         encoded = io.BytesIO()
         image.save(encoded, format="GIF", interlace=False)
         color_table, image_block = _split_single_frame_gif(encoded.getvalue())

@@ -3,22 +3,32 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from ..scene.view.apply import apply_view_options
 from ..scene.view.options import ViewOptions
-
-DEFAULT_SIZE = (512, 512)  # a bare mesh's image when no size is given
 
 
 def is_scene_file(source: str) -> bool:
     return source.lower().endswith(".toml")
 
 
+def source_name(source: str, fallback: str) -> str:
+    """What a file made from `source` is named after: its stem, without builtin:/example:
+    or a built-in's parameters (builtin:torus?segments=8 → torus, example:gear.ply → gear),
+    `fallback` when that leaves nothing. render's default -o, batch's folders and the live
+    viewer's screenshots all use it."""
+    source = source.split("?")[0]
+    for prefix in ("builtin:", "example:"):
+        source = source.removeprefix(prefix)
+    return Path(source).stem or fallback
+
+
 def load_source(source: str, options: ViewOptions):
     """The scene file or the framed bare mesh, read with the options that act when a file is
     read (ViewOptions.loading(): crease_angle for the mesh reader; a bare mesh is framed for
     its up axis and image size). Load it once and apply several ViewOptions to it:
-    load_view(source, o) == apply_view_options(load_source(source, o), o,
-    follow_camera=not is_scene_file(source))."""
+    load_view(source, o) == apply_view_options(load_source(source, o), o)."""
     from .mesh_scene import mesh_scene
     from .scenefile import load_scene
 
@@ -26,9 +36,9 @@ def load_source(source: str, options: ViewOptions):
         return load_scene(source, reading=options.mesh_reading())
     return mesh_scene(
         source,
-        options.size or DEFAULT_SIZE,
+        options.size,
         None,  # the material, like every option that does not change what is read, is applied after
-        up=options.up or "+Y",
+        up=options.up,
         file_lights=not options.viewer_lights,
         reading=options.mesh_reading(),
     )
@@ -37,4 +47,4 @@ def load_source(source: str, options: ViewOptions):
 def load_view(source: str, options: ViewOptions = ViewOptions()):
     """The Scene `wgpu-shading render SOURCE` with these options draws: a scene file (.toml),
     a mesh file, builtin:NAME or example:NAME, with every option applied."""
-    return apply_view_options(load_source(source, options), options, follow_camera=not is_scene_file(source))
+    return apply_view_options(load_source(source, options), options)

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import argparse
 import math
-from dataclasses import replace
 from pathlib import Path
 from typing import Sequence
 
 from ..assets.image_writers import output_path
-from ..assets.view_loader import load_view
+from ..assets.view_loader import load_view, source_name
 from ..errors import UsageError
 from .viewer_options import add_view_arguments, view_options_from_args
 
@@ -36,7 +35,7 @@ def default_output(args: argparse.Namespace, suffix: str) -> Path:
     """-o, or the input's name with `suffix` in the current folder (builtin:torus → torus.png)."""
     if args.output:
         return Path(args.output)
-    return Path(Path(args.input.split("?")[0].replace("builtin:", "").replace("example:", "")).stem + suffix)
+    return Path(source_name(args.input, "") + suffix)
 
 
 def check_output(path: Path, allowed: Sequence[str], float_target: bool = False) -> None:

@@ -29,6 +29,12 @@ def command_check(args: argparse.Namespace) -> int:
     failure_folder = Path(args.output_dir) if args.output_dir is not None else reference.parent
     if failure_folder.is_dir():
         check_folder_writable(failure_folder, "--output-dir" if args.output_dir is not None else "--ref folder")
+    if args.report is not None:
+        from ..assets.atomic import check_target
+
+        if Path(args.report).suffix.lower() not in (".html", ".htm"):
+            raise GoldenError(f"--report {args.report!r}: the report is an HTML page; name it .html")
+        check_target(args.report, "--report", GoldenError)
     tolerance = Tolerance(
         threshold=args.threshold,
         max_fraction=args.max_fraction,
@@ -44,7 +50,24 @@ def command_check(args: argparse.Namespace) -> int:
     )
     if not args.quiet or not result.passed:
         print(result.report())
+    if args.report is not None:
+        write_check_report(args, result)
+        if not args.quiet or not result.passed:
+            print(f"report: {args.report}")
     return 0 if result.passed else EXIT_MISMATCH
+
+
+def write_check_report(args: argparse.Namespace, result) -> None:
+    """The golden report page of this one check; its accept command is this command line
+    with --update (the reference file is rewritten by it)."""
+    import shlex
+
+    from ..testing.report import entry_for_result, write_report
+
+    typed = ["wgpu-shading", *args.command_line]
+    accept = shlex.join(typed if "--update" in typed else [*typed, "--update"])
+    entry = entry_for_result(f"check {args.input}", result, accept)
+    write_report(args.report, [entry], title="Golden-image check", context=shlex.join(typed))
 
 
 
@@ -89,6 +112,11 @@ def add_check(commands, gpu: argparse.ArgumentParser) -> None:
         "--amplify", type=float, default=DEFAULT_AMPLIFICATION, metavar="K",
         help="the diff image shows |actual − expected| × K (linear) instead of the default log scale "
         "(1/255 → 32, 8/255 → 101, 64/255 → 192, 255/255 → 255)",
+    )
+    check.add_argument(
+        "--report", metavar="FILE.html",
+        help="also write one self-contained HTML page of the result: expected | actual | diff, a slider and blink "
+        "comparison, zoom, the metrics against the tolerance, the diagnosis and the command that accepts the image",
     )
     check.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     check.set_defaults(handler=command_check)

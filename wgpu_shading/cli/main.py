@@ -111,6 +111,7 @@ def _main(argv: Sequence[str] | None = None) -> int:
         if not exit_.code:
             raise
         return EXIT_USAGE
+    args.command_line = list(argv if argv is not None else sys.argv[1:])  # as typed (check --report repeats it)
     # trimesh logs file problems it works around (e.g. a PLY's missing texture image) with
     # tracebacks through Python's last-resort handler; the CLI reports files its own way.
     trimesh_log = logging.getLogger("trimesh")

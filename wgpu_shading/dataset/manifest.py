@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any, Iterable
 
 from ..assets.files import check_regular_file
+from ..assets.view_loader import source_name
 from ..errors import UsageError
 from ..scene import BUILTIN_PREFIX, BUILTINS
 from ..scene.view.options import COLUMNS, ViewOptions
@@ -174,7 +175,7 @@ def _resolve(source: str, base: Path) -> str:
 
 def _folder_for(source: str, taken: dict[str, str]) -> str:
     """The mesh's stem; a second mesh with the same stem gets a short hash of its path."""
-    stem = Path(source.split("?")[0].replace("builtin:", "").replace("example:", "")).stem or "mesh"
+    stem = source_name(source, "mesh")
     if stem in taken.values():
         stem = f"{stem}-{hashlib.sha1(source.encode()).hexdigest()[:6]}"
     return stem

@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import math
 
-from ..assets.view_loader import DEFAULT_SIZE, is_scene_file, load_source
+from ..assets.view_loader import load_source
 from ..errors import UsageError
 from ..scene import Scene
 from ..scene.view.bare_mesh import FRAMING_DIRECTION
 from ..scene.view.apply import apply_view_options
 from .jobs import Job
 
-__all__ = ["DEFAULT_SIZE", "FRAMING_ELEVATION", "MAX_VIEWS", "base_scene", "job_scene", "sphere_views", "turntable_views"]
+__all__ = ["FRAMING_ELEVATION", "MAX_VIEWS", "base_scene", "job_scene", "sphere_views", "turntable_views"]
 
 
 FRAMING_ELEVATION = math.degrees(math.atan2(FRAMING_DIRECTION[1], FRAMING_DIRECTION[2]))  # ≈ 19.29°
@@ -63,10 +63,6 @@ def sphere_views(count: int, base_elevation: float = FRAMING_ELEVATION) -> list[
     return views
 
 
-def is_bare_mesh(job: Job) -> bool:
-    return not is_scene_file(job.source)
-
-
 def base_scene(job: Job) -> Scene:
     """What the job's source loads to, before the view options that do not change what is
     loaded (assets/view_loader.py load_source). Loads the mesh: call once per load_key()."""
@@ -76,4 +72,4 @@ def base_scene(job: Job) -> Scene:
 def job_scene(base: Scene, job: Job) -> Scene:
     """The base scene with the job's view options applied: the Scene `wgpu-shading render`
     draws for the job's source and the same options (assets/view_loader.py load_view)."""
-    return apply_view_options(base, job.view_options(), follow_camera=is_bare_mesh(job))
+    return apply_view_options(base, job.view_options())

@@ -26,7 +26,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..assets.view_loader import is_scene_file, load_source
+from ..assets.view_loader import load_source, source_name
 from ..errors import SceneError, WgpuShadingError
 from ..render.renderer import Frame, Renderer
 from ..scene import FREQUENCIES, MATERIALS, REFLECTIONS, Scene
@@ -94,10 +94,7 @@ class LiveView:
         """The source's stem (screenshots are NAME-NNN.png)."""
         if isinstance(self.source, Scene):
             return "view"
-        source = self.source.split("?")[0]
-        for prefix in ("builtin:", "example:"):
-            source = source.removeprefix(prefix)
-        return Path(source).stem or "view"
+        return source_name(self.source, "view")
 
     def options(self) -> ViewOptions:
         """The view options of what is shown now: the opening options changed by the keys and
@@ -135,7 +132,7 @@ class LiveView:
             if len(self._loaded) >= LOAD_CACHE_ENTRIES:
                 self._loaded.pop(next(iter(self._loaded)))
             self._loaded[key] = base
-        return apply_view_options(base, options, follow_camera=not is_scene_file(self.source))
+        return apply_view_options(base, options)
 
     def scenes(self) -> list[Scene]:
         return [self._scene_for(panel.options) for panel in self.panels()]
@@ -174,6 +171,14 @@ class LiveView:
         return width * len(self.panels()), height
 
     def title(self) -> str:
+        """The window's title: what is shown (`description`) and the last frame's time."""
+        parts = [self.description()]
+        if self.frame_ms is not None:
+            parts.append(f"{self.frame_ms:.1f} ms")
+        return " — ".join(parts)
+
+    def description(self) -> str:
+        """What is shown: source, frequency, reflection (or the compared variants), material."""
         s = self.state.settings
         source = "scene" if isinstance(self.source, Scene) else self.source
         material = s.material or self.state.scene_material or "file materials"
@@ -185,8 +190,6 @@ class LiveView:
         if self.compare:
             parts.append("compare " + " | ".join(COMPARE_AXES[self.compare]))
         parts.append(material)
-        if self.frame_ms is not None:
-            parts.append(f"{self.frame_ms:.1f} ms")
         return " — ".join(parts)
 
     # ------------------------------------------------------------------ events

@@ -93,31 +93,3 @@ def alpha_pixels(pixels: np.ndarray) -> np.ndarray:
         value = pixels[:, :, :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
     value = np.round(value).astype(np.uint8)
     return np.repeat(value[:, :, None], 4, axis=2)
-
-
-def linear_color(color) -> tuple[float, float, float, float]:
-    """An RGBA colour given as display values, in linear light (RGB decoded, alpha kept):
-    how the viewer lights, chosen as display values, light a linear-colour-space scene."""
-    rgb = srgb_decode(np.clip(np.asarray(color[:3], dtype=np.float64), 0.0, 1.0))
-    return (float(rgb[0]), float(rgb[1]), float(rgb[2]), float(color[3]))
-
-
-def bare_mesh_lighting(objects, camera) -> tuple[tuple, tuple[float, float, float, float]]:
-    """The viewer lights and global ambient of a bare mesh (scene/view/viewer_lights.py; 0.2).
-
-    A bare glTF (every part drawn with its file's linear-colour-space material) gets them
-    decoded to linear light: they were chosen as display values, and decoding keeps a white
-    surface as bright as in display values (neutral grey, as viewers show it)."""
-    from dataclasses import replace
-
-    from .view.viewer_lights import viewer_lights
-
-    lights, ambient = viewer_lights(camera), (0.2, 0.2, 0.2, 1.0)
-    linear = bool(objects) and all(
-        obj.material is None and all(part.material is not None and part.material.color_space == "linear" for part in obj.mesh.parts)
-        for obj in objects
-    )
-    if not linear:
-        return lights, ambient
-    return tuple(replace(light, ambient=linear_color(light.ambient), diffuse=linear_color(light.diffuse),
-                         specular=linear_color(light.specular)) for light in lights), linear_color(ambient)

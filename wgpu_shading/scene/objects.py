@@ -190,6 +190,17 @@ class Shading:
 
 
 @dataclass(frozen=True)
+class BareMesh:
+    """How a bare mesh's scene was made (the policy: scene/view/bare_mesh.py), recorded so
+    that a view changing it need not guess: its camera's near and far enclose the object, and
+    `viewer_lights` are the lights made for that camera (None: the file's own lights). A
+    view that moves the camera makes both again, the lights only while the scene's lights
+    are still these (lights a view or a caller replaced stay)."""
+
+    viewer_lights: tuple[Light, ...] | None = None
+
+
+@dataclass(frozen=True)
 class Scene:
     objects: tuple[SceneObject, ...] = ()
     lights: tuple[Light, ...] = ()
@@ -200,6 +211,7 @@ class Scene:
     background: Color = (0.0, 0.0, 0.0, 1.0)
     # Antialiasing: MSAA samples per pixel, 1 (off: pixel-comparable with the GL references) or 4.
     samples: int = 1
+    bare_mesh: BareMesh | None = None  # a bare mesh's scene: what the viewer made (None: a scene file's, or code's)
     # How the GPU approximates shadows (scene/shadows.py); which lights cast them is each light's `shadows`.
     shadows: ShadowSettings = field(default_factory=ShadowSettings)
 
@@ -231,6 +243,8 @@ class Scene:
             raise SceneError(f"camera: expected a Camera, got {type(self.camera).__name__}")
         if not isinstance(self.shading, Shading):
             raise SceneError(f"shading: expected a Shading, got {type(self.shading).__name__}")
+        if self.bare_mesh is not None and not isinstance(self.bare_mesh, BareMesh):
+            raise SceneError(f"bare_mesh: expected a BareMesh or None, got {type(self.bare_mesh).__name__}")
         if not isinstance(self.shadows, ShadowSettings):
             raise SceneError(f"shadows: expected ShadowSettings, got {type(self.shadows).__name__}")
         background = color(self.background, "output.background")

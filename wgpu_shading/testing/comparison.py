@@ -14,7 +14,6 @@ Pure numpy; imports nothing from the GPU side.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -108,7 +107,7 @@ def compare(actual, expected, tolerance: Tolerance | None = None) -> Comparison:
     channel_max = {name: int(delta[:, :, index].max()) for index, name in enumerate(CHANNELS)}
 
     failures = []
-    allowed = math.floor(tolerance.max_fraction * pixel_count + 1e-9)
+    allowed = tolerance.allowed_count(pixel_count)
     if over_count > allowed:
         failures.append(
             f"{over_count} pixels ({percent(over_count / pixel_count)}) differ by more than {tolerance.threshold}/255; "

@@ -15,6 +15,9 @@ folder in pytest's temporary directory) and named in the message.
 Options:
     --update-golden         write missing references and rewrite those that differ
     --golden-output DIR     where to write the images of failures
+    --golden-report DIR     write DIR/golden-report.html: every failure with its images, a
+                            slider/blink comparison, the metrics, the diagnosis and the
+                            command that accepts it; the checks that passed below it
 ini options (pytest.ini / pyproject [tool.pytest.ini_options]):
     golden_threshold        default per-channel threshold (1/255 units), 8
     golden_max_fraction     default fraction of pixels allowed over it, 0.001
@@ -34,6 +37,8 @@ import pytest
 
 _STASH_WRITTEN = pytest.StashKey[list]()
 _STASH_FAILED = pytest.StashKey[list]()
+_STASH_ENTRIES = pytest.StashKey[list]()
+REPORT_NAME = "golden-report.html"
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -48,7 +53,14 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         "--golden-output",
         metavar="DIR",
         default=None,
-        help="assert_golden: folder for the actual/expected/diff images of failures (default: <pytest basetemp>/golden)",
+        help="assert_golden: folder for the actual/expected/diff images of failures (default: the --golden-report folder, else <pytest basetemp>/golden)",
+    )
+    group.addoption(
+        "--golden-report",
+        metavar="DIR",
+        default=None,
+        help=f"assert_golden: write DIR/{REPORT_NAME}, one page to open in a browser: failures with expected | actual | diff, "
+        "slider and blink comparison, zoom, metrics, diagnosis and the command that accepts each; passes below",
     )
     parser.addini("golden_threshold", "assert_golden: per-channel threshold in units of 1/255 (default 8)", default=None)
     parser.addini("golden_max_fraction", "assert_golden: fraction of pixels allowed over the threshold (default 0.001)", default=None)
@@ -63,6 +75,7 @@ _PROPERTY = "wgpu_shading_golden"
 def pytest_configure(config: pytest.Config) -> None:
     config.stash[_STASH_WRITTEN] = []
     config.stash[_STASH_FAILED] = []
+    config.stash[_STASH_ENTRIES] = []
     config.pluginmanager.register(_GoldenReports(config), "wgpu-shading-golden-reports")
 
 
@@ -83,7 +96,36 @@ class _GoldenReports:
         for name, value in report.user_properties:
             if name == _PROPERTY:
                 kind, _, line = str(value).partition("\t")
-                self.config.stash[_STASH_WRITTEN if kind == "written" else _STASH_FAILED].append(line)
+                stash = {"written": _STASH_WRITTEN, "failed": _STASH_FAILED, "entry": _STASH_ENTRIES}[kind]
+                self.config.stash[stash].append(line)
+
+
+def _report_folder(config: pytest.Config) -> Path | None:
+    option = config.getoption("--golden-report")
+    if not option:
+        return None
+    folder = Path(option)
+    return folder if folder.is_absolute() else Path(config.invocation_params.dir) / folder
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus) -> None:
+    """The controller (or a run without xdist) writes the report; xdist workers only send
+    their entries (they have `workerinput`)."""
+    config = session.config
+    folder = _report_folder(config)
+    if folder is None or hasattr(config, "workerinput"):
+        return
+    from .report import ReportEntry, write_report
+    from .tolerance import GoldenError
+
+    # Sorted by test: under xdist they arrive in the order the workers finish.
+    entries = sorted((ReportEntry.from_json(text) for text in config.stash.get(_STASH_ENTRIES, [])), key=lambda e: (e.name, e.reference))
+    arguments = " ".join(config.invocation_params.args)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        write_report(folder / REPORT_NAME, entries, title="Golden-image report", context=f"pytest {arguments}".strip())
+    except (OSError, GoldenError) as error:
+        config.stash[_STASH_FAILED].append(f"the golden report could not be written: {error}")
 
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config: pytest.Config) -> None:
@@ -98,6 +140,9 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config: pytest.Config)
         for line in failed:
             terminalreporter.write_line(line)
         terminalreporter.write_line("(if the change is intended, rerun with --update-golden and review the new references)")
+    folder = _report_folder(config)
+    if folder is not None and (folder / REPORT_NAME).is_file():
+        terminalreporter.write_sep("-", f"golden report: {folder / REPORT_NAME}")
 
 
 @pytest.fixture(scope="session")
@@ -146,6 +191,8 @@ class GoldenChecker:
             base = Path(option)
             if not base.is_absolute():
                 base = Path(self._config.rootpath) / base
+        elif _report_folder(self._config) is not None:
+            base = _report_folder(self._config)  # the images beside the page: one artifact
         else:
             base = self._request.getfixturevalue("tmp_path_factory").getbasetemp() / "golden"
         # One folder per test, so references with the same name in different tests do not collide.
@@ -201,6 +248,11 @@ class GoldenChecker:
         if not update and not reference.exists():
             written = write_failure_images(image, None, reference, output_dir)
             _record(self._request, "failed", f"{self._request.node.nodeid}: {output_dir}")
+            if _report_folder(self._config) is not None:
+                from .report import entry_for_missing
+
+                entry = entry_for_missing(self._request.node.nodeid, reference, written[0], self.accept_command())
+                _record(self._request, "entry", entry.to_json())
             pytest.fail(
                 f"golden reference {reference} does not exist\n"
                 f"the actual image is at {written[0]}\n"
@@ -215,6 +267,11 @@ class GoldenChecker:
             output_dir=output_dir,
             amplification=amplification if amplification is not None else DEFAULT_AMPLIFICATION,
         )
+        if _report_folder(self._config) is not None:
+            from .report import entry_for_result
+
+            entry = entry_for_result(self._request.node.nodeid, result, self.accept_command())
+            _record(self._request, "entry", entry.to_json())
         if result.status in ("created", "updated"):
             _record(self._request, "written", f"{result.status} {reference}")
             return result
@@ -228,6 +285,20 @@ class GoldenChecker:
             lines.append("if the change is intended, rerun with --update-golden and review the new reference")
             pytest.fail("\n".join(lines), pytrace=False)
         return result
+
+
+    def accept_command(self) -> str:
+        """The command that accepts this test's actual images, typed where pytest was run:
+        `pytest --update-golden path/test_file.py::test_name[param]`."""
+        import shlex
+
+        node = self._request.node
+        _, separator, inside = node.nodeid.partition("::")
+        try:
+            file = os.path.relpath(node.path, self._config.invocation_params.dir)
+        except ValueError:  # another drive (Windows)
+            file = str(node.path)
+        return shlex.join(["pytest", "--update-golden", f"{file}{separator}{inside}"])
 
 
 def _describe(subject) -> str:

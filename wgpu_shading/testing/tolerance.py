@@ -7,6 +7,7 @@ Pure numpy; the bottom of the golden-image modules (imports none of them).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,6 +56,10 @@ class Tolerance:
             raise GoldenError(f"tolerance max_difference: expected an integer 0..255 or None, got {self.max_difference!r}")
         if self.flip_mean is not None and (not isinstance(self.flip_mean, (int, float)) or not 0.0 <= self.flip_mean <= 1.0):
             raise GoldenError(f"tolerance flip_mean: expected a number 0..1 or None, got {self.flip_mean!r}")
+
+    def allowed_count(self, pixel_count: int) -> int:
+        """How many of `pixel_count` pixels may differ by more than the threshold."""
+        return math.floor(self.max_fraction * pixel_count + 1e-9)
 
     def describe(self) -> str:
         parts = [f"threshold {self.threshold}/255", f"max fraction {percent(self.max_fraction)}"]

@@ -3,8 +3,9 @@
 its camera, every object, every object's material(s) or every light needs no code here.
 
 Only what is not one field is spelled out below: the background with `transparent`,
-the lights given as SPECs, the camera moves (direction, azimuth, elevation, distance) and
-a bare mesh's camera-following depth range and lights (`follow_camera`).
+the lights given as SPECs and the camera moves (direction, azimuth, elevation, distance).
+A bare mesh's scene (Scene.bare_mesh) follows its policy (scene/view/bare_mesh.py) when
+the camera moves: its depth range and its viewer lights are made again.
 """
 
 from __future__ import annotations
@@ -17,15 +18,13 @@ from pyglm import glm
 
 from ...errors import SceneError
 from ..camera import Camera
-from .bare_mesh import object_depth_range
+from .bare_mesh import enclosing_depth, relit
 from ..lights import LIGHT_TYPES
-from ..maps import bare_mesh_lighting
 from ..material import Material
 from ..objects import Scene, SceneObject, Shading
 from ..shadows import ShadowSettings
 from .options import VIEW_OPTIONS, ViewOption, ViewOptions
 from .reading import parse_light
-from .viewer_lights import viewer_lights
 
 # The camera keys that move the camera after the others placed it (f3d's order): not fields.
 CAMERA_MOVES = ("direction", "azimuth", "elevation", "distance")
@@ -70,13 +69,13 @@ def with_background(background: tuple, color: tuple | None = None, transparent: 
     return background
 
 
-def apply_view_options(scene: Scene, options: ViewOptions, *, follow_camera: bool = False) -> Scene:
+def apply_view_options(scene: Scene, options: ViewOptions) -> Scene:
     """`scene` with `options` applied, in table order: output, objects (up, material,
     shininess, shadows), shading, shadows, camera (keys, then azimuth and elevation, then
     distance), lights (their shadows after the lights themselves).
 
-    follow_camera: the scene is a framed bare mesh (assets/mesh_scene.py): when the options
-    move its camera, its depth range and its viewer lights follow, as in `render MESH`.
+    A bare mesh's scene (scene.bare_mesh) keeps its policy: when the options move its
+    camera, its depth range and its viewer lights follow, as in `render MESH`.
     crease_angle acts only when a mesh is read (load_view gives it to the loader)."""
     changes: dict[str, Any] = {}
     for option, value in _of(options, "output"):
@@ -94,26 +93,18 @@ def apply_view_options(scene: Scene, options: ViewOptions, *, follow_camera: boo
     shadows = {option.field: value for option, value in _of(options, "shadows")}
     if shadows:
         changes["shadows"] = replace(scene.shadows, **shadows)
+    objects = changes.get("objects", scene.objects)
     camera = place_camera(scene.camera, options)
     if camera is not scene.camera:
-        if follow_camera and scene.objects:
-            near, far = object_depth_range(camera.eye, changes.get("objects", scene.objects)[0])
-            near = near if options.camera_near is None else options.camera_near
-            far = far if options.camera_far is None else options.camera_far
-            try:
-                camera = replace(camera, near=near, far=far)
-            except SceneError as error:
-                raise SceneError(f"camera options: {error}") from None
+        if scene.bare_mesh is not None and objects:
+            camera = enclosing_depth(camera, objects[0], options.camera_near, options.camera_far)
         changes["camera"] = camera
     if options.lights is not None:
         changes["lights"] = tuple(parse_light(spec, camera) for spec in options.lights)
-    elif follow_camera and (camera is not scene.camera or "objects" in changes) and (
-        scene.lights in (viewer_lights(scene.camera), bare_mesh_lighting(scene.objects, scene.camera)[0])
-    ):
+    elif "camera" in changes or "objects" in changes:
         # A bare mesh's viewer lights follow the camera and the materials' colour space (a
-        # glTF keeps them decoded to linear light unless --material replaced its own); a
-        # glTF file's own lights stay where they are.
-        changes["lights"], changes["ambient"] = bare_mesh_lighting(changes.get("objects", scene.objects), camera)
+        # glTF keeps them decoded to linear light unless --material replaced its own).
+        changes.update(relit(scene, objects, camera))
     light_fields = {option.field: value for option, value in _of(options, "lights") if option.field}
     if light_fields:
         changes["lights"] = tuple(replace(light, **light_fields) for light in changes.get("lights", scene.lights))

@@ -14,13 +14,12 @@ from dataclasses import replace
 from typing import Any
 
 from ...errors import SceneError, UsageError
-from .bare_mesh import parse_direction
-from .viewer_lights import headlight
 from ..lights import LIGHT_TYPES
 from ..material_table import material as named_material
 from ..objects import SAMPLE_COUNTS, up_axis
 from ..shadows import AUTO, MAX_SHADOW_BIAS_TEXELS, shadow_map_size
-from ..values import MAX_EXPONENT, image_size
+from ..values import MAX_EXPONENT, Vec3, direction, image_size
+from .bare_mesh import headlight
 
 TRUE_WORDS = ("1", "true", "yes", "on")
 FALSE_WORDS = ("0", "false", "no", "off")
@@ -38,6 +37,25 @@ def _numbers(value: Any, where: str, counts: tuple[int, ...], expected: str) -> 
     if len(numbers) not in counts or not all(math.isfinite(n) for n in numbers):
         raise UsageError(f"{where}: expected {expected}, got {value!r}")
     return numbers
+
+
+_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+
+
+def parse_direction(value: str | Vec3, name: str = "direction") -> Vec3:
+    """A direction as f3d spells it: an axis '+Y', '-Z', 'X', or a vector 'X,Y,Z' / (x, y, z)
+    (not normalized; zero is an error). `name` is the flag or key for the message."""
+    if isinstance(value, str):
+        text = value.strip().upper()
+        sign = -1.0 if text.startswith("-") else 1.0
+        axis = text.lstrip("+-")
+        if axis in _AXES and len(text) - len(axis) <= 1:
+            return tuple(sign * c for c in _AXES[axis])
+        try:
+            value = tuple(float(part) for part in text.split(","))
+        except ValueError:
+            raise SceneError(f"{name}: expected +X, -X, +Y, -Y, +Z, -Z or a direction X,Y,Z, got {value!r}") from None
+    return direction(value, name)
 
 
 def read_size(value: Any, where: str) -> tuple[int, int]:
