@@ -136,8 +136,8 @@ struct ObjectUniforms {
     outward_sign: f32,
 #endif
 }
-
 #if SHADOWS
+
 // One layer of the shadow maps: a casting light's view (render/passes/shadow_views.py).
 struct ShadowView {
     // Rigid: eye space to the view's space; the view looks along its −z.
