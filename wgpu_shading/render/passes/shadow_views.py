@@ -218,7 +218,9 @@ def _hull(points: np.ndarray) -> np.ndarray:
 
 def smallest_rectangle_angle(points: np.ndarray) -> float:
     """The turn (radians) that makes the axis-aligned box of 2D points smallest: one of the
-    convex hull's edge directions (Freeman & Shapira 1975, https://doi.org/10.1145/360825.360838)."""
+    convex hull's edge directions (Freeman & Shapira, "Determining the minimum-area encasing
+    rectangle for an arbitrary closed curve", CACM 18(7), 1975;
+    https://apps.dtic.mil/sti/html/tr/ADA008844/index.html)."""
     hull = _hull(points)
     if len(hull) < 3:
         return 0.0

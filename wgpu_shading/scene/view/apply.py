@@ -164,6 +164,9 @@ def scene_value(scene: Scene, option: ViewOption) -> Any:
     """The value an option has in `scene` (the first object's, for object options): where
     the live viewer's keys start from. None where the scene holds no such value."""
     section, name = option.section, option.field
+    if section == "lights":  # a light field: the value every light has (None: they differ)
+        values = {getattr(light, name) for light in scene.lights} if name else set()
+        return values.pop() if len(values) == 1 else None
     holder = {"output": scene, "shading": scene.shading, "camera": scene.camera, "shadows": scene.shadows}.get(section)
     if section == "objects" and scene.objects:
         holder = scene.objects[0]
