@@ -84,7 +84,7 @@ BASE = FeatureSet(frequency="phong", reflection="phong", positional_lights=1)
         ({"two_sided": True}, ["front_facing"]),
         ({"reflection": "blinn-phong"}, ["blinn_exponent_scale", "half_vector"]),
         ({"positional_shadows": 1, "shadow_filter": "nearest"},
-         ["shadow_maps", "ShadowUniforms", "prepare_shadows", "light_visible", "textureLoad", "front_facing", "dpdx"]),
+         ["shadow_maps", "ShadowUniforms", "shadow_position_0", "outward_normal", "light_visible", "textureLoad", "front_facing", "dpdx"]),
         ({"positional_shadows": 1, "shadow_filter": "pcf3"}, ["shadow_sampler", "textureSampleCompareLevel"]),
         ({"positional_shadows": 1, "shadow_filter": "nearest", "frequency": "gouraud"}, ["front_share_0", "light_switched_off"]),
     ],

@@ -156,3 +156,46 @@ def test_closed_surfaces_are_told_from_open_ones(mesh, expected):
     if expected:
         assert solid_orientation(mesh.positions, mesh.indices[:-1]) == 0  # a triangle missing: open
     assert mesh.solid == expected
+
+
+def test_the_shaders_cube_face_turns_are_the_face_rotations(renderer):
+    """wgsl/chunks/shadows/lookup.wgsl turns a cube-frame vector into face f's view by
+    swizzles; they must be the rows of shadow_views.face_rotation(f), which the shadow pass
+    draws each face with. Run on the GPU over every face and a few vectors."""
+    import re
+
+    import wgpu
+
+    from wgpu_shading.render.passes.shadow_views import face_rotation
+    from wgpu_shading.render.shaders.preprocess import read_source
+
+    chunk = read_source("chunks/shadows/lookup.wgsl")
+    function = re.search(r"fn cube_face_turn\(.*?\n}\n", chunk, re.S).group(0)
+    vectors = np.array([[0.3, -0.7, 1.9], [-2.0, 0.5, 0.25], [1.0, 2.0, 3.0]], np.float32)
+    source = function + """
+@group(0) @binding(0) var<storage, read> vectors: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> turned: array<vec4<f32>>;
+@compute @workgroup_size(1)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let face = id.x % 6u;  // +X, −X, +Y, −Y, +Z, −Z
+    turned[id.x] = vec4<f32>(cube_face_turn(vectors[id.x / 6u].xyz, face < 2u, face == 2u || face == 3u, face % 2u == 0u), 0.0);
+}
+"""
+    device = renderer.device
+    inputs = np.zeros((len(vectors), 4), np.float32)
+    inputs[:, :3] = vectors
+    input_buffer = device.create_buffer_with_data(data=inputs, usage=wgpu.BufferUsage.STORAGE)
+    output_buffer = device.create_buffer(size=len(vectors) * 6 * 16, usage=wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_SRC)
+    pipeline = device.create_compute_pipeline(layout="auto", compute={"module": device.create_shader_module(code=source), "entry_point": "main"})
+    group = device.create_bind_group(layout=pipeline.get_bind_group_layout(0), entries=[
+        {"binding": 0, "resource": {"buffer": input_buffer}}, {"binding": 1, "resource": {"buffer": output_buffer}}])
+    encoder = device.create_command_encoder()
+    compute = encoder.begin_compute_pass()
+    compute.set_pipeline(pipeline)
+    compute.set_bind_group(0, group)
+    compute.dispatch_workgroups(len(vectors) * 6)
+    compute.end()
+    device.queue.submit([encoder.finish()])
+    result = np.frombuffer(device.queue.read_buffer(output_buffer), np.float32).reshape(len(vectors), 6, 4)[..., :3]
+    for face in range(6):
+        assert np.allclose(result[:, face], vectors @ face_rotation(face).T), face

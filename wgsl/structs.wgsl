@@ -138,34 +138,29 @@ struct ObjectUniforms {
 }
 #if SHADOWS
 
-// One layer of the shadow maps: a casting light's view (render/passes/shadow_views.py).
-struct ShadowView {
-    // Rigid: eye space to the view's space; the view looks along its −z.
+// One casting light's shadow maps (render/passes/shadow.py fills it; render/passes/shadow_views.py
+// fits them). Every field is read at the light's own slot, the same in every fragment (a
+// field chosen per fragment would be gathered lane by lane on llvmpipe).
+struct ShadowLight {
+    // Rigid: eye space to the light's view, which looks along its −z (a single map), or to
+    // the light's cube frame: world axes, origin at the light (each cube face is a fixed turn
+    // of it, wgsl/chunks/shadows/lookup.wgsl).
     light_from_eye: mat4x4<f32>,
     // A point's texel coordinates: (x, y) · texels.xy + texels.zw, where (x, y) are the
-    // view's x and y (orthographic) or x/t and y/t, t = −z (perspective).
+    // view's x and y (orthographic) or x/t and y/t, t = −z (perspective; every cube face alike).
     texels: vec4<f32>,
     // x: 1 / (far − near) (orthographic) or the near distance (perspective); y: the bias,
     // world units (orthographic) or world units per unit of distance (perspective).
     depth: vec4<f32>,
-    layer: i32,
+    // Map layers (−1: none, nothing visible this light can shadow there): a single map's in
+    // x; a cube map's faces +X, −X, +Y, −Y in x, y, z, w.
+    layers: vec4<i32>,
+    // A cube map's faces +Z, −Z in x, y; z: 1 for a cube map, 0 for a single map.
+    more_layers: vec4<i32>,
 }
 
-// One casting light: its view, or a cube map's six views (−1: a face no visible receiver
-// needs, or no view: nothing visible it can shadow).
-struct ShadowLight {
-    // A cube map's frame: eye space to world axes with the origin at the light.
-    cube_from_eye: mat4x4<f32>,
-    // Views of the faces +X, −X, +Y, −Y; of a single map: x.
-    views: vec4<i32>,
-    // Views of the faces +Z, −Z; z: 1 for a cube map, 0 for a single map.
-    more_views: vec4<i32>,
-}
-
-// Group 0, with the maps: the casting lights by slot (render/features.py casting_lights)
-// and every view's layer (render/passes/shadow.py fills it).
+// Group 0, with the maps: the casting lights by slot (render/features.py casting_lights).
 struct ShadowUniforms {
     lights: array<ShadowLight, SHADOW_LIGHT_COUNT>,
-    views: array<ShadowView, SHADOW_VIEW_CAPACITY>,
 }
 #endif

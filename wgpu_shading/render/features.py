@@ -231,14 +231,10 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
     )
 
 
-def shadow_view_capacity(directional: int, point_like: int) -> int:
-    """How many map views the shaders' shadow uniforms hold: one per directional light, up
-    to six (a cube map) per spot or positional light (passes/shadow_views.py)."""
-    return directional + 6 * point_like
-
-
-# Flat and Gouraud shading pass each casting light's share of the lit colour to the fragment
-# stage (wgsl/chunks/shadows/shares.wgsl): varyings for this many lights at most.
+# The vertex stage passes each casting light's view of the point to the fragment stage
+# (wgsl/chunks/shadows/lookup.wgsl), and flat and Gouraud shading its share of the lit colour
+# too (shares.wgsl): varyings for this many casting lights at most.
+MAX_SHADOW_LIGHTS = 8
 MAX_VERTEX_LIT_SHADOW_LIGHTS = 4
 
 # The kinds of light in the order of the shaders' shadow slots (casting_lights).
@@ -261,11 +257,13 @@ def _shadow_fields(scene: Scene, obj: SceneObject, lit: bool) -> dict:
     if not (lit and obj.receive_shadows and has_shadows(scene)):
         return {}
     casting = [scene.lights[index] for index in casting_lights(scene)]
-    if scene.shading.frequency != "phong" and len(casting) > MAX_VERTEX_LIT_SHADOW_LIGHTS:
+    limit = MAX_SHADOW_LIGHTS if scene.shading.frequency == "phong" else MAX_VERTEX_LIT_SHADOW_LIGHTS
+    if len(casting) > limit:
+        shares = "" if scene.shading.frequency == "phong" else " and its share of the colour"
         raise SceneError(
-            f"shadows: {scene.shading.frequency} shading passes each casting light's share of the colour from the "
-            f"vertex stage to the fragment stage, for at most {MAX_VERTEX_LIT_SHADOW_LIGHTS} casting lights; this "
-            f"scene has {len(casting)} (use phong shading, or let fewer lights cast)"
+            f"shadows: {scene.shading.frequency} shading passes each casting light's view of the point{shares} from "
+            f"the vertex stage to the fragment stage, for at most {limit} casting lights; this scene has "
+            f"{len(casting)} (let fewer lights cast{', or use phong shading' if shares else ''})"
         )
     return dict(
         directional_shadows=sum(type(light) is DirectionalLight for light in casting),

@@ -101,7 +101,7 @@ def encode_shadow_maps(cache: DeviceCache, encoder, frame: FrameContext) -> None
         )
         encode_draws(cache, render_pass, draws, {}, "shadow casters", "shadow caster {}")
         render_pass.end()
-    data = shadow_uniforms(shadows, views, scene, frame.eye_from_world, size, float(settings.bias))
+    data = shadow_uniforms(shadows, views, frame.eye_from_world, size, float(settings.bias))
     frame.bound.update(
         shadow_uniforms=cache.uniform_buffer("shadows", 0, data, "shadow maps"),
         shadow_maps=maps.array_view,
@@ -109,32 +109,32 @@ def encode_shadow_maps(cache: DeviceCache, encoder, frame: FrameContext) -> None
     )
 
 
-def shadow_uniforms(shadows: tuple[LightShadow, ...], views: list, scene: Scene, eye_from_world, size: int,
-                    bias: float) -> np.ndarray:
-    """The ShadowUniforms block (wgsl/shadows.wgsl): each casting light's views by slot, and
-    each view's transform from eye space, texel mapping, depth range and bias in world units."""
-    directional = sum(isinstance(scene.lights[shadow.light], DirectionalLight) for shadow in shadows)
-    data = np.zeros((), shadow_uniforms_dtype(directional, len(shadows) - directional))
+def shadow_uniforms(shadows: tuple[LightShadow, ...], views: list, eye_from_world, size: int, bias: float) -> np.ndarray:
+    """The ShadowUniforms block (wgsl/structs.wgsl): for each casting light by slot, its
+    transform from eye space (its view's, or its cube frame's), texel mapping, depth range
+    and bias in world units, and the layer of each of its maps."""
+    data = np.zeros((), shadow_uniforms_dtype(len(shadows)))
     world_from_eye = np.linalg.inv(np.array(eye_from_world))
     layer_of = {id(view): layer for layer, view in enumerate(views)}
     for slot, shadow in enumerate(shadows):
         record = data["lights"][slot]
-        faces = [layer_of[id(view)] if view is not None else -1 for view in shadow.views]
-        if shadow.cube_from_world is not None:
-            record["cube_from_eye"] = (shadow.cube_from_world @ world_from_eye).T
-            record["views"], record["more_views"] = faces[:4], faces[4:] + [1, 0]
+        layers = [layer_of[id(view)] if view is not None else -1 for view in shadow.views]
+        view = next((view for view in shadow.views if view is not None), None)
+        if shadow.cube_from_world is not None:  # every face has the same window and near plane
+            record["light_from_eye"] = (shadow.cube_from_world @ world_from_eye).T
+            record["layers"], record["more_layers"] = layers[:4], layers[4:] + [1, 0]
         else:
-            record["views"], record["more_views"] = faces + [-1, -1, -1], [-1, -1, 0, 0]
-    for layer, view in enumerate(views):
-        record = data["views"][layer]
-        record["light_from_eye"] = (view.light_from_world @ world_from_eye).T
+            record["layers"], record["more_layers"] = layers + [-1, -1, -1], [-1, -1, 0, 0]
+            if view is not None:
+                record["light_from_eye"] = (view.light_from_world @ world_from_eye).T
+        if view is None:
+            continue
         x0, y0, x1, y1 = view.window
         # texel coordinates (x right, y down the map's rows) of window units
         across, down = size / (x1 - x0), -size / (y1 - y0)
         record["texels"] = (across, down, -x0 * across, -y1 * down)
         reach = 1.0 / (view.far - view.near) if view.orthographic else view.near
         record["depth"] = (reach, bias * view.texel_size(size), 0.0, 0.0)
-        record["layer"] = layer
     return data
 
 

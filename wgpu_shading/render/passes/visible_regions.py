@@ -31,23 +31,18 @@ def camera_frustum(scene: Scene) -> np.ndarray:
     return world[:, :3] / world[:, 3:]
 
 
-def _planes(corners: np.ndarray) -> list[tuple[np.ndarray, float]]:
-    """Outward (unit normal, offset) of the faces of a convex hexahedron (8 corners, indexed
-    4x + 2y + z): inside is normal·p <= offset. Faces of zero area (a flat box) are skipped."""
-    centre = corners.mean(axis=0)
-    planes = []
-    for face in _FACES:
-        a, b, c, d = corners[list(face)]
-        normal = np.cross(c - a, d - b)
-        length = float(np.linalg.norm(normal))
-        if length == 0.0:
-            continue
-        normal = normal / length
-        offset = float(normal @ a)
-        if normal @ centre > offset:
-            normal, offset = -normal, -offset
-        planes.append((normal, offset))
-    return planes
+def planes(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Outward unit normals (K, 3) and offsets (K,) of the faces of a convex hexahedron (8
+    corners indexed 4x + 2y + z): inside is normal·p <= offset. Faces of zero area (a flat
+    box) are left out."""
+    quads = corners[np.array(_FACES)]  # (6, 4, 3)
+    normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
+    lengths = np.linalg.norm(normals, axis=1)
+    keep = lengths > 0.0
+    normals = normals[keep] / lengths[keep, None]
+    offsets = np.einsum("ij,ij->i", normals, quads[keep, 0])
+    flip = normals @ corners.mean(axis=0) > offsets  # point every normal away from the centre
+    return np.where(flip[:, None], -normals, normals), np.where(flip, -offsets, offsets)
 
 
 def _clip_polygon(polygon: np.ndarray, normal: np.ndarray, offset: float) -> np.ndarray:
@@ -65,24 +60,28 @@ def _clip_polygon(polygon: np.ndarray, normal: np.ndarray, offset: float) -> np.
     return np.array(kept).reshape(-1, 3)
 
 
-def clipped_box(box: np.ndarray, frustum: np.ndarray) -> np.ndarray:
+def clipped_box(box: np.ndarray, frustum: np.ndarray, frustum_planes: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     """(K, 3) points whose convex hull is the box (8 corners) within the frustum (8 corners):
     the box's faces clipped by the frustum's planes, and the frustum's corners inside the
     box. Every vertex of the intersection is one of them. Empty when they do not meet."""
+    normals, offsets = planes(frustum) if frustum_planes is None else frustum_planes
     extent = float(np.ptp(box, axis=0).max() + np.ptp(frustum, axis=0).max())
-    slack = 1e-9 * extent  # a point on a face is inside
+    offsets = offsets + 1e-9 * extent  # a point on a face is inside
+    distance = box @ normals.T - offsets  # (8, K)
+    if (distance <= 0.0).all():
+        return box  # wholly inside
+    if (distance > 0.0).all(axis=0).any():
+        return np.zeros((0, 3))  # wholly outside one plane
     points = []
     for face in _FACES:
         polygon = box[list(face)]
-        for normal, offset in _planes(frustum):
-            polygon = _clip_polygon(polygon, normal, offset + slack)
+        for normal, offset in zip(normals, offsets):
+            polygon = _clip_polygon(polygon, normal, offset)
         points.append(polygon)
-    box_planes = _planes(box)
-    for corner in frustum:
-        if all(normal @ corner <= offset + slack for normal, offset in box_planes):
-            lower, upper = box.min(axis=0) - slack, box.max(axis=0) + slack
-            if np.all((corner >= lower) & (corner <= upper)):
-                points.append(corner[None, :])
+    box_normals, box_offsets = planes(box)
+    inside = (frustum @ box_normals.T <= box_offsets + 1e-9 * extent).all(axis=1)
+    inside &= np.all((frustum >= box.min(axis=0) - 1e-9 * extent) & (frustum <= box.max(axis=0) + 1e-9 * extent), axis=1)
+    points.append(frustum[inside])
     return np.concatenate(points)
 
 
@@ -90,10 +89,11 @@ def visible_receivers(scene: Scene) -> dict[int, np.ndarray]:
     """For each object that receives shadows and that the camera may see, by its index:
     points whose convex hull holds the part of its bounding box inside the view volume."""
     frustum = camera_frustum(scene)
+    frustum_planes = planes(frustum)
     regions = {}
     for index, obj in enumerate(scene.objects):
         if obj.receive_shadows:
-            points = clipped_box(world_box(obj), frustum)
+            points = clipped_box(world_box(obj), frustum, frustum_planes)
             if len(points):
                 regions[index] = points
     return regions

@@ -189,7 +189,7 @@ def _candidate_bindings(features: FeatureSet) -> list[Binding]:
     ]
     if features.shadow_lights:  # shadows (passes/shadow.py binds them; wgsl/shadows.wgsl reads them)
         entries += [
-            Binding("shadow_uniforms", 0, "uniform", "shadow_uniforms", "ShadowUniforms", FRAGMENT,
+            Binding("shadow_uniforms", 0, "uniform", "shadow_uniforms", "ShadowUniforms", VERTEX_AND_FRAGMENT,
                     "Shadows: the casting lights' views (docs/shadows.md),"),
             Binding("shadow_maps", 0, "texture", "shadow_maps", "texture_depth_2d_array", FRAGMENT, "their maps, a layer per view,"),
         ]

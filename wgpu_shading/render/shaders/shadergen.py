@@ -20,7 +20,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..features import FeatureSet, shadow_view_capacity
+from ..features import FeatureSet
 from .bindings import BindingPlan, binding_plan, extra_outputs_plan, shadow_map_plan
 from .layout import layouts_for
 from .preprocess import preprocess, read_source
@@ -64,16 +64,14 @@ def generate_wgsl(features: FeatureSet) -> str:
 
 
 def _shadow_constants(features: FeatureSet) -> list[str]:
-    """The shadow lookup's sizes (wgsl/structs.wgsl ShadowUniforms, the chunk's loops)."""
+    """The shadow lookup's sizes (wgsl/structs.wgsl ShadowUniforms, the chunks' loops)."""
     if not features.shadow_lights:
         return []
-    point_like = features.spot_shadows + features.positional_shadows
     return [
         f"const SHADOW_LIGHT_COUNT: u32 = {features.shadow_lights}u;",
         f"const DIRECTIONAL_SHADOW_COUNT: u32 = {features.directional_shadows}u;",
         f"const SPOT_SHADOW_COUNT: u32 = {features.spot_shadows}u;",
         f"const POSITIONAL_SHADOW_COUNT: u32 = {features.positional_shadows}u;",
-        f"const SHADOW_VIEW_CAPACITY: u32 = {shadow_view_capacity(features.directional_shadows, point_like)}u;",
         f"const SHADOW_FILTER_RADIUS: i32 = {SHADOW_FILTER_RADIUS[features.shadow_filter]};",
     ]
 
@@ -83,10 +81,10 @@ SHADOW_FILTER_RADIUS = {"nearest": 0, "bilinear": 0, "pcf3": 1, "pcf5": 2}
 
 
 @lru_cache(maxsize=32)
-def shadow_uniforms_dtype(directional: int, point_like: int) -> np.dtype:
-    """The ShadowUniforms block of every shader that looks up `directional` + `point_like`
-    casting lights (wgsl/structs.wgsl, the one declaration), for the shadow pass to fill."""
-    features = FeatureSet(directional_shadows=directional, positional_shadows=point_like, shadow_filter="nearest")
+def shadow_uniforms_dtype(lights: int) -> np.dtype:
+    """The ShadowUniforms block of every shader that looks up `lights` casting lights
+    (wgsl/structs.wgsl, the one declaration), for the shadow pass to fill."""
+    features = FeatureSet(positional_shadows=lights, shadow_filter="nearest")
     source = "\n".join(_shadow_constants(features)) + "\n" + preprocess("structs.wgsl", features.defines())
     return layouts_for(source).dtype("ShadowUniforms")
 

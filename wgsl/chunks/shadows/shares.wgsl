@@ -40,10 +40,8 @@ fn take_share(lit_in: LitColor, parts: array<vec3<f32>, 2>, hidden: f32) -> LitC
     return lit;
 }
 
-// The fragment's point for the maps (a flat face's too: interpolated, not the centroid's),
-// and the shares (constant over a flat face; interpolating equal values keeps them).
+// The shares (constant over a flat face; interpolating equal values keeps them).
 #at gouraud.varyings flat.varyings
-    @location(5) eye_position: vec3<f32>,
 #if SHADOW_LIGHTS > 0
     @location(6) front_share_0: vec3<f32>,
 #if SHADOW_SPLIT
@@ -94,10 +92,8 @@ fn take_share(lit_in: LitColor, parts: array<vec3<f32>, 2>, hidden: f32) -> LitC
 #endif
 #end
 
-// Gouraud: the vertex's own point; flat: the corner's (store_lighting was given the centroid).
 // (Two-sided lighting's `back` colour is known here: two_sided.wgsl is included before.)
 #at vertex_lit.store
-    (*out).eye_position = eye_position;
 #if SHADOW_LIGHTS > 0
     let front_0 = share_parts(light_share(eye_position, normal, front, 0u));
     (*out).front_share_0 = front_0[0];
@@ -154,9 +150,6 @@ fn take_share(lit_in: LitColor, parts: array<vec3<f32>, 2>, hidden: f32) -> LitC
 #endif
 #endif
 #endif
-#end
-#at flat.vertex
-    out.eye_position = (object_uniforms.eye_from_model * vec4<f32>(corner, 1.0)).xyz;
 #end
 
 // After the fragment took its front or back colour (two_sided.wgsl is included before).

@@ -50,13 +50,10 @@ fn light_visibility(slot: u32) -> f32 {
         highlight *= light_visible;
 #end
 
-// The fragment stage knows its receiver (its point and its triangle) before anything else.
+// The fragment stage knows which side of its triangle it sees (lookup.wgsl).
 #if not TWO_SIDED
 #at phong.fragment_inputs vertex_lit.fragment_inputs
     @builtin(front_facing) front_facing: bool,
 #end
 #endif
-#at phong.fragment_begin vertex_lit.fragment_begin
-    prepare_shadows(in.eye_position, front_facing);
-#end
 #endif
