@@ -141,3 +141,20 @@ def test_antialiased_frames_with_depth_read_the_same_maps(renderer):
     assert np.array_equal(frame.depth, plain.depth)  # shadows change colours, not what is where
     assert (frame.color[..., :3].astype(int).sum(-1) < plain.color[..., :3].astype(int).sum(-1)).mean() > 0.2
 
+
+
+def test_maps_are_reused_only_while_they_would_be_the_same(renderer):
+    """An unchanged scene reuses its maps; a moved caster, another camera or light redraws
+    them; frames in flight each see their own (a queue runs its frames in order)."""
+    case = shadow_case("sphere_over_plane_30", SIZE)
+    ball, ground = case.scene.objects
+    moved = replace(case.scene, objects=(replace(ball, translate=(0.6, 2.0, 0.2)), ground))
+    lower_sun = replace(case.scene, lights=(replace(case.scene.lights[0], direction=(0.5, -0.4, 0.3)),))
+    scenes = [case.scene, moved, case.scene, lower_sun, case.scene]
+    alone = [renderer.render(scene) for scene in scenes]
+    assert np.array_equal(alone[0], alone[2]) and np.array_equal(alone[0], alone[4])
+    assert not np.array_equal(alone[0], alone[1]) and not np.array_equal(alone[0], alone[3])
+    fresh = [renderer.render(replace(scene, shadows=ShadowSettings(map_size=1000))) for scene in (moved, lower_sun)]
+    assert not np.array_equal(fresh[0], fresh[1])
+    in_flight = list(renderer.render_many(scenes, in_flight=3, parallel=1))
+    assert all(np.array_equal(a, b.color) for a, b in zip(alone, in_flight))

@@ -1,7 +1,8 @@
 """The shadow maps of a frame (docs/shadows.md#shadow-maps): one depth32float 2D array
 texture, a layer per view of a casting light (passes/shadow_views.py), drawn by the shadow
 pass and read by the colour pass. The device cache keeps the last few (by size and layer
-count); frames in flight may share one, since a queue runs its submissions in order."""
+count); frames in flight may share one, since a queue runs its submissions in order, and a
+frame whose maps would be the same as the last ones drawn into it reuses them."""
 
 from __future__ import annotations
 
@@ -14,12 +15,15 @@ from ...errors import SceneError
 SHADOW_FORMAT = wgpu.TextureFormat.depth32float
 
 
-@dataclass(frozen=True)
+@dataclass(eq=False)
 class ShadowMaps:
     texture: object  # wgpu.GPUTexture, (size, size, layers)
     array_view: object  # the whole array, as the colour pass binds it
     layer_views: tuple  # one render attachment per layer
     size: int
+    # What the layers hold (passes/shadow.py: each caster's mesh and matrix, view by view):
+    # a frame whose casters and views are the same draws nothing.
+    contents: tuple | None = None
 
     @property
     def nbytes(self) -> int:

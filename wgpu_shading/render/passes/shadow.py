@@ -83,24 +83,34 @@ def encode_shadow_maps(cache: DeviceCache, encoder, frame: FrameContext) -> None
     entry = cache.pipelines.get(SHADOW_MAP_KEY)
     casters = [obj for obj in scene.objects if obj.cast_shadows and obj.mesh.triangle_count]
     dtype = entry.uniform_dtypes["object"]
-    for layer, view in enumerate(views):
+    layers = []
+    for view in views:
         light_clip = view.clip_from_light() @ view.light_from_world
-        draws = []
-        for k, obj in enumerate(casters):
+        layer = []
+        for obj in casters:
             data = np.zeros((), dtype)
             data["clip_from_model"] = (light_clip @ obj.world_from_model()).T  # float64, then rounded once
-            draws.append(Draw(entry, layer * len(casters) + k, cache.gpu_mesh(obj.mesh), data, 0, obj.mesh.triangle_count, {}))
-        render_pass = encoder.begin_render_pass(
-            color_attachments=[],
-            depth_stencil_attachment={
-                "view": maps.layer_views[layer],
-                "depth_clear_value": 0.0,  # reversed depth: 0 is nothing there
-                "depth_load_op": wgpu.LoadOp.clear,
-                "depth_store_op": wgpu.StoreOp.store,
-            },
-        )
-        encode_draws(cache, render_pass, draws, {}, "shadow casters", "shadow caster {}")
-        render_pass.end()
+            layer.append((obj.mesh, data))
+        layers.append(layer)
+    # The same casters seen through the same float32 matrices draw the same maps: a frame of a
+    # scene and camera that did not change reuses them (a queue runs its frames in order).
+    contents = tuple((mesh, data.tobytes()) for layer in layers for mesh, data in layer)
+    if maps.contents != contents:
+        for index, layer in enumerate(layers):
+            draws = [Draw(entry, index * len(casters) + k, cache.gpu_mesh(mesh), data, 0, mesh.triangle_count, {})
+                     for k, (mesh, data) in enumerate(layer)]
+            render_pass = encoder.begin_render_pass(
+                color_attachments=[],
+                depth_stencil_attachment={
+                    "view": maps.layer_views[index],
+                    "depth_clear_value": 0.0,  # reversed depth: 0 is nothing there
+                    "depth_load_op": wgpu.LoadOp.clear,
+                    "depth_store_op": wgpu.StoreOp.store,
+                },
+            )
+            encode_draws(cache, render_pass, draws, {}, "shadow casters", "shadow caster {}")
+            render_pass.end()
+        maps.contents = contents
     data = shadow_uniforms(shadows, views, frame.eye_from_world, size, float(settings.bias))
     frame.bound.update(
         shadow_uniforms=cache.uniform_buffer("shadows", 0, data, "shadow maps"),
