@@ -34,7 +34,7 @@ KEYS: dict[str, tuple[str, str]] = {
     "c": ("crease", "crease angle: 0 → 30 → 60 → 180 degrees (mesh files without normals)"),
     "t": ("two_sided", "two-sided lighting on/off"),
     "a": ("samples", "antialiasing: 1 ↔ 4 samples"),
-    "d": ("shadows", "shadows on/off: every light casts (docs/shadows.md)"),
+    "d": ("shadows", "shadows on/off: every light casts"),
     "enter": ("reset", "reset the camera"),
     "s": ("save", "save a screenshot NAME-NNN.png in the current folder"),
     "p": ("print", "print the `wgpu-shading render` command of this view"),
