@@ -85,6 +85,7 @@ class Settings:
     dataset_views: int = 48
     dataset_sizes: tuple[int, ...] = (256, 512)
     dataset_passes: int = 3
+    file_triangles: int = 10_000_000  # memory: the binary STL loaded and rendered (issue #29: < 3x its arrays)
 
 
 FULL = Settings(
@@ -116,7 +117,7 @@ SMOKE = Settings(
     scaling_counts=(200, 2_000), scaling_sides=(32, 64), scaling_rounds=1, scaling_frames=1,
     tiny=True, scaling_size=64, thread_frames=1, thread_seconds=0.1,
     cold_size=64, cold_fill_caches=False, cold_phase_rounds=1,
-    dataset_views=3, dataset_sizes=(32,), dataset_passes=1,
+    dataset_views=3, dataset_sizes=(32,), dataset_passes=1, file_triangles=2_000,
 )
 
 
@@ -230,11 +231,14 @@ def main(argv: list[str] | None = None) -> int:
             results["batch"] = batch
     if "memory" in chosen:
         with step("memory"):
-            from .memory import run_memory
+            from .memory import run_file_memory, run_memory
 
             memory = run_memory(s.memory_triangles, s.memory_size, runs=s.memory_runs)
             print(report.memory_table(memory, **labels["memory"]), flush=True)
             results["memory"] = memory
+            file_memory = run_file_memory(s.file_triangles, s.memory_size)
+            print(report.file_memory_table(file_memory), flush=True)
+            results["file_memory"] = file_memory
     if "scaling" in chosen:
         with step("scaling"):
             from .scaling import pixel_curve, triangle_curve

@@ -10,9 +10,15 @@ Modes, every one writing the same colour PNGs (zlib level 1) of the same 192 job
     in-process, 1 device   the same with render_many(parallel=1): what one Dask worker runs
     dask 1 worker    render_dataset on a warm LocalCluster of 1 process (LP_NUM_THREADS = cores)
     dask 2 workers   a warm LocalCluster of 2 processes (LP_NUM_THREADS = cores / 2 each)
-    naive, colour + depth     the naive loop with render_frame(depth=True) (depth kept in memory)
-    pyrender, colour + depth  the same loop with pyrender (OSMesa) instead (benchmarks/pyrender_peer.py);
-                     only when pyrender can run here
+    naive, colour + depth     the naive loop with render_frame(depth=True), also writing the depth
+                     as float32 .npy (np.save)
+    batch, colour + depth     render_dataset(workers=1) with Outputs(depth="npy"): `wgpu-shading batch
+                     --depth npy`, the same PNG and .npy files (and its records and cameras.json)
+    pyrender, colour + depth  the naive colour + depth loop with pyrender (OSMesa) instead
+                     (benchmarks/pyrender_peer.py); only when pyrender can run here
+
+Besides the modes, every pass times the stages of the colour + depth batch alone
+(benchmarks/dataset_stages.py: loading, scenes, render + readback, encoding, writing).
 
 Dask's clusters are started (and warmed by one small batch: worker start, plugin, pipeline
 compilation) before timing; their start-up is reported separately.
@@ -36,11 +42,14 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 from PIL import Image
 
 from wgpu_shading import Renderer
 from wgpu_shading.dataset import Outputs, mesh_jobs, render_dataset, turntable_views
 from wgpu_shading.dataset.views import base_scene, job_scene
+
+from .dataset_stages import STAGES, StageTimes, time_stages
 
 # The model collection beside the repository (../shared/models), also from a worktree deeper down.
 MODELS = next(
@@ -52,7 +61,7 @@ BUILTIN_MESHES = ("builtin:torus", "builtin:sphere", "builtin:cube", "builtin:to
 SMOKE_MESHES = ("builtin:torus?segments=16", "builtin:cube")
 MODES = (
     "naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers",
-    "naive, colour + depth", "pyrender, colour + depth",
+    "naive, colour + depth", "batch, colour + depth", "pyrender, colour + depth",
 )
 LOOPS = ("naive", "naive, colour + depth", "pyrender, colour + depth")  # plain loops: no chunks to time inside
 
@@ -67,6 +76,8 @@ class DatasetResult:
     busy: dict[str, list[float]] = field(default_factory=dict)  # mode → time inside chunks, per pass
     cpu: dict[str, list[float]] = field(default_factory=dict)  # mode → CPU seconds (this process + workers), per pass
     dask_startup: dict[str, float] = field(default_factory=dict)  # workers → seconds to a warm cluster
+    stages: StageTimes = field(default_factory=StageTimes)  # the colour + depth batch's stages alone
+    load_average: list[float] = field(default_factory=list)  # 1-minute load average after each pass
 
     @property
     def frames(self) -> int:
@@ -74,6 +85,13 @@ class DatasetResult:
 
     def fps(self, mode: str) -> float:
         return self.frames / statistics.median(self.seconds[mode])
+
+    def ratio(self, mode: str, other: str) -> float:
+        """Time per frame of `mode` ÷ that of `other` (medians of the passes)."""
+        return self.fps(other) / self.fps(mode)
+
+    def cpu_ratio(self, mode: str, other: str) -> float:
+        return self.cpu_ms_per_frame(mode) / self.cpu_ms_per_frame(other)
 
     def cpu_ms_per_frame(self, mode: str) -> float:
         return 1000.0 * statistics.median(self.cpu[mode]) / self.frames
@@ -95,24 +113,29 @@ def default_meshes() -> list[str]:
 
 
 def naive_loop(renderer: Renderer, jobs, out_dir: Path, level: int, *, depth: bool = False, pyrender=None) -> None:
-    """What a user writes first: one scene after the other, render, then write the file.
-    depth: colour and eye depth (the depth stays in memory); pyrender: a PyrenderScenes
-    draws instead of `renderer` (colour and depth, like pyrender's render())."""
+    """What a user writes first: one scene after the other, render, then write the files
+    (Pillow's PNG). depth: colour and eye depth, the depth written as float32 .npy like
+    `batch --depth npy`; pyrender: a PyrenderScenes draws instead of `renderer` (colour and
+    depth, like pyrender's render())."""
     bases: dict = {}
     for job in jobs:
         key = job.load_key()
         if key not in bases:
             bases[key] = base_scene(job)
         scene = job_scene(bases[key], job)
+        distances = None
         if pyrender is not None:
-            image, _ = pyrender.render(scene)
+            image, distances = pyrender.render(scene)
         elif depth:
-            image = renderer.render_frame(scene, depth=True).color
+            frame = renderer.render_frame(scene, depth=True)
+            image, distances = frame.color, frame.depth
         else:
             image = renderer.render(scene)
         folder = out_dir / job.folder
         folder.mkdir(parents=True, exist_ok=True)
         Image.fromarray(image).save(folder / f"{job.name}.png", compress_level=level)
+        if depth or pyrender is not None:
+            np.save(folder / f"{job.name}_depth.npy", np.asarray(distances, np.float32))
 
 
 def run_dataset_benchmark(
@@ -139,6 +162,7 @@ def run_dataset_benchmark(
                 cluster_clients.append(Client(cluster))
         for size in sizes:
             jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
+            depth_jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy"), {"size": size})
             result = DatasetResult(meshes=[Path(m).name for m in meshes], views=views, size=size)
             result.dask_startup = {f"{w} worker(s)": round(s, 2) for w, (_, s) in clusters.items()}
             naive_loop(renderer, jobs[:2], scratch / "warmup", 1)  # compile pipelines first
@@ -148,6 +172,9 @@ def run_dataset_benchmark(
                 "in-process": lambda out: render_dataset(jobs, out, progress=False, renderer=renderer, chunk_size=chunk),
                 "in-process, 1 device": lambda out: render_dataset(jobs, out, progress=False, renderer=renderer, chunk_size=chunk, parallel=1),
                 "naive, colour + depth": lambda out: naive_loop(renderer, jobs, out, 1, depth=True),
+                "batch, colour + depth": lambda out: render_dataset(
+                    depth_jobs, out, progress=False, renderer=renderer, chunk_size=chunk
+                ),
             }
             if pyrender:
                 from .pyrender_peer import PyrenderScenes
@@ -179,6 +206,8 @@ def run_dataset_benchmark(
                         raise RuntimeError(f"{mode}: {len(outcome.failed)} jobs failed: {next(iter(outcome.failed.values()))}")
                     shutil.rmtree(out)
                     print(f"  … {size}² {mode}: {result.seconds[mode][-1]:.2f} s", file=sys.stderr, flush=True)
+                time_stages(renderer, depth_jobs, 1, result.stages)
+                result.load_average.append(os.getloadavg()[0])
             results.append(result)
     finally:
         for client in cluster_clients:
@@ -217,8 +246,12 @@ def table(results: list[DatasetResult]) -> str:
         )
         lines.append(f"| {result.size}² | " + " | ".join(cells) + f" | {result.fps('in-process') / result.fps('naive'):.2f}× | {overhead} |")
     if "pyrender, colour + depth" in results[0].seconds:
-        lines += ["", "colour + depth, naive loops: ours ÷ pyrender in time per frame (≤ 0.5 is issue #21's target): "
-                  + ", ".join(f"{r.size}² {r.fps('pyrender, colour + depth') / r.fps('naive, colour + depth'):.2f}×" for r in results)]
+        lines += ["", "colour + depth (PNG + depth .npy): ours ÷ pyrender in time per frame, wall (≤ 0.5 is issue #29's "
+                  "target) and CPU: " + "; ".join(
+                      f"{r.size}² batch {r.ratio('batch, colour + depth', 'pyrender, colour + depth'):.2f}× "
+                      f"(CPU {r.cpu_ratio('batch, colour + depth', 'pyrender, colour + depth'):.2f}×), naive loop "
+                      f"{r.ratio('naive, colour + depth', 'pyrender, colour + depth'):.2f}× "
+                      f"(CPU {r.cpu_ratio('naive, colour + depth', 'pyrender, colour + depth'):.2f}×)" for r in results)]
     lines += [
         "",
         "milliseconds per frame inside chunks (loading, rendering, writing; summed over workers) / outside them",
@@ -250,9 +283,40 @@ def table(results: list[DatasetResult]) -> str:
             for mode in MODES
         ]
         lines.append(f"| {result.size}² | " + " | ".join(cells) + " |")
+    lines += ["", stage_table(results)]
     if results[0].dask_startup:
         lines += ["", "Dask start-up to a warm cluster (processes, plugin, first pipeline): "
                   + ", ".join(f"{k}: {v:.1f} s" for k, v in results[0].dask_startup.items())]
+    return "\n".join(lines)
+
+
+def stage_table(results: list[DatasetResult]) -> str:
+    """The colour + depth batch's stages alone (dataset_stages.py), beside the batch itself."""
+    lines = [
+        "Where a colour + depth frame's time goes: each stage of the batch timed alone in this process "
+        "(benchmarks/dataset_stages.py), ms per frame, wall / CPU (every thread), median pass; load is "
+        "spread over the frames of its mesh. Then the batch itself: end to end, and inside its chunks.",
+        "",
+        "| size | " + " | ".join(STAGES) + " | sum of stages | batch inside chunks | batch end to end "
+        "| inside chunks ÷ render (≤ 1.5) |",
+        "|---|" + "---:|" * (len(STAGES) + 4),
+    ]
+    for result in results:
+        stages = result.stages
+        wall = {stage: 1000 * statistics.median(stages.wall[stage]) for stage in stages.wall}
+        cpu = {stage: 1000 * statistics.median(stages.cpu[stage]) for stage in stages.cpu}
+        summed = [stage for stage in STAGES if stage != "render, one at a time"]
+        mode = "batch, colour + depth"
+        inside = 1000 * statistics.median(result.busy[mode]) / result.frames
+        end_to_end = 1000 * statistics.median(result.seconds[mode]) / result.frames
+        cells = [f"{wall[stage]:.2f} / {cpu[stage]:.2f}" for stage in STAGES]
+        lines.append(
+            f"| {result.size}² | " + " | ".join(cells)
+            + f" | {sum(wall[s] for s in summed):.2f} / {sum(cpu[s] for s in summed):.2f}"
+            + f" | {inside:.2f} | {end_to_end:.2f} / {result.cpu_ms_per_frame(mode):.2f} | {inside / wall['render']:.2f}× |"
+        )
+    loads = [f"{value:.1f}" for result in results for value in result.load_average]
+    lines += ["", f"1-minute load average after each pass: {', '.join(loads)} ({os.cpu_count()} cores)."]
     return "\n".join(lines)
 
 

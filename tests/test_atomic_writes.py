@@ -19,6 +19,7 @@ import pytest
 from PIL import Image
 
 from wgpu_shading.assets.animation import write_animation
+from wgpu_shading.assets import image_writers as images
 from wgpu_shading.assets.image_writers import check_writable, write_depth, write_image
 from wgpu_shading.cli.main import main
 from wgpu_shading.errors import UsageError
@@ -134,11 +135,11 @@ def test_an_encoder_failure_leaves_the_previous_file(tmp_path, monkeypatch):
     path = tmp_path / "t.png"
     path.write_bytes(OLD)
 
-    def broken_save(self, fp, format=None, **params):
-        Path(fp).write_bytes(b"\x89PNG half")
+    def broken_write(file, pixels, level=6, text=None):
+        file.write(b"\x89PNG half")
         raise OSError(errno.EIO, "Input/output error")
 
-    monkeypatch.setattr(Image.Image, "save", broken_save)
+    monkeypatch.setattr(images, "write_png", broken_write)
     with pytest.raises(UsageError, match=r"t.png' could not be written: Input/output error \(the file that was there is unchanged\)"):
         write_image(path, noise(8, 8))
     assert path.read_bytes() == OLD and leftovers(tmp_path) == []
@@ -203,18 +204,19 @@ _SLOW_WRITER = textwrap.dedent(
     """
     import signal, sys, time
     from pathlib import Path
-    from PIL import Image
+    import wgpu_shading.assets.image_writers as images
 
     # Ctrl-C as in a terminal, even when the suite runs as a background job (a shell starts
     # those with SIGINT ignored, and children inherit that).
     signal.signal(signal.SIGINT, signal.default_int_handler)
 
-    def slow_save(self, fp, format=None, **params):
-        Path(fp).write_bytes(b"\\x89PNG half of it")
+    def slow_write(file, pixels, level=6, text=None):
+        file.write(b"\\x89PNG half of it")
+        file.flush()
         print("writing", flush=True)
         time.sleep(60)
 
-    Image.Image.save = slow_save
+    images.write_png = slow_write
     from wgpu_shading.cli.main import main
     sys.exit(main(sys.argv[1:]))
     """

@@ -223,8 +223,11 @@ def test_smoke_batch_renders_and_writes_the_turntable(smoke):
 
 
 def test_smoke_memory_and_scaling_print_their_tables(smoke):
-    (memory,) = _tables(_section(smoke, "memory"))
+    memory, (file_row,) = _tables(_section(smoke, "memory"))
     assert [row["variant"] for row in memory] == ["default", "LP_NUM_THREADS=0 (no binning queue)"]
+    # the large-file row: an STL loaded, then rendered; both peaks measured above the same baseline
+    assert file_row["triangles"] == "1,922" and _positive(file_row["baseline MiB"])
+    assert _number(file_row["load + render peak ÷ mesh arrays (< 3)"]) >= _number(file_row["load peak ÷ mesh arrays"]) > 0
     assert all(row["triangles"] == "1,980" and _positive(row["baseline MiB"]) for row in memory)
     # our share counts the mesh's arrays once plus their GPU copy: above 1× of them
     assert all(float(row["ours (mesh + GPU copy) ÷ mesh arrays"].rstrip("×")) > 1.0 for row in memory)
@@ -256,16 +259,22 @@ def test_smoke_runs_the_standalone_benchmarks(smoke):
 
 
 def test_smoke_dataset_times_every_mode_and_the_dask_overhead(smoke):
-    fps, inside_outside, cpu = _tables(_section(smoke, "dataset"))
+    fps, inside_outside, cpu, stages = _tables(_section(smoke, "dataset"))
     (row,) = fps
     assert row["size"] == "32²"
-    for mode in ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers", "naive, colour + depth"):
+    for mode in ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers", "naive, colour + depth",
+                 "batch, colour + depth"):
         assert _positive(row[mode]), mode
     assert _positive(row["pyrender, colour + depth"]) == _pyrender_usable()
     assert _positive(row["in-process ÷ naive"]) and re.search(r"ms \([+-]?[\d.]+ %\)", row["Dask overhead per frame"])
     assert all(_positive(cell) for cell in list(inside_outside[0].values())[1:])
     # pyrender's column is a dash where pyrender is not installed (the test extra does not have it)
     assert all(_positive(cell) == (_pyrender_usable() or "pyrender" not in mode) for mode, cell in list(cpu[0].items())[1:])
+    (stage_row,) = stages  # every stage of the colour + depth batch, wall / CPU, and the batch beside them
+    for stage in ("load", "scenes", "render", "render, one at a time", "encode", "write", "sum of stages"):
+        wall, cpu_ms = stage_row[stage].split(" / ")
+        assert _positive(wall) and _positive(cpu_ms), stage
+    assert _positive(stage_row["batch inside chunks"]) and _positive(stage_row["inside chunks ÷ render (≤ 1.5)"])
 
 
 def test_pyrender_peer_covers_the_same_pixels_and_returns_eye_depth(renderer, small_torus):

@@ -203,3 +203,105 @@ def test_float_output_needs_a_format_that_keeps_it(tmp_path, capsys):
         assert main(["render", "builtin:cube", "--float", "-o", str(tmp_path / name)]) == 2
         assert "--float writes exact float32 values to .npy" in capsys.readouterr().err
         assert not (tmp_path / name).exists()
+
+
+# --------------------------------------------------------------------------- what a newcomer types
+
+
+def _help(capsys, *command: str) -> str:
+    with pytest.raises(SystemExit) as exited:
+        main([*command, "--help"])
+    assert exited.value.code == 0
+    return capsys.readouterr().out
+
+
+def _option_help(text: str, option: str) -> str:
+    """The help paragraph of one option (argparse wraps it over several lines)."""
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.lstrip().startswith(option))
+    end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("  -")), len(lines))
+    return " ".join(line.strip() for line in lines[start:end])
+
+
+def _suffixes(text: str) -> set[str]:
+    """The file suffixes a help text names (".png", not the "..far" of "near..far")."""
+    import re
+
+    return set(re.findall(r"(?<![\w.])(\.[a-z][a-z0-9]{2,3})\b", text))
+
+
+CANDIDATE_SUFFIXES = (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".gif", ".webp", ".ppm", ".exr", ".mp4", ".txt")
+
+
+def test_render_writes_exactly_the_formats_its_help_lists(tmp_path, capsys):
+    """`-o` takes what --help lists and refuses the rest with the list (one table, image_writers.py)."""
+    from PIL import Image
+
+    listed = set(_suffixes(_option_help(_help(capsys, "render"), "-o OUTPUT")))
+    accepted = set()
+    for suffix in CANDIDATE_SUFFIXES:
+        out = tmp_path / f"t{suffix}"
+        status = main(["render", "builtin:cube", "--size", "8", "-o", str(out), "-q"])
+        error = capsys.readouterr().err
+        if status == 0:
+            accepted.add(suffix)
+            if suffix == ".npy":
+                assert np.load(out).dtype == np.float32
+            else:
+                with Image.open(out) as image:
+                    assert image.size == (8, 8) and image.mode in ("RGB", "RGBA")
+        else:
+            assert status == 2 and "unsupported format; use one of .png, .npy, .jpg" in error and not out.exists(), error
+    assert accepted == listed == {".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"}
+
+
+def test_depth_and_animation_outputs_accept_what_their_help_lists(capsys):
+    from wgpu_shading.assets.animation import ANIMATION_SUFFIXES
+    from wgpu_shading.assets.image_writers import DEPTH_SUFFIXES
+
+    assert _suffixes(_option_help(_help(capsys, "render"), "--depth DEPTH")) == set(DEPTH_SUFFIXES)
+    assert _suffixes(_option_help(_help(capsys, "turntable"), "-o OUTPUT")) == set(ANIMATION_SUFFIXES)
+
+
+@pytest.mark.parametrize(
+    "argv, line",
+    [
+        (["render", "builtin:torus", "--sise", "64"], "unknown option --sise: did you mean --size? (see `wgpu-shading render --help`)"),
+        (["render", "builtin:torus", "--sise=64"], "unknown option --sise: did you mean --size? (see `wgpu-shading render --help`)"),
+        (["check", "x.toml", "--ref", "r.png", "--treshold", "3"], "unknown option --treshold: did you mean --threshold? (see `wgpu-shading check --help`)"),
+        (["turntable", "builtin:torus", "--frame", "3", "-o", "never.gif"], "unknown option --frame: did you mean --frames? (see `wgpu-shading turntable --help`)"),
+        (["bench", "accuracy", "--quik"], "unknown option --quik: did you mean --quick? (see `wgpu-shading bench accuracy --help`)"),
+        (["render", "builtin:torus", "--zzzz"], "unknown option --zzzz (see `wgpu-shading render --help`)"),
+        (["render", "a.obj", "b.obj"], "unexpected argument 'b.obj' (see `wgpu-shading render --help`)"),
+        (["rendr", "builtin:torus"], ": did you mean render? (see `wgpu-shading --help`)"),
+    ],
+)
+def test_a_mistyped_flag_gets_the_closest_spelling_and_the_commands_help(capsys, argv, line):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("wgpu-shading: error: ") and err.rstrip("\n").endswith(line) and err.count("\n") == 1, err
+
+
+def test_the_installed_command_answers_a_typo_in_one_line_with_status_2():
+    result = run_cli("render", "builtin:torus", "--sise", "64")
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert result.stderr == "wgpu-shading: error: unknown option --sise: did you mean --size? (see `wgpu-shading render --help`)\n"
+
+
+def test_help_shows_one_spelling_per_meaning_and_older_spellings_still_work(capsys, tmp_path):
+    from wgpu_shading.cli.arguments import scene_from_args
+    from wgpu_shading.cli.main import build_parser
+
+    text = _help(capsys, "render")
+    for shown in ("--transparent", "--no-transparent", "--size SIZE", "--camera-azimuth-angle DEG"):
+        assert shown in text, shown
+    for hidden in ("--no-background", "--resolution", "--camera-azimuth ", "--camera-elevation "):
+        assert hidden not in text, hidden
+    parse = lambda *flags: scene_from_args(build_parser().parse_args(["render", "builtin:torus", *flags]))  # noqa: E731
+    assert parse("--no-background").background == parse("--transparent").background
+    assert parse("--no-background").background[3] == 0.0
+    assert parse("--resolution", "30,20").size == parse("--size", "30x20").size == (30, 20)
+    assert parse("--camera-azimuth", "30").camera == parse("--camera-azimuth-angle", "30").camera
+    # A prefix is not another spelling (it would silently change meaning when a flag is added).
+    assert main(["render", "builtin:torus", "--transp", "-o", str(tmp_path / "t.png")]) == 2
+    assert "unknown option --transp: did you mean --transparent?" in capsys.readouterr().err

@@ -295,6 +295,38 @@ def test_one_chunk_renderer_serves_several_threads(tmp_path, renderer):
             assert np.array_equal(pixels(tmp_path / "threads" / file), pixels(tmp_path / "alone" / file)), file
 
 
+def test_prefetch_loads_the_next_chunk_once_and_its_errors_stay_with_its_jobs(tmp_path, renderer, monkeypatch):
+    """The in-process run loads chunk i+1's mesh on the loader thread while chunk i renders;
+    each mesh is still loaded once, a broken one fails only its own jobs, and the files are
+    those of a run without prefetching."""
+    import threading
+
+    from wgpu_shading.dataset import chunk as chunk_module
+
+    (tmp_path / "broken.obj").write_text("v 0 0 0\nv 1 nope 0\nf 1 2 3\n")
+    loads: list[tuple[str, str]] = []
+    real_load = chunk_module.base_scene
+
+    def counted(job):
+        loads.append((job.source, threading.current_thread().name))
+        return real_load(job)
+
+    monkeypatch.setattr(chunk_module, "base_scene", counted)
+    sources = [TORUS, str(tmp_path / "broken.obj"), "builtin:cube"]
+    jobs = mesh_jobs(sources, turntable_views(3), Outputs(depth="npy"), {"size": 24})
+    result = render_dataset(jobs, tmp_path / "prefetched", progress=False, renderer=renderer, chunk_size=3)
+    assert sorted(source for source, _ in loads) == sorted(sources)  # each mesh once
+    on_loader = {source: thread.startswith("wgpu-shading-load") for source, thread in loads}
+    assert on_loader == {TORUS: False, str(tmp_path / "broken.obj"): True, "builtin:cube": True}
+    assert set(result.failed) == {job.id for job in jobs if "broken" in job.source}
+    monkeypatch.setattr(chunk_module.ChunkRenderer, "prefetch", lambda self, jobs: None)
+    render_dataset(jobs, tmp_path / "plain", progress=False, renderer=renderer, chunk_size=3)
+    for job in jobs:
+        if "broken" not in job.source:
+            for file in job.files():
+                assert (tmp_path / "prefetched" / file).read_bytes() == (tmp_path / "plain" / file).read_bytes(), file
+
+
 def test_ids_number_the_parts_of_a_multi_part_mesh(tmp_path, renderer):
     """An OBJ with two materials (usemtl) is one object of two parts: ids 1 and 2, named in
     cameras.json, each where its part lies (left square left of the image centre)."""

@@ -126,3 +126,22 @@ def test_range_fades_a_point_light_to_zero_on_the_gpu_as_in_the_reference(render
     if frequency == "phong":
         assert abs(gpu.color[32, 32, 0] - (1 - (1 / 1.5) ** 4) ** 2) < 0.01
         assert gpu.color[32, 4, 0] < 1e-6  # 1.9 from the middle: beyond the range
+
+
+def test_a_bare_gltf_with_lights_is_parsed_once(tmp_path, monkeypatch):
+    """Its meshes and its lights come from one reading of the file (MeshFile.lights); a
+    caller who does not want the lights never reads them (a broken light table then fails
+    no one)."""
+    from wgpu_shading.assets.gltf import document
+
+    lights = [{"type": "point", "intensity": 1}]
+    path = _file(tmp_path, lights, [{"translation": [0, 0, 1], "extensions": {"KHR_lights_punctual": {"light": 0}}}])
+    reads = []
+    original = document.GltfData.__init__
+    monkeypatch.setattr(document.GltfData, "__init__", lambda self, *a, **k: (reads.append(a), original(self, *a, **k))[1])
+    assert len(mesh_scene(str(path), (32, 32)).lights) == 1
+    assert len(reads) == 1
+    broken = _file(tmp_path, [{"type": "point", "intensity": "bright"}], [{"extensions": {"KHR_lights_punctual": {"light": 0}}}], "broken.gltf")
+    with pytest.raises(MeshError):
+        mesh_scene(str(broken), (32, 32))
+    assert len(mesh_scene(str(broken), (32, 32), file_lights=False).lights) == 2

@@ -55,9 +55,10 @@ def _png(path) -> np.ndarray:
     return np.asarray(Image.open(path))
 
 
-def test_window_saves_renders_pixels_then_the_printed_commands(tmp_path):
+def _drive(tmp_path, driver: str) -> str:
+    """Run a driver script on a 640×480 Xvfb screen; the log (skips where Xvfb cannot start)."""
     script = tmp_path / "driver.sh"
-    script.write_text(DRIVER)
+    script.write_text(driver)
     try:
         run = subprocess.run(
             ["xvfb-run", "-a", "-s", "-screen 0 640x480x24", "bash", str(script)],
@@ -70,6 +71,11 @@ def test_window_saves_renders_pixels_then_the_printed_commands(tmp_path):
     if run.returncode != 0 and "xvfb-run: error" in run.stderr:
         pytest.skip(f"Xvfb could not start here: {run.stderr.strip()}")
     assert run.returncode == 0 and "viewer exit 0" in run.stdout, log
+    return log
+
+
+def test_window_saves_renders_pixels_then_the_printed_commands(tmp_path):
+    log = _drive(tmp_path, DRIVER)
 
     render = tmp_path / "render.png"
     assert main(["render", "builtin:torus", "--size", "160x120", "-o", str(render), "-q"]) == 0
@@ -112,3 +118,40 @@ def _environment() -> dict:
 
 def _read(path) -> str:
     return path.read_text() if path.exists() else ""
+
+
+# `view --compare` of three 400×300 panels (1200×300) on a 640×480 screen: the window opens
+# scaled to fit (90 % of the screen's width: 576×144); S still saves the whole 1200×300 picture.
+COMPARE_DRIVER = r"""
+set -u
+"$PYTHON" -c 'import sys; from wgpu_shading.cli import main; sys.exit(main())' \
+    view builtin:torus --size 400x300 --compare frequency -q > viewer.out 2> viewer.err &
+viewer=$!
+window=$(timeout 60 xdotool search --sync --name ' ms$' | head -1)
+[ -n "$window" ] || { echo "no window"; cat viewer.err; exit 3; }
+xdotool getwindowgeometry --shell "$window" > geometry.txt
+xdotool mousemove --window "$window" 100 50
+xdotool key s
+for _ in $(seq 300); do [ -e torus-001.png ] && break; sleep 0.1; done
+xdotool key q
+for _ in $(seq 100); do kill -0 "$viewer" 2>/dev/null || break; sleep 0.1; done
+kill "$viewer" 2>/dev/null && echo "viewer did not quit on Q"
+wait "$viewer"
+echo "viewer exit $?"
+"""
+
+
+def test_compare_window_fits_the_screen_it_opens_on(tmp_path):
+    log = _drive(tmp_path, COMPARE_DRIVER)  # (fails with the viewer's output)
+    geometry = dict(line.split("=", 1) for line in _read(tmp_path / "geometry.txt").split())
+    assert (int(geometry["WIDTH"]), int(geometry["HEIGHT"])) == (576, 144), (geometry, log)  # 0.48 × (1200, 300)
+    assert _png(tmp_path / "torus-001.png").shape == (300, 1200, 4), "S saves the panels at their own size"
+
+
+def test_fitted_size_scales_down_only_and_keeps_the_aspect():
+    from wgpu_shading.live.window import fitted_size
+
+    assert fitted_size((1536, 512), (1920, 1080)) == (1536, 512)  # fits: unchanged
+    assert fitted_size((1536, 512), (1280, 1024)) == (1152, 384)  # 0.9 × 1280 wide
+    assert fitted_size((600, 2000), (1920, 1080)) == (291, 972)  # too tall: 0.9 × 1080 high
+    assert fitted_size((800, 600), None) == (800, 600)  # no monitor known

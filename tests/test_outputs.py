@@ -99,7 +99,7 @@ def test_outputs_are_checked_before_any_work(argv, message, tmp_path, capsys, mo
     def never(*args, **kwargs):  # the scene must not even be loaded
         raise AssertionError("rendering started before the outputs were checked")
 
-    monkeypatch.setattr(mesh_scene_module, "load_mesh", never)
+    monkeypatch.setattr(mesh_scene_module, "read_mesh", never)
     argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
     assert main(["render", "builtin:torus", *argv]) == 2
     err = capsys.readouterr().err

@@ -59,6 +59,14 @@ def test_readme_shell_block_runs(line, block, tmp_path):
             ["bash", "-c", command], cwd=tmp_path, env=_environment(), capture_output=True, text=True, timeout=300
         )
         assert result.returncode == 0, f"README line {line}ff: {command!r} exited {result.returncode}:\n{result.stderr}"
+    _assert_outputs_named(tmp_path, block, f"README line {line}ff")
+
+
+def _assert_outputs_named(folder: Path, text: str, where: str, ignore: tuple[str, ...] = ()) -> None:
+    """A command a reader copies names what it writes (-o, --out, a redirect): nothing lands in
+    their current folder under a name the README does not show."""
+    unnamed = sorted(p.name for p in folder.iterdir() if p.name not in ignore and p.name not in text)
+    assert not unnamed, f"{where} wrote files it does not name: {unnamed}"
 
 
 @pytest.mark.parametrize("line, block", PYTHON_BLOCKS, ids=[f"python@line{n}" for n, _ in PYTHON_BLOCKS])
@@ -69,3 +77,4 @@ def test_readme_python_block_runs(line, block, tmp_path):
         [str(BIN / "python"), str(script)], cwd=tmp_path, env=_environment(), capture_output=True, text=True, timeout=300
     )
     assert result.returncode == 0, f"README Python block at line {line} failed:\n{result.stderr}"
+    _assert_outputs_named(tmp_path, block, f"README Python block at line {line}", ignore=(script.name,))

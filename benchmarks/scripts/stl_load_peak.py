@@ -1,12 +1,17 @@
-"""Peak resident memory of loading a large binary STL with `load_mesh`, in a fresh process (Linux).
+"""Peak resident memory of loading a large binary STL with `load_mesh`, and of rendering it,
+in a fresh process (Linux).
 
     python benchmarks/scripts/stl_load_peak.py 10000000 /tmp/torus10m.stl
+    python benchmarks/scripts/stl_load_peak.py 10000000 /tmp/torus10m.stl --render 512
 
 Writes a smooth torus of about that many triangles as a binary STL (every corner repeated,
-as STL stores it; skipped when the file exists), then loads it and prints one JSON object:
-the mesh's arrays (positions + normals + indices, what a Renderer uploads), the process's
-resident memory after imports, its peak (VmHWM), and the peak above the imports as a
-multiple of the mesh's arrays. docs/reliability.md quotes the result.
+as STL stores it; triangles in the order of the torus's grid; skipped when the file exists),
+then loads it and prints one JSON object: the mesh's arrays (positions + normals + indices,
+what a Renderer uploads), the process's resident memory after imports (with --render: after
+the device and a small render too), its peak (VmHWM), and the peak above that baseline as a
+multiple of the mesh's arrays; with --render also the peak of the load alone, then the mesh
+rendered as `wgpu-shading render` frames it. docs/reliability.md and the memory table of
+`python -m benchmarks` (benchmarks/memory.py) quote the result.
 """
 
 import json
@@ -46,25 +51,44 @@ def status(key: str) -> int:
 
 def main() -> None:
     triangles, path = int(sys.argv[1]), Path(sys.argv[2])
+    render_size = int(sys.argv[sys.argv.index("--render") + 1]) if "--render" in sys.argv else None
     if not path.exists():
         write_torus_stl(path, triangles)
     import trimesh  # noqa: F401  - imported by load_mesh; counted in the baseline
 
     from wgpu_shading import load_mesh
 
+    if render_size is not None:  # the device, a pipeline and a small render belong to the baseline
+        from wgpu_shading import Renderer
+        from wgpu_shading.assets.mesh_scene import mesh_scene
+
+        renderer = Renderer()
+        renderer.render(mesh_scene("builtin:torus", (render_size, render_size), None))
     with open("/proc/self/clear_refs", "w") as file:
         file.write("5")  # reset the peak mark (VmHWM) to the current resident size
     baseline = status("VmRSS")
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     mesh = load_mesh(path)
-    seconds = time.perf_counter() - start
+    seconds, cpu_seconds = time.perf_counter() - start, time.process_time() - cpu
     arrays = sum(array.nbytes for array in (mesh.positions, mesh.normals, mesh.indices))
-    peak = status("VmHWM")
-    print(json.dumps({
+    load_peak = status("VmHWM")
+    result = {
         "file_bytes": path.stat().st_size, "triangles": mesh.triangle_count, "vertices": mesh.vertex_count,
-        "mesh_array_bytes": arrays, "baseline_rss": baseline, "peak_rss": peak,
-        "peak_above_baseline_over_arrays": round((peak - baseline) / arrays, 2), "seconds": round(seconds, 1),
-    }))
+        "mesh_array_bytes": arrays, "baseline_rss": baseline, "load_peak_rss": load_peak, "peak_rss": load_peak,
+        "load_seconds": round(seconds, 1), "load_cpu_seconds": round(cpu_seconds, 1),
+    }
+    if render_size is not None:
+        from wgpu_shading.scene.view.bare_mesh import bare_mesh_scene
+
+        scene = bare_mesh_scene(mesh, (render_size, render_size))  # what `render MESH` draws, for the loaded mesh
+        start, cpu = time.perf_counter(), time.process_time()
+        image = renderer.render(scene)
+        result["render_seconds"], result["render_cpu_seconds"] = round(time.perf_counter() - start, 1), round(time.process_time() - cpu, 1)
+        assert (image[:, :, :3] > 0).any()
+        result["peak_rss"] = status("VmHWM")
+    result["load_peak_above_baseline_over_arrays"] = round((load_peak - baseline) / arrays, 2)
+    result["peak_above_baseline_over_arrays"] = round((result["peak_rss"] - baseline) / arrays, 2)
+    print(json.dumps(result))
 
 
 if __name__ == "__main__":

@@ -4,16 +4,56 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import numpy as np
 
 from ..errors import UsageError
 from .atomic import atomic_open, atomic_path, check_target
+from .png import encode_png, write_png
 
-IMAGE_SUFFIXES = (".png", ".npy", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
-DEPTH_SUFFIXES = (".npy", ".png", ".tif", ".tiff")
+class FileFormat(NamedTuple):
+    """One suffix of the table below: Pillow's format (None: numpy's .npy), what the file holds
+    (shown by --help) and whether it keeps alpha."""
+
+    pillow: str | None
+    holds: str
+    alpha: bool = True
+
+
+# The files `render -o` and `--depth` write. What `-o` accepts, its --help and the writers
+# are all read from here (one truth: a suffix not listed is refused, with the list).
+_RGB = FileFormat("JPEG", "8-bit RGB, no alpha", alpha=False)
+_TIFF = FileFormat("TIFF", "8-bit RGBA")
+IMAGE_FORMATS = {
+    ".png": FileFormat("PNG", "8-bit RGBA"),
+    ".npy": FileFormat(None, "float32 RGBA, exact"),
+    ".jpg": _RGB,
+    ".jpeg": _RGB,
+    ".bmp": FileFormat("BMP", "8-bit RGB, no alpha", alpha=False),
+    ".tif": _TIFF,
+    ".tiff": _TIFF,
+}
+_FLOAT_TIFF = FileFormat("TIFF", "float32, inf = background")
+DEPTH_FORMATS = {
+    ".npy": FileFormat(None, "float32, inf = background"),
+    ".tif": _FLOAT_TIFF,
+    ".tiff": _FLOAT_TIFF,
+    ".png": FileFormat("PNG", "16-bit, 0 = background, 1..65535 = near..far plane linearly, as batch --depth png16"),
+}
+IMAGE_SUFFIXES = tuple(IMAGE_FORMATS)
+DEPTH_SUFFIXES = tuple(DEPTH_FORMATS)
 STDOUT = "-"  # `-o -`: the PNG goes to standard output
+PNG_LEVEL = 6  # zlib level of `render`'s PNGs (zlib's and Pillow's default); `batch --compression` chooses its own
+
+
+def formats_text(formats: dict[str, FileFormat]) -> str:
+    """A format table for --help: ".png (8-bit RGBA), .jpg/.jpeg (8-bit RGB, no alpha), ..."
+    (suffixes that write the same format together)."""
+    groups: dict[FileFormat, list[str]] = {}
+    for suffix, kind in formats.items():
+        groups.setdefault(kind, []).append(suffix)
+    return ", ".join(f"{'/'.join(suffixes)} ({kind.holds})" for kind, suffixes in groups.items())
 
 
 def output_path(path: os.PathLike[str] | str, suffixes: Sequence[str], what: str = "output") -> Path:
@@ -48,15 +88,9 @@ def check_folder_writable(folder: Path, what: str) -> None:
 
 def png_bytes(image: np.ndarray) -> bytes:
     """An 8-bit RGBA (or RGB) image as PNG file contents (for `-o -` and Jupyter)."""
-    import io
-
-    from PIL import Image
-
     if image.dtype != np.uint8:  # a float32 render: [0, 1] to 8 bits, as the 8-bit target rounds
         image = np.round(np.clip(image, 0.0, 1.0) * 255.0).astype(np.uint8)
-    buffer = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(image)).save(buffer, format="PNG")
-    return buffer.getvalue()
+    return encode_png(image, PNG_LEVEL)
 
 
 # The one 16-bit depth PNG encoding (`render --depth d.png` and `batch --depth png16`):
@@ -75,18 +109,11 @@ def depth_png_levels(depth: np.ndarray, near: float, far: float) -> np.ndarray:
     return np.where(covered, levels, 0).astype(np.uint16)
 
 
-def save_depth_png(target, depth: np.ndarray, near: float, far: float, compress_level: int = 6) -> None:
-    """Write depth as a 16-bit grey PNG to a path or a binary file, with near, far and the
-    convention in its text chunks (tEXt `near`, `far`: repr of the floats; `depth_encoding`)."""
-    from PIL import Image
-    from PIL.PngImagePlugin import PngInfo
-
-    info = PngInfo()
-    info.add_text("near", repr(float(near)))
-    info.add_text("far", repr(float(far)))
-    info.add_text("depth_encoding", DEPTH_PNG_CONVENTION)
-    image = Image.fromarray(np.ascontiguousarray(depth_png_levels(depth, near, far)))
-    image.save(target, format="png", pnginfo=info, compress_level=compress_level)
+def save_depth_png(file, depth: np.ndarray, near: float, far: float, compress_level: int = PNG_LEVEL) -> None:
+    """Write depth as a 16-bit grey PNG to a binary file, with near, far and the convention
+    in its text chunks (tEXt `near`, `far`: repr of the floats; `depth_encoding`)."""
+    text = {"near": repr(float(near)), "far": repr(float(far)), "depth_encoding": DEPTH_PNG_CONVENTION}
+    write_png(file, depth_png_levels(depth, near, far), compress_level, text)
 
 
 def read_depth_png(path: os.PathLike[str] | str) -> np.ndarray:
@@ -122,12 +149,9 @@ def write_depth(path: Path, depth: np.ndarray, near: float, far: float) -> str:
         with atomic_path(path, "--depth") as temporary:
             Image.fromarray(np.ascontiguousarray(distances)).save(temporary, format="TIFF")  # float32 → mode F
         return "32-bit float eye-space distance, inf = background"
-    with atomic_path(path, "--depth") as temporary:
-        save_depth_png(temporary, depth, near, far)
+    with atomic_open(path, "--depth") as file:
+        save_depth_png(file, depth, near, far)
     return f"16-bit, linear: 0 = background, 1..65535 = near plane ({near:g}) .. far plane ({far:g})"
-
-
-_PIL_FORMATS = {".png": "PNG", ".jpg": "JPEG", ".jpeg": "JPEG", ".bmp": "BMP", ".tif": "TIFF", ".tiff": "TIFF"}
 
 
 def write_image(path: Path, image: np.ndarray, what: str = "output") -> None:
@@ -140,12 +164,17 @@ def write_image(path: Path, image: np.ndarray, what: str = "output") -> None:
         with atomic_open(path, what) as file:
             np.save(file, image)
         return
+    if suffix == ".png":
+        with atomic_open(path, what) as file:
+            write_png(file, np.ascontiguousarray(image), PNG_LEVEL)
+        return
     from PIL import Image
 
-    if suffix in (".jpg", ".jpeg"):
-        # JPEG has no alpha. The color is already over the background; alpha only marks
-        # translucent materials, which an opaque framebuffer (OpenGL's default) shows as RGB.
+    if not IMAGE_FORMATS[suffix].alpha:
+        # JPEG and BMP (as readers take it) keep no alpha. The color is already over the
+        # background; alpha only marks translucent materials, which an opaque framebuffer
+        # (OpenGL's default) shows as RGB.
         image = image[:, :, :3]
     picture = Image.fromarray(np.ascontiguousarray(image))
     with atomic_path(path, what) as temporary:
-        picture.save(temporary, format=_PIL_FORMATS.get(suffix))
+        picture.save(temporary, format=IMAGE_FORMATS[suffix].pillow)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field, replace
+from typing import Callable
 
 import numpy as np
 
@@ -29,6 +30,33 @@ class MeshPiece:
     all_flat: bool = False
     parts: list = field(default_factory=list)  # (first face, count, material, name)
     tangents: np.ndarray | None = None  # (n, 4) glTF TANGENT, only with the file's normals
+
+
+def _no_lights() -> list:
+    return []
+
+
+def _no_camera(index: int) -> None:
+    return None  # OBJ, PLY, STL and OFF hold no cameras
+
+
+@dataclass
+class MeshFile:
+    """What a reader makes of a mesh file: every reader returns one (assets/meshes.py lists
+    the readers by suffix).
+
+    pieces: the file's vertex sets; notes: what the user should be told once the file has
+    been read whole (said by the loader, once each); lights: the file's own lights, each
+    with its node's matrix in the file's space (glTF KHR_lights_punctual), read when asked
+    from what was parsed for the pieces (a file is parsed once; a broken light table fails
+    only a caller who wants the lights); camera(index): the file's camera `index` as
+    gltf/cameras.py gives it, None for formats without cameras. Lights and cameras hang on
+    the nodes as the pieces were posed (an animation time)."""
+
+    pieces: list[MeshPiece]
+    notes: list[str] = field(default_factory=list)
+    lights: Callable[[], list] = _no_lights
+    camera: Callable[[int], object] = _no_camera
 
 
 def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:
@@ -66,7 +94,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
     return replace(
         piece,
         positions=piece.positions[source],
-        faces=faces.astype(np.int64),
+        faces=faces,
         normals=normals,
         uvs=None if piece.uvs is None else piece.uvs[source],
         colors=None if piece.colors is None else piece.colors[source],
@@ -103,7 +131,7 @@ def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
     for piece in pieces:
         count = len(piece.positions)
         positions.append(piece.positions)
-        faces.append(piece.faces + vertex_offset)
+        faces.append(piece.faces + vertex_offset if vertex_offset else piece.faces)  # one piece: no copy
         normals.append(piece.normals)
         if any_uvs:
             uvs.append(piece.uvs if piece.uvs is not None else np.zeros((count, 2)))

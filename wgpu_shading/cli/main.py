@@ -21,6 +21,7 @@ stderr and exit with status 2; no traceback.
 from __future__ import annotations
 
 import argparse
+import difflib
 import logging
 import os
 import re
@@ -36,16 +37,62 @@ from . import batch, bench, check, info, render, view
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a text tool whose reader went away
+
+
+_INNERMOST = "wgpu_shading_parser"  # the (sub)command parser that read the arguments
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line usage errors (its own put the whole usage text first): the
-    same "wgpu-shading: error: ..." line and exit status 2 as every other bad input."""
+    same "wgpu-shading: error: ..." line and exit status 2 as every other bad input. A
+    mistyped flag, command or choice is answered with the closest spelling and the help of
+    the command it was given to: `render --sise 64` → "unknown option --sise: did you mean
+    --size? (see `wgpu-shading render --help`)"."""
+
+    def __init__(self, *args, **kwargs):
+        # A prefix of a flag (--transp) is not another spelling of it: abbreviations accept
+        # typos silently and change meaning when a flag that shares the prefix is added.
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str):  # type: ignore[override]
         # "argument --size/--resolution: ..." → "--size: ...", as the errors raised later name flags
         message = re.sub(r"^argument ([^/:\s]+)(/[^:\s]+)*: ", r"\1: ", message)
-        self.exit(EXIT_USAGE, f"wgpu-shading: error: {shorten(message)} (see {self.prog} --help)\n")
+        choice = re.search(r"invalid choice: '([^']*)' \(choose from (.*)\)", message)
+        if choice:
+            message += _did_you_mean(choice.group(1), re.findall(r"'([^']*)'", choice.group(2)))
+        self.exit(EXIT_USAGE, f"wgpu-shading: error: {shorten(message)} (see `{self.prog} --help`)\n")
+
+    def parse_known_args(self, args=None, namespace=None):
+        namespace, extras = super().parse_known_args(args, namespace)
+        if not hasattr(namespace, _INNERMOST):  # a subcommand's parser finishes before its parent's
+            setattr(namespace, _INNERMOST, self)
+        return namespace, extras
+
+    def parse_args(self, args=None, namespace=None):
+        namespace, extras = self.parse_known_args(args, namespace)
+        parser = getattr(namespace, _INNERMOST, self)
+        delattr(namespace, _INNERMOST)
+        if extras:  # argparse would say "unrecognized arguments" for the whole command line
+            parser.reject(extras[0])
+        return namespace
+
+    def reject(self, word: str):
+        """Exit with one line about the first word this (sub)command does not take."""
+        if word.startswith("-"):
+            flag = word.split("=", 1)[0]
+            self.error(f"unknown option {flag}" + _did_you_mean(flag, self.visible_flags()))
+        self.error(f"unexpected argument {word!r}")
+
+    def visible_flags(self) -> list[str]:
+        """The long flags --help shows (older spellings, hidden there, are not suggested)."""
+        return [flag for action in self._actions if action.help != argparse.SUPPRESS for flag in action.option_strings if flag.startswith("--")]
+
+
+def _did_you_mean(word: str, candidates) -> str:
+    close = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
+    return f": did you mean {close[0]}?" if close else ""
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -133,6 +180,15 @@ def _main(argv: Sequence[str] | None = None) -> int:
     except WgpuShadingError as error:
         print(f"wgpu-shading: error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except BrokenPipeError:
+        # The reader of a text command's output went away (`wgpu-shading shader … | head`):
+        # stop quietly as text tools do, pointing stdout at /dev/null so that the flush at
+        # exit cannot fail a second time (docs.python.org/3/library/signal.html#note-on-sigpipe).
+        # `-o -` raises its own UsageError instead: a PNG cut short is an error worth a line.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return EXIT_BROKEN_PIPE
     except OSError as error:  # unwritable output, full disk, ...
         print(f"wgpu-shading: error: {error}", file=sys.stderr)
         return EXIT_USAGE

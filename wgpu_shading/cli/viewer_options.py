@@ -33,23 +33,34 @@ def _argparse_type(option: ViewOption, flag: str):
 
 
 def add_view_arguments(parser: argparse.ArgumentParser) -> None:
-    """Every view option's flags, each storing into args.<option name> (None when absent)."""
+    """Every view option's flags, each storing into args.<option name> (None when absent). An
+    option's aliases (older spellings) work the same but --help does not show them."""
     groups = {key: parser.add_argument_group(title) for key, title in _GROUPS.items()}
     for option in VIEW_OPTIONS:
         group = groups[option.group]
         if option.flags:
-            group.add_argument(
-                *option.flags,
-                dest=option.name,
-                # a repeated flag's values are read together (view_options_from_args)
-                type=str if option.repeated else _argparse_type(option, option.flags[0]),
-                action="append" if option.repeated else "store",
-                metavar=option.metavar,
-                default=None,
-                help=option.help,
-            )
+            _add_value_flags(group, option, option.flags, option.help)
         for flag, constant, help_text in option.switches:
             group.add_argument(flag, dest=option.name, action="store_const", const=constant, default=None, help=help_text)
+        for alias, current in option.aliases:
+            is_switch, constant = option.switch_constant(alias)
+            if is_switch:
+                group.add_argument(alias, dest=option.name, action="store_const", const=constant, default=None, help=argparse.SUPPRESS)
+            else:
+                _add_value_flags(group, option, (alias,), argparse.SUPPRESS, errors_name=current)
+
+
+def _add_value_flags(group, option: ViewOption, flags: tuple[str, ...], help_text: str, errors_name: str | None = None) -> None:
+    group.add_argument(
+        *flags,
+        dest=option.name,
+        # a repeated flag's values are read together (view_options_from_args)
+        type=str if option.repeated else _argparse_type(option, errors_name or flags[0]),
+        action="append" if option.repeated else "store",
+        metavar=option.metavar,
+        default=None,
+        help=help_text,
+    )
 
 
 def view_options_from_args(args: argparse.Namespace) -> ViewOptions:

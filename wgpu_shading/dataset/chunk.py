@@ -1,6 +1,8 @@
 """Rendering a chunk of jobs on one warm Renderer: the mesh is loaded and uploaded once per
 chunk, frames are pipelined (Renderer.render_many), and PNG encoding and file writing run on
-a small thread pool while the next frames render.
+a small thread pool while the next frames render. The next chunk's mesh can be loaded on a
+thread of its own meanwhile (`prefetch`): loading a file is Python and numpy work that the
+frames of this chunk leave room for, since the main thread mostly waits for the driver.
 
 Errors are data: a job that fails (unreadable mesh, bad camera, full disk) gets a record
 with ok=False and its error; the other jobs of the chunk go on.
@@ -41,6 +43,14 @@ def failed(job: Job, error: BaseException | str) -> dict:
     return {"id": job.id, "ok": False, "error": message, "files": [], "pid": os.getpid()}
 
 
+def _load(job: Job):
+    """The job's base scene, or the error that loading it raised (it fails that mesh's jobs only)."""
+    try:
+        return base_scene(job)
+    except Exception as error:  # noqa: BLE001
+        return error
+
+
 class ChunkRenderer:
     """One per process (or Dask worker): a warm Renderer and the encoders.
     Calls of render() from several threads (a Dask worker with --nthreads above 1) take
@@ -54,11 +64,24 @@ class ChunkRenderer:
         self.renderer = renderer if renderer is not None else Renderer(adapter=adapter)
         self.parallel = parallel
         self._kept: OrderedDict[tuple, object] = OrderedDict()  # load_key → base scene, newest last
+        self._loading: dict[tuple, Future] = {}  # load_key → its base scene being loaded by prefetch()
+        self._loading_lock = threading.Lock()  # prefetch() may run while another thread renders
         self._lock = threading.Lock()
         self._encoders = ThreadPoolExecutor(max_workers=encoder_threads, thread_name_prefix="wgpu-shading-encode")
+        self._loader = ThreadPoolExecutor(max_workers=1, thread_name_prefix="wgpu-shading-load")
 
     def close(self) -> None:
         self._encoders.shutdown(wait=True)
+        self._loader.shutdown(wait=True, cancel_futures=True)
+
+    def prefetch(self, jobs: list[Job]) -> None:
+        """Start loading the meshes of `jobs` (the next chunk) on the loader thread, unless
+        they are kept or loading already; render() then takes them from there."""
+        with self._loading_lock:
+            for job in jobs:
+                key = job.load_key()
+                if key not in self._kept and key not in self._loading:
+                    self._loading[key] = self._loader.submit(_load, job)
 
     def _base_scene(self, job: Job):
         """The job's base scene, kept for the next chunks; a load error is returned (it fails
@@ -67,10 +90,11 @@ class ChunkRenderer:
         if key in self._kept:
             self._kept.move_to_end(key)
             return self._kept[key]
-        try:
-            scene = base_scene(job)
-        except Exception as error:  # noqa: BLE001 - fails this mesh's jobs only
-            return error
+        with self._loading_lock:
+            loading = self._loading.pop(key, None)
+        scene = loading.result() if loading is not None else _load(job)
+        if isinstance(scene, BaseException):
+            return scene
         self._kept[key] = scene
         while len(self._kept) > KEPT_SCENES:
             self._kept.popitem(last=False)

@@ -137,7 +137,9 @@ def _in_process(work: list[list[Job]], out_dir: Path, adapter, renderer, paralle
 
     chunk_renderer = ChunkRenderer(renderer, adapter=adapter, parallel=parallel)
     try:
-        for chunk in work:
+        for index, chunk in enumerate(work):
+            if index + 1 < len(work):
+                chunk_renderer.prefetch(work[index + 1])  # loads while this chunk renders
             yield chunk_renderer.render(chunk, out_dir)
     finally:
         chunk_renderer.close()

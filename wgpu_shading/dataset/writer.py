@@ -14,6 +14,7 @@ import numpy as np
 
 from ..assets import atomic
 from ..assets.image_writers import save_depth_png
+from ..assets.png import write_png
 from ..render.passes.extra_outputs import ExtraFrame
 from ..render.renderer import Frame
 from .jobs import Job
@@ -32,25 +33,10 @@ def remove_stale_temporaries(folder: Path) -> int:
     return atomic.remove_temporaries(folder, BATCH_TAG)
 
 
-def _png8(image: np.ndarray, level: int) -> Callable[[object], None]:
-    from PIL import Image
-
-    return lambda file: Image.fromarray(np.ascontiguousarray(image)).save(file, format="png", compress_level=level)
-
-
-def _png16_gray(image: np.ndarray, level: int) -> Callable[[object], None]:
-    from PIL import Image
-
-    return lambda file: Image.fromarray(np.ascontiguousarray(image, dtype=np.uint16)).save(file, format="png", compress_level=level)
-
-
-def _png16_rgba(image: np.ndarray, level: int) -> Callable[[object], None]:
-    # Pillow writes no 16-bit colour PNG; pypng does (pure Python, zlib underneath).
-    import png
-
-    height, width = image.shape[:2]
-    writer = png.Writer(width, height, greyscale=False, alpha=True, bitdepth=16, compression=level)
-    return lambda file: writer.write(file, image.reshape(height, width * 4))
+def _png(image: np.ndarray, level: int) -> Callable[[object], None]:
+    # 8-bit RGBA, 16-bit RGBA (png16 colour) and 16-bit grey (ids): assets/png.py, at half
+    # Pillow's CPU time; it writes 16-bit colour too, which Pillow cannot.
+    return lambda file: write_png(file, image, level)
 
 
 def _npy(array: np.ndarray) -> Callable[[object], None]:
@@ -79,7 +65,7 @@ def write_view(
         path = folder / file_name
         if file_name == f"{job.name}.png":
             assert frame is not None
-            write = _png16_rgba(color16(frame.color), level) if outputs.color == "png16" else _png8(frame.color, level)
+            write = _png(color16(frame.color) if outputs.color == "png16" else frame.color, level)
         elif "_depth." in file_name:
             assert frame is not None and frame.depth is not None
             if outputs.depth == "npy":
@@ -91,7 +77,7 @@ def write_view(
             write = _npy(extra.normals)
         else:
             assert extra is not None
-            write = _png16_gray(extra.ids, level)
+            write = _png(np.asarray(extra.ids, dtype=np.uint16), level)
         atomic_write(path, write)
         written.append(f"{job.folder}/{file_name}")
     record = {"id": job.id, "digest": job.digest(), "source": job.source, "files": written, "camera": camera}

@@ -25,53 +25,103 @@ import numpy as np
 
 
 
-FACE_BLOCK = 1 << 18
+FACE_BLOCK = 1 << 16  # faces whose normals are computed at a time: ~12 MB of temporaries
+KEPT_FACES = 1 << 18  # meshes up to this many faces keep their face normals (8 MB) instead of recomputing them
+ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (_mean_normals)
+
+
+def _scale(positions: np.ndarray) -> float:
+    """The largest absolute coordinate (np.abs(positions).max(), without the (N, 3) copy)."""
+    return max(float(-positions.min()), float(positions.max())) if len(positions) else 1.0
+
+
+def _normals_of(positions: np.ndarray, faces: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Unit normals and twice the areas of `faces` (a block), float64 from positions of any
+    float type (each coordinate converted exactly, then every operation in float64)."""
+    # Component by component: np.cross on (F, 3) arrays costs 4x more.
+    i0, i1, i2 = (np.ascontiguousarray(faces[:, k]) for k in range(3))
+    p0, p1, p2 = (positions[i].astype(np.float64) for i in (i0, i1, i2))
+    ax, ay, az = p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1], p1[:, 2] - p0[:, 2]
+    bx, by, bz = p2[:, 0] - p0[:, 0], p2[:, 1] - p0[:, 1], p2[:, 2] - p0[:, 2]
+    cross = np.empty((len(faces), 3))
+    cross[:, 0] = ay * bz - az * by
+    cross[:, 1] = az * bx - ax * bz
+    cross[:, 2] = ax * by - ay * bx
+    length = np.sqrt(np.einsum("ij,ij->i", cross, cross))
+    # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
+    degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
+    unit = np.zeros((len(faces), 3))
+    np.divide(cross, length[:, None], out=unit, where=~degenerate[:, None])
+    return unit, np.where(degenerate, 0.0, length)
 
 
 def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit face normals (zero for zero-area faces) and twice the face areas, float64."""
-    # Component by component: np.cross on (F, 3) arrays and row gathers cost 4x more.
-    # In blocks of faces: the eleven temporaries per face stay ~25 MB however big the
-    # mesh (a 10M-triangle scan needed 1 GB for them at once; docs/reliability.md).
-    x, y, z = (np.ascontiguousarray(positions[:, k], dtype=np.float64) for k in range(3))
-    scale = np.max(np.abs(positions)) if len(positions) else 1.0
-    unit = np.zeros((len(faces), 3))
-    area = np.zeros(len(faces))
+    # In blocks of faces: the temporaries stay ~25 MB however big the mesh (a 10M-triangle
+    # scan needed 1 GB for them at once; docs/reliability.md).
+    positions = _float_positions(positions)
+    scale = _scale(positions)
+    unit = np.empty((len(faces), 3))
+    area = np.empty(len(faces))
     for start in range(0, len(faces), FACE_BLOCK):
-        block = faces[start : start + FACE_BLOCK]
-        i0, i1, i2 = (np.ascontiguousarray(block[:, k]) for k in range(3))
-        ax, ay, az = x[i1] - x[i0], y[i1] - y[i0], z[i1] - z[i0]
-        bx, by, bz = x[i2] - x[i0], y[i2] - y[i0], z[i2] - z[i0]
-        cross = np.empty((len(block), 3))
-        cross[:, 0] = ay * bz - az * by
-        cross[:, 1] = az * bx - ax * bz
-        cross[:, 2] = ax * by - ay * bx
-        length = np.sqrt(np.einsum("ij,ij->i", cross, cross))
-        # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
-        degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
-        np.divide(cross, length[:, None], out=unit[start : start + len(block)], where=~degenerate[:, None])
-        area[start : start + len(block)] = np.where(degenerate, 0.0, length)
+        block = slice(start, start + FACE_BLOCK)
+        unit[block], area[block] = _normals_of(positions, faces[block], scale)
     return unit, area
 
 
+class _FaceNormals:
+    """Unit normals and doubled areas of a mesh's faces, for any block or subset of them.
+    A big mesh computes them when asked (no per-face array is kept: 32 bytes a face); a
+    small one (at most KEPT_FACES faces) computes them once. Either way a face's values are
+    the same: each face's arithmetic is its own."""
+
+    def __init__(self, positions: np.ndarray, faces: np.ndarray):
+        self.positions, self.faces, self.scale = positions, faces, _scale(positions)
+        self.kept = face_normals(positions, faces) if len(faces) <= KEPT_FACES else None
+
+    def of(self, face_ids) -> tuple[np.ndarray, np.ndarray]:
+        """(unit, area) of the faces `face_ids` (an index array or a slice)."""
+        if self.kept is not None:
+            return self.kept[0][face_ids], self.kept[1][face_ids]
+        return _normals_of(self.positions, self.faces[face_ids], self.scale)
+
+
+def _float_positions(positions) -> np.ndarray:
+    """float32 positions stay float32 (every use converts what it reads to float64, exactly);
+    anything else becomes float64."""
+    positions = np.asarray(positions)
+    return positions if positions.dtype in (np.float32, np.float64) else positions.astype(np.float64)
+
+
+def _indices(faces) -> np.ndarray:
+    """Face indices in the dtype they came in when it is a 32- or 64-bit integer (ids are
+    below 2^25, docs/reliability.md): a 10M-triangle mesh's faces as int64 were 240 MB."""
+    faces = np.asarray(faces)
+    return faces if faces.dtype in (np.int32, np.uint32, np.int64) else faces.astype(np.int64)
+
+
 def weld_by_position(positions: np.ndarray) -> np.ndarray:
-    """(N,) id of each vertex's welded vertex (equal coordinates share an id, 0..M-1)."""
+    """(N,) id of each vertex's welded vertex (equal coordinates share an id, 0..M-1), int32."""
     count = len(positions)
     # Fast path for meshes that are already welded (scans, most PLY/OBJ): one sort of a
     # single key. Equal positions give equal keys, so distinct keys prove distinct
     # positions; equal keys (a duplicate, or a rare coincidence) take the full lexsort.
-    key = np.sort(positions[:, 0] + 0.7548776662466927 * positions[:, 1] + 0.5698402909980532 * positions[:, 2])
+    key = positions[:, 0].astype(np.float64)  # x + a·y + b·z, summed in place in that order
+    key += 0.7548776662466927 * positions[:, 1].astype(np.float64)
+    key += 0.5698402909980532 * positions[:, 2].astype(np.float64)
+    key.sort()
     if not np.any(key[1:] == key[:-1]):
-        return np.arange(count, dtype=np.int64)
-    order = np.lexsort((positions[:, 2], positions[:, 1], positions[:, 0]))
-    ordered = positions[order]
+        return np.arange(count, dtype=np.int32)
+    del key
+    x, y, z = (np.asarray(positions[:, k], dtype=np.float64) for k in range(3))
+    order = np.lexsort((z, y, x))
     new = np.empty(count, bool)
     new[:1] = True
-    new[1:] = np.any(ordered[1:] != ordered[:-1], axis=1)
+    new[1:] = (x[order][1:] != x[order][:-1]) | (y[order][1:] != y[order][:-1]) | (z[order][1:] != z[order][:-1])
     if new.all():  # a coincidence of keys, no duplicate: the identity, as above
-        return np.arange(count, dtype=np.int64)
-    welded = np.empty(count, np.int64)
-    welded[order] = np.cumsum(new) - 1
+        return np.arange(count, dtype=np.int32)
+    welded = np.empty(count, np.int32)
+    welded[order] = np.cumsum(new, dtype=np.int32) - 1
     return welded
 
 
@@ -95,41 +145,85 @@ def _components(count: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
             label = jumped
 
 
-def _summed_normals(labels: np.ndarray, corner_faces: np.ndarray | None, unit: np.ndarray, area: np.ndarray, count: int,
-                    spread: list | None = None) -> np.ndarray:
-    """Per label (0..count-1): the normalized sum of the unit normals of the faces of its
-    corners (corner_faces None: every corner, in order); where the sum cancels, the
-    largest face's normal (the seeds' rule)."""
-    if corner_faces is None:
-        # Corner k of every face at once: 9 bincounts over F values are 2x faster than 3
-        # over 3F repeated weights (no (3F,) temporaries).
-        columns = [np.ascontiguousarray(unit[:, j]) for j in range(3)]
-        has_area = (area > 0).astype(float)
-        summed = np.zeros((count, 3))
-        adjacent = np.zeros(count)
-        for k in range(3):
-            corner_labels = np.ascontiguousarray(labels.reshape(-1, 3)[:, k])
-            for j in range(3):
-                summed[:, j] += np.bincount(corner_labels, weights=columns[j], minlength=count)
-            adjacent += np.bincount(corner_labels, weights=has_area, minlength=count)
-        del columns, has_area, corner_labels  # 4 floats a face, not needed below
-    else:
-        summed = np.stack([np.bincount(labels, weights=unit[corner_faces, k], minlength=count) for k in range(3)], axis=1)
-        adjacent = np.bincount(labels, weights=(area[corner_faces] > 0).astype(float), minlength=count)
+def _normalized(summed: np.ndarray, adjacent: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(unit sums, their lengths, cancelled), normalized in place: a sum of k unit vectors
+    shorter than 1e-6·k has cancelled, its direction is noise (left zero here)."""
     length = np.sqrt(np.einsum("ij,ij->i", summed, summed))
-    if spread is not None:  # k − |sum|: how far the k unit normals are from all being equal
-        spread.append(adjacent - length)
-    # A sum of k unit vectors shorter than 1e-6·k has cancelled: its direction is noise.
     good = length > 1e-6 * np.maximum(adjacent, 1.0)
-    result = np.zeros_like(summed)
-    result[good] = summed[good] / length[good, None]
-    cancelled = ~good & (adjacent > 0)
-    if cancelled.any():  # larger faces overwrite smaller ones
-        if corner_faces is None:
-            corner_faces = np.repeat(np.arange(len(unit)), 3)
-        order = np.argsort(area[corner_faces], kind="stable")
-        keep = cancelled[labels[order]] & (area[corner_faces[order]] > 0)
-        result[labels[order][keep]] = unit[corner_faces[order][keep]]
+    np.divide(summed, length[:, None], out=summed, where=good[:, None])
+    summed[~good] = 0.0
+    return summed, length, ~good & (adjacent > 0)
+
+
+def _largest_face_normals(result, cancelled, labels, corner_faces, normals: _FaceNormals) -> None:
+    """Where the sum cancelled, the normal of the largest face around it (the seeds' rule):
+    the corners of those labels sorted by area (stable), larger ones overwriting smaller."""
+    corners = np.flatnonzero(cancelled[labels])
+    face_ids = corners // 3 if corner_faces is None else corner_faces[corners]
+    unit, area = normals.of(face_ids)
+    order = np.argsort(area, kind="stable")
+    keep = area[order] > 0
+    result[labels[corners[order]][keep]] = unit[order][keep]
+
+
+def _mean_normals(normals: _FaceNormals, welded_faces, count: int):
+    """Per welded vertex: the normalized sum of its faces' unit normals (the seeds' rule),
+    k − |sum| (how far its k unit normals are from all being equal), and the faces without
+    area. One pass over blocks of faces: no per-face array is kept.
+
+    The sums are bit for bit those of summing every face in order per corner slot k, then
+    the three slots (np.add.at continues a block where the last one stopped, exactly as one
+    np.bincount over all faces would): the normals do not depend on the block size."""
+    adjacent = np.zeros(count)
+    degenerate = []
+    # Slot 0 sums straight into `summed` (0 + its sum is its sum); slot 1, then slot 2, are
+    # added to it when complete. Slots 0 and 1 take one pass over the faces and slot 2 a
+    # second (face normals computed twice): six per-vertex arrays alive at most, not nine.
+    # Small meshes, whose sums cost little memory, take all three slots in one pass.
+    passes = ((0, 1, 2),) if count * 72 <= ONE_PASS_BYTES else ((0, 1), (2,))
+    summed = np.zeros((3, count))  # component j of the sum: summed[j]
+    # A small mesh keeps its face normals: all faces are one block, and a bincount is the
+    # same sum as add.at into zeros, and faster.
+    block = max(len(welded_faces), 1) if normals.kept is not None else FACE_BLOCK
+    if block >= len(welded_faces):
+        def add_at(sums, labels, weights):
+            sums += np.bincount(labels, weights=weights, minlength=count)
+    else:
+        add_at = np.add.at
+    for slots in passes:
+        sums = {k: summed if k == 0 else np.zeros((3, count)) for k in slots}
+        for start in range(0, len(welded_faces), block):
+            unit, area = normals.of(slice(start, start + block))
+            unit = [np.ascontiguousarray(unit[:, j]) for j in range(3)]  # add.at's fast path: contiguous, same types
+            labels = welded_faces[start : start + block].astype(np.intp)
+            for k in slots:
+                corner_labels = np.ascontiguousarray(labels[:, k])
+                for j in range(3):
+                    add_at(sums[k][j], corner_labels, unit[j])
+            if 0 in slots:  # faces with area around each vertex: whole numbers, exact in any order
+                has_area = (area > 0).astype(np.float64)
+                for slot in range(3):
+                    add_at(adjacent, np.ascontiguousarray(labels[:, slot]), has_area)
+                degenerate.append(np.flatnonzero(area <= 0) + start)
+        for k in slots:  # ((slot 0) + slot 1) + slot 2: one bincount per slot, added in turn
+            if k:
+                summed += sums.pop(k)
+    summed = np.ascontiguousarray(summed.T)
+    mean_normal, length, cancelled = _normalized(summed, adjacent)
+    if cancelled.any():
+        _largest_face_normals(mean_normal, cancelled, welded_faces.reshape(-1), None, normals)
+    return mean_normal, adjacent - length, np.concatenate(degenerate)
+
+
+def _fan_normals(labels, corner_faces, normals: _FaceNormals, count: int) -> np.ndarray:
+    """Per fan label (0..count-1): the normalized sum of the unit normals of the faces of
+    its corners; where it cancels, the largest face's normal."""
+    unit, area = normals.of(corner_faces)
+    summed = np.stack([np.bincount(labels, weights=unit[:, k], minlength=count) for k in range(3)], axis=1)
+    adjacent = np.bincount(labels, weights=(area > 0).astype(float), minlength=count)
+    result, _, cancelled = _normalized(summed, adjacent)
+    if cancelled.any():
+        _largest_face_normals(result, cancelled, labels, corner_faces, normals)
     return result
 
 
@@ -144,18 +238,21 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     face normal is more than half the crease angle from the vertex's mean normal; at all
     other vertices no two faces can be a crease apart, so their faces form one fan. On a
     smooth scan that is no vertex at all.
+
+    Memory: positions and faces are used in the types they come in (float32 and 32-bit
+    indices from the loaders), and no per-face array of normals is kept: they are computed
+    for a block of faces at a time, and again for the few faces the crease analysis looks
+    at. The per-vertex sums are the largest arrays (docs/reliability.md).
     """
-    positions = np.asarray(positions, dtype=np.float64)
-    faces = np.asarray(faces, dtype=np.int64)
-    vertex_count, face_count = len(positions), len(faces)
+    positions, faces = _float_positions(positions), _indices(faces)
+    vertex_count = len(positions)
     welded = weld_by_position(positions)
     welded_count = int(welded.max()) + 1
     # Already welded (weld_by_position returns the identity then): no (F, 3) gather.
     welded_faces = faces if welded_count == vertex_count else welded[faces]
     corner_welded = welded_faces.reshape(-1)
-    unit, area = face_normals(positions, faces)
-    spread: list = []
-    mean_normal = _summed_normals(corner_welded, None, unit, area, welded_count, spread)
+    normals = _FaceNormals(positions, faces)
+    mean_normal, spread, degenerate = _mean_normals(normals, welded_faces, welded_count)
     flat = None if flat_faces is None or not np.any(flat_faces) else np.asarray(flat_faces, bool)
     label = corner_welded  # a fan per welded vertex (index into `table`)
     table = mean_normal
@@ -166,28 +263,30 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         # Cheap exact pre-test: with k unit normals of sum S around a vertex, each one's
         # cosine to the mean is at least |S| − (k − 1); so k − |S| <= 1 − cos(half) clears
         # the vertex without looking at its corners (every vertex of a smooth scan).
-        maybe = spread[0] > (1.0 - math.cos(half)) - 1e-9
+        maybe = spread > (1.0 - math.cos(half)) - 1e-9
+        del spread
         near_crease = np.zeros(welded_count, bool)
         if maybe.any():
             corners = np.flatnonzero(maybe[corner_welded])  # only their corners: the exact test
-            corner_vertex = corner_welded[corners]
-            lean = np.einsum("ij,ij->i", mean_normal[corner_vertex], unit[corners // 3])
-            near_crease[corner_vertex[lean < math.cos(half) - 1e-9]] = True
-        degenerate = np.flatnonzero(area <= 0)
+            for start in range(0, len(corners), FACE_BLOCK):
+                block = corners[start : start + FACE_BLOCK]
+                corner_vertex = corner_welded[block]
+                unit, _ = normals.of(block // 3)
+                lean = np.einsum("ij,ij->i", mean_normal[corner_vertex], unit)
+                near_crease[corner_vertex[lean < math.cos(half) - 1e-9]] = True
         if len(degenerate):
             near_crease[welded_faces[degenerate].reshape(-1)] = True
         if flat is not None:
             near_crease[welded_faces[flat].reshape(-1)] = True
         if near_crease.any():
-            corner_faces = np.repeat(np.arange(face_count), 3)
-            label = _fan_labels(welded_faces, near_crease, unit, area, crease_angle, flat, corner_faces, welded_count)
+            label = _fan_labels(welded_faces, near_crease, normals, crease_angle, flat, welded_count)
             extra = int(label.max()) + 1 - welded_count
             if extra > 0:
                 crease_corners = np.flatnonzero(label >= welded_count)
-                fan_normals = _summed_normals(label[crease_corners] - welded_count, corner_faces[crease_corners], unit, area, extra)
+                fan_normals = _fan_normals(label[crease_corners] - welded_count, crease_corners // 3, normals, extra)
                 table = np.vstack([mean_normal, fan_normals])
     if label is corner_welded:  # one fan per welded vertex: every given vertex takes its vertex's
-        return None, faces.astype(np.uint32), table[welded]
+        return None, _uint32(faces), table if welded_count == vertex_count else table[welded]  # welded: the identity, or not
     flat_corners = faces.reshape(-1)
     # Does every given vertex lie in exactly one fan? Then no vertex needs splitting.
     vertex_fan = np.full(vertex_count, -1, np.int64)
@@ -196,15 +295,19 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         normals = np.zeros((vertex_count, 3))
         used = vertex_fan >= 0
         normals[used] = table[vertex_fan[used]]
-        return None, faces.astype(np.uint32), normals
-    key = flat_corners * len(table) + label
+        return None, _uint32(faces), normals
+    key = flat_corners.astype(np.int64) * len(table) + label
     unique_keys, inverse = np.unique(key, return_inverse=True)
     source = unique_keys // len(table)
     normals = table[unique_keys % len(table)]
     return source, inverse.reshape(-1, 3).astype(np.uint32), normals
 
 
-def _fan_labels(welded_faces, near_crease, unit, area, crease_angle, flat, corner_faces, welded_count) -> np.ndarray:
+def _uint32(faces: np.ndarray) -> np.ndarray:
+    return faces if faces.dtype == np.uint32 else faces.astype(np.uint32)
+
+
+def _fan_labels(welded_faces, near_crease, normals: _FaceNormals, crease_angle, flat, welded_count) -> np.ndarray:
     """Per corner: its welded vertex where that vertex is far from creases, else
     welded_count + a compact id of its fan (connected corners around the vertex)."""
     corner_welded = welded_faces.reshape(-1)
@@ -214,7 +317,7 @@ def _fan_labels(welded_faces, near_crease, unit, area, crease_angle, flat, corne
     cos_crease = math.cos(math.radians(max(crease_angle, 0.0)))
     if crease_angle <= 0.0:
         cos_crease = 1.0 - 1e-12  # 0°: only (numerically) coplanar neighbours join
-    left, right = _smooth_corner_pairs_of(involved, start, end, unit, area, cos_crease, flat)
+    left, right = _smooth_corner_pairs_of(involved, start, end, normals, cos_crease, flat)
     keep = near_crease[start[left]]  # join corners only at the vertices being analysed
     left, right = left[keep], right[keep]
     analysed = np.flatnonzero(near_crease[corner_welded])
@@ -227,10 +330,10 @@ def _fan_labels(welded_faces, near_crease, unit, area, crease_angle, flat, corne
     return label
 
 
-def _smooth_corner_pairs_of(halfedges, start, end, unit, area, cos_crease, flat):
+def _smooth_corner_pairs_of(halfedges, start, end, normals: _FaceNormals, cos_crease, flat):
     """Pairs of corners (3·face + k) joined by the smooth edges among `halfedges`."""
     low, high = np.minimum(start[halfedges], end[halfedges]), np.maximum(start[halfedges], end[halfedges])
-    key = low * (int(high.max()) + 1 if len(high) else 1) + high
+    key = low.astype(np.int64) * (int(high.max()) + 1 if len(high) else 1) + high  # ids are 32-bit: the product is not
     order = np.argsort(key, kind="stable")
     sorted_key = key[order]
     run_start = np.ones(len(sorted_key), bool)
@@ -240,8 +343,11 @@ def _smooth_corner_pairs_of(halfedges, start, end, unit, area, cos_crease, flat)
     first = np.flatnonzero(run_start & (run_length[run_id] == 2))  # manifold: exactly two
     h1, h2 = halfedges[order[first]], halfedges[order[first + 1]]
     f1, f2 = h1 // 3, h2 // 3
-    smooth = (area[f1] > 0) & (area[f2] > 0) & (f1 != f2)
-    smooth &= np.einsum("ij,ij->i", unit[f1], unit[f2]) >= cos_crease
+    unit1, area1 = normals.of(f1)
+    unit2, area2 = normals.of(f2)
+    smooth = (area1 > 0) & (area2 > 0) & (f1 != f2)
+    smooth &= np.einsum("ij,ij->i", unit1, unit2) >= cos_crease
+    del unit1, unit2
     if flat is not None:
         smooth &= ~(flat[f1] | flat[f2])
     h1, h2 = h1[smooth], h2[smooth]

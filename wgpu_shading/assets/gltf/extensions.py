@@ -14,7 +14,6 @@ import numpy as np
 
 from ...errors import MeshError
 from .materials import SPECULAR_GLOSSINESS as _SPECULAR_GLOSSINESS
-from .materials import gltf_material  # noqa: F401 (the loader's entry point for materials)
 
 
 # Every extension some part of the reader implements: a file may list these in

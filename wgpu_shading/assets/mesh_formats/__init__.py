@@ -1,4 +1,5 @@
-"""Readers of the mesh file formats that are not glTF (glTF: assets/gltf/): OBJ with its MTL
-materials (obj.py, mtl.py), OFF (off.py), binary STL (stl.py); checks.py holds the size,
-header-count and text-encoding checks made before a file is read. PLY and ASCII STL are
-read through trimesh (assets/meshes.py)."""
+"""Readers of the mesh file formats that are not glTF (glTF: assets/gltf/), each returning a
+MeshFile (assets/mesh_pieces.py) and listed by suffix in assets/meshes.py MESH_READERS:
+OBJ with its MTL materials (obj.py, mtl.py), OFF (off.py), STL (stl.py: binary with numpy,
+ASCII through trimesh), PLY through trimesh (trimesh_reader.py); checks.py holds the size,
+header-count and text-encoding checks made before a file is read."""

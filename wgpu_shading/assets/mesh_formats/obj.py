@@ -22,9 +22,9 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
-from ...scene.material import Material
 from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
+from ..mesh_pieces import MeshFile, MeshPiece
 from .mtl import read_mtl_files
 
 
@@ -39,17 +39,6 @@ class _Run:
     normal_count: int
     first_line: int
     lines: list[str] = field(default_factory=list)
-
-
-@dataclass
-class ObjData:
-    positions: np.ndarray  # (N, 3) float64, one per distinct (v, vt, vn) corner
-    faces: np.ndarray  # (F, 3) int64, sorted by material
-    uvs: np.ndarray | None
-    normals: np.ndarray | None
-    colors: np.ndarray | None
-    flat: np.ndarray  # (F,) bool: under `s off` / `s 0`
-    parts: list[tuple[int, int, Material | None, str]]  # first face, count, material, name
 
 
 def _numbers(text: str, dtype) -> np.ndarray | None:
@@ -254,7 +243,9 @@ def _with_newlines(data: bytes) -> bytes:
     return data
 
 
-def read_obj(path: Path) -> ObjData:
+def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
+    """An OBJ file with its MTL materials, as one piece (file_size: the readers' signature;
+    the text's own counts are checked instead)."""
     data = _without_indentation(_with_newlines(_without_byte_order_mark(read_text_bytes(path, f"mesh file {str(path)!r}", MeshError))))
     name = str(path)
     # Classify every line by its first two bytes, in numpy (a Python loop over millions of
@@ -365,4 +356,5 @@ def read_obj(path: Path) -> ObjData:
             warnings.warn(f"{name}: 'usemtl {material_name}' names no material of {', '.join(libraries)}; its faces drawn without it", stacklevel=2)
         parts.append((start, int(count), materials.get(material_name) if material_name else None, material_name))
         start += int(count)
-    return ObjData(positions, faces, uvs, normals, colors, flat_faces, parts)
+    # one piece: a vertex per distinct (v, vt, vn) corner, faces sorted by material, flat under `s off`
+    return MeshFile([MeshPiece(positions, faces, normals, uvs, colors, flat_faces, parts=parts)])

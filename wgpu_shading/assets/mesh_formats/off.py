@@ -27,13 +27,14 @@ import numpy as np
 
 from ...errors import MeshError
 from ..files import read_text_bytes
+from ..mesh_pieces import MeshFile, MeshPiece, with_face_colors
 from .checks import check_declared_counts
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
 
 
 @dataclass
-class OffData:
+class _OffArrays:
     positions: np.ndarray
     faces: np.ndarray
     normals: np.ndarray | None
@@ -52,7 +53,14 @@ class _Header:
     offset: int  # where the next line starts in the text
 
 
-def read_off(path: Path, file_size: int) -> OffData:
+def read_off(path: Path, file_size: int) -> MeshFile:
+    """An OFF file as one piece, its face colours given each face's own corners."""
+    off = _read_arrays(path, file_size)
+    piece = MeshPiece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])
+    return MeshFile([piece if off.face_colors is None else with_face_colors(piece, off.face_colors)])
+
+
+def _read_arrays(path: Path, file_size: int) -> _OffArrays:
     where = f"mesh file {str(path)!r}"
     data = read_text_bytes(path, where, MeshError)  # a NUL byte: refused at once (2 GB of NULs took minutes)
     try:
@@ -82,7 +90,7 @@ def read_off(path: Path, file_size: int) -> OffData:
         column += 4
     if has_uvs:
         uvs = vertices[:, column : column + 2]
-    return OffData(vertices[:, :3], faces, normals, colors, uvs, face_colors if colors is None else None)
+    return _OffArrays(vertices[:, :3], faces, normals, colors, uvs, face_colors if colors is None else None)
 
 
 def _header(text: str, where: str) -> _Header:
@@ -135,7 +143,7 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
     return np.clip(colors, 0.0, 1.0)
 
 
-def _triangles_only(text: str, header: _Header) -> OffData | None:
+def _triangles_only(text: str, header: _Header) -> _OffArrays | None:
     """The common file read in one split: plain OFF, no comments, every face a triangle
     without a colour (4 tokens each, wherever the lines break). None for anything else,
     which the line-aware reader below handles (a colour after a face's indices can only be
@@ -154,7 +162,7 @@ def _triangles_only(text: str, header: _Header) -> OffData | None:
         return None
     if len(triangles) and (triangles.min() < 0 or triangles.max() >= vertex_count):
         return None
-    return OffData(vertices, triangles, None, None, None)
+    return _OffArrays(vertices, triangles, None, None, None)
 
 
 class _Tokens:

@@ -38,10 +38,13 @@ from .reading import (
     read_color,
     read_crease_angle,
     read_direction,
+    read_animation_index,
     read_float,
+    read_index,
     read_lights,
     read_material,
     read_samples,
+    read_seconds,
     read_shadow_bias,
     read_shadow_map_size,
     read_shininess,
@@ -66,6 +69,9 @@ class ViewOption:
     example:  a value that changes the picture of a plain scene (the tests draw it)
     flags:    command-line flags taking a value (flags[0] is the one render_command writes)
     switches: flags without a value, each storing its constant: (flag, constant, help)
+    aliases:  older spellings, (alias, the flag or switch it stands for): they work, but
+              --help and the docs' table show one spelling per meaning and render_command
+              never writes them (docs/view-options.md lists them)
     column:   the manifest column (default: the key's last word, else the name)
     to_scene: turns the option's value into the Scene's (a material name into a Material)
     load:     None, "mesh" or "frame" (module docstring)"""
@@ -77,6 +83,7 @@ class ViewOption:
     example: Any
     flags: tuple[str, ...] = ()
     switches: tuple[tuple[str, Any, str], ...] = ()
+    aliases: tuple[tuple[str, str], ...] = ()
     metavar: str | None = None
     column: str = ""
     group: str = ""
@@ -88,6 +95,8 @@ class ViewOption:
         section = self.section
         assert section in SECTIONS or section is None, f"{self.name}: key {self.key!r} names no scene section"
         assert self.load in LOAD_KINDS, f"{self.name}: load {self.load!r}"
+        current = self.flags + tuple(flag for flag, _, _ in self.switches)
+        assert all(target in current for _, target in self.aliases), f"{self.name}: an alias stands for no flag of its own"
         if not self.column:
             object.__setattr__(self, "column", self.key.rpartition(".")[2] if self.key else self.name)
         if not self.group:
@@ -112,7 +121,16 @@ class ViewOption:
 
     @property
     def all_flags(self) -> tuple[str, ...]:
-        return self.flags + tuple(flag for flag, _, _ in self.switches)
+        """Every spelling that works: flags, switches and aliases."""
+        return self.flags + tuple(flag for flag, _, _ in self.switches) + tuple(alias for alias, _ in self.aliases)
+
+    def switch_constant(self, flag: str) -> tuple[bool, Any]:
+        """(whether `flag` is a switch, the constant it stores), aliases followed."""
+        flag = dict(self.aliases).get(flag, flag)
+        for switch, constant, _ in self.switches:
+            if switch == flag:
+                return True, constant
+        return False, None
 
 
 def _positive(value: Any, where: str) -> float:
@@ -133,14 +151,15 @@ _CLAMP = "flat/Gouraud: clamp each vertex's color before interpolation, as OpenG
 # Table order is the order of application (docs/view-options.md).
 VIEW_OPTIONS: tuple[ViewOption, ...] = (
     _O("size", read_size, "output.size", "image size, WIDTHxHEIGHT, WIDTH,HEIGHT or SIZE (default: the scene's, or 512)", (40, 32),
-       flags=("--size", "--resolution"), metavar="SIZE", load="frame"),
+       flags=("--size",), aliases=(("--resolution", "--size"),), metavar="SIZE", load="frame"),
     _O("samples", read_samples, "output.samples", "antialiasing: 4 = MSAA with 4 samples per pixel (default: the scene's, 1)", 4,
        flags=("--samples",), metavar="{1,4}"),
     _O("background", read_color, "output.background", "background color, components 0..1", (0.2, 0.3, 0.4),
        flags=("--background-color",), metavar="R,G,B[,A]"),
     _O("transparent", read_bool, "output.transparent", _TRANSPARENT, True,
-       switches=(("--no-background", True, _TRANSPARENT), ("--transparent", True, "the same as --no-background"),
-                 ("--no-transparent", False, "opaque background (alpha 1), whatever the scene file says"))),
+       switches=(("--transparent", True, _TRANSPARENT),
+                 ("--no-transparent", False, "opaque background (alpha 1), whatever the scene file says")),
+       aliases=(("--no-background", "--transparent"),)),
     _O("material", read_material, "objects.material", "material name for every object (see `wgpu-shading materials`)", "silver",
        flags=("--material",), metavar="NAME", to_scene=named_material),
     _O("shininess", read_shininess, "objects.material.shininess", "specular exponent of every object's material(s), 0..1e6", 3.0,
@@ -169,6 +188,17 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        flags=("--crease-angle",), metavar="DEG", load="mesh"),
     _O("up", read_up, "objects.up", "the mesh files' up axis: +Y (default), -Y, +Z, -Z, +X, -X (like f3d)", "+Z",
        flags=("--up",), metavar="AXIS", load="frame"),
+    _O("animation_time", read_seconds, "objects.animation_time",
+       "glTF: draw the file as its animation poses it at this time (node transforms, skins, morph weights; f3d's "
+       "--animation-time; default: unanimated)", 0.5, flags=("--animation-time",), metavar="SECONDS", load="mesh"),
+    _O("animation_index", read_animation_index, "objects.animation_index",
+       "glTF: the animation --animation-time and `animate` play: 0 (default), 1, ... or all (every one at once); "
+       "alone, the animation's start", 1,
+       flags=("--animation-index",), metavar="N", load="mesh"),
+    _O("camera_index", read_index, None,
+       "glTF: view the file through its own camera N (perspective or orthographic, where its node puts it, like f3d's "
+       "--camera-index); the --camera-* options then move it", 0, flags=("--camera-index",), metavar="N", group="camera",
+       load="frame"),
     _O("camera_position", read_vector, "camera.eye", "the eye", (2.0, 1.0, 5.0), flags=("--camera-position",), metavar="X,Y,Z"),
     _O("camera_focal_point", read_vector, "camera.target", "the point looked at", (0.3, 0.2, 0.1),
        flags=("--camera-focal-point",), metavar="X,Y,Z"),
@@ -190,9 +220,11 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
     _O("camera_ortho_height", read_float, "camera.ortho_height", "orthographic view height in world units (implies --camera-orthographic)",
        8.0, flags=("--camera-ortho-height",), metavar="H"),
     _O("camera_azimuth", read_float, "camera.azimuth", "turn the camera about the up vector through the target, after the options above",
-       40.0, flags=("--camera-azimuth-angle", "--camera-azimuth"), metavar="DEG"),
+       40.0, flags=("--camera-azimuth-angle",),
+       aliases=(("--camera-azimuth", "--camera-azimuth-angle"),), metavar="DEG"),
     _O("camera_elevation", read_float, "camera.elevation", "raise the camera about its right axis through the target, after the azimuth",
-       -30.0, flags=("--camera-elevation-angle", "--camera-elevation"), metavar="DEG"),
+       -30.0, flags=("--camera-elevation-angle",),
+       aliases=(("--camera-elevation", "--camera-elevation-angle"),), metavar="DEG"),
     _O("camera_distance", _positive, "camera.distance", "then move the eye along its line of sight to this distance from the target",
        9.0, flags=("--camera-distance",), metavar="D"),
     _O("lights", read_lights, "lights", f"replace the lights (repeat for more): {LIGHT_SYNTAX}",

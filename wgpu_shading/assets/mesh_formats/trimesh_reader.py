@@ -1,0 +1,113 @@
+"""PLY and ASCII STL, read through trimesh: its reading turned into one MeshFile, its
+exceptions into one-line MeshErrors, a PLY header's counts checked against the file's size
+before trimesh allocates them (checks.py)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import MeshError
+from ..mesh_pieces import MeshFile, MeshPiece, with_face_colors
+from .checks import describe_load_error, ply_declared_counts, text_source
+
+
+def read_with_trimesh(path: Path, file_size: int) -> MeshFile:
+    """A PLY or an ASCII STL file (assets/meshes.py's reader for .ply; stl.py's for ASCII)."""
+    return MeshFile([_trimesh_piece(path, file_size)])
+
+
+def _load_trimesh(path: Path, file_size: int | None = None, content: bytes | None = None, **options):
+    """trimesh's reading of `path` (or of `content`, the file rewritten, resolving its
+    other files next to `path`), its exceptions turned into one-line MeshErrors."""
+    import io
+
+    import trimesh  # lazy: trimesh costs ~0.3 s to import
+
+    where = f"mesh file {str(path)!r}"
+    try:
+        # Text formats are decoded here (UTF-8, else Latin-1): trimesh's own fallback needs
+        # the optional charset_normalizer.
+        source = text_source(path, where, file_size) if file_size is not None else None
+        if content is not None:
+            source = io.BytesIO(content)
+        if source is None:
+            return trimesh.load(str(path), process=False, **options)
+        resolver = trimesh.resolvers.FilePathResolver(str(path))
+        return trimesh.load(source, file_type=path.suffix.lower().lstrip("."), process=False, resolver=resolver, **options)
+    except MeshError:
+        raise
+    except IndexError as error:  # trimesh indexes vertices with the file's face indices
+        raise MeshError(f"{where}: a face refers to a vertex that does not exist ({error})") from None
+    except (Exception, RecursionError) as error:  # trimesh raises many exception types for malformed files
+        raise MeshError(f"{where}: {describe_load_error(error, path)}") from None
+
+
+def _file_normals(geometry) -> np.ndarray | None:
+    """Normals the file gave (trimesh caches them only then); never trimesh's computed ones,
+    which take minutes on big meshes without scipy."""
+    normals = geometry._cache.cache.get("vertex_normals")
+    if normals is not None and np.shape(normals) == np.shape(geometry.vertices):
+        return np.asarray(normals, dtype=np.float64)
+    return None
+
+
+def _trimesh_piece(path: Path, file_size: int) -> MeshPiece:
+    import trimesh
+
+    # A PLY header's counts are checked against the file size before trimesh allocates them.
+    declared = ply_declared_counts(path, f"mesh file {str(path)!r}", file_size) if path.suffix.lower() == ".ply" else None
+    loaded = _load_trimesh(path, file_size)
+    if isinstance(loaded, trimesh.Scene):
+        geometries = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
+        if not geometries:
+            raise MeshError(f"mesh file {str(path)!r}: contains no triangles (no mesh in the file)")
+        # Several bodies (an ASCII STL with several `solid`s, as CAD tools export
+        # assemblies): one mesh, as f3d and every slicer show them; STL/OFF/PLY carry no
+        # materials that could tell the bodies apart.
+        loaded = geometries[0] if len(geometries) == 1 else trimesh.util.concatenate(geometries)
+    if isinstance(loaded, trimesh.PointCloud):
+        raw = loaded.metadata.get("_ply_raw", {}) if isinstance(loaded.metadata, dict) else {}
+        if "tristrips" in raw:
+            raise MeshError(f"mesh file {str(path)!r}: the PLY has triangle strips (element 'tristrips'), not faces; only 'face' elements are supported")
+        raise MeshError(f"mesh file {str(path)!r}: a point cloud ({len(loaded.vertices)} vertices, no faces); nothing to shade")
+    if not isinstance(loaded, trimesh.Trimesh):
+        raise MeshError(f"mesh file {str(path)!r}: contains no triangles (found {type(loaded).__name__})")
+    positions = np.asarray(loaded.vertices, dtype=np.float64)
+    faces = np.asarray(loaded.faces, dtype=np.int64)
+    visual = loaded.visual
+    uvs = getattr(visual, "uv", None)
+    uvs = np.asarray(uvs, dtype=np.float64) if uvs is not None and len(uvs) == len(positions) else None
+    colors, face_colors = None, None
+    kind = getattr(visual, "kind", None)
+    if isinstance(visual, trimesh.visual.ColorVisuals):
+        if kind == "vertex":
+            colors = np.asarray(visual.vertex_colors)
+        elif kind == "face":
+            face_colors = np.asarray(visual.face_colors)  # no scipy: expanded below, never averaged
+    else:  # TextureVisuals keep PLY colors as attributes
+        vertex_attribute = getattr(visual, "vertex_attributes", {}).get("color")
+        face_attribute = loaded.face_attributes.get("color") if hasattr(loaded, "face_attributes") else None
+        if vertex_attribute is not None and len(vertex_attribute) == len(positions):
+            colors = np.asarray(vertex_attribute)
+        elif face_attribute is not None and len(face_attribute) == len(faces):
+            face_colors = np.asarray(face_attribute)
+    if declared is not None and (len(positions) < declared[0] or len(faces) < declared[1]):
+        # Polygons become one or more triangles each, so a whole file has at least as many.
+        raise MeshError(
+            f"mesh file {str(path)!r}: truncated: the header declares {declared[0]} vertices and {declared[1]} faces, "
+            f"the file holds {len(positions)} vertices and {len(faces)} triangles"
+        )
+    normals = _file_normals(loaded)
+    piece = MeshPiece(positions, faces, normals, uvs, None if colors is None else _unit_colors(colors), parts=[(0, len(faces), None, path.name)])
+    return piece if face_colors is None else with_face_colors(piece, _unit_colors(face_colors))
+
+
+def _unit_colors(colors: np.ndarray) -> np.ndarray:
+    colors = np.asarray(colors)
+    scale = 255.0 if colors.dtype.kind in "iu" else 1.0
+    colors = colors.astype(np.float64) / scale
+    if colors.shape[1] == 3:
+        colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
+    return colors[:, :4]
