@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 
 from ..errors import SceneError
 from ..scene.maps import MAP_FIELDS
-from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight
+from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight, has_shadows
 
 
 @dataclass(frozen=True)
@@ -58,6 +58,12 @@ class FeatureSet:
     uv_sets: tuple[tuple[str, int], ...] = ()
     edges: bool = False
     under_edges: int = 0
+    # Shadows (docs/shadows.md), for a draw that receives them: the first N lights of each
+    # kind cast (the uniforms hold casting lights first), and how their maps are filtered.
+    directional_shadows: int = 0
+    spot_shadows: int = 0
+    positional_shadows: int = 0
+    shadow_filter: str | None = None  # None (no shadow code) | nearest | bilinear | pcf3 | pcf5
 
     def __post_init__(self) -> None:
         if self.primitive != "triangles":
@@ -68,6 +74,13 @@ class FeatureSet:
                        "emission": lit and self.emission, "edges": self.edges and self.primitive == "lines"}
             for key, value in changes.items():
                 object.__setattr__(self, key, value)
+
+    @property
+    def shadow_lights(self) -> int:
+        """The casting lights this draw looks up (0 without a filter: no shadow code)."""
+        if self.shadow_filter is None:
+            return 0
+        return self.directional_shadows + self.spot_shadows + self.positional_shadows
 
     @property
     def map_flags(self) -> tuple[str, ...]:
@@ -123,6 +136,15 @@ class FeatureSet:
             "STROKES": self.primitive != "triangles",
             "POINT_NORMALS": self.point_normals,
             "EDGES": self.edges,
+            "SHADOWS": self.shadow_lights > 0,
+            "SHADOW_LIGHTS": self.shadow_lights,
+            "DIRECTIONAL_SHADOWS": self.shadow_lights > 0 and self.directional_shadows > 0,
+            "SPOT_SHADOWS": self.shadow_lights > 0 and self.spot_shadows > 0,
+            "POSITIONAL_SHADOWS": self.shadow_lights > 0 and self.positional_shadows > 0,
+            "SHADOW_FILTER_NEAREST": self.shadow_filter == "nearest",
+            # flat/Gouraud pass each casting light's ambient-diffuse and specular shares
+            # apart only where the fragment treats the two apart (chunks/shadows/shares.wgsl)
+            "SHADOW_SPLIT": self.specular and (self.texture_mode == "modulate" or self.specular_map),
         }
 
     @property
@@ -175,6 +197,9 @@ class FeatureSet:
             parts.append(f"under_edges={self.under_edges}")
         if self.uv_sets:
             parts.append("uv_sets=[" + ", ".join(f"{name}:{uv_set}" for name, uv_set in self.uv_sets) + "]")
+        if self.shadow_lights:
+            parts.append(f"shadows=[{self.directional_shadows} directional, {self.spot_shadows} spot, "
+                         f"{self.positional_shadows} positional; {self.shadow_filter}]")
         return " ".join(parts)
 
     def scene_part(self) -> "FeatureSet":
@@ -192,7 +217,8 @@ class FeatureSet:
 # What every point and line feature set holds, whatever it was made with.
 _STROKE_FIXED = dict(frequency="phong", texture_mode=None, two_sided=False, cull_back=False, clamp_vertex_colors=False,
                      normal_map=False, bump_map=False, specular_map=False, shininess_map=False, emissive_map=False,
-                     occlusion_map=False, alpha_map=False, vertex_tangents=False, under_edges=0, uv_sets=())
+                     occlusion_map=False, alpha_map=False, vertex_tangents=False, under_edges=0, uv_sets=(),
+                     directional_shadows=0, spot_shadows=0, positional_shadows=0, shadow_filter=None)
 
 
 def _has_attenuation(light: PositionalLight | SpotLight) -> bool:
@@ -246,9 +272,52 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         alpha_map="alpha_map" in maps and material.alpha_mode != "opaque",
         vertex_tangents=obj.mesh.tangents is not None and "normal_map" in maps and per_fragment_normals,
         under_edges=surface_offset(scene),
+        **_shadow_fields(scene, obj, lit),
     )
     uv_sets = texture_uv_sets(features, material, obj.mesh, index)
     return replace(features, uv_sets=uv_sets) if uv_sets else features
+
+
+# The vertex stage passes each casting light's view of the point to the fragment stage
+# (wgsl/chunks/shadows/lookup.wgsl), and flat and Gouraud shading its share of the lit colour
+# too (shares.wgsl): varyings for this many casting lights at most.
+MAX_SHADOW_LIGHTS = 8
+MAX_VERTEX_LIT_SHADOW_LIGHTS = 4
+
+# The kinds of light in the order of the shaders' shadow slots (casting_lights).
+SLOT_KINDS = (DirectionalLight, SpotLight, PositionalLight)
+
+
+def casting_lights(scene: Scene) -> tuple[int, ...]:
+    """The scene's casting lights (indices into scene.lights) in the order a shader numbers
+    them: directional, then spot, then positional lights, each kind in scene order. With
+    shadows, the uniforms' light arrays hold each kind's casting lights first
+    (shaders/uniforms.py), so slot s of a kind is that kind's light s."""
+    if not has_shadows(scene):
+        return ()
+    return tuple(index for kind in SLOT_KINDS for index, light in enumerate(scene.lights)
+                 if light.shadows and type(light) is kind)
+
+
+def _shadow_fields(scene: Scene, obj: SceneObject, lit: bool) -> dict:
+    """The shadow fields of a draw of `obj`: only for a lit receiver in a scene with shadows."""
+    if not (lit and obj.receive_shadows and has_shadows(scene)):
+        return {}
+    casting = [scene.lights[index] for index in casting_lights(scene)]
+    limit = MAX_SHADOW_LIGHTS if scene.shading.frequency == "phong" else MAX_VERTEX_LIT_SHADOW_LIGHTS
+    if len(casting) > limit:
+        shares = "" if scene.shading.frequency == "phong" else " and its share of the colour"
+        raise SceneError(
+            f"shadows: {scene.shading.frequency} shading passes each casting light's view of the point{shares} from "
+            f"the vertex stage to the fragment stage, for at most {limit} casting lights; this scene has "
+            f"{len(casting)} (let fewer lights cast{', or use phong shading' if shares else ''})"
+        )
+    return dict(
+        directional_shadows=sum(type(light) is DirectionalLight for light in casting),
+        spot_shadows=sum(type(light) is SpotLight for light in casting),
+        positional_shadows=sum(type(light) is PositionalLight for light in casting),
+        shadow_filter=scene.shadows.resolved().filter,
+    )
 
 
 # The sampled textures of a draw by the Material field holding each (shaders/bindings.py's names).

@@ -28,6 +28,7 @@ from typing import Any, Callable
 
 from ..camera import PROJECTIONS
 from ..maps import SCENE_COLOR_SPACES
+from ..shadows import AUTO, SHADOW_FILTERS
 from ..material_table import material as named_material
 from ..values import FREQUENCIES, MAX_STROKE_PIXELS, MIN_STROKE_PIXELS, REFLECTIONS
 from .reading import (
@@ -44,6 +45,8 @@ from .reading import (
     read_material,
     read_samples,
     read_seconds,
+    read_shadow_bias,
+    read_shadow_map_size,
     read_shininess,
     read_size,
     read_up,
@@ -51,7 +54,8 @@ from .reading import (
     spell,
 )
 
-SECTIONS = {"output": "[output]", "shading": "[shading]", "camera": "[camera]", "objects": "[[objects]]", "lights": "[[lights]]"}
+SECTIONS = {"output": "[output]", "shading": "[shading]", "camera": "[camera]", "shadows": "[shadows]",
+            "objects": "[[objects]]", "lights": "[[lights]]"}
 LOAD_KINDS = (None, "mesh", "frame")
 
 
@@ -242,6 +246,24 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        9.0, flags=("--camera-distance",), metavar="D"),
     _O("lights", read_lights, "lights", f"replace the lights (repeat for more): {LIGHT_SYNTAX}",
        ("directional:dir=-1,-1,-1:color=1,0.5,0.5",), flags=("--light",), metavar="SPEC", repeated=True),
+    _O("shadows", read_bool, "lights.shadows", "every light casts shadows", True,
+       switches=_switches("--shadows", "every light casts shadows",
+                          "--no-shadows", "no light casts shadows, whatever the scene says")),
+    _O("cast_shadows", read_bool, "objects.cast_shadows", "objects hide the lights that cast shadows from what is behind them", False,
+       switches=_switches("--cast-shadows", "every object casts shadows (the default)",
+                          "--no-cast-shadows", "no object casts shadows")),
+    _O("receive_shadows", read_bool, "objects.receive_shadows", "objects are darkened where a casting light is hidden", False,
+       switches=_switches("--receive-shadows", "every object receives shadows (the default)",
+                          "--no-receive-shadows", "no object receives shadows")),
+    _O("shadow_map_size", read_shadow_map_size, "shadows.map_size",
+       "side of each shadow map in texels, 16..8192, or auto (the accuracy study's choice)", 512,
+       flags=("--shadow-map-size",), metavar="N", column="shadow_map_size"),
+    _O("shadow_filter", read_choice((AUTO,) + SHADOW_FILTERS), "shadows.filter",
+       "how a shadow map is read: the nearest texel, a bilinear comparison, 3×3 or 5×5 PCF, or auto", "pcf3",
+       flags=("--shadow-filter",), metavar=_choices((AUTO,) + SHADOW_FILTERS), column="shadow_filter"),
+    _O("shadow_bias", read_shadow_bias, "shadows.bias",
+       "how far each receiver is moved towards the light, in shadow-map texels (0..64), or auto", 4.0,
+       flags=("--shadow-bias",), metavar="TEXELS", column="shadow_bias"),
     _O("viewer_lights", read_bool, None,
        "a glTF file with its own lights (KHR_lights_punctual) is lit by them; true: by the viewer's key light and headlight instead", True,
        switches=_switches("--viewer-lights", "light a glTF file that has its own lights with the viewer's key light and headlight instead",
