@@ -39,7 +39,6 @@ from .features import FeatureSet, object_features
 from .frames_in_flight import render_many
 from .gpu.device_cache import DeviceCache
 from .gpu.targets import Target
-from .passes.extra_outputs import check_space
 from .passes.frame import frame_passes
 from .passes.frame_context import FrameContext, FramePass
 
@@ -137,6 +136,8 @@ class Renderer:
         color=False leaves out the colour pass when depth is not asked for either."""
         check_scene_argument(scene, "render")
         if normals is not None:
+            from .passes.extra_outputs import check_space  # only frames with normals import that pass
+
             check_space(normals)
         passes = frame_passes(
             scene, color_format="float32" if float32 else "rgba8", color=color, depth=depth, normals=normals, ids=ids,
