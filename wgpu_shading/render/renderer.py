@@ -38,6 +38,7 @@ from .device import default_device, lost_device_errors
 from .features import FeatureSet, object_features
 from .frames_in_flight import render_many
 from .gpu.device_cache import DeviceCache
+from .gpu.vertex_order import SharedOrders
 from .gpu.targets import Target
 from .passes.frame import frame_passes
 from .passes.frame_context import FrameContext, FramePass
@@ -218,6 +219,11 @@ class Renderer:
                     label=f"wgpu-shading batch helper {len(helpers) + 1}", required_features=sorted(self._device.features)
                 )
                 helpers.append(Renderer(device=helper_device))
+            if count > 1 and (self._cache.shared_orders is None or self._cache.shared_orders.devices != len(helpers) + 1):
+                # One meshoptimizer run per mesh for all the devices (render/gpu/vertex_order.py).
+                shared = SharedOrders(len(helpers) + 1)
+                for renderer in (self, *helpers):
+                    renderer.device_cache.shared_orders = shared
             return [self, *helpers[: count - 1]]
 
     def features(self, scene: Scene) -> list[FeatureSet]:
