@@ -126,6 +126,19 @@ def f3d(python: str, source: Path, options: list[str], output: Path) -> str:
     return "" if result.returncode == 0 else (result.stderr.strip().splitlines() or ["error"])[-1]
 
 
+def paste_cell(sheet, draw, corner: tuple[int, int], picture: Path, error: str, size: int) -> None:
+    """One cell of a sheet: the picture, or the error that replaced it, in red on grey."""
+    from PIL import Image
+
+    x, y = corner
+    if error:
+        draw.rectangle([x, y, x + size - 1, y + size - 1], fill=(235, 235, 235))
+        for k in range(0, len(error), 34):
+            draw.text((x + 4, y + 4 + 12 * (k // 34)), error[k : k + 34], fill="red")
+    else:
+        sheet.paste(Image.open(picture).convert("RGB").resize((size, size)), (x, y))
+
+
 def main() -> None:
     from PIL import Image, ImageDraw
 
@@ -154,13 +167,7 @@ def main() -> None:
             for c, (_, run) in enumerate(columns):
                 picture = folder / f"{r}_{c}.png"
                 error = run(source, options, picture)
-                x, y = label_width + c * SIZE, 20 + r * SIZE
-                if error:
-                    draw.rectangle([x, y, x + SIZE - 1, y + SIZE - 1], fill=(235, 235, 235))
-                    for k in range(0, len(error), 34):
-                        draw.text((x + 4, y + 4 + 12 * (k // 34)), error[k : k + 34], fill="red")
-                else:
-                    sheet.paste(Image.open(picture).convert("RGB").resize((SIZE, SIZE)), (x, y))
+                paste_cell(sheet, draw, (label_width + c * SIZE, 20 + r * SIZE), picture, error, SIZE)
         sheet.save(args.output)
     print(f"wrote {args.output}")
 

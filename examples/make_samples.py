@@ -1,4 +1,4 @@
-"""Write the sample meshes of examples/ (knot.obj, gear.ply): procedural, so the project
+"""Write the sample meshes of examples/ (knot.obj, gear.ply, arm.glb): procedural, so the project
 owns them outright (MIT, like the code) and they stay small. Deterministic: running this
 again writes byte-identical files.
 
@@ -73,6 +73,118 @@ def gear(teeth: int = 14, samples_per_tooth: int = 4, thickness: float = 0.35) -
     return np.array(positions), np.array(faces)
 
 
+def _box(lower, upper) -> tuple[np.ndarray, np.ndarray]:
+    """A box with flat faces (4 corners each, counter-clockwise seen from outside)."""
+    (x0, y0, z0), (x1, y1, z1) = lower, upper
+    faces = [((x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)), ((x1, y0, z0), (x0, y0, z0), (x0, y1, z0), (x1, y1, z0)),
+             ((x1, y0, z1), (x1, y0, z0), (x1, y1, z0), (x1, y1, z1)), ((x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)),
+             ((x0, y1, z1), (x1, y1, z1), (x1, y1, z0), (x0, y1, z0)), ((x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1))]
+    positions = np.array([corner for face in faces for corner in face], np.float32)
+    quads = np.arange(24).reshape(6, 4)
+    return positions, np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]).astype(np.uint16)
+
+
+def _quaternion(axis, degrees) -> list[float]:
+    half = math.radians(degrees) / 2.0
+    return [float(v) for v in (*(np.asarray(axis, float) * math.sin(half)), math.cos(half))]
+
+
+def _look_rotation(eye, target) -> list[float]:
+    """The quaternion turning a glTF camera (looking down −Z, +Y up) to look from eye at target."""
+    back = np.asarray(eye, float) - np.asarray(target, float)
+    back /= np.linalg.norm(back)
+    right = np.cross([0.0, 1.0, 0.0], back)
+    right /= np.linalg.norm(right)
+    up = np.cross(back, right)
+    m = np.stack([right, up, back], axis=1)  # columns: the camera's x, y, z in the world
+    w = math.sqrt(max(1.0 + np.trace(m), 0.0)) / 2.0
+    return [float((m[2, 1] - m[1, 2]) / (4 * w)), float((m[0, 2] - m[2, 0]) / (4 * w)), float((m[1, 0] - m[0, 1]) / (4 * w)), w]
+
+
+def arm() -> bytes:
+    """arm.glb: a base and an arm of two segments bent by a skin, with two animations (0
+    "wave": the elbow swings ±70° over 4 s; 1 "turn": the whole arm turns about Y over
+    4 s) and a camera, for `--animation-time`, `animate` and `--camera-index`
+    (docs/animation.md). A GLB: the JSON chunk, then the binary one."""
+    import json
+    import struct
+
+    blob = bytearray()
+    views, accessors = [], []
+
+    def add(array: np.ndarray, kind: str, component: int, bounds: bool = False) -> int:
+        while len(blob) % 4:
+            blob.append(0)
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes})
+        blob.extend(np.ascontiguousarray(array).tobytes())
+        accessor = {"bufferView": len(views) - 1, "componentType": component, "count": len(array), "type": kind}
+        if bounds:
+            accessor |= {"min": array.min(axis=0).reshape(-1).tolist(), "max": array.max(axis=0).reshape(-1).tolist()}
+        accessors.append(accessor)
+        return len(accessors) - 1
+
+    base, base_faces = _box((-0.5, 0.0, -0.5), (0.5, 0.2, 0.5))
+    rings = np.linspace(0.2, 2.2, 11)
+    bar = np.array([[x, y, z] for y in rings for x, z in ((-0.12, -0.12), (0.12, -0.12), (0.12, 0.12), (-0.12, 0.12))], np.float32)
+    bar_faces = []
+    for k in range(len(rings) - 1):
+        for i in range(4):
+            a, b = k * 4 + i, k * 4 + (i + 1) % 4
+            bar_faces += [[a, a + 4, b + 4], [a, b + 4, b]]
+    top = (len(rings) - 1) * 4
+    bar_faces += [[0, 1, 2], [0, 2, 3], [top, top + 2, top + 1], [top, top + 3, top + 2]]
+    elbow = np.clip((bar[:, 1] - 1.0) / 0.4, 0.0, 1.0)  # blended over 1.0..1.4 around the elbow at 1.2
+    weights = np.stack([1.0 - elbow, elbow, 0 * elbow, 0 * elbow], axis=1).astype(np.float32)
+    joints = np.tile(np.array([0, 1, 0, 0], np.uint16), (len(bar), 1))
+    inverse_bind = np.stack([np.eye(4), np.eye(4)])
+    inverse_bind[0, 1, 3], inverse_bind[1, 1, 3] = -0.2, -1.2
+    float_, ushort = 5126, 5123
+    meshes = [
+        {"name": "base", "primitives": [{"attributes": {"POSITION": add(base, "VEC3", float_, True)},
+                                         "indices": add(base_faces.reshape(-1), "SCALAR", ushort), "material": 0}]},
+        {"name": "arm", "primitives": [{"attributes": {"POSITION": add(bar, "VEC3", float_, True), "JOINTS_0": add(joints, "VEC4", ushort),
+                                                       "WEIGHTS_0": add(weights, "VEC4", float_)},
+                                        "indices": add(np.array(bar_faces, np.uint16).reshape(-1), "SCALAR", ushort), "material": 1}]},
+    ]
+    skin = {"joints": [2, 3], "inverseBindMatrices": add(inverse_bind.transpose(0, 2, 1).reshape(2, 16).astype(np.float32), "MAT4", float_)}
+    times = add(np.array([[0.0], [1.0], [2.0], [3.0], [4.0]], np.float32), "SCALAR", float_, True)
+    wave = add(np.array([_quaternion((0, 0, 1), d) for d in (0, 70, 0, -70, 0)], np.float32), "VEC4", float_)
+    turn = add(np.array([_quaternion((0, 1, 0), d) for d in (0, 90, 180, 270, 360)], np.float32), "VEC4", float_)
+    document = {
+        "asset": {"version": "2.0", "generator": "wgpu-shading examples/make_samples.py"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 5]}],
+        "nodes": [
+            {"name": "root", "children": [1, 2, 4]},
+            {"name": "base", "mesh": 0},
+            {"name": "shoulder", "translation": [0.0, 0.2, 0.0], "children": [3]},
+            {"name": "elbow", "translation": [0.0, 1.0, 0.0]},
+            {"name": "arm", "mesh": 1, "skin": 0},
+            {"name": "camera", "camera": 0, "translation": [2.5, 1.8, 3.5], "rotation": _look_rotation((2.5, 1.8, 3.5), (0.0, 1.0, 0.0))},
+        ],
+        "meshes": meshes,
+        "skins": [skin],
+        "materials": [
+            {"name": "steel", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.55, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5}},
+            {"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.35, 0.05, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.4}},
+        ],
+        "animations": [
+            {"name": "wave", "samplers": [{"input": times, "output": wave}], "channels": [{"sampler": 0, "target": {"node": 3, "path": "rotation"}}]},
+            {"name": "turn", "samplers": [{"input": times, "output": turn}], "channels": [{"sampler": 0, "target": {"node": 0, "path": "rotation"}}]},
+        ],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1, "zfar": 50.0}}],
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": len(blob)}],
+    }
+    while len(blob) % 4:
+        blob.append(0)
+    text = json.dumps(document, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 4)
+    chunks = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(blob), b"BIN\0") + bytes(blob)
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
+
+
 def main() -> None:
     import trimesh
 
@@ -85,6 +197,7 @@ def main() -> None:
     positions, faces = gear()
     mesh = trimesh.Trimesh(positions, faces, process=False)
     (HERE / "gear.ply").write_bytes(trimesh.exchange.ply.export_ply(mesh, encoding="binary", vertex_normal=False))
+    (HERE / "arm.glb").write_bytes(arm())
 
 
 if __name__ == "__main__":

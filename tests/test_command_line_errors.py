@@ -30,3 +30,24 @@ def test_turntable_degrees_must_be_finite(tmp_path, capsys):
 def test_turntable_fps_out_of_range_is_a_clear_error(tmp_path, capsys, fps):
     code, err = run_cli(capsys, "turntable", "builtin:cube", "--fps", fps, "--frames", "1", "-o", str(tmp_path / "t.gif"))
     assert code == 2 and "--fps must be between 0.01 and 1000 frames per second" in err
+
+
+def test_a_text_command_whose_reader_goes_away_stops_quietly():
+    """`wgpu-shading shader … | head`: a reader that has gone away (here: closed before the
+    first write) stops the command without an error message, as text tools stop, and with
+    the status a shell reports for SIGPIPE (128 + 13)."""
+    import os
+    import subprocess
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)
+    try:
+        writer = subprocess.run(
+            [sys.executable, "-c", "import sys; from wgpu_shading.cli import main; sys.exit(main())",
+             "shader", "example:two_lights.toml"],
+            stdout=write_end, stderr=subprocess.PIPE, text=True, timeout=120,
+        )
+    finally:
+        os.close(write_end)
+    assert (writer.returncode, writer.stderr) == (141, "")

@@ -18,13 +18,13 @@ REPOSITORY_EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
 def test_every_example_of_the_repository_is_installed():
-    shipped = {p.name for p in REPOSITORY_EXAMPLES.iterdir() if p.suffix in (".toml", ".obj", ".ply")}
+    shipped = {p.name for p in REPOSITORY_EXAMPLES.iterdir() if p.suffix in (".toml", ".obj", ".ply", ".glb")}
     assert shipped and shipped == set(example_names())
     assert (examples_folder() / "LICENSE.md").is_file()
 
 
 def test_sample_meshes_are_small_closed_and_load_by_name():
-    total = sum(p.stat().st_size for p in REPOSITORY_EXAMPLES.iterdir() if p.suffix in (".obj", ".ply"))
+    total = sum(p.stat().st_size for p in REPOSITORY_EXAMPLES.iterdir() if p.suffix in (".obj", ".ply", ".glb"))
     assert total <= 2 * 2**20
     knot = load_mesh("example:knot.obj")
     gear = load_mesh("example:gear.ply")

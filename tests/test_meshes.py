@@ -191,3 +191,11 @@ def test_ascii_stl_with_several_solids_draws_them_all(tmp_path, renderer):
     assert left[3] == right[3] == 255 and left[:3].sum() > 100
     assert tuple(left) == tuple(right)  # same default material, same facing
     assert tuple(gap[:3]) == (0, 0, 0)
+
+
+@pytest.mark.parametrize("angle", [-5, 180.5, float("nan")])
+def test_a_bad_crease_angle_is_refused_for_a_builtin_too(angle):
+    # A built-in's normals are exact, so the angle does nothing there, but a bad value is
+    # still the caller's mistake and must not pass silently.
+    with pytest.raises(MeshError, match="crease_angle"):
+        load_mesh("builtin:cube", crease_angle=angle)

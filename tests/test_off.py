@@ -63,6 +63,15 @@ def test_two_counts_without_an_edge_count_as_online3dviewer_writes_them():
     assert by_position == {(0, 0, 0): (1, 0, 0, 1), (1, 0, 0): (0, 1, 0, 1), (1, 1, 0): (0, 0, 1, 1), (0, 1, 0): (1, 0, 0, 1)}
 
 
+def test_trimeshs_whitespace_file_with_its_count_glued_to_the_keyword():
+    # trimesh's models/whitespace.off: "\t<71 spaces>OFF8 6 12 # or nah", six quads with RGBA
+    # colours: an octahedron-like box of 8 vertices (±1.632993 in x/y, ±1.154701 in z)
+    mesh = load_mesh(REAL / "whitespace.off")
+    assert mesh.triangle_count == 12
+    np.testing.assert_allclose(np.abs(mesh.world_positions()).max(axis=0), [1.632993, 1.632993, 1.154701], atol=1e-6)
+    assert (1.0, 0.0, 0.0, 0.75) in set(map(tuple, mesh.colors.round(6)))
+
+
 @pytest.mark.parametrize("header", [
     "OFF\n4 2\n",  # two counts (Online3DViewer's test files, many scripts)
     "OFF\n4 2 5\n",  # three counts: the edge count is ignored, as by every reader

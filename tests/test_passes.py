@@ -125,3 +125,23 @@ def test_points_and_lines_are_a_topology_of_the_descriptor(renderer, topology, s
     expected[row] = True
     assert np.array_equal(covered, expected)
     assert np.all(depth[covered] == np.float32(0.5)) and np.all(depth[~covered] == 0.0)
+
+
+def test_an_alpha_blended_material_in_the_float32_target(renderer):
+    """Half-transparent red over transparent black, in both targets: colour × alpha and the
+    alpha itself (the "over" blend of docs/conventions.md), closed form."""
+    from wgpu_shading import Material, Scene, SceneObject
+    from wgpu_shading.scene.builtins import plane
+
+    red = Material(ambient=(1, 0, 0, 0.5), diffuse=(0, 0, 0, 0.5), specular=(0, 0, 0, 1), alpha_mode="blend")
+    scene = Scene(objects=(SceneObject(plane(8.0), red),), lights=(), ambient=(1, 1, 1, 1),
+                  background=(0, 0, 0, 0), size=(8, 8))
+    np.testing.assert_allclose(renderer.render(scene, float32=True)[4, 4], [0.5, 0, 0, 0.5], atol=1e-6)
+    np.testing.assert_allclose(renderer.render(scene)[4, 4], [128, 0, 0, 128], atol=1)
+    # a device without WebGPU's float32-blendable feature says so instead of failing in wgpu
+    from wgpu_shading import Renderer, SceneError
+
+    plain = Renderer(device=renderer.device.adapter.request_device_sync(required_features=[]))
+    with pytest.raises(SceneError, match="float32-blendable"):
+        plain.render(scene, float32=True)
+    assert plain.render(scene)[4, 4, 3] in (127, 128)

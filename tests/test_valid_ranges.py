@@ -54,6 +54,7 @@ NOT_USER_VALUES = {
     "MAX_DISPLACEMENT_P99": "study/shadows: the shadow check's acceptance threshold, not an input",
     "MAX_UNRELATED_FRACTION": "study/shadows: the shadow check's acceptance threshold, not an input",
     "MAX_JOINT_LIGHTS": "study/shadows: how many lights the shadow check tells apart at once, not an input",
+    "MAX_SINGLE_VIEW_TAN": "render/passes/shadow_views.py: where a spot's map becomes a cube map, not an input",
 }
 
 

@@ -73,17 +73,64 @@ SAMPLES = {option.name: _sample(option) for option in VIEW_OPTIONS}
 # What else a sample needs to show in the pictures below.
 WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"]}
 _NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")  # no back faces, colours or file lights
+# One convex box shadows only its own sides that face away from a light, which that light
+# does not reach anyway (docs/shadows.md): its shadow options draw the same box (pixels
+# compared, not asserted different; tests/test_shadows_*.py show them at work).
+_NO_EFFECT_ON_THE_BOX += ("shadows", "cast_shadows", "receive_shadows", "shadow_map_size", "shadow_filter", "shadow_bias")
 BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)) + "".join(
     f"f {a} {b} {c}\n" for a, b, c in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
                                        (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4))
 )
 
 
+# Options that only a glTF file can show (its animations, its cameras): their samples draw
+# the same box as a glTF file with two animations (0 turns it about Y, 1 about X: a bare
+# mesh is framed, so a move alone would not show) and a camera.
+GLTF_ONLY = ("animation_time", "animation_index", "camera_index")
+
+
 @pytest.fixture(scope="module")
 def box(tmp_path_factory) -> Path:
-    path = tmp_path_factory.mktemp("box") / "box.obj"
+    folder = tmp_path_factory.mktemp("box")
+    path = folder / "box.obj"
     path.write_text(BOX)
+    _gltf_box(folder / "box.gltf")
     return path
+
+
+def _gltf_box(path: Path) -> None:
+    import base64
+
+    from gltf_builder import write_gltf
+
+    corners = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)], np.float32)
+    faces = np.array([[int(i) - 1 for i in line.split()[1:]] for line in BOX.splitlines() if line.startswith("f ")])
+    write_gltf(path, [[{"positions": corners, "indices": faces}]], nodes=[{"mesh": 0}, {"camera": 0, "translation": [1, 2, 6]}])
+    document = json.loads(path.read_text())
+    half = float(np.sqrt(0.5))
+    keys = np.array([0.0, 1.0], np.float32).tobytes()
+    turns = np.array([[0, 0, 0, 1], [0, half, 0, half]], np.float32).tobytes()
+    tilts = np.array([[half, 0, 0, half], [0, 0, 0, 1]], np.float32).tobytes()  # from 90° about X back: seen alone (its start)
+    payload = keys + turns + tilts
+    document["buffers"].append({"byteLength": len(payload), "uri": "data:application/octet-stream;base64," + base64.b64encode(payload).decode()})
+    first_view, first_accessor = len(document["bufferViews"]), len(document["accessors"])
+    for offset, length in ((0, 8), (8, 32), (40, 32)):
+        document["bufferViews"].append({"buffer": 1, "byteOffset": offset, "byteLength": length})
+    for view, kind, count in ((0, "SCALAR", 2), (1, "VEC4", 2), (2, "VEC4", 2)):
+        document["accessors"].append({"bufferView": first_view + view, "componentType": 5126, "count": count, "type": kind}
+                                     | ({"min": [0.0], "max": [1.0]} if kind == "SCALAR" else {}))
+    document["animations"] = [
+        {"samplers": [{"input": first_accessor, "output": first_accessor + path_index}],
+         "channels": [{"sampler": 0, "target": {"node": 0, "path": name}}]}
+        for path_index, name in ((1, "rotation"), (2, "rotation"))
+    ]
+    document["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.5}}]
+    document["scenes"] = [{"nodes": [0, 1]}]
+    path.write_text(json.dumps(document))
+
+
+def _source(option, box: Path) -> Path:
+    return box.with_suffix(".gltf") if option.name in GLTF_ONLY else box
 
 
 HEADS = {
@@ -119,10 +166,10 @@ def test_render_flag_batch_flag_and_manifest_column_read_the_same_value(option):
             assert getattr(_parse(command, arguments), option.name) is not None, (command, flag)
 
 
-def _scene_file(folder: Path, extra: str) -> Path:
+def _scene_file(folder: Path, extra: str, mesh: str = "box.obj") -> Path:
     """The box, lit by one light, as a scene file with one option's key: "OBJECT key = value"
     goes on the object, "LIGHT key = value" on the light, other text before them."""
-    tables = {"objects": {"mesh": '"box.obj"', "material": '"gold"'}, "lights": {"type": '"positional"'}}
+    tables = {"objects": {"mesh": f'"{mesh}"', "material": '"gold"'}, "lights": {"type": '"positional"'}}
     top = ""
     if extra.startswith(("OBJECT ", "LIGHT ")):
         table, _, rest = extra.partition(" ")
@@ -132,7 +179,7 @@ def _scene_file(folder: Path, extra: str) -> Path:
         top = extra
     if "[[lights]]" in top:
         del tables["lights"]
-    path = folder / f"scene-{hashlib.sha1(extra.encode()).hexdigest()[:8]}.toml"
+    path = folder / f"scene-{hashlib.sha1((extra + mesh).encode()).hexdigest()[:8]}.toml"
     path.write_text(top + "".join(f"\n[[{name}]]\n" + "".join(f"{key} = {value}\n" for key, value in keys.items())
                                   for name, keys in tables.items()))
     return path
@@ -140,17 +187,21 @@ def _scene_file(folder: Path, extra: str) -> Path:
 
 def _view(scene) -> tuple:
     """What a scene draws, minus mesh identity: comparable with ==."""
-    objects = tuple((o.part_materials(), o.up, o.translate, o.rotate, o.scale, o.mesh.normals.tobytes()) for o in scene.objects)
-    return scene.camera, scene.shading, scene.lights, scene.size, scene.samples, scene.background, objects
+    objects = tuple((o.part_materials(), o.up, o.translate, o.rotate, o.scale, o.mesh.normals.tobytes(), o.cast_shadows,
+                     o.receive_shadows) for o in scene.objects)
+    return scene.camera, scene.shading, scene.shadows, scene.lights, scene.size, scene.samples, scene.background, objects
 
 
 @pytest.mark.parametrize("option", VIEW_OPTIONS, ids=lambda option: option.name)
 def test_the_scene_file_key_means_what_the_option_means(option, box):
     _, _, value, toml = SAMPLES[option.name]
-    with_key = load_scene(_scene_file(box.parent, toml))
-    with_option = load_view(str(_scene_file(box.parent, "")), ViewOptions(**{option.name: value}))
+    mesh = _source(option, box).name
+    with_key = load_scene(_scene_file(box.parent, toml, mesh))
+    with_option = load_view(str(_scene_file(box.parent, "", mesh)), ViewOptions(**{option.name: value}))
     assert _view(with_key) == _view(with_option)
-    assert _view(with_key) != _view(load_scene(_scene_file(box.parent, ""))) or option.name in ("crease_angle", "viewer_lights")
+    # crease_angle: the box has no smooth edge; the others have no scene-file key (a scene file places its own camera)
+    assert (_view(with_key) != _view(load_scene(_scene_file(box.parent, "", mesh)))
+            or option.name in ("crease_angle", "viewer_lights", "camera_index"))
 
 
 def _pixels(path: Path) -> np.ndarray:
@@ -163,12 +214,13 @@ def test_render_and_a_one_job_batch_draw_the_same_pixels(option, box, tmp_path):
     size = [] if option.name == "size" else ["--size", "48"]
     if option.name in ("frequency", "reflection", "local_viewer"):
         size += ["--crease-angle", "180"]  # a smooth box: the shading options show
-    assert main(["render", str(box), *size, *words, "-o", str(tmp_path / "render.png"), "-q"]) == 0
-    assert main(["batch", "--meshes", str(box), "--views", "1", *size, *words, "-o", str(tmp_path / "batch"), "-q"]) == 0
+    source = _source(option, box)
+    assert main(["render", str(source), *size, *words, "-o", str(tmp_path / "render.png"), "-q"]) == 0
+    assert main(["batch", "--meshes", str(source), "--views", "1", *size, *words, "-o", str(tmp_path / "batch"), "-q"]) == 0
     rendered = _pixels(tmp_path / "render.png")
     assert np.array_equal(rendered, _pixels(tmp_path / "batch" / "box" / "view_000.png"))
     plain = tmp_path / "plain.png"
-    assert main(["render", str(box), *size, "-o", str(plain), "-q"]) == 0
+    assert main(["render", str(source), *size, "-o", str(plain), "-q"]) == 0
     if option.name not in _NO_EFFECT_ON_THE_BOX:  # a closed box without vertex colours or file lights
         assert not np.array_equal(rendered, _pixels(plain)), "the sample value should change the picture"
 

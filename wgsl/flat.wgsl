@@ -24,6 +24,9 @@
 #include "chunks/maps/alpha_map.wgsl"
 #include "chunks/surface/alpha_mode.wgsl"
 #include "chunks/surface/srgb_output.wgsl"
+#include "chunks/shadows/lookup.wgsl"
+#include "chunks/shadows/visibility.wgsl"
+#include "chunks/shadows/shares.wgsl"
 
 // Group 2 (the mesh: mesh_positions, mesh_indices, mesh_uvs, mesh_colors) is declared by
 // the binding plan (wgpu_shading/render/shaders/bindings.py).

@@ -21,6 +21,9 @@
 #include "chunks/maps/alpha_map.wgsl"
 #include "chunks/surface/alpha_mode.wgsl"
 #include "chunks/surface/srgb_output.wgsl"
+#include "chunks/shadows/lookup.wgsl"
+#include "chunks/shadows/visibility.wgsl"
+#include "chunks/shadows/shares.wgsl"
 
 struct Varyings {
     @builtin(position) clip_position: vec4<f32>,

@@ -36,6 +36,10 @@ def _no_lights() -> list:
     return []
 
 
+def _no_camera(index: int) -> None:
+    return None  # OBJ, PLY, STL and OFF hold no cameras
+
+
 @dataclass
 class MeshFile:
     """What a reader makes of a mesh file: every reader returns one (assets/meshes.py lists
@@ -45,11 +49,14 @@ class MeshFile:
     been read whole (said by the loader, once each); lights: the file's own lights, each
     with its node's matrix in the file's space (glTF KHR_lights_punctual), read when asked
     from what was parsed for the pieces (a file is parsed once; a broken light table fails
-    only a caller who wants the lights)."""
+    only a caller who wants the lights); camera(index): the file's camera `index` as
+    gltf/cameras.py gives it, None for formats without cameras. Lights and cameras hang on
+    the nodes as the pieces were posed (an animation time)."""
 
     pieces: list[MeshPiece]
     notes: list[str] = field(default_factory=list)
     lights: Callable[[], list] = _no_lights
+    camera: Callable[[int], object] = _no_camera
 
 
 def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:

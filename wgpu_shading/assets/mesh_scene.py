@@ -3,6 +3,7 @@ here, every choice made by the bare-mesh policy (scene/view/bare_mesh.py)."""
 
 from __future__ import annotations
 
+import warnings
 from typing import Any, Mapping
 
 import numpy as np
@@ -21,6 +22,8 @@ def mesh_scene(
     up: str | None = None,
     file_lights: bool = True,
     reading: Mapping[str, Any] | None = None,
+    camera_index: int | None = None,
+    framing=None,
 ):
     """A scene for a bare mesh: framed by the camera, lit by a key light and a headlight fill
     as model viewers do (global ambient 0.2), the file's materials or gold (all of it:
@@ -29,12 +32,19 @@ def mesh_scene(
     the same picture). A glTF file with KHR_lights_punctual lights is lit by them instead
     (as viewers do; gltf/punctual_lights.py), unless `file_lights` is False
     (`--viewer-lights`). `reading`: more of the mesh reader's options
-    (ViewOptions.mesh_reading()), its crease_angle replacing `crease_angle`."""
+    (ViewOptions.mesh_reading()), its crease_angle replacing `crease_angle`; the file's
+    lights and camera hang on its nodes as posed at its animation time. `camera_index`: the
+    glTF file's own camera N instead of the framing one (gltf/cameras.py; other formats have
+    none: a warning). `framing`: a Mesh to frame instead of the file's (animation_frames.py:
+    every pose of an animation)."""
     loaded = read_mesh(mesh_source, **{"crease_angle": crease_angle, **(reading or {})})  # the file, parsed once
     mesh = loaded.mesh
     try:
         own = loaded.lights() if file_lights else ()
-        return bare_mesh_scene(mesh, size, material_name, up=up, file_lights=own)
+        camera = None if camera_index is None else loaded.camera(camera_index)
+        if camera_index is not None and camera is None:
+            warnings.warn(f"{mesh_source}: only glTF files hold cameras; the camera index {camera_index} is ignored", stacklevel=2)
+        return bare_mesh_scene(mesh, size, material_name, up=up, file_lights=own, file_camera=camera, framing=framing)
     except SceneError as error:
         # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.
         lower, upper = mesh.bounds()

@@ -25,6 +25,7 @@ import numpy as np
 from ..errors import MeshError
 from ..scene.builtins import BUILTIN_PREFIX, builtin
 from ..scene.mesh import Mesh
+from ..scene.view.reading import MAX_SECONDS
 from .examples import resolve_example
 from .files import check_regular_file
 from .mesh_formats.checks import file_size_or_error
@@ -52,31 +53,45 @@ def mesh_reader(reader: str) -> Callable[[Path, int], MeshFile]:
     return getattr(importlib.import_module(f".{module}", __package__), function)
 
 
+def _without_camera(index: int) -> None:
+    return None  # a built-in has no cameras
+
+
 @dataclass(frozen=True)
 class LoadedMesh:
-    """A mesh file read once: its Mesh, and its own lights when asked (MeshFile.lights)."""
+    """A mesh file read once: its Mesh, and its own lights and cameras when asked
+    (MeshFile.lights, MeshFile.camera)."""
 
     mesh: Mesh
     lights: Callable[[], list]
+    camera: Callable[[int], object] = _without_camera
 
 
-def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE) -> Mesh:
+def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
+              animation_time: float | None = None, animation_index: int | str | None = None) -> Mesh:
     """A built-in (`builtin:torus`), a shipped sample (`example:knot.obj`) or a mesh file
     (OBJ, PLY, STL, OFF, GLB/glTF).
 
     crease_angle (degrees, 0..180): where the file has no normals, edges sharper than this
-    are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat."""
-    return read_mesh(source, crease_angle=crease_angle).mesh
+    are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat.
+    animation_time (seconds): a glTF file as its animation `animation_index` (0 unless given;
+    1, 2, ... or "all") poses it then (docs/animation.md); None: as the file's nodes say,
+    unanimated, unless an animation_index is given (then its start, time 0)."""
+    return read_mesh(source, crease_angle=crease_angle, animation_time=animation_time, animation_index=animation_index).mesh
 
 
-def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE) -> LoadedMesh:
-    """load_mesh's mesh with the file's own lights (a bare glTF is lit by them), the file
-    parsed once."""
+def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
+              animation_time: float | None = None, animation_index: int | str | None = None) -> LoadedMesh:
+    """load_mesh's mesh with the file's own lights (a bare glTF is lit by them) and cameras,
+    the file parsed once."""
+    # Checked before anything else: a built-in ignores the angle (its normals are exact), but
+    # a bad value is still the caller's mistake, whatever the source.
+    if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
+        raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
+    animation = _animation(animation_time, animation_index)
     text = resolve_example(str(source))
     if text.startswith(BUILTIN_PREFIX):
         return LoadedMesh(builtin(text), lambda: [])
-    if not (isinstance(crease_angle, (int, float)) and 0.0 <= crease_angle <= 180.0):
-        raise MeshError(f"crease_angle: expected a number of degrees between 0 and 180, got {crease_angle!r}")
     if "\x00" in text:
         raise MeshError(f"mesh file {text!r}: a path cannot contain a NUL character")
     path = Path(text)
@@ -88,12 +103,26 @@ def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")
     read = mesh_reader(reader)
     file_size = file_size_or_error(path, f"mesh file {text!r}")  # size limit, before anything is read
+    notes = []
     with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
-        found = read(path, file_size)
+        gltf = reader == MESH_READERS[".gltf"]
+        if animation is not None and not gltf:
+            notes.append(f"{path.name}: only glTF files hold animations; the animation time {animation[0]:g} s is ignored")
+        found = read(path, file_size, animation) if animation is not None and gltf else read(path, file_size)
         pieces = [p for p in found.pieces if len(p.faces)]
         mesh = assemble(pieces, path.name, float(crease_angle)) if pieces else None
-    for note in dict.fromkeys(found.notes):  # once each, once the file was read without error (or to say why nothing is left)
+    for note in dict.fromkeys(notes + found.notes):  # once each, once the file was read without error (or to say why nothing is left)
         warnings.warn(note, stacklevel=3)
     if mesh is None:
         raise MeshError(f"mesh file {text!r} contains no triangles")
-    return LoadedMesh(mesh, found.lights)
+    return LoadedMesh(mesh, found.lights, found.camera)
+
+
+def _animation(time: float | None, index: int | str | None) -> tuple[float, int | str] | None:
+    """(time, animation) to pose a glTF file at, or None: an animation chosen alone is shown
+    at its start (time 0); animation 0 unless one is chosen."""
+    if time is not None and not (isinstance(time, (int, float)) and not isinstance(time, bool) and abs(time) <= MAX_SECONDS):
+        raise MeshError(f"animation_time: expected a number of seconds (at most {MAX_SECONDS:g} in size), got {time!r}")  # NaN too
+    if time is None and index is None:
+        return None
+    return (0.0 if time is None else float(time)), (0 if index is None else index)

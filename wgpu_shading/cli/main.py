@@ -37,6 +37,7 @@ from . import batch, bench, check, info, render, view
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a text tool whose reader went away
 
 
 _INNERMOST = "wgpu_shading_parser"  # the (sub)command parser that read the arguments
@@ -179,6 +180,15 @@ def _main(argv: Sequence[str] | None = None) -> int:
     except WgpuShadingError as error:
         print(f"wgpu-shading: error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except BrokenPipeError:
+        # The reader of a text command's output went away (`wgpu-shading shader … | head`):
+        # stop quietly as text tools do, pointing stdout at /dev/null so that the flush at
+        # exit cannot fail a second time (docs.python.org/3/library/signal.html#note-on-sigpipe).
+        # `-o -` raises its own UsageError instead: a PNG cut short is an error worth a line.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return EXIT_BROKEN_PIPE
     except OSError as error:  # unwritable output, full disk, ...
         print(f"wgpu-shading: error: {error}", file=sys.stderr)
         return EXIT_USAGE

@@ -1,4 +1,4 @@
-"""`render`, `turntable` and `shader`: a scene or mesh to an image, an animation, or WGSL."""
+"""`render`, `turntable`, `animate` and `shader`: a scene or mesh to an image, an animation, or WGSL."""
 
 from __future__ import annotations
 
@@ -93,8 +93,7 @@ def command_turntable(args: argparse.Namespace) -> int:
 
     if args.frames < 1:
         raise UsageError(f"--frames must be at least 1, got {args.frames}")
-    if not (MIN_FPS <= args.fps <= MAX_FPS):
-        raise UsageError(f"--fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {args.fps}")
+    _check_fps(args.fps)
     if not (math.isfinite(args.degrees) and abs(args.degrees) <= 1e6):
         raise UsageError(f"--degrees must be a finite number of degrees (at most 1e6 in size), got {args.degrees}")
     scene = scene_from_args(args)
@@ -112,6 +111,37 @@ def command_turntable(args: argparse.Namespace) -> int:
         print(f"wrote {output} ({written} frames, {width}×{height}, {args.fps:g} fps, {args.degrees:g}° turn)")
     return 0
 
+
+
+def command_animate(args: argparse.Namespace) -> int:
+    from ..assets.animation import check_animation_path, write_animation
+    from ..assets.animation_frames import AnimationFrames
+    from ..render.renderer import Renderer
+    from ..scene.view.reading import MAX_SECONDS
+    from .arguments import view_options_from_args
+
+    _check_fps(args.fps)
+    for flag, value in (("--start", args.start), ("--end", args.end)):
+        if value is not None and not (math.isfinite(value) and abs(value) <= MAX_SECONDS):
+            raise UsageError(f"{flag} must be a finite number of seconds (at most {MAX_SECONDS:g} in size), got {value}")
+    output = default_output(args, ".gif")
+    check_animation_path(output)  # before rendering: a wrong suffix should not cost a minute
+    frames = AnimationFrames(args.input, view_options_from_args(args), args.fps, args.start, args.end)
+    renderer = Renderer(adapter=args.adapter)
+    from tqdm import tqdm
+
+    images = (frame.color for frame in renderer.render_many(frames))
+    with tqdm(total=len(frames), unit="frame", file=sys.stderr, disable=args.quiet or not sys.stderr.isatty()) as bar:
+        written = write_animation(output, images, fps=args.fps, progress=lambda done: bar.update(done - bar.n))
+    if not args.quiet:
+        print(f"wrote {output} ({written} frames, {frames.start:g} s to {frames.times[-1]:g} s of animation "
+              f"{frames.animation}, {args.fps:g} fps)")
+    return 0
+
+
+def _check_fps(fps: float) -> None:
+    if not (MIN_FPS <= fps <= MAX_FPS):
+        raise UsageError(f"--fps must be between {MIN_FPS:g} and {MAX_FPS:g} frames per second, got {fps}")
 
 
 def _auto_shading(args: argparse.Namespace, scene, renderer):
@@ -192,6 +222,23 @@ def add_render(commands, gpu: argparse.ArgumentParser) -> None:
     spin.add_argument("--fps", type=float, default=30.0, help="frames per second of the animation (default: 30)")
     spin.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     spin.set_defaults(handler=command_turntable)
+
+    play = commands.add_parser(
+        "animate",
+        parents=[gpu],
+        help="render a glTF file's animation to a GIF or MP4",
+        description="Play a glTF file's animation (node transforms, skins, morph weights) from --start to --end "
+        "at --fps frames per second, as --animation-time would draw each moment, and write an animated GIF "
+        "(looping) or an MP4 (needs imageio-ffmpeg: the [video] extra). One camera frames every pose; "
+        "--animation-index chooses the animation (or all), --camera-index the file's own camera.",
+    )
+    add_scene_arguments(play)
+    play.add_argument("-o", "--output", help="output animation: .gif or .mp4 (default: INPUT.gif)")
+    play.add_argument("--fps", type=float, default=30.0, help="frames per second, of the animation and of the output (default: 30)")
+    play.add_argument("--start", type=float, metavar="SECONDS", help="first frame's time (default: 0)")
+    play.add_argument("--end", type=float, metavar="SECONDS", help="last frame's time at most (default: the animation's last keyframe)")
+    play.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    play.set_defaults(handler=command_animate)
 
 
 def add_shader(commands, gpu: argparse.ArgumentParser) -> None:

@@ -168,11 +168,18 @@ def uses_direct_upload(device) -> bool:
     return DIRECT_UPLOAD_FEATURE in device.features and device.adapter.info.get("adapter_type") == "CPU"
 
 
+# Alpha-blended materials drawn into the float32 target (`render --float`, .npy) blend into
+# an rgba32float attachment, which WebGPU allows only with this feature (lavapipe has it).
+FLOAT32_BLENDING_FEATURE = "float32-blendable"
+
+
 def _device_for(selector: str):
     chosen = select_adapter(selector)
     features = []
     if chosen.info.get("adapter_type") == "CPU" and DIRECT_UPLOAD_FEATURE in chosen.features:
         features.append(DIRECT_UPLOAD_FEATURE)
+    if FLOAT32_BLENDING_FEATURE in chosen.features:
+        features.append(FLOAT32_BLENDING_FEATURE)
     try:
         return chosen.request_device_sync(label=f"wgpu-shading on {chosen.summary}", required_features=features)
     except Exception as error:  # wgpu raises plain RuntimeErrors here

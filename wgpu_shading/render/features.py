@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from ..errors import SceneError
 from ..scene.maps import MAP_FIELDS
-from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight
+from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight, has_shadows
 
 
 @dataclass(frozen=True)
@@ -45,6 +45,19 @@ class FeatureSet:
     alpha_map: bool = False
     # The mesh's file tangents (glTF TANGENT) give the normal map's frame (Phong only).
     vertex_tangents: bool = False
+    # Shadows (docs/shadows.md), for a draw that receives them: the first N lights of each
+    # kind cast (the uniforms hold casting lights first), and how their maps are filtered.
+    directional_shadows: int = 0
+    spot_shadows: int = 0
+    positional_shadows: int = 0
+    shadow_filter: str | None = None  # None (no shadow code) | nearest | bilinear | pcf3 | pcf5
+
+    @property
+    def shadow_lights(self) -> int:
+        """The casting lights this draw looks up (0 without a filter: no shadow code)."""
+        if self.shadow_filter is None:
+            return 0
+        return self.directional_shadows + self.spot_shadows + self.positional_shadows
 
     @property
     def map_flags(self) -> tuple[str, ...]:
@@ -95,6 +108,15 @@ class FeatureSet:
             "OCCLUSION_MAP": self.occlusion_map,
             "ALPHA_MAP": self.alpha_map,
             "VERTEX_TANGENTS": self.vertex_tangents,
+            "SHADOWS": self.shadow_lights > 0,
+            "SHADOW_LIGHTS": self.shadow_lights,
+            "DIRECTIONAL_SHADOWS": self.shadow_lights > 0 and self.directional_shadows > 0,
+            "SPOT_SHADOWS": self.shadow_lights > 0 and self.spot_shadows > 0,
+            "POSITIONAL_SHADOWS": self.shadow_lights > 0 and self.positional_shadows > 0,
+            "SHADOW_FILTER_NEAREST": self.shadow_filter == "nearest",
+            # flat/Gouraud pass each casting light's ambient-diffuse and specular shares
+            # apart only where the fragment treats the two apart (chunks/shadows/shares.wgsl)
+            "SHADOW_SPLIT": self.specular and (self.texture_mode == "modulate" or self.specular_map),
         }
 
     def describe(self) -> str:
@@ -132,6 +154,9 @@ class FeatureSet:
             parts.append(f"maps=[{', '.join(self.map_flags)}]")
         if self.cull_back:
             parts.append("cull_back=True")
+        if self.shadow_lights:
+            parts.append(f"shadows=[{self.directional_shadows} directional, {self.spot_shadows} spot, "
+                         f"{self.positional_shadows} positional; {self.shadow_filter}]")
         return " ".join(parts)
 
     def scene_part(self) -> "FeatureSet":
@@ -202,4 +227,47 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         occlusion_map="occlusion_map" in maps and lit,
         alpha_map="alpha_map" in maps and material.alpha_mode != "opaque",
         vertex_tangents=obj.mesh.tangents is not None and "normal_map" in maps and per_fragment_normals,
+        **_shadow_fields(scene, obj, lit),
+    )
+
+
+# The vertex stage passes each casting light's view of the point to the fragment stage
+# (wgsl/chunks/shadows/lookup.wgsl), and flat and Gouraud shading its share of the lit colour
+# too (shares.wgsl): varyings for this many casting lights at most.
+MAX_SHADOW_LIGHTS = 8
+MAX_VERTEX_LIT_SHADOW_LIGHTS = 4
+
+# The kinds of light in the order of the shaders' shadow slots (casting_lights).
+SLOT_KINDS = (DirectionalLight, SpotLight, PositionalLight)
+
+
+def casting_lights(scene: Scene) -> tuple[int, ...]:
+    """The scene's casting lights (indices into scene.lights) in the order a shader numbers
+    them: directional, then spot, then positional lights, each kind in scene order. With
+    shadows, the uniforms' light arrays hold each kind's casting lights first
+    (shaders/uniforms.py), so slot s of a kind is that kind's light s."""
+    if not has_shadows(scene):
+        return ()
+    return tuple(index for kind in SLOT_KINDS for index, light in enumerate(scene.lights)
+                 if light.shadows and type(light) is kind)
+
+
+def _shadow_fields(scene: Scene, obj: SceneObject, lit: bool) -> dict:
+    """The shadow fields of a draw of `obj`: only for a lit receiver in a scene with shadows."""
+    if not (lit and obj.receive_shadows and has_shadows(scene)):
+        return {}
+    casting = [scene.lights[index] for index in casting_lights(scene)]
+    limit = MAX_SHADOW_LIGHTS if scene.shading.frequency == "phong" else MAX_VERTEX_LIT_SHADOW_LIGHTS
+    if len(casting) > limit:
+        shares = "" if scene.shading.frequency == "phong" else " and its share of the colour"
+        raise SceneError(
+            f"shadows: {scene.shading.frequency} shading passes each casting light's view of the point{shares} from "
+            f"the vertex stage to the fragment stage, for at most {limit} casting lights; this scene has "
+            f"{len(casting)} (let fewer lights cast{', or use phong shading' if shares else ''})"
+        )
+    return dict(
+        directional_shadows=sum(type(light) is DirectionalLight for light in casting),
+        spot_shadows=sum(type(light) is SpotLight for light in casting),
+        positional_shadows=sum(type(light) is PositionalLight for light in casting),
+        shadow_filter=scene.shadows.resolved().filter,
     )

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import MeshError
 from .normals import crease_normals, face_normals
+from .solids import solid_orientation
 
 if TYPE_CHECKING:  # pragma: no cover
     from .material import Material
@@ -150,6 +151,12 @@ class Mesh:
     def relative_bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """float64 (lower, upper) corners of the stored (origin-relative) positions; cached."""
         return self.positions.min(axis=0).astype(np.float64), self.positions.max(axis=0).astype(np.float64)
+
+    @cached_property
+    def solid(self) -> int:
+        """+1 if the mesh is a closed surface wound counter-clockwise seen from outside, −1
+        if closed and inside out, 0 if open (scene/solids.py; cached: shadows ask per frame)."""
+        return solid_orientation(self.positions, self.indices)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """float64 (lower, upper) corners of the bounding box in model space (from the cached

@@ -66,10 +66,11 @@ def local_matrices(data: GltfData, nodes: list) -> tuple[np.ndarray, np.ndarray]
     return matrices, determinants
 
 
-def world_matrices(data: GltfData) -> tuple[list[np.ndarray | None], list[int]]:
+def world_matrices(data: GltfData, nodes: list | None = None) -> tuple[list[np.ndarray | None], list[int]]:
     """Every node's world matrix (None below a node scaled to zero) and the root nodes,
-    in one iterative walk; a node with two parents or a cycle is an error."""
-    nodes = data.items("nodes")
+    in one iterative walk; a node with two parents or a cycle is an error. `nodes`: the
+    file's nodes as an animation poses them (animations.py), else the file's own."""
+    nodes = data.items("nodes") if nodes is None else nodes
     parent = [-1] * len(nodes)
     for index, node in enumerate(nodes):
         if not isinstance(node, dict):

@@ -2,8 +2,9 @@
 
 Triangles, triangle strips and triangle fans are drawn (§3.7.2.1: strips alternate their
 winding, fans turn around their first vertex); points and lines are not surfaces and are
-skipped. A primitive instance is its node's world matrix applied to the accessors, or,
-for a skinned mesh, the joints' pose (nodes.pose). Draco-compressed primitives are
+skipped. A primitive instance is its morph targets moved by its node's weights
+(morph_targets.py), then its node's world matrix applied, or, for a skinned mesh, the
+joints' pose (nodes.pose). Draco-compressed primitives are
 decoded with DracoPy (the `draco` extra).
 """
 
@@ -17,6 +18,7 @@ import numpy as np
 from ...errors import MeshError
 from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
 from .document import MAX_GLTF_ITEMS, GltfData, gltf_error
+from .morph_targets import apply_morph_targets, morph_weights
 from .nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices
 
 _TRIANGLES, _STRIP, _FAN = 4, 5, 6
@@ -156,10 +158,11 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
     return arrays
 
 
-def gltf_pieces(data: GltfData) -> list[GltfPiece]:
-    """Every primitive instance of the file's scene, in node order, in world space."""
-    world, roots = world_matrices(data)
-    nodes = data.items("nodes")
+def gltf_pieces(data: GltfData, nodes: list | None = None) -> list[GltfPiece]:
+    """Every primitive instance of the file's scene, in node order, in world space; `nodes`:
+    the file's nodes as an animation poses them (animations.py), else the file's own."""
+    world, roots = world_matrices(data, nodes)
+    nodes = data.items("nodes") if nodes is None else nodes
     data.items("meshes")  # checked to be a list within the limit
     cache: dict[tuple[int, int], dict | None] = {}
     pieces: list[GltfPiece] = []
@@ -177,6 +180,7 @@ def gltf_pieces(data: GltfData) -> list[GltfPiece]:
         if not isinstance(primitives, list) or len(primitives) > MAX_GLTF_ITEMS:
             raise gltf_error(data.path, f"meshes[{mesh_index}].primitives", f"expected a list of at most {MAX_GLTF_ITEMS} primitives")
         skin = skin_matrices(data, node["skin"], world, f"nodes[{node_index}].skin") if skinned else None
+        weights = morph_weights(data, node, mesh, f"nodes[{node_index}]")
         for primitive_index, primitive in enumerate(primitives):
             where = f"meshes[{mesh_index}].primitives[{primitive_index}]"
             if not isinstance(primitive, dict):
@@ -191,6 +195,7 @@ def gltf_pieces(data: GltfData) -> list[GltfPiece]:
             faces += len(arrays["faces"])
             if vertices > MAX_VERTICES or faces > MAX_TRIANGLES:
                 raise gltf_error(data.path, "scene", f"its instances hold more than {MAX_VERTICES} vertices or triangles (the limit)")
+            arrays = apply_morph_targets(data, primitive, arrays, weights, where)
             pieces.append(_instance(data, arrays, primitive, where, world[node_index], skin, key, mesh.get("name") or where))
     return pieces
 

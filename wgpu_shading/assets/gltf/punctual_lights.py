@@ -52,16 +52,17 @@ def _light_table(data: GltfData) -> list:
     return extension.get("lights", [])
 
 
-def gltf_lights(source: Path | GltfData) -> list[tuple[object, np.ndarray]]:
+def gltf_lights(source: Path | GltfData, nodes: list | None = None) -> list[tuple[object, np.ndarray]]:
     """The file's lights of its scene's nodes as (classic light in the file's space, its
     node's world matrix) pairs; [] when it has none. `source`: the file, or the document
-    already read for its meshes (reader.py: a file is parsed once)."""
+    already read for its meshes (reader.py: a file is parsed once); `nodes`: the nodes as
+    an animation poses them (animations.posed_nodes), else the file's own."""
     data = source if isinstance(source, GltfData) else GltfData(source, json_only=True)
     table = _light_table(data)
     if not table:
         return []
-    world, roots = world_matrices(data)
-    nodes = data.items("nodes")
+    world, roots = world_matrices(data, nodes)
+    nodes = data.items("nodes") if nodes is None else nodes
     lights = []
     for index in scene_nodes(data, scene_roots(data, roots)):
         extensions = nodes[index].get("extensions", {})

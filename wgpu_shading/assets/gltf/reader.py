@@ -1,7 +1,9 @@
 """A glTF file read into a MeshFile (assets/mesh_pieces.py): every primitive instance of
 its scene (primitives.py) with its classic material (materials.py), its texture
-coordinates transformed (extensions.py); its own lights (punctual_lights.py) read from the
-same parsed document when the caller asks for them.
+coordinates transformed (extensions.py), posed at an animation time if one is asked for
+(animations.py; morph targets: morph_targets.py); its own lights (punctual_lights.py) and
+cameras (cameras.py) read from the same parsed document, on the same posed nodes, when the
+caller asks for them.
 
 Materials are made once per (material, NORMAL present, COLOR_0 present), however many
 primitives use them, so a texture is decoded once and a lost one is said once; what the
@@ -18,6 +20,8 @@ import numpy as np
 from ...errors import MeshError, SceneError
 from ...scene.material import Material
 from ..mesh_pieces import MeshFile, MeshPiece
+from .animations import posed_nodes
+from .cameras import gltf_camera
 from .document import GltfData
 from .extensions import check_extensions, transform_uvs
 from .materials import gltf_material
@@ -25,20 +29,23 @@ from .primitives import gltf_pieces, material_images
 from .punctual_lights import gltf_lights
 
 
-def read_gltf(path: Path, file_size: int | None = None) -> MeshFile:
-    """A .gltf or .glb file (its size is checked by GltfData against what it declares)."""
+def read_gltf(path: Path, file_size: int | None = None, animation: tuple[float, int | str] | None = None) -> MeshFile:
+    """A .gltf or .glb file (its size is checked by GltfData against what it declares);
+    animation: (time in seconds, animation index or "all") to pose it at (animations.py)."""
     data = GltfData(path)
-    pieces, notes = gltf_mesh_pieces(data)
-    return MeshFile(pieces, notes, lights=lambda: gltf_lights(data))
+    nodes = None if animation is None else posed_nodes(data, *animation)
+    pieces, notes = gltf_mesh_pieces(data, nodes)
+    return MeshFile(pieces, notes, lights=lambda: gltf_lights(data, nodes), camera=lambda index: gltf_camera(data, index, nodes))
 
 
-def gltf_mesh_pieces(data: GltfData) -> tuple[list[MeshPiece], list[str]]:
-    """The file's pieces and the notes for the user."""
+def gltf_mesh_pieces(data: GltfData, nodes: list | None = None) -> tuple[list[MeshPiece], list[str]]:
+    """The file's pieces and the notes for the user; `nodes`: the nodes as an animation
+    poses them (animations.posed_nodes), else the file's own."""
     path = data.path
     check_extensions(data.document, path)
     materials: dict[tuple, Material | None] = {}
     pieces = []
-    for piece in gltf_pieces(data):
+    for piece in gltf_pieces(data, nodes):
         attributes = piece.primitive["attributes"]
         index = piece.primitive.get("material")
         document_material = None if index is None else data.item("materials", index, f"meshes[{piece.key[0]}].primitives[{piece.key[1]}].material")

@@ -27,6 +27,7 @@ from .caches import (
     TARGET_CACHE_ENTRIES,
     TEXTURE_CACHE_BYTES,
     TEXTURE_CACHE_ENTRIES,
+    SHADOW_MAP_CACHE_ENTRIES,
     UNIFORM_CACHE_ENTRIES,
     LruCache,
     ObjectCache,
@@ -37,6 +38,7 @@ from ..shaders.uniforms import finite_uniform_bytes
 from .bind_groups import cached_bind_group
 from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh
 from .samplers import create_sampler
+from .shadow_maps import ShadowMaps, create_comparison_sampler, new_shadow_maps
 from .targets import Target, check_target_size, new_target
 from .texture_uploads import GpuTexture, upload_texture
 from .uniform_buffers import uniform_buffer
@@ -60,6 +62,8 @@ class DeviceCache:
         self.textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
         self.uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self.bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
+        self._shadow_maps: LruCache[ShadowMaps] = LruCache(SHADOW_MAP_CACHE_ENTRIES)
+        self._comparison_sampler = None
         self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
         self._free_targets: OrderedDict[int, tuple[tuple, Target]] = OrderedDict()  # serial → (key, target)
         self._serial = count()
@@ -99,6 +103,18 @@ class DeviceCache:
         if sampler is None:
             sampler = self._samplers[key] = create_sampler(self.device, texture.nearest, texture.wrap)
         return sampler
+
+    def shadow_maps(self, size: int, layers: int) -> ShadowMaps:
+        """A depth texture of `layers` shadow maps of size × size texels (gpu/shadow_maps.py)."""
+        maps = self._shadow_maps.get((size, layers))
+        if maps is None:
+            maps = self._shadow_maps.put((size, layers), new_shadow_maps(self.device, size, layers))
+        return maps
+
+    def comparison_sampler(self) -> object:
+        if self._comparison_sampler is None:
+            self._comparison_sampler = create_comparison_sampler(self.device)
+        return self._comparison_sampler
 
     def uniform_buffer(self, role: str, index: int, data: np.ndarray, where: str) -> object:
         """The uniform buffer for (role, index), holding `data` (`where` names it in errors)."""

@@ -21,6 +21,8 @@ from typing import Callable, NamedTuple
 import numpy as np
 import wgpu
 
+from ...errors import SceneError
+from ..device import FLOAT32_BLENDING_FEATURE
 from ..features import FeatureSet
 from ..shaders.bindings import Binding, BindingPlan
 from ..shaders.layout import layouts_for
@@ -90,14 +92,6 @@ class PipelineEntry:
     # The descriptor's plan and index mode, at hand for the per-draw loop (passes/draws.py).
     plan: BindingPlan
     indexed: bool
-
-    @property
-    def source(self) -> str:
-        return self.descriptor.source
-
-    @property
-    def features(self) -> FeatureSet | None:
-        return self.key.features
 
 
 # alphaMode BLEND: "over" compositing (premultiplied by the source alpha), and the
@@ -174,6 +168,11 @@ class PipelineCache:
 
     def _create(self, key: PipelineKey) -> PipelineEntry:
         descriptor = key.render_pass.describe(key)
+        if descriptor.blend is not None and descriptor.color_format == "float32" and FLOAT32_BLENDING_FEATURE not in self._device.features:
+            raise SceneError(
+                "an alpha-blended material cannot be drawn into the float32 target on this device "
+                f"(it lacks WebGPU's {FLOAT32_BLENDING_FEATURE!r} feature): render to the 8-bit target (PNG)"
+            )
         group_layouts = tuple(self.group_layout(group) for group in descriptor.plan.groups)
         layouts = layouts_for(descriptor.source)
         uniform_dtypes = {b.name: layouts.dtype(b.wgsl_type) for group in descriptor.plan.groups for b in group if b.kind == "uniform"}

@@ -29,6 +29,7 @@ from ..shaders.shadergen import generate_wgsl
 from ..shaders.uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
 from .draws import Draw, encode_draws
 from .frame_context import FrameContext
+from .shadow import receiver_uniforms
 
 
 def color_pipeline(key: PipelineKey) -> PipelineDescriptor:
@@ -106,11 +107,14 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
                 owner = owner or gpu_texture
                 textures[f"{sampled.name}_texture"] = gpu_texture.view
                 textures[f"{sampled.name}_sampler"] = cache.sampler(texture)
+            object_data = object_uniforms(model_view, material, entry.uniform_dtypes["object"], scene)
+            if features.shadow_lights:
+                receiver_uniforms(object_data, scene, obj)
             draw = Draw(
                 entry=entry,
                 draw_index=len(opaque) + len(blended),
                 gpu_mesh=cache.gpu_mesh(obj.mesh, entry.plan, blended_parts),
-                object_data=object_uniforms(model_view, material, entry.uniform_dtypes["object"], scene),
+                object_data=object_data,
                 first_triangle=part.first,
                 triangle_count=part.count,
                 textures=textures,

@@ -187,6 +187,15 @@ def _candidate_bindings(features: FeatureSet) -> list[Binding]:
         Binding("frame", 0, "uniform", "frame_uniforms", "FrameUniforms", VERTEX_AND_FRAGMENT, "Group 0: one per frame, shared by every object."),
         Binding("object", 1, "uniform", "object_uniforms", "ObjectUniforms", VERTEX_AND_FRAGMENT, "Group 1: one per object (and its textures)."),
     ]
+    if features.shadow_lights:  # shadows (passes/shadow.py binds them; wgsl/shadows.wgsl reads them)
+        entries += [
+            Binding("shadow_uniforms", 0, "uniform", "shadow_uniforms", "ShadowUniforms", VERTEX_AND_FRAGMENT,
+                    "Shadows: the casting lights' views (docs/shadows.md),"),
+            Binding("shadow_maps", 0, "texture", "shadow_maps", "texture_depth_2d_array", FRAGMENT, "their maps, a layer per view,"),
+        ]
+        if features.shadow_filter != "nearest":  # the nearest texel is loaded, not sampled
+            entries.append(Binding("shadow_sampler", 0, "sampler", "shadow_sampler", "sampler_comparison", FRAGMENT,
+                                   "and their comparison sampler."))
     for texture in SAMPLED_TEXTURES:
         if texture.when(features):
             entries.append(Binding(f"{texture.name}_texture", 1, "texture", f"{texture.name}_texture", "texture_2d<f32>", texture.stages, texture.comment))
@@ -264,6 +273,14 @@ def binding_plan(features: FeatureSet) -> BindingPlan:
     attributes = [] if flat(features) else [a for a in VERTEX_ATTRIBUTES if a.when(features)]
     textures = tuple(t for t in SAMPLED_TEXTURES if t.when(features))
     return make_plan(features, _candidate_bindings(features), attributes, textures)
+
+
+@lru_cache(maxsize=1)
+def shadow_map_plan() -> BindingPlan:
+    """The shadow pass (passes/shadow.py): one uniform block per caster and view, and the
+    mesh's positions."""
+    entries = [Binding("object", 0, "uniform", "caster_uniforms", "ShadowCaster", VERTEX, "One per caster and view.")]
+    return make_plan(None, entries, [a for a in VERTEX_ATTRIBUTES if a.name == "positions"])
 
 
 @lru_cache(maxsize=1)

@@ -18,18 +18,23 @@ import re
 from functools import lru_cache
 from typing import Callable
 
+import numpy as np
+
 from ..features import FeatureSet
-from .bindings import BindingPlan, binding_plan, extra_outputs_plan
+from .bindings import BindingPlan, binding_plan, extra_outputs_plan, shadow_map_plan
+from .layout import layouts_for
 from .preprocess import preprocess, read_source
 
 ENTRY_FILES = {"flat": "flat.wgsl", "gouraud": "gouraud.wgsl", "phong": "phong.wgsl"}
 GENERATED_BINDINGS = "bindings.wgsl"
 
 
-def sources_for(features: FeatureSet | None) -> Callable[[str], str]:
-    """The reader `preprocess` uses for `features` (None: the extra outputs pass): files of
-    `wgsl/`, and the generated binding declarations under the name "bindings.wgsl"."""
-    plan: BindingPlan = extra_outputs_plan() if features is None else binding_plan(features)
+def sources_for(features: FeatureSet | None, plan: BindingPlan | None = None) -> Callable[[str], str]:
+    """The reader `preprocess` uses for `features` (None: the extra outputs pass; or the
+    `plan` given): files of `wgsl/`, and the generated binding declarations under the name
+    "bindings.wgsl"."""
+    if plan is None:
+        plan = extra_outputs_plan() if features is None else binding_plan(features)
 
     def reader(name: str) -> str:
         return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
@@ -53,8 +58,41 @@ def generate_wgsl(features: FeatureSet) -> str:
     ):
         if count:
             header.append(f"const {constant}: u32 = {count}u;")
+    header += _shadow_constants(features)
     body = preprocess(ENTRY_FILES[features.frequency], features.defines(), sources_for(features))
     return _tidy("\n".join(header) + "\n\n" + body)
+
+
+def _shadow_constants(features: FeatureSet) -> list[str]:
+    """The shadow lookup's sizes (wgsl/structs.wgsl ShadowUniforms, the chunks' loops)."""
+    if not features.shadow_lights:
+        return []
+    return [
+        f"const SHADOW_LIGHT_COUNT: u32 = {features.shadow_lights}u;",
+        f"const DIRECTIONAL_SHADOW_COUNT: u32 = {features.directional_shadows}u;",
+        f"const SPOT_SHADOW_COUNT: u32 = {features.spot_shadows}u;",
+        f"const POSITIONAL_SHADOW_COUNT: u32 = {features.positional_shadows}u;",
+        f"const SHADOW_FILTER_RADIUS: i32 = {SHADOW_FILTER_RADIUS[features.shadow_filter]};",
+    ]
+
+
+# The bilinear taps of a PCF filter on each side of the centre one (0: one tap, or nearest).
+SHADOW_FILTER_RADIUS = {"nearest": 0, "bilinear": 0, "pcf3": 1, "pcf5": 2}
+
+
+@lru_cache(maxsize=32)
+def shadow_uniforms_dtype(lights: int) -> np.dtype:
+    """The ShadowUniforms block of every shader that looks up `lights` casting lights
+    (wgsl/structs.wgsl, the one declaration), for the shadow pass to fill."""
+    features = FeatureSet(positional_shadows=lights, shadow_filter="nearest")
+    source = "\n".join(_shadow_constants(features)) + "\n" + preprocess("structs.wgsl", features.defines())
+    return layouts_for(source).dtype("ShadowUniforms")
+
+
+@lru_cache(maxsize=1)
+def generate_shadow_map_wgsl() -> str:
+    """The shadow pass's depth-only shader (wgsl/shadow_map.wgsl with its generated bindings)."""
+    return _tidy(preprocess("shadow_map.wgsl", {}, sources_for(None, shadow_map_plan())))
 
 
 @lru_cache(maxsize=1)

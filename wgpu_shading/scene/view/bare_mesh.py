@@ -6,7 +6,8 @@ assets/mesh_scene.py reads the file and its lights; everything decided is decide
   has vertex colours (they show as they are); else gold.
 - Placement: the object is turned so that the file's up axis (`--up`, f3d's rule) points
   along +Y.
-- Camera: on +Z looking along −Z with +Y up, as f3d's default view, but raised 19°
+- Camera: the file's own when the view asks for one (`--camera-index`, placed_file_camera);
+  else on +Z looking along −Z with +Y up, as f3d's default view, but raised 19°
   (FRAMING_DIRECTION (0, 0.35, 1)) so that a shape lying flat, such as a torus, is not seen
   edge-on; as far as the turned mesh's bounding sphere needs to fit the narrower field of
   view, near and far enclosing it. Turning the mesh shows what f3d shows when it turns its
@@ -71,10 +72,16 @@ def bare_mesh_scene(
     *,
     up: str | None = None,
     file_lights: Sequence[tuple[Any, np.ndarray]] = (),
+    file_camera: tuple[Camera, np.ndarray, bool] | None = None,
+    framing: Mesh | None = None,
 ) -> Scene:
     """The scene of a bare mesh (module docstring). file_lights: the file's own lights,
     each with its node's matrix in the file's space (glTF KHR_lights_punctual); () uses the
-    viewer's. A camera or lights that cannot be placed for the mesh raise SceneError."""
+    viewer's. file_camera: the file's own camera instead of the framing one (`--camera-index`:
+    the camera in its node's frame, the node's matrix in the file's space, whether its far
+    plane is infinite). framing: a mesh to frame instead of `mesh`, in the file's space (an
+    animation frames every pose it takes). A camera or lights that cannot be placed for the
+    mesh raise SceneError."""
     size = size or DEFAULT_SIZE
     if material_name:
         chosen = named_material(material_name)
@@ -85,11 +92,11 @@ def bare_mesh_scene(
     else:
         chosen = named_material(DEFAULT_MATERIAL)
     placed = SceneObject(mesh, chosen, up=up or "+Y")
-    framed = mesh
+    framed = framing or mesh
     if placed.up != "+Y":  # frame the turned mesh: a mesh with the turn baked in, for framing only
-        world = mesh.world_positions() @ placed.world_from_model()[:3, :3].T
-        framed = Mesh.from_arrays(world, mesh.indices, normals=mesh.normals, name=mesh.name)
-    camera = framing_camera(framed, size)
+        world = framed.world_positions() @ placed.world_from_model()[:3, :3].T
+        framed = Mesh.from_arrays(world, framed.indices, normals=framed.normals, name=framed.name)
+    camera = framing_camera(framed, size) if file_camera is None else placed_file_camera(*file_camera, placed, framed)
     lights, ambient = viewer_lighting((placed,), camera)
     own = _placed_file_lights(file_lights, placed)
     return Scene(objects=(placed,), lights=own or lights, camera=camera, size=size, ambient=ambient,
@@ -216,13 +223,33 @@ def _linear(color) -> tuple[float, float, float, float]:
     return (float(rgb[0]), float(rgb[1]), float(rgb[2]), float(color[3]))
 
 
+def _file_to_world(placed: SceneObject) -> np.ndarray:
+    """The file's space to the world: the object's model matrix without the mesh's centring
+    (Mesh.origin), so that what hangs on the file's nodes lands where the mesh does."""
+    model = placed.world_from_model()
+    model[:3, 3] -= model[:3, :3] @ np.asarray(placed.mesh.origin)
+    return model
+
+
+def placed_file_camera(camera: Camera, node: np.ndarray, infinite: bool, placed: SceneObject, framed: Mesh) -> Camera:
+    """A file's camera (in its node's frame) in the world: at the node's origin, looking
+    along its −Z with its +Y up (glTF 2.0 §3.10; the node's scale does not zoom), turned with
+    the object; its target on that axis at the depth of the framed mesh's centre, and an
+    infinite far plane put just beyond it."""
+    matrix = _file_to_world(placed) @ node
+    eye, forward, up = matrix[:3, 3], -matrix[:3, 2], matrix[:3, 1]
+    forward, up = forward / np.linalg.norm(forward), up / np.linalg.norm(up)
+    center, radius = bounding_sphere(framed)
+    depth = float(np.dot(center - eye, forward))
+    target = eye + forward * (depth if depth > 1e-6 * radius else radius)
+    far = max((float(np.linalg.norm(center - eye)) + radius) * 1.01, camera.near * 2.0) if infinite else camera.far
+    return replace(camera, eye=tuple(map(float, eye)), target=tuple(map(float, target)), up=tuple(map(float, up)), far=far)
+
+
 def _placed_file_lights(file_lights: Sequence[tuple[Any, np.ndarray]], placed: SceneObject) -> tuple:
     """The file's own lights in world space: each by its node's matrix in the file's space,
     then turned with the object (its `up`); () when it has none."""
-    model = placed.world_from_model()
-    linear, origin = model[:3, :3], np.asarray(placed.mesh.origin)
-    to_world = model.copy()
-    to_world[:3, 3] = model[:3, 3] - linear @ origin  # the file's space, not the mesh's centred one
+    to_world = _file_to_world(placed)
     placed_lights = []
     for light, node in file_lights:
         matrix = to_world @ node

@@ -28,6 +28,7 @@ from typing import Any, Callable
 
 from ..camera import PROJECTIONS
 from ..maps import SCENE_COLOR_SPACES
+from ..shadows import AUTO, SHADOW_FILTERS
 from ..material_table import material as named_material
 from ..values import FREQUENCIES, REFLECTIONS
 from .reading import (
@@ -37,10 +38,15 @@ from .reading import (
     read_color,
     read_crease_angle,
     read_direction,
+    read_animation_index,
     read_float,
+    read_index,
     read_lights,
     read_material,
     read_samples,
+    read_seconds,
+    read_shadow_bias,
+    read_shadow_map_size,
     read_shininess,
     read_size,
     read_up,
@@ -48,7 +54,8 @@ from .reading import (
     spell,
 )
 
-SECTIONS = {"output": "[output]", "shading": "[shading]", "camera": "[camera]", "objects": "[[objects]]", "lights": "[[lights]]"}
+SECTIONS = {"output": "[output]", "shading": "[shading]", "camera": "[camera]", "shadows": "[shadows]",
+            "objects": "[[objects]]", "lights": "[[lights]]"}
 LOAD_KINDS = (None, "mesh", "frame")
 
 
@@ -181,6 +188,17 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        flags=("--crease-angle",), metavar="DEG", load="mesh"),
     _O("up", read_up, "objects.up", "the mesh files' up axis: +Y (default), -Y, +Z, -Z, +X, -X (like f3d)", "+Z",
        flags=("--up",), metavar="AXIS", load="frame"),
+    _O("animation_time", read_seconds, "objects.animation_time",
+       "glTF: draw the file as its animation poses it at this time (node transforms, skins, morph weights; f3d's "
+       "--animation-time; default: unanimated)", 0.5, flags=("--animation-time",), metavar="SECONDS", load="mesh"),
+    _O("animation_index", read_animation_index, "objects.animation_index",
+       "glTF: the animation --animation-time and `animate` play: 0 (default), 1, ... or all (every one at once); "
+       "alone, the animation's start", 1,
+       flags=("--animation-index",), metavar="N", load="mesh"),
+    _O("camera_index", read_index, None,
+       "glTF: view the file through its own camera N (perspective or orthographic, where its node puts it, like f3d's "
+       "--camera-index); the --camera-* options then move it", 0, flags=("--camera-index",), metavar="N", group="camera",
+       load="frame"),
     _O("camera_position", read_vector, "camera.eye", "the eye", (2.0, 1.0, 5.0), flags=("--camera-position",), metavar="X,Y,Z"),
     _O("camera_focal_point", read_vector, "camera.target", "the point looked at", (0.3, 0.2, 0.1),
        flags=("--camera-focal-point",), metavar="X,Y,Z"),
@@ -211,6 +229,24 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        9.0, flags=("--camera-distance",), metavar="D"),
     _O("lights", read_lights, "lights", f"replace the lights (repeat for more): {LIGHT_SYNTAX}",
        ("directional:dir=-1,-1,-1:color=1,0.5,0.5",), flags=("--light",), metavar="SPEC", repeated=True),
+    _O("shadows", read_bool, "lights.shadows", "every light casts shadows", True,
+       switches=_switches("--shadows", "every light casts shadows",
+                          "--no-shadows", "no light casts shadows, whatever the scene says")),
+    _O("cast_shadows", read_bool, "objects.cast_shadows", "objects hide the lights that cast shadows from what is behind them", False,
+       switches=_switches("--cast-shadows", "every object casts shadows (the default)",
+                          "--no-cast-shadows", "no object casts shadows")),
+    _O("receive_shadows", read_bool, "objects.receive_shadows", "objects are darkened where a casting light is hidden", False,
+       switches=_switches("--receive-shadows", "every object receives shadows (the default)",
+                          "--no-receive-shadows", "no object receives shadows")),
+    _O("shadow_map_size", read_shadow_map_size, "shadows.map_size",
+       "side of each shadow map in texels, 16..8192, or auto (the accuracy study's choice)", 512,
+       flags=("--shadow-map-size",), metavar="N", column="shadow_map_size"),
+    _O("shadow_filter", read_choice((AUTO,) + SHADOW_FILTERS), "shadows.filter",
+       "how a shadow map is read: the nearest texel, a bilinear comparison, 3×3 or 5×5 PCF, or auto", "pcf3",
+       flags=("--shadow-filter",), metavar=_choices((AUTO,) + SHADOW_FILTERS), column="shadow_filter"),
+    _O("shadow_bias", read_shadow_bias, "shadows.bias",
+       "how far each receiver is moved towards the light, in shadow-map texels (0..64), or auto", 4.0,
+       flags=("--shadow-bias",), metavar="TEXELS", column="shadow_bias"),
     _O("viewer_lights", read_bool, None,
        "a glTF file with its own lights (KHR_lights_punctual) is lit by them; true: by the viewer's key light and headlight instead", True,
        switches=_switches("--viewer-lights", "light a glTF file that has its own lights with the viewer's key light and headlight instead",

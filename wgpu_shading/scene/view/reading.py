@@ -17,6 +17,7 @@ from ...errors import SceneError, UsageError
 from ..lights import LIGHT_TYPES
 from ..material_table import material as named_material
 from ..objects import SAMPLE_COUNTS, up_axis
+from ..shadows import AUTO, MAX_SHADOW_BIAS_TEXELS, shadow_map_size
 from ..values import MAX_EXPONENT, Vec3, direction, image_size
 from .bare_mesh import headlight
 
@@ -114,6 +115,41 @@ def read_samples(value: Any, where: str) -> int:
     return count
 
 
+MAX_FILE_INDEX = 1 << 20  # a file's N-th camera or animation: glTF lists hold at most this many (gltf/document.py)
+MAX_SECONDS = 1e9  # an animation time: beyond any keyframe a file can hold, still exact in float64 steps of 1/fps
+ALL = "all"
+
+
+def read_index(value: Any, where: str) -> int:
+    """A position in one of a file's lists, from 0: 2, "2" or 2.0."""
+    try:
+        if isinstance(value, bool):
+            raise ValueError
+        number = float(value)
+        if not number.is_integer():
+            raise ValueError
+        index = int(number)
+    except (TypeError, ValueError, OverflowError):
+        raise UsageError(f"{where}: expected an index 0, 1, 2, ..., got {value!r}") from None
+    if not 0 <= index <= MAX_FILE_INDEX:
+        raise UsageError(f"{where}: expected an index from 0 to {MAX_FILE_INDEX}, got {value!r}")
+    return index
+
+
+def read_animation_index(value: Any, where: str) -> int | str:
+    """An animation of the file, 0, 1, ..., or "all" of them at once (f3d 2's -1)."""
+    if isinstance(value, str) and value.strip().lower() == ALL:
+        return ALL
+    try:
+        return read_index(value, where)
+    except UsageError:
+        raise UsageError(f"{where}: expected an animation index 0, 1, 2, ... or all, got {value!r}") from None
+
+
+def read_seconds(value: Any, where: str) -> float:
+    return read_float(value, where, -MAX_SECONDS, MAX_SECONDS)
+
+
 def read_color(value: Any, where: str) -> tuple[float, ...]:
     numbers = _numbers(value, where, (3, 4), "R,G,B or R,G,B,A (0..1)")
     if not all(0.0 <= n <= 1.0 for n in numbers):
@@ -170,6 +206,26 @@ def read_crease_angle(value: Any, where: str) -> float:
         return read_float(value, where, 0.0, 180.0)
     except UsageError:
         raise UsageError(f"{where}: expected degrees between 0 and 180, got {value!r}") from None
+
+
+def read_shadow_map_size(value: Any, where: str) -> int | str:
+    """"auto" or a whole number of texels (scene/shadows.py's range)."""
+    if isinstance(value, str) and value.strip().lower() != AUTO:
+        try:
+            value = int(value)
+        except ValueError:
+            raise UsageError(f"{where}: expected auto or a whole number of texels, got {value!r}") from None
+    try:
+        return shadow_map_size(value.strip().lower() if isinstance(value, str) else value, where)
+    except SceneError as error:
+        raise UsageError(str(error)) from None
+
+
+def read_shadow_bias(value: Any, where: str) -> float | str:
+    """"auto" or texels of the shadow map (scene/shadows.py's range)."""
+    if isinstance(value, str) and value.strip().lower() == AUTO:
+        return AUTO
+    return read_float(value, where, 0.0, MAX_SHADOW_BIAS_TEXELS)
 
 
 def read_lights(value: Any, where: str) -> tuple[str, ...]:

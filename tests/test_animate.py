@@ -1,0 +1,92 @@
+"""`wgpu-shading animate FILE -o anim.gif --fps N` (issue 27): a glTF file's animation played
+into a GIF or MP4, each frame what `render --animation-time T` draws at T = k / fps, under
+one camera that frames every pose."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cli_errors import one_line_error, run_cli
+from wgpu_shading import UsageError, load_mesh
+from wgpu_shading.assets.animation_frames import MAX_FRAMES, AnimationFrames, frame_times
+from wgpu_shading.scene.view.options import ViewOptions
+
+DATA = Path(__file__).parent / "data" / "real"
+MOVING = DATA / "asset_generator" / "Animation_Node_00.gltf"  # x from −0.1 to 0.1 and back over 0..2 s
+pytestmark = pytest.mark.filterwarnings("ignore:.*texture could not be read")
+
+
+@pytest.mark.parametrize("start, end, fps, expected", [
+    (0.0, 1.0, 4.0, [0.0, 0.25, 0.5, 0.75, 1.0]),  # the end falls on a frame: included
+    (0.0, 0.7083333, 15.0, [k / 15 for k in range(11)]),  # Fox's walk: 11/15 s is past its end
+    (0.5, 0.5, 30.0, [0.5]),  # a single keyframe: one frame
+    (2.0, 1.0, 30.0, [2.0]),
+    (0.0, 0.3, 10.0, [0.0, 0.1, 0.2, 0.3]),  # 0.3 · 10 is 2.9999999999999996 in floats: still 4 frames
+])
+def test_frame_times(start, end, fps, expected):
+    assert frame_times(start, end, fps) == pytest.approx(expected, abs=1e-12)
+
+
+def test_too_many_frames_is_a_usage_error():
+    with pytest.raises(UsageError, match=f"at most {MAX_FRAMES}"):
+        frame_times(0.0, 1e6, 60.0)
+
+
+def test_every_frame_is_the_pose_at_its_time_under_one_camera():
+    frames = AnimationFrames(str(MOVING), ViewOptions(size=(32, 32)), fps=2.0)
+    assert frames.times == [0.0, 0.5, 1.0, 1.5, 2.0]
+    scenes = list(frames)
+    assert len({scene.camera for scene in scenes}) == 1 and len({scene.lights for scene in scenes}) == 1
+    for time, scene in zip(frames.times, scenes):
+        expected = load_mesh(MOVING, animation_time=time).world_positions()
+        np.testing.assert_allclose(scene.objects[0].mesh.world_positions(), expected, atol=1e-6)
+    # the one camera frames every pose: the cube's box widened by the ±0.1 it moves along x
+    lower, upper = frames.framing.bounds()
+    rest_lower, rest_upper = load_mesh(MOVING).bounds()
+    np.testing.assert_allclose(lower, rest_lower - [0.1, 0, 0], atol=1e-6)
+    np.testing.assert_allclose(upper, rest_upper + [0.1, 0, 0], atol=1e-6)
+
+
+def test_animate_writes_a_gif_of_the_frames(tmp_path, capsys):
+    from wgpu_shading.cli.main import main
+
+    output = tmp_path / "moving.gif"
+    assert main(["animate", str(MOVING), "-o", str(output), "--fps", "2", "--size", "32"]) == 0
+    assert "(5 frames, 0 s to 2 s of animation 0, 2 fps)" in capsys.readouterr().out
+    import imageio.v3 as iio
+
+    frames = iio.imread(output, index=None)
+    assert frames.shape[:3] == (5, 32, 32)
+    assert not np.array_equal(frames[0], frames[1])  # it moves
+    np.testing.assert_array_equal(frames[0], frames[4])  # and comes back: the same pose at 0 s and 2 s
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["moving.gif"]  # no temporary file left behind
+
+
+def test_start_end_and_the_animation_index(tmp_path):
+    two = DATA / "asset_generator" / "Animation_NodeMisc_07.gltf"  # two animations
+    frames = AnimationFrames(str(two), ViewOptions(animation_index=1), fps=4.0, start=0.5, end=1.0)
+    assert frames.times == [0.5, 0.75, 1.0] and frames.animation == 1
+    every = AnimationFrames(str(two), ViewOptions(animation_index="all"), fps=1.0)
+    assert every.animation == "all" and every.times[0] == 0.0
+
+
+@pytest.mark.parametrize("args, words", [
+    (["example:knot.obj"], ["only glTF files", "animations"]),
+    ([str(DATA / "khronos" / "MorphPrimitivesTest.gltf")], ["MorphPrimitivesTest.gltf", "has no animations"]),
+    ([str(MOVING), "--animation-time", "1"], ["--animation-time", "animate"]),
+    ([str(MOVING), "--animation-index", "3"], ["animation index 3 is out of range: the file has 1 animation"]),
+    ([str(MOVING), "--fps", "0"], ["--fps"]),
+    ([str(MOVING), "--end", "inf"], ["--end"]),
+])
+def test_what_cannot_be_played_is_one_line(tmp_path, capsys, args, words):
+    code, err = run_cli(capsys, "animate", *args, "-o", str(tmp_path / "out.gif"), "--size", "16")
+    one_line_error(code, err, *words)
+    assert not (tmp_path / "out.gif").exists()
+
+
+def test_a_wrong_suffix_is_refused_before_any_frame(tmp_path, capsys):
+    code, err = run_cli(capsys, "animate", str(MOVING), "-o", str(tmp_path / "out.png"))
+    one_line_error(code, err, "out.png")
