@@ -43,13 +43,16 @@ from .shadow_maps import ShadowMaps, create_comparison_sampler, new_shadow_maps
 from .targets import Target, check_target_size, new_target
 from .texture_uploads import GpuTexture, upload_texture
 from .uniform_buffers import uniform_buffer
+from .vertex_order import SharedOrders
 
 
 class DeviceCache:
     """Pipelines, uploads, uniform buffers, bind groups and targets of one wgpu device."""
 
-    def __init__(self, device):
+    def __init__(self, device, shared_orders: SharedOrders | None = None):
         self.device = device
+        # vertex-cache orders shared with the other devices of one renderer (render_many)
+        self.shared_orders = shared_orders
         self.pipelines = PipelineCache(device)
         # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
         # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
@@ -77,7 +80,7 @@ class DeviceCache:
             in_order = in_order | gpu_mesh.order.in_order
             gpu_mesh = None
         if gpu_mesh is None:
-            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order))
+            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order, self.shared_orders))
         if plan is not None:
             for name in OPTIONAL_ATTRIBUTES:
                 if name in plan:

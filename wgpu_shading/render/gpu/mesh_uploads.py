@@ -11,7 +11,7 @@ import wgpu
 
 from ...scene import Mesh
 from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
-from .vertex_order import VertexOrder, cache_order
+from .vertex_order import SharedOrders, VertexOrder, cache_order
 
 
 @dataclass
@@ -42,7 +42,9 @@ def vertex_order_enabled() -> bool:
     A/B measurements and the test that the pixels do not change)."""
     return os.environ.get("WGPU_SHADING_VERTEX_ORDER", "1") != "0"
 
-def upload_mesh(device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] = frozenset()) -> GpuMesh:
+def upload_mesh(
+    device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] = frozenset(), shared: SharedOrders | None = None
+) -> GpuMesh:
     """Positions, normals and indices of `mesh` in GPU buffers. One upload serves every
     frequency: vertex buffers for Gouraud/Phong, storage buffers for flat shading's vertex
     pulling. `extra_usage` is MAP_WRITE where the device writes such buffers in place.
@@ -51,7 +53,9 @@ def upload_mesh(device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] =
     vertex-cache order, and the vertices in first-use order (render/gpu/vertex_order.py: same
     pixels, less vertex work). The vertices are written into their buffers in the new order
     a chunk at a time, and the reordered indices live in scratch memory that is handed back
-    right after their upload: the upload still leaves one copy of the mesh (the driver's)."""
+    right after their upload: the upload still leaves one copy of the mesh (the driver's).
+    `shared`: the order another device of the same renderer computed for this mesh is used
+    as it is, and the one computed here is offered to the others (vertex_order.SharedOrders)."""
     usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
     index_usage = wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | extra_usage
     if not vertex_order_enabled():
@@ -62,11 +66,18 @@ def upload_mesh(device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] =
             uvs=None,
             triangle_count=mesh.triangle_count,
         )
-    scratch, order = cache_order(mesh.indices, mesh.vertex_count, mesh.parts, in_order)
-    try:
-        indices = device.create_buffer_with_data(data=scratch.array, usage=index_usage)
-    finally:
-        scratch.close()
+    taken = shared.take(mesh, in_order) if shared is not None else None
+    if taken is not None:
+        reordered, order = taken
+        indices = device.create_buffer_with_data(data=reordered, usage=index_usage)
+    else:
+        scratch, order = cache_order(mesh.indices, mesh.vertex_count, mesh.parts, in_order)
+        try:
+            indices = device.create_buffer_with_data(data=scratch.array, usage=index_usage)
+            if shared is not None:
+                shared.offer(mesh, in_order, scratch.array, order)
+        finally:
+            scratch.close()
     return GpuMesh(
         positions=_reordered_buffer(device, mesh.positions, order, usage),
         normals=_reordered_buffer(device, mesh.normals, order, wgpu.BufferUsage.VERTEX | extra_usage),
