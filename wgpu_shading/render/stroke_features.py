@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from ..scene import Material, Scene, SceneObject
 from ..scene.mesh_parts import MeshPart
-from .features import FeatureSet, lit_specular, scene_lighting
+from .features import FeatureSet, lit_specular, object_features, scene_lighting
 
 
 def point_features(scene: Scene, obj: SceneObject, material: Material, part: MeshPart) -> FeatureSet:
@@ -55,3 +55,12 @@ def edge_features(scene: Scene) -> FeatureSet:
         primitive="lines",
         edges=True,
     )
+
+
+def part_features(scene: Scene, obj: SceneObject, index: int, part: MeshPart, material: Material) -> FeatureSet:
+    """The feature set the colour pass draws one part of `obj` with, whatever its primitive."""
+    if part.primitive == "points":
+        return point_features(scene, obj, material, part)
+    if part.primitive == "lines":
+        return line_features(scene, obj, material)
+    return object_features(scene, obj, index, material)
