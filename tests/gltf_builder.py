@@ -1,5 +1,5 @@
 """Write small glTF 2.0 files (JSON with data: URIs) for tests: primitives with or without
-NORMAL / COLOR_0 / TEXCOORD_0, materials, samplers and a node tree."""
+NORMAL / COLOR_0 / TEXCOORD_0 / TEXCOORD_1, in any mode, materials, samplers and a node tree."""
 
 from __future__ import annotations
 
@@ -31,7 +31,8 @@ def png_data_uri(pixels: np.ndarray) -> str:
 def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (), nodes: list[dict] | None = None,
                textures: list[dict] = (), images: list[np.ndarray] = (), samplers: list[dict] = (), extra: dict | None = None) -> Path:
     """meshes: per mesh, primitives as dicts with arrays `positions`, `indices` and optional
-    `normals`, `colors` (RGBA float), `uvs`, `tangents` (xyzw), plus `material` (index). nodes default to one per mesh."""
+    `normals`, `colors` (RGBA float), `uvs`, `uvs1` (TEXCOORD_1), `tangents` (xyzw), plus `material` (index)
+    and `mode`. nodes default to one per mesh."""
     blob = bytearray()
     views, accessors = [], []
 
@@ -53,12 +54,14 @@ def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (),
         out = []
         for primitive in primitives:
             attributes = {"POSITION": add(np.float32(primitive["positions"]), _FLOAT, 34962)}
-            for key, name in (("normals", "NORMAL"), ("colors", "COLOR_0"), ("uvs", "TEXCOORD_0"), ("tangents", "TANGENT")):
+            for key, name in (("normals", "NORMAL"), ("colors", "COLOR_0"), ("uvs", "TEXCOORD_0"), ("uvs1", "TEXCOORD_1"), ("tangents", "TANGENT")):
                 if primitive.get(key) is not None:
                     attributes[name] = add(np.float32(primitive[key]), _FLOAT, 34962)
             entry = {"attributes": attributes, "indices": add(np.uint32(primitive["indices"]).reshape(-1), _UINT, 34963)}
             if primitive.get("material") is not None:
                 entry["material"] = primitive["material"]
+            if primitive.get("mode") is not None:
+                entry["mode"] = primitive["mode"]
             out.append(entry)
         gltf_meshes.append({"primitives": out})
     if nodes is None:

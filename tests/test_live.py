@@ -152,6 +152,9 @@ def test_keys_change_the_settings_as_documented(live):
     assert s().two_sided
     key(live, "a")
     assert s().samples == 4
+    assert s().shadows is False  # the torus's lights cast none
+    key(live, "d")
+    assert s().shadows is True
     drag(live, 1, (10, 10), (60, 30))
     moved = live.state.camera
     key(live, "Enter")
@@ -166,7 +169,7 @@ def test_p_prints_a_command_that_draws_what_is_shown(live, tmp_path):
     drag(live, 1, (40, 50), (95, 80))
     drag(live, 3, (80, 60), (70, 52))
     live.handle_event({"event_type": "wheel", "dx": 0.0, "dy": 100.0, "x": 80, "y": 60})
-    for name in ("f", "m", "m", "]", "t", "a"):
+    for name in ("f", "m", "m", "]", "t", "a", "d"):
         key(live, name)
     key(live, "p")
     (line,) = printed

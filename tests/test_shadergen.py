@@ -12,7 +12,7 @@ import re
 import pytest
 
 from wgpu_shading.render.features import FeatureSet
-from wgpu_shading.scene import FREQUENCIES, REFLECTIONS, TEXTURE_MODES
+from wgpu_shading.scene import FREQUENCIES, REFLECTIONS, SHADOW_FILTERS, TEXTURE_MODES
 from wgpu_shading.scene.material import ALPHA_MODES
 from wgpu_shading.render.shaders.preprocess import ShaderSourceError, preprocess
 from wgpu_shading.render.shaders.shadergen import generate_wgsl
@@ -83,6 +83,10 @@ BASE = FeatureSet(frequency="phong", reflection="phong", positional_lights=1)
         ({"texture_mode": "modulate"}, ["textureSample", "base_color_texture", "base_color_sampler", "uv"]),
         ({"two_sided": True}, ["front_facing"]),
         ({"reflection": "blinn-phong"}, ["blinn_exponent_scale", "half_vector"]),
+        ({"positional_shadows": 1, "shadow_filter": "nearest"},
+         ["shadow_maps", "ShadowUniforms", "shadow_position_0", "outward_normal", "light_visible", "textureLoad", "front_facing", "dpdx"]),
+        ({"positional_shadows": 1, "shadow_filter": "pcf3"}, ["shadow_sampler", "textureSampleCompareLevel"]),
+        ({"positional_shadows": 1, "shadow_filter": "nearest", "frequency": "gouraud"}, ["front_share_0", "light_switched_off"]),
     ],
 )
 def test_each_feature_brings_its_code_and_only_then(feature, words):
@@ -91,6 +95,19 @@ def test_each_feature_brings_its_code_and_only_then(feature, words):
     for word in words:
         assert word not in without, f"{word!r} is in a shader that does not use {feature}"
         assert word in with_feature, f"{word!r} is missing from a shader that uses {feature}"
+
+
+def test_no_shadow_code_without_shadows():
+    """Only what the scene calls for: every feature set of the covering set without shadow
+    fields (a draw that receives none) has no word of the shadow chunks, not even a blank
+    line from them (the same bytes as before shadows existed: checked once against the
+    sources before shadows, 82 feature sets, identical)."""
+    domains = {name: values for name, values in field_domains().items() if "shadow" not in name}
+    for row in covering_rows(domains, 2):
+        code = _code(FeatureSet(**row))  # (comments may mention what a shadow would do)
+        assert "shadow" not in code.lower() and "light_visible" not in code, FeatureSet(**row).describe()
+    # a shadow filter without a casting light is no shadow either
+    assert generate_wgsl(FeatureSet(positional_lights=1, shadow_filter="pcf3")) == generate_wgsl(FeatureSet(positional_lights=1))
 
 
 def test_no_specular_code_without_specular():
@@ -129,6 +146,13 @@ DOMAINS: dict[str, tuple] = {
     "spot_lights": (0, 1, 2),
     "texture_mode": (None, *TEXTURE_MODES),
     "alpha_mode": ALPHA_MODES,
+    "primitive": ("triangles", "points", "lines"),
+    "under_edges": (0, 2),
+    "uv_sets": ((), (("base_color", 1),), (("normal_map", 3), ("occlusion_map", 2), ("emissive_map", 1))),
+    "directional_shadows": (0, 1),
+    "spot_shadows": (0, 1),
+    "positional_shadows": (0, 2),
+    "shadow_filter": (None, *SHADOW_FILTERS),
 }
 STRENGTH = 3  # every combination of values of any 3 fields is compiled at least once
 
@@ -241,7 +265,7 @@ def _sources() -> dict[str, str]:
 
     root = files("wgpu_shading.wgsl")
     found = {}
-    for folder in ("", "chunks", "chunks/lighting", "chunks/surface", "chunks/maps"):
+    for folder in ("", "chunks", "chunks/lighting", "chunks/surface", "chunks/maps", "chunks/strokes", "chunks/shadows"):
         base = root.joinpath(*folder.split("/")) if folder else root
         for entry in base.iterdir():
             if entry.name.endswith(".wgsl"):

@@ -54,6 +54,7 @@ NOT_USER_VALUES = {
     "MAX_DISPLACEMENT_P99": "study/shadows: the shadow check's acceptance threshold, not an input",
     "MAX_UNRELATED_FRACTION": "study/shadows: the shadow check's acceptance threshold, not an input",
     "MAX_JOINT_LIGHTS": "study/shadows: how many lights the shadow check tells apart at once, not an input",
+    "MAX_SINGLE_VIEW_TAN": "render/passes/shadow_views.py: where a spot's map becomes a cube map, not an input",
 }
 
 
@@ -161,6 +162,9 @@ PROBES = {
     "light.attenuation": lambda x: PositionalLight(attenuation=(1.0, x, 0.0)),
     "light.range": lambda x: PositionalLight(range=x),
     "shading.blinn_exponent_scale": lambda x: Shading(blinn_exponent_scale=x),
+    "shading.point_size": lambda x: (Shading(point_size=x), Shading(line_width=x), Shading(edge_width=x)),
+    "shading.edge_color": lambda x: Shading(edge_color=(x, 0.0, 0.0, 1.0)),
+    "texture.uv_set": lambda x: Texture(np.zeros((1, 1, 3), np.uint8), uv_set=int(x)),
     "camera.fov_y": lambda x: Camera(fov_y=x),
     "camera.ortho_height": lambda x: Camera(projection="orthographic", ortho_height=x),
     "camera.near": lambda x: Camera(near=x, far=1.0),

@@ -71,8 +71,13 @@ def _sample(option) -> tuple:
 
 SAMPLES = {option.name: _sample(option) for option in VIEW_OPTIONS}
 # What else a sample needs to show in the pictures below.
-WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"]}
-_NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")  # no back faces, colours or file lights
+WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"], "edge_color": ["--edges"], "edge_width": ["--edges"]}
+# no back faces, colours, file lights, points or lines (tests/test_primitives_drawing.py draws those)
+_NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights", "point_size", "line_width")
+# One convex box shadows only its own sides that face away from a light, which that light
+# does not reach anyway (docs/shadows.md): its shadow options draw the same box (pixels
+# compared, not asserted different; tests/test_shadows_*.py show them at work).
+_NO_EFFECT_ON_THE_BOX += ("shadows", "cast_shadows", "receive_shadows", "shadow_map_size", "shadow_filter", "shadow_bias")
 BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-1.5, 1.5)) + "".join(
     f"f {a} {b} {c}\n" for a, b, c in ((1, 2, 4), (1, 4, 3), (5, 7, 8), (5, 8, 6), (1, 5, 6), (1, 6, 2),
                                        (3, 4, 8), (3, 8, 7), (1, 3, 7), (1, 7, 5), (2, 6, 8), (2, 8, 4))
@@ -183,8 +188,9 @@ def _scene_file(folder: Path, extra: str, mesh: str = "box.obj") -> Path:
 
 def _view(scene) -> tuple:
     """What a scene draws, minus mesh identity: comparable with ==."""
-    objects = tuple((o.part_materials(), o.up, o.translate, o.rotate, o.scale, o.mesh.normals.tobytes()) for o in scene.objects)
-    return scene.camera, scene.shading, scene.lights, scene.size, scene.samples, scene.background, objects
+    objects = tuple((o.part_materials(), o.up, o.translate, o.rotate, o.scale, o.mesh.normals.tobytes(), o.cast_shadows,
+                     o.receive_shadows) for o in scene.objects)
+    return scene.camera, scene.shading, scene.shadows, scene.lights, scene.size, scene.samples, scene.background, objects
 
 
 @pytest.mark.parametrize("option", VIEW_OPTIONS, ids=lambda option: option.name)
@@ -222,12 +228,14 @@ def test_render_and_a_one_job_batch_draw_the_same_pixels(option, box, tmp_path):
 
 def test_a_manifest_row_per_option_draws_what_render_draws(box, tmp_path):
     options = [option for option in VIEW_OPTIONS if option.name != "size"]
-    columns = sorted({option.column for option in options} | {"reflection"})
+    columns = sorted({option.column for option in options} | {"reflection", "edges"})
     lines = [",".join(["mesh", "name", "size", *columns])]
     for option in options:
         row = {option.column: SAMPLES[option.name][1]}
         if option.name == "blinn_exponent_scale":
             row["reflection"] = "blinn-phong"
+        if option.name in ("edge_color", "edge_width"):
+            row["edges"] = "true"
         lines.append(",".join([str(box), option.name, "40x32", *(f'"{row.get(c, "")}"' for c in columns)]))
     manifest = tmp_path / "jobs.csv"
     manifest.write_text("\n".join(lines) + "\n")

@@ -13,6 +13,7 @@
 // The surface's effects, one chunk each: what they declare is pasted here, what they do
 // at the named points (#hook) below and in vertex_lit.wgsl.
 #include "chunks/surface/uvs.wgsl"
+#include "chunks/surface/uv_sets.wgsl"
 #include "chunks/surface/vertex_colors.wgsl"
 #include "chunks/surface/two_sided.wgsl"
 #include "chunks/surface/clamp_vertex_colors.wgsl"
@@ -24,6 +25,9 @@
 #include "chunks/maps/alpha_map.wgsl"
 #include "chunks/surface/alpha_mode.wgsl"
 #include "chunks/surface/srgb_output.wgsl"
+#include "chunks/shadows/lookup.wgsl"
+#include "chunks/shadows/visibility.wgsl"
+#include "chunks/shadows/shares.wgsl"
 
 // Group 2 (the mesh: mesh_positions, mesh_indices, mesh_uvs, mesh_colors) is declared by
 // the binding plan (wgpu_shading/render/shaders/bindings.py).

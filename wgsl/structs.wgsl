@@ -113,6 +113,16 @@ struct ObjectUniforms {
     // stay perpendicular under non-uniform scale and stay outward under mirroring.
     eye_normal_from_model: mat3x3<f32>,
     material: Material,
+#if STROKES
+    // Points and lines (docs/primitives.md): the target's size and the quad's size (a
+    // point's size, a line's or an edge's width), in pixels.
+    viewport_size: vec2<f32>,
+    stroke_pixels: f32,
+#endif
+#if EDGES
+    // --edge-color, written as it is (a colour on the image, like the background).
+    edge_color: vec4<f32>,
+#endif
 #if not UNLIT
     // global_ambient · material ambient, and each light's LightProducts (same order as the
     // FrameUniforms light arrays).
@@ -127,4 +137,40 @@ struct ObjectUniforms {
     spot_products: array<LightProducts, SPOT_LIGHT_COUNT>,
 #endif
 #endif
+#if SHADOWS
+    // A closed surface hides a light from its own points that face away from it
+    // (docs/shadows.md#closed-surfaces): bit s is set for each casting light s (by slot) it
+    // hides that way; none for an open surface. The sign turns the winding normal outward
+    // (−1: a mesh wound inside out).
+    self_shadowing_lights: u32,
+    outward_sign: f32,
+#endif
 }
+#if SHADOWS
+
+// One casting light's shadow maps (render/passes/shadow.py fills it; render/passes/shadow_views.py
+// fits them). Every field is read at the light's own slot, the same in every fragment (a
+// field chosen per fragment would be gathered lane by lane on llvmpipe).
+struct ShadowLight {
+    // Rigid: eye space to the light's view, which looks along its −z (a single map), or to
+    // the light's cube frame: world axes, origin at the light (each cube face is a fixed turn
+    // of it, wgsl/chunks/shadows/lookup.wgsl).
+    light_from_eye: mat4x4<f32>,
+    // A point's texel coordinates: (x, y) · texels.xy + texels.zw, where (x, y) are the
+    // view's x and y (orthographic) or x/t and y/t, t = −z (perspective; every cube face alike).
+    texels: vec4<f32>,
+    // x: 1 / (far − near) (orthographic) or the near distance (perspective); y: the bias,
+    // world units (orthographic) or world units per unit of distance (perspective).
+    depth: vec4<f32>,
+    // Map layers (−1: none, nothing visible this light can shadow there): a single map's in
+    // x; a cube map's faces +X, −X, +Y, −Y in x, y, z, w.
+    layers: vec4<i32>,
+    // A cube map's faces +Z, −Z in x, y; z: 1 for a cube map, 0 for a single map.
+    more_layers: vec4<i32>,
+}
+
+// Group 0, with the maps: the casting lights by slot (render/features.py casting_lights).
+struct ShadowUniforms {
+    lights: array<ShadowLight, SHADOW_LIGHT_COUNT>,
+}
+#endif

@@ -77,22 +77,23 @@ class AnimationFrames(Sequence[Scene]):
             return posed_gltf(self._data, (time, self.animation))
 
     def _framing(self) -> Mesh:
-        """A box around every frame's pose: the corners of the union of their bounding boxes,
-        with all six sides (a flat model, such as a skinned strip, gives a flat box)."""
+        """The corners of the box around every frame's pose (the union of their bounding
+        boxes), as points: a flat model (a skinned strip) gives a flat box, which two of its
+        sides as triangles could not hold."""
         path = self._data.path
         lower, upper = np.full(3, np.inf), np.full(3, -np.inf)
         with self._lock:
             for time in self.times:
                 for piece in self._pose(time).pieces:
-                    if len(piece.faces):
-                        used = piece.positions[np.unique(piece.faces)]
+                    if piece.element_count:
+                        used = piece.positions if piece.primitive == "points" else piece.positions[np.unique(piece.faces)]
                         lower, upper = np.minimum(lower, used.min(axis=0)), np.maximum(upper, used.max(axis=0))
                 self._data.notes[:] = dict.fromkeys(self._data.notes)  # each pose says them again: kept once
         if not np.isfinite(lower).all():
             raise MeshError(f"mesh file {str(path)!r}: no frame of the animation from {self.start:g} s to {self.times[-1]:g} s "
-                            f"shows a triangle (every object is hidden or the file has none)")
+                            f"shows anything (every object is hidden, or the file has no triangles, lines or points)")
         corners = np.array([[x, y, z] for x in (lower[0], upper[0]) for y in (lower[1], upper[1]) for z in (lower[2], upper[2])])
-        return Mesh.from_arrays(corners, _BOX_FACES, name="the animation's reach")
+        return Mesh.from_arrays(corners, name="the animation's reach")
 
     def frame_mesh(self, time: float) -> tuple[LoadedMesh, bool]:
         """The file posed at `time`, read as read_mesh reads it (its notes said once for the
@@ -101,8 +102,8 @@ class AnimationFrames(Sequence[Scene]):
         with self._lock:
             found = self._pose(time)
             try:
-                if not any(len(piece.faces) for piece in found.pieces):
-                    stand_in = self.framing or Mesh.from_arrays(_BOX_CORNERS, _BOX_FACES, name="an empty frame")
+                if not any(piece.element_count for piece in found.pieces):
+                    stand_in = self.framing or Mesh.from_arrays(np.eye(3), name="an empty frame")
                     return LoadedMesh(stand_in, found.lights, found.camera), False
                 return loaded_mesh(found, str(self._data.path), self._data.path.name, self._crease_angle, said=self._said), True
             finally:
@@ -126,8 +127,3 @@ class AnimationFrames(Sequence[Scene]):
         for index in range(len(self)):
             yield self[index]
 
-
-# The 12 triangles of a box's 6 sides, its corners numbered 4·x + 2·y + z (x, y, z in 0, 1).
-_BOX_FACES = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-                       [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
-_BOX_CORNERS = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])

@@ -41,6 +41,7 @@ from ..scene import (
     Material,
     Scene,
     SceneObject,
+    ShadowSettings,
     Shading,
     image_size,
 )
@@ -48,11 +49,12 @@ from ..scene import (
 # The keys of each table. [output], [shading] and [camera] hold view options only, and the
 # view options of objects, their materials and lights join those tables' own keys: all
 # from the one table of options (scene/view/options.py), so a new option is a new key.
-_TOP_LEVEL = {"output", "shading", "camera", "ambient", "lights", "objects"}
+_TOP_LEVEL = {"output", "shading", "camera", "shadows", "ambient", "lights", "objects"}
 _SECTIONS = {
     "output": set(scene_file_keys("output")),
     "shading": set(scene_file_keys("shading")),
     "camera": set(scene_file_keys("camera")),
+    "shadows": set(scene_file_keys("shadows")),
     "ambient": {"color"},
 }
 _LIGHT_KEYS = {
@@ -242,6 +244,7 @@ def parse_scene(
     output = _table(document, "output")
     shading = _table(document, "shading")
     camera = _table(document, "camera")
+    shadows = _table(document, "shadows")
     ambient = _table(document, "ambient")
     for key, limit in (("lights", MAX_LIGHTS), ("objects", MAX_OBJECTS)):  # counted before any is built or loaded
         count = len(document.get(key) or ()) if isinstance(document.get(key), list) else 0
@@ -260,6 +263,7 @@ def parse_scene(
         lights=tuple(lights),
         camera=_camera(camera),
         shading=Shading(**shading),
+        shadows=ShadowSettings(**shadows),
         ambient=ambient.get("color", defaults.ambient),
         background=_background(output, defaults.background),
         **fields,

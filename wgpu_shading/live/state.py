@@ -2,7 +2,7 @@
 
 A ViewState is the view's settings: its view options (scene/view/options.py: the ones
 `render` takes, which the keys change: frequency, reflection, material, shininess, crease
-angle, two-sided, samples) and the camera the mouse moved. Every key of the viewer is a transition of it
+angle, two-sided, samples, shadows) and the camera the mouse moved. Every key of the viewer is a transition of it
 (`press`), every drag or wheel turn a camera move (`drag`, `wheel`); the window, the
 notebook widget and the tests drive the same object. The scene drawn and the `render`
 command printed are both made from the settings (viewer.py), never from each other.
@@ -33,7 +33,9 @@ KEYS: dict[str, tuple[str, str]] = {
     "]": ("shininess_up", "shininess up (×√2)"),
     "c": ("crease", "crease angle: 0 → 30 → 60 → 180 degrees (mesh files without normals)"),
     "t": ("two_sided", "two-sided lighting on/off"),
+    "e": ("edges", "the triangles' edges over the surfaces on/off (f3d's E key)"),
     "a": ("samples", "antialiasing: 1 ↔ 4 samples"),
+    "d": ("shadows", "shadows on/off: every light casts"),
     "enter": ("reset", "reset the camera"),
     "s": ("save", "save a screenshot NAME-NNN.png in the current folder"),
     "p": ("print", "print the `wgpu-shading render` command of this view"),
@@ -55,7 +57,7 @@ class Settings(ViewOptions):
 
 
 # Options whose keys step from the value the scene has, so the settings hold it from the start.
-SCENE_VALUED = ("frequency", "reflection", "two_sided", "samples")
+SCENE_VALUED = ("frequency", "reflection", "two_sided", "edges", "samples", "shadows")
 
 
 def opening_settings(options: ViewOptions, scene: Scene) -> Settings:
@@ -147,8 +149,17 @@ class ViewState:
         return replace(s, two_sided=not s.two_sided)
 
     @staticmethod
+    def _key_edges(s: Settings) -> Settings:
+        return replace(s, edges=not s.edges)
+
+    @staticmethod
     def _key_samples(s: Settings) -> Settings:
         return replace(s, samples=_next(SAMPLE_CYCLE, s.samples))
+
+    @staticmethod
+    def _key_shadows(s: Settings) -> Settings:
+        # From a scene where some lights cast (None) the first press makes every light cast.
+        return replace(s, shadows=not s.shadows)
 
     def _key_reset(self, s: Settings) -> Settings:
         return replace(s, camera=self.opened.camera)

@@ -38,8 +38,8 @@ from .device import default_device, lost_device_errors
 from .features import FeatureSet, object_features
 from .frames_in_flight import render_many
 from .gpu.device_cache import DeviceCache
+from .gpu.vertex_order import SharedOrders
 from .gpu.targets import Target
-from .passes.extra_outputs import check_space
 from .passes.frame import frame_passes
 from .passes.frame_context import FrameContext, FramePass
 
@@ -137,6 +137,8 @@ class Renderer:
         color=False leaves out the colour pass when depth is not asked for either."""
         check_scene_argument(scene, "render")
         if normals is not None:
+            from .passes.extra_outputs import check_space  # only frames with normals import that pass
+
             check_space(normals)
         passes = frame_passes(
             scene, color_format="float32" if float32 else "rgba8", color=color, depth=depth, normals=normals, ids=ids,
@@ -217,6 +219,11 @@ class Renderer:
                     label=f"wgpu-shading batch helper {len(helpers) + 1}", required_features=sorted(self._device.features)
                 )
                 helpers.append(Renderer(device=helper_device))
+            if count > 1 and (self._cache.shared_orders is None or self._cache.shared_orders.devices != len(helpers) + 1):
+                # One meshoptimizer run per mesh for all the devices (render/gpu/vertex_order.py).
+                shared = SharedOrders(len(helpers) + 1)
+                for renderer in (self, *helpers):
+                    renderer.device_cache.shared_orders = shared
             return [self, *helpers[: count - 1]]
 
     def features(self, scene: Scene) -> list[FeatureSet]:

@@ -33,7 +33,7 @@ MAX_SHADOW_BIAS_TEXELS = 64.0
 # What "auto" resolves to, field by field: the accuracy study's choice
 # (docs/shadows.md#auto, study/accuracy/shadow_choice.py). PROVISIONAL until the study runs
 # on the GPU's shadows: a common starting point, not a measurement (AUTO_IS_MEASURED).
-AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = 2048, "pcf3", 1.5
+AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = 2048, "nearest", 3.0
 AUTO_IS_MEASURED = False
 
 ShadowFilter = Literal["auto", "nearest", "bilinear", "pcf3", "pcf5"]

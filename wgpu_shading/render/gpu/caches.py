@@ -11,6 +11,7 @@ must level off in memory. The limits (docs/reliability.md states them):
                      stored in two formats is two entries under the same bound
     uniform buffers  UNIFORM_CACHE_ENTRIES (one per object index and layout size)
     bind groups      BIND_GROUP_CACHE_ENTRIES per owner
+    shadow maps      SHADOW_MAP_CACHE_ENTRIES textures (map size × layer count; docs/shadows.md)
 
 Eviction only drops the cache's reference; wgpu releases the GPU object when the last
 reference goes (a frame still in flight keeps its own). The caches are not thread-safe
@@ -31,6 +32,7 @@ TEXTURE_CACHE_ENTRIES = 32
 TEXTURE_CACHE_BYTES = 512 << 20  # 512 MiB
 UNIFORM_CACHE_ENTRIES = 1024
 BIND_GROUP_CACHE_ENTRIES = 256
+SHADOW_MAP_CACHE_ENTRIES = 2  # a 2048² map is 16 MiB a layer
 
 V = TypeVar("V")
 

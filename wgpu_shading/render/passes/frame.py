@@ -1,18 +1,17 @@
 """A frame is the list of passes it calls for, encoded in order into one command buffer.
 
-Today: the colour pass (when the colour or depth image is asked for) and the normals-and-
-ids pass of datasets (when normals or ids are). A pass a scene feature needs goes in this
-list where its outputs are needed: a shadow map pass, for instance, before the colour pass
-that samples it (its `encode` puts the map into `FrameContext.bound`). Only what a frame
-calls for runs: without the feature, no pass and no code.
+The shadow maps (when the scene has shadows, before the colour pass that samples them: its
+`encode` puts the maps into `FrameContext.bound`), the colour pass (when the colour or
+depth image is asked for) and the normals-and-ids pass of datasets (when normals or ids
+are). Only what a frame calls for runs: without the feature, no pass and no code.
 """
 
 from __future__ import annotations
 
-from ...scene import Scene
+from ...scene import Scene, has_shadows
 from .color import ColorPass
-from .extra_outputs import ExtraOutputsPass
 from .frame_context import FramePass
+from .shadow import ShadowPass
 
 
 def frame_passes(
@@ -21,8 +20,12 @@ def frame_passes(
 ) -> list[FramePass]:
     """The passes of one frame of `scene`, in the order they run."""
     passes: list[FramePass] = []
+    if (color or depth) and has_shadows(scene):
+        passes.append(ShadowPass())  # the maps the colour pass reads
     if color or depth:
         passes.append(ColorPass(color_format, read_depth=depth))
     if normals is not None or ids:
+        from .extra_outputs import ExtraOutputsPass  # imported by the frames that ask for it (cold start)
+
         passes.append(ExtraOutputsPass(normals or "eye"))
     return passes

@@ -10,12 +10,13 @@ WGSL structs; fields are filled by name.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 from pyglm import glm
 
 from ...errors import SceneError
-from ...scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight
+from ...scene import Camera, DirectionalLight, Material, Scene, SceneObject, SpotLight, has_shadows
 
 
 def clip_from_eye(camera: Camera, aspect: float) -> np.ndarray:
@@ -71,6 +72,15 @@ def linear_depth(depth: np.ndarray, camera: Camera) -> np.ndarray:
     return distance
 
 
+def uniform_lights(scene: Scene) -> tuple:
+    """The lights in the order the light arrays hold them: each kind in scene order, except
+    that with shadows a kind's casting lights come first (a shader knows them by their count,
+    features.casting_lights)."""
+    if not has_shadows(scene):
+        return scene.lights
+    return tuple(sorted(scene.lights, key=lambda light: not light.shadows))
+
+
 def _fill_light_colors(lights: np.ndarray, index: int, light: object) -> None:
     lights["ambient"][index] = light.ambient  # type: ignore[attr-defined]
     lights["diffuse"][index] = light.diffuse  # type: ignore[attr-defined]
@@ -88,7 +98,7 @@ def frame_uniforms(scene: Scene, dtype: np.dtype, eye_from_world: glm.dmat4 | No
     if "blinn_exponent_scale" in dtype.names:
         data["blinn_exponent_scale"] = scene.shading.blinn_exponent_scale
     counters = {"directional": 0, "positional": 0, "spot": 0}
-    for light in scene.lights:
+    for light in uniform_lights(scene):
         kind = light.kind
         index = counters[kind]
         counters[kind] += 1
@@ -145,13 +155,23 @@ def object_uniforms(
     return data
 
 
+def stroke_uniforms(data: np.ndarray, size: tuple[int, int], pixels: float, edge_color=None) -> np.ndarray:
+    """A point's or line's ObjectUniforms (object_uniforms' block) with the target's size and
+    the quad's size in pixels, and the edge colour of an edges draw (docs/primitives.md)."""
+    data["viewport_size"] = size
+    data["stroke_pixels"] = pixels
+    if edge_color is not None:
+        data["edge_color"] = edge_color
+    return data
+
+
 def _fill_light_products(data: np.ndarray, material: Material, scene: Scene) -> None:
     """Light colors times material colors, in float64 then rounded once: the shader reads
     these instead of multiplying the two uniforms per fragment (docs/performance.md)."""
     ambient, diffuse, specular = (np.asarray(c, np.float64) for c in (material.ambient, material.diffuse, material.specular))
     data["global_ambient_product"] = np.asarray(scene.ambient, np.float64) * ambient
     counters = {"directional": 0, "positional": 0, "spot": 0}
-    for light in scene.lights:
+    for light in uniform_lights(scene):
         index = counters[light.kind]
         counters[light.kind] += 1
         products = data[f"{light.kind}_products"]
@@ -173,12 +193,43 @@ def _unit_scaled(normal_matrix: np.ndarray) -> np.ndarray:
     return normal_matrix * 2.0 ** -math.frexp(largest)[1]
 
 
+def _float_leaves(data: np.ndarray):
+    """Every float array inside a (structured) uniform value."""
+    if data.dtype.names is None:
+        if data.dtype.base.kind == "f":
+            yield data
+        return
+    for name in data.dtype.names:
+        yield from _float_leaves(data[name])
+
+
+@lru_cache(maxsize=64)
+def _float_words(dtype: np.dtype) -> np.ndarray | None:
+    """Which 4-byte words of a uniform block are f32 fields; None when no field is an
+    integer (most blocks: then every word is checked, as one array)."""
+    if not _has_integers(dtype):
+        return None
+    probe = np.zeros((), dtype)
+    for leaf in _float_leaves(probe):
+        leaf[...] = 1.0
+    return np.frombuffer(probe.tobytes(), np.float32) == 1.0
+
+
+def _has_integers(dtype: np.dtype) -> bool:
+    dtype = dtype.base  # an array field: its element
+    if dtype.names is None:
+        return dtype.kind in "iu"
+    return any(_has_integers(dtype.fields[name][0]) for name in dtype.names)
+
+
 def finite_uniform_bytes(data: np.ndarray, where: str) -> bytes:
-    """The buffer's bytes, after a last check that every value is finite in float32 (every
-    uniform field is f32). Scene validation keeps them finite; this is the net under it, so
-    that inf or NaN never reaches a shader."""
+    """The buffer's bytes, after a last check that every f32 value is finite. Scene
+    validation keeps them finite; this is the net under it, so that inf or NaN never reaches
+    a shader. (Integer fields, such as the shadow maps' layer numbers, are not checked.)"""
     payload = data.tobytes()
-    if not np.isfinite(np.frombuffer(payload, np.float32)).all():
+    words = np.frombuffer(payload, np.float32)
+    floats = _float_words(data.dtype)
+    if not np.isfinite(words if floats is None else words[floats]).all():
         raise SceneError(
             f"{where}: a value derived from it (matrix, normal matrix, colour, projection) is not finite in float32"
         )

@@ -22,6 +22,7 @@ from .bare_mesh import enclosing_depth, relit
 from ..lights import LIGHT_TYPES
 from ..material import Material
 from ..objects import Scene, SceneObject, Shading
+from ..shadows import ShadowSettings
 from .options import VIEW_OPTIONS, ViewOption, ViewOptions
 from .reading import parse_light
 
@@ -42,6 +43,7 @@ def unappliable(option: ViewOption) -> str | None:
         "output": _names(Scene) | set(BACKGROUND_KEYS),
         "shading": _names(Shading),
         "camera": _names(Camera) | set(CAMERA_MOVES),
+        "shadows": _names(ShadowSettings),
         "objects": _names(SceneObject) | {f"material.{key}" for key in _names(Material)},
         "lights": set.intersection(*(_names(kind) for kind in LIGHT_TYPES.values())) | {""},
     }
@@ -69,7 +71,8 @@ def with_background(background: tuple, color: tuple | None = None, transparent: 
 
 def apply_view_options(scene: Scene, options: ViewOptions) -> Scene:
     """`scene` with `options` applied, in table order: output, objects (up, material,
-    shininess), shading, camera (keys, then azimuth and elevation, then distance), lights.
+    shininess, shadows), shading, shadows, camera (keys, then azimuth and elevation, then
+    distance), lights (their shadows after the lights themselves).
 
     A bare mesh's scene (scene.bare_mesh) keeps its policy: when the options move its
     camera, its depth range and its viewer lights follow, as in `render MESH`.
@@ -87,6 +90,9 @@ def apply_view_options(scene: Scene, options: ViewOptions) -> Scene:
     shading = {option.field: value for option, value in _of(options, "shading")}
     if shading:
         changes["shading"] = replace(scene.shading, **shading)
+    shadows = {option.field: value for option, value in _of(options, "shadows")}
+    if shadows:
+        changes["shadows"] = replace(scene.shadows, **shadows)
     objects = changes.get("objects", scene.objects)
     camera = place_camera(scene.camera, options)
     if camera is not scene.camera:
@@ -158,7 +164,10 @@ def scene_value(scene: Scene, option: ViewOption) -> Any:
     """The value an option has in `scene` (the first object's, for object options): where
     the live viewer's keys start from. None where the scene holds no such value."""
     section, name = option.section, option.field
-    holder = {"output": scene, "shading": scene.shading, "camera": scene.camera}.get(section)
+    if section == "lights":  # a light field: the value every light has (None: they differ)
+        values = {getattr(light, name) for light in scene.lights} if name else set()
+        return values.pop() if len(values) == 1 else None
+    holder = {"output": scene, "shading": scene.shading, "camera": scene.camera, "shadows": scene.shadows}.get(section)
     if section == "objects" and scene.objects:
         holder = scene.objects[0]
         if name.startswith("material."):

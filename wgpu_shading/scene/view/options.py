@@ -28,8 +28,9 @@ from typing import Any, Callable
 
 from ..camera import PROJECTIONS
 from ..maps import SCENE_COLOR_SPACES
+from ..shadows import AUTO, SHADOW_FILTERS
 from ..material_table import material as named_material
-from ..values import FREQUENCIES, REFLECTIONS
+from ..values import FREQUENCIES, MAX_STROKE_PIXELS, MIN_STROKE_PIXELS, REFLECTIONS
 from .reading import (
     LIGHT_SYNTAX,
     read_bool,
@@ -44,6 +45,8 @@ from .reading import (
     read_material,
     read_samples,
     read_seconds,
+    read_shadow_bias,
+    read_shadow_map_size,
     read_shininess,
     read_size,
     read_up,
@@ -51,7 +54,8 @@ from .reading import (
     spell,
 )
 
-SECTIONS = {"output": "[output]", "shading": "[shading]", "camera": "[camera]", "objects": "[[objects]]", "lights": "[[lights]]"}
+SECTIONS = {"output": "[output]", "shading": "[shading]", "camera": "[camera]", "shadows": "[shadows]",
+            "objects": "[[objects]]", "lights": "[[lights]]"}
 LOAD_KINDS = (None, "mesh", "frame")
 
 
@@ -133,6 +137,11 @@ def _positive(value: Any, where: str) -> float:
     return read_float(value, where, 0.0, low_open=True)
 
 
+def _pixels(value: Any, where: str) -> float:
+    """A point size or line width in pixels (docs/valid-ranges.md)."""
+    return read_float(value, where, MIN_STROKE_PIXELS, MAX_STROKE_PIXELS)
+
+
 def _switches(true_flag: str, true_help: str, false_flag: str, false_help: str) -> tuple:
     return ((true_flag, True, true_help), (false_flag, False, false_help))
 
@@ -179,6 +188,18 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
     _O("color_space", read_choice(SCENE_COLOR_SPACES), "shading.color_space",
        "colour values: auto (glTF linear with sRGB output, others display values), display or linear for every material", "linear",
        flags=("--color-space",), metavar=_choices(SCENE_COLOR_SPACES)),
+    _O("point_size", _pixels, "shading.point_size",
+       "points (point clouds, glTF POINTS) PX pixels across: squares, discs facing their normals when they have them (default 3)",
+       6.0, flags=("--point-size",), metavar="PX"),
+    _O("line_width", _pixels, "shading.line_width", "lines (OBJ l, glTF LINES) PX pixels wide (default 1)", 3.0,
+       flags=("--line-width",), metavar="PX"),
+    _O("edges", read_bool, "shading.edges", "draw the triangles' edges over the surfaces (f3d's --edges)", True,
+       switches=_switches("--edges", "draw the triangles' edges over the surfaces (f3d's --edges)",
+                          "--no-edges", "draw no edges (the default)")),
+    _O("edge_color", read_color, "shading.edge_color", "the edges' colour, components 0..1 (default black)", (1.0, 0.5, 0.0),
+       flags=("--edge-color",), metavar="R,G,B[,A]"),
+    _O("edge_width", _pixels, "shading.edge_width", "the edges PX pixels wide (default 1)", 2.0,
+       flags=("--edge-width",), metavar="PX"),
     _O("crease_angle", read_crease_angle, "objects.crease_angle",
        "mesh files without normals: edges sharper than this are creases (default 60; 180 smooth, 0 flat)", 120.0,
        flags=("--crease-angle",), metavar="DEG", load="mesh"),
@@ -225,6 +246,24 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        9.0, flags=("--camera-distance",), metavar="D"),
     _O("lights", read_lights, "lights", f"replace the lights (repeat for more): {LIGHT_SYNTAX}",
        ("directional:dir=-1,-1,-1:color=1,0.5,0.5",), flags=("--light",), metavar="SPEC", repeated=True),
+    _O("shadows", read_bool, "lights.shadows", "every light casts shadows", True,
+       switches=_switches("--shadows", "every light casts shadows",
+                          "--no-shadows", "no light casts shadows, whatever the scene says")),
+    _O("cast_shadows", read_bool, "objects.cast_shadows", "objects hide the lights that cast shadows from what is behind them", False,
+       switches=_switches("--cast-shadows", "every object casts shadows (the default)",
+                          "--no-cast-shadows", "no object casts shadows")),
+    _O("receive_shadows", read_bool, "objects.receive_shadows", "objects are darkened where a casting light is hidden", False,
+       switches=_switches("--receive-shadows", "every object receives shadows (the default)",
+                          "--no-receive-shadows", "no object receives shadows")),
+    _O("shadow_map_size", read_shadow_map_size, "shadows.map_size",
+       "side of each shadow map in texels, 16..8192, or auto (the accuracy study's choice)", 512,
+       flags=("--shadow-map-size",), metavar="N", column="shadow_map_size"),
+    _O("shadow_filter", read_choice((AUTO,) + SHADOW_FILTERS), "shadows.filter",
+       "how a shadow map is read: the nearest texel, a bilinear comparison, 3×3 or 5×5 PCF, or auto", "pcf3",
+       flags=("--shadow-filter",), metavar=_choices((AUTO,) + SHADOW_FILTERS), column="shadow_filter"),
+    _O("shadow_bias", read_shadow_bias, "shadows.bias",
+       "how far each receiver is moved towards the light, in shadow-map texels (0..64), or auto", 4.0,
+       flags=("--shadow-bias",), metavar="TEXELS", column="shadow_bias"),
     _O("viewer_lights", read_bool, None,
        "a glTF file with its own lights (KHR_lights_punctual) is lit by them; true: by the viewer's key light and headlight instead", True,
        switches=_switches("--viewer-lights", "light a glTF file that has its own lights with the viewer's key light and headlight instead",

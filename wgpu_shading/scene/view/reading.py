@@ -17,6 +17,7 @@ from ...errors import SceneError, UsageError
 from ..lights import LIGHT_TYPES
 from ..material_table import material as named_material
 from ..objects import SAMPLE_COUNTS, up_axis
+from ..shadows import AUTO, MAX_SHADOW_BIAS_TEXELS, shadow_map_size
 from ..values import MAX_EXPONENT, Vec3, direction, image_size
 from .bare_mesh import headlight
 
@@ -205,6 +206,26 @@ def read_crease_angle(value: Any, where: str) -> float:
         return read_float(value, where, 0.0, 180.0)
     except UsageError:
         raise UsageError(f"{where}: expected degrees between 0 and 180, got {value!r}") from None
+
+
+def read_shadow_map_size(value: Any, where: str) -> int | str:
+    """"auto" or a whole number of texels (scene/shadows.py's range)."""
+    if isinstance(value, str) and value.strip().lower() != AUTO:
+        try:
+            value = int(value)
+        except ValueError:
+            raise UsageError(f"{where}: expected auto or a whole number of texels, got {value!r}") from None
+    try:
+        return shadow_map_size(value.strip().lower() if isinstance(value, str) else value, where)
+    except SceneError as error:
+        raise UsageError(str(error)) from None
+
+
+def read_shadow_bias(value: Any, where: str) -> float | str:
+    """"auto" or texels of the shadow map (scene/shadows.py's range)."""
+    if isinstance(value, str) and value.strip().lower() == AUTO:
+        return AUTO
+    return read_float(value, where, 0.0, MAX_SHADOW_BIAS_TEXELS)
 
 
 def read_lights(value: Any, where: str) -> tuple[str, ...]:

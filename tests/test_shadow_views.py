@@ -1,0 +1,201 @@
+"""Where the shadow maps look (render/passes/shadow_views.py, docs/shadows.md#shadow-maps):
+each view covers every visible receiver a caster can shadow — casters outside the camera's
+view included — and little else; cube faces that cannot reach a visible receiver are
+skipped; closed surfaces are told from open ones (scene/solids.py). CPU only."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from wgpu_shading.render.passes.shadow_views import (
+    MAX_SINGLE_VIEW_TAN,
+    cube_guard,
+    fit_shadow_views,
+    smallest_rectangle_angle,
+)
+from wgpu_shading.render.passes.visible_regions import camera_frustum, clipped_box, visible_receivers, world_box
+from wgpu_shading.scene import (
+    Camera,
+    DirectionalLight,
+    PositionalLight,
+    Scene,
+    SceneObject,
+    SpotLight,
+    cube,
+    plane,
+    torus,
+    uv_sphere,
+)
+from wgpu_shading.scene.solids import solid_orientation
+from wgpu_shading.study.shadows import shadow_case
+
+SIZE, MARGIN = 1024, 2.0
+
+
+def _project(view, points: np.ndarray) -> np.ndarray:
+    """(N, 2) window coordinates of world points in a view."""
+    local = points @ view.light_from_world[:3, :3].T + view.light_from_world[:3, 3]
+    return local[:, :2] if view.orthographic else local[:, :2] / -local[:, 2:3]
+
+
+def _inside(view, points: np.ndarray) -> np.ndarray:
+    x0, y0, x1, y1 = view.window
+    uv = _project(view, points)
+    return (uv[:, 0] >= x0) & (uv[:, 0] <= x1) & (uv[:, 1] >= y0) & (uv[:, 1] <= y1)
+
+
+def _ground(size=20.0):
+    return SceneObject(plane(size), rotate=(-90.0, 0.0, 0.0))
+
+
+def _scene(*objects, light=None, camera=None) -> Scene:
+    return Scene(objects=objects, lights=(light or DirectionalLight(direction=(0.3, -1.0, 0.2), shadows=True),),
+                 camera=camera or Camera(eye=(0.0, 6.0, 8.0), target=(0.0, 0.0, 0.0)), size=(128, 96))
+
+
+def test_the_directional_window_holds_the_casters_shadow_on_the_visible_ground_and_little_more():
+    ball = SceneObject(uv_sphere(1.0, 24, 12), translate=(0.0, 2.0, 0.0))
+    scene = _scene(ball, _ground())
+    (shadow,) = fit_shadow_views(scene, SIZE, MARGIN)
+    (view,) = shadow.views
+    assert view.orthographic and view.near == 0.0 and view.far > 0.0
+    assert _inside(view, world_box(ball)).all()  # the caster's silhouette (its box's) is covered
+    x0, y0, x1, y1 = view.window
+    # the 20-unit ground is not: only where the ball's silhouette lies over it (its box: 2 × 2)
+    assert (x1 - x0) * (y1 - y0) < 2.0 * 2.0 * 2.0 * 1.2
+    # depth: from the caster's nearest corner to the farthest visible receiver point
+    local = world_box(ball) @ view.light_from_world[:3, :3].T + view.light_from_world[:3, 3]
+    assert (-local[:, 2] >= view.near - 1e-9).all()
+
+
+def test_a_caster_outside_the_camera_view_still_gets_into_the_window():
+    """The camera sees only the ground; the ball above and behind it still shadows it."""
+    ball = SceneObject(uv_sphere(1.0, 24, 12), translate=(0.0, 6.0, -6.0))
+    camera = Camera(eye=(0.0, 3.0, 4.0), target=(0.0, 0.0, -2.0), fov_y=30.0)
+    light = DirectionalLight(direction=(0.0, -1.0, 1.0), shadows=True)  # travels towards +z: the shadow lands in view
+    scene = _scene(ball, _ground(), light=light, camera=camera)
+    frustum = camera_frustum(scene)
+    assert len(clipped_box(world_box(ball), frustum)) == 0, "the ball must be outside the view for this test"
+    (view,) = fit_shadow_views(scene, SIZE, MARGIN)[0].views
+    assert view is not None and _inside(view, world_box(ball)).any()
+
+
+def test_nothing_visible_to_shadow_gives_no_view():
+    # the ball lies below the ground plane's visible part in light space: it shadows nothing seen
+    ball = SceneObject(uv_sphere(1.0, 24, 12), translate=(40.0, 2.0, 0.0))
+    scene = _scene(ball, _ground(10.0))
+    assert fit_shadow_views(scene, SIZE, MARGIN)[0].views == (None,)
+    flat_alone = _scene(_ground(10.0))  # a plane cannot shadow itself
+    assert fit_shadow_views(flat_alone, SIZE, MARGIN)[0].views == (None,)
+
+
+def test_a_narrow_spot_is_one_perspective_view_inside_its_cone_and_a_wide_one_a_cube():
+    ball = SceneObject(uv_sphere(1.0, 24, 12), translate=(0.0, 2.0, 0.0))
+    narrow = SpotLight(position=(0.0, 6.0, 0.0), direction=(0.0, -1.0, 0.0), cutoff=30.0, shadows=True)
+    (shadow,) = fit_shadow_views(_scene(ball, _ground(), light=narrow), SIZE, MARGIN)
+    (view,) = shadow.views
+    assert shadow.cube_from_world is None and not view.orthographic
+    cone = np.tan(np.radians(30.0)) * SIZE / (SIZE - 2 * MARGIN)
+    assert max(abs(v) for v in view.window) <= cone + 1e-9
+    wide = replace(narrow, position=(0.0, 2.5, 0.0), cutoff=85.0)  # just above the ball: wider than one view
+    (shadow,) = fit_shadow_views(_scene(ball, _ground(), light=wide), SIZE, MARGIN)
+    assert shadow.cube_from_world is not None and len(shadow.views) == 6
+    # the face looking up (+Y) holds nothing the downward cone lights
+    assert shadow.views[2] is None
+    assert MAX_SINGLE_VIEW_TAN < np.tan(np.radians(85.0))
+
+
+def test_cube_faces_that_reach_no_visible_receiver_are_skipped():
+    boxes = tuple(SceneObject(cube(0.5), translate=(x, 0.25, z)) for x, z in ((2, 0), (-2, 0), (0, 2), (0, -2)))
+    light = PositionalLight(position=(0.0, 0.8, 0.0), shadows=True)
+    camera = Camera(eye=(0.0, 9.0, 2.0), target=(0.0, 0.0, 0.0))
+    (shadow,) = fit_shadow_views(_scene(*boxes, _ground(), light=light, camera=camera), SIZE, MARGIN)
+    faces = [view is not None for view in shadow.views]
+    # +Y: the light looks up at nothing; −Y: down at ground no box can shadow in that face
+    assert faces == [True, True, False, False, True, True]
+    for view in shadow.views:
+        if view is not None:  # a face covers 90° and a guard band of MARGIN texels of its own
+            assert view.window == pytest.approx((-cube_guard(SIZE, MARGIN),) * 2 + (cube_guard(SIZE, MARGIN),) * 2)
+
+
+def test_the_views_do_not_depend_on_the_scene_scale():
+    small, large = (fit_shadow_views(shadow_case("sphere_over_plane_10", (64, 64), scale=s).scene, SIZE, MARGIN) for s in (1e-3, 1e3))
+    (a,), (b,) = small[0].views, large[0].views
+    assert np.allclose(np.array(a.window) * 1e6, np.array(b.window), rtol=1e-6)
+    assert np.isclose(a.far * 1e6, b.far, rtol=1e-6)
+
+
+def test_the_smallest_rectangle_is_found_for_a_turned_square():
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    turn = np.radians(30.0)
+    rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+    angle = smallest_rectangle_angle(square @ rotation.T)
+    c, s = np.cos(angle), np.sin(angle)
+    turned = (square @ rotation.T) @ np.array([[c, -s], [s, c]])
+    assert np.prod(np.ptp(turned, axis=0)) == pytest.approx(1.0)
+
+
+def test_receivers_outside_the_view_are_not_fitted():
+    inside = SceneObject(cube(1.0), translate=(0.0, 0.5, 0.0))
+    outside = SceneObject(cube(1.0), translate=(0.0, 0.5, 60.0))  # behind the camera
+    regions = visible_receivers(_scene(inside, outside))
+    assert set(regions) == {0}
+    no_receiver = replace(inside, receive_shadows=False)
+    assert visible_receivers(_scene(no_receiver)) == {}
+
+
+@pytest.mark.parametrize("mesh, expected", [
+    (cube(1.0), 1), (uv_sphere(1.0, 12, 7), 1), (uv_sphere(1.0, 256, 128), 1), (torus(1.0, 0.4, 64, 32), 1), (plane(1.0), 0),
+])
+def test_closed_surfaces_are_told_from_open_ones(mesh, expected):
+    assert solid_orientation(mesh.positions, mesh.indices) == expected
+    assert solid_orientation(mesh.positions, mesh.indices[:, ::-1]) == -expected  # wound inside out
+    if expected:
+        assert solid_orientation(mesh.positions, mesh.indices[:-1]) == 0  # a triangle missing: open
+    assert mesh.solid == expected
+
+
+def test_the_shaders_cube_face_turns_are_the_face_rotations(renderer):
+    """wgsl/chunks/shadows/lookup.wgsl turns a cube-frame vector into face f's view by
+    swizzles; they must be the rows of shadow_views.face_rotation(f), which the shadow pass
+    draws each face with. Run on the GPU over every face and a few vectors."""
+    import re
+
+    import wgpu
+
+    from wgpu_shading.render.passes.shadow_views import face_rotation
+    from wgpu_shading.render.shaders.preprocess import read_source
+
+    chunk = read_source("chunks/shadows/lookup.wgsl")
+    function = re.search(r"fn cube_face_turn\(.*?\n}\n", chunk, re.S).group(0)
+    vectors = np.array([[0.3, -0.7, 1.9], [-2.0, 0.5, 0.25], [1.0, 2.0, 3.0]], np.float32)
+    source = function + """
+@group(0) @binding(0) var<storage, read> vectors: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> turned: array<vec4<f32>>;
+@compute @workgroup_size(1)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let face = id.x % 6u;  // +X, −X, +Y, −Y, +Z, −Z
+    turned[id.x] = vec4<f32>(cube_face_turn(vectors[id.x / 6u].xyz, face < 2u, face == 2u || face == 3u, face % 2u == 0u), 0.0);
+}
+"""
+    device = renderer.device
+    inputs = np.zeros((len(vectors), 4), np.float32)
+    inputs[:, :3] = vectors
+    input_buffer = device.create_buffer_with_data(data=inputs, usage=wgpu.BufferUsage.STORAGE)
+    output_buffer = device.create_buffer(size=len(vectors) * 6 * 16, usage=wgpu.BufferUsage.STORAGE | wgpu.BufferUsage.COPY_SRC)
+    pipeline = device.create_compute_pipeline(layout="auto", compute={"module": device.create_shader_module(code=source), "entry_point": "main"})
+    group = device.create_bind_group(layout=pipeline.get_bind_group_layout(0), entries=[
+        {"binding": 0, "resource": {"buffer": input_buffer}}, {"binding": 1, "resource": {"buffer": output_buffer}}])
+    encoder = device.create_command_encoder()
+    compute = encoder.begin_compute_pass()
+    compute.set_pipeline(pipeline)
+    compute.set_bind_group(0, group)
+    compute.dispatch_workgroups(len(vectors) * 6)
+    compute.end()
+    device.queue.submit([encoder.finish()])
+    result = np.frombuffer(device.queue.read_buffer(output_buffer), np.float32).reshape(len(vectors), 6, 4)[..., :3]
+    for face in range(6):
+        assert np.allclose(result[:, face], vectors @ face_rotation(face).T), face
