@@ -86,3 +86,37 @@ def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (),
     document.update(extra or {})
     path.write_text(json.dumps(document))
     return path
+
+
+def add_animation(path: Path, channels: list[tuple[int, str, np.ndarray, np.ndarray]], interpolation: str = "LINEAR") -> Path:
+    """Add one animation to a file write_gltf wrote: channels of (node, path — translation,
+    rotation, scale or weights —, keyframe times, values (one row per keyframe, or three for
+    CUBICSPLINE)), their accessors appended to the file's buffer."""
+    document = json.loads(path.read_text())
+    buffer = document["buffers"][0]
+    blob = bytearray(base64.b64decode(buffer["uri"].split(",", 1)[1]))
+    samplers, targets = [], []
+
+    def add(array: np.ndarray) -> int:
+        array = np.ascontiguousarray(array, np.float32)
+        while len(blob) % 4:
+            blob.append(0)
+        document["bufferViews"].append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes})
+        blob.extend(array.tobytes())
+        width = 1 if array.ndim == 1 else array.shape[1]
+        document["accessors"].append({"bufferView": len(document["bufferViews"]) - 1, "componentType": _FLOAT,
+                                      "count": len(array), "type": _TYPES[width]})
+        return len(document["accessors"]) - 1
+
+    for node, target, times, values in channels:
+        times = np.asarray(times, np.float32)
+        time_accessor = add(times)
+        document["accessors"][time_accessor] |= {"min": [float(times.min())], "max": [float(times.max())]}
+        samplers.append({"input": time_accessor, "output": add(np.asarray(values, np.float32).reshape(-1, 1 if target == "weights" else len(values[0]))),
+                         "interpolation": interpolation})
+        targets.append({"sampler": len(samplers) - 1, "target": {"node": node, "path": target}})
+    document.setdefault("animations", []).append({"samplers": samplers, "channels": targets})
+    buffer["byteLength"] = len(blob)
+    buffer["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()
+    path.write_text(json.dumps(document))
+    return path

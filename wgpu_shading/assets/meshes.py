@@ -110,12 +110,24 @@ def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         if animation is not None and not gltf:
             notes.append(f"{path.name}: only glTF files hold animations; the animation time {animation[0]:g} s is ignored")
         found = read(path, file_size, animation) if animation is not None and gltf else read(path, file_size)
+    return loaded_mesh(found, text, path.name, crease_angle, notes)
+
+
+def loaded_mesh(found: MeshFile, source: str, name: str, crease_angle: float, notes: list[str] = (),
+                said: set[str] | None = None) -> LoadedMesh:
+    """A reader's MeshFile as read_mesh gives it: its pieces assembled into one Mesh named
+    `name`, the notes said once each once the file was read without error (or to say why
+    nothing is left). `said`: notes already said to this caller, not said again (an
+    animation poses one parsed file for every frame: animation_frames.py)."""
+    with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
         pieces = [p for p in found.pieces if p.element_count]
-        mesh = assemble(pieces, path.name, float(crease_angle)) if pieces else None
-    for note in dict.fromkeys(notes + found.notes):  # once each, once the file was read without error (or to say why nothing is left)
-        warnings.warn(note, stacklevel=3)
+        mesh = assemble(pieces, name, float(crease_angle)) if pieces else None
+    for note in dict.fromkeys([*notes, *found.notes]):
+        if said is None or note not in said:
+            warnings.warn(note, stacklevel=4)
+            said is None or said.add(note)
     if mesh is None:
-        raise MeshError(f"mesh file {text!r} contains no triangles, lines or points: nothing to draw")
+        raise MeshError(f"mesh file {source!r} contains no triangles, lines or points: nothing to draw")
     return LoadedMesh(mesh, found.lights, found.camera)
 
 

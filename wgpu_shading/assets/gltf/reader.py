@@ -33,7 +33,12 @@ from .punctual_lights import gltf_lights
 def read_gltf(path: Path, file_size: int | None = None, animation: tuple[float, int | str] | None = None) -> MeshFile:
     """A .gltf or .glb file (its size is checked by GltfData against what it declares);
     animation: (time in seconds, animation index or "all") to pose it at (animations.py)."""
-    data = GltfData(path)
+    return posed_gltf(GltfData(path), animation)
+
+
+def posed_gltf(data: GltfData, animation: tuple[float, int | str] | None = None) -> MeshFile:
+    """A parsed glTF file as read_gltf reads it, posed at `animation` (an animation poses one
+    parsed file for every frame: assets/animation_frames.py)."""
     nodes = None if animation is None else posed_nodes(data, *animation)
     pieces, notes = gltf_mesh_pieces(data, nodes)
     return MeshFile(pieces, notes, lights=lambda: gltf_lights(data, nodes), camera=lambda index: gltf_camera(data, index, nodes))
@@ -44,7 +49,7 @@ def gltf_mesh_pieces(data: GltfData, nodes: list | None = None) -> tuple[list[Me
     poses them (animations.posed_nodes), else the file's own."""
     path = data.path
     check_extensions(data.document, path)
-    materials: dict[tuple, tuple[Material | None, list]] = {}
+    materials: dict[tuple, tuple[Material | None, list]] = data.materials  # made once per document
     pieces = []
     for piece in gltf_pieces(data, nodes):
         attributes = piece.primitive["attributes"]
