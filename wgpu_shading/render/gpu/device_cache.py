@@ -39,7 +39,7 @@ from .bind_groups import cached_bind_group
 from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh
 from .samplers import create_sampler
 from .stroke_uploads import GpuPoints, GpuSegments, upload_points, upload_segments
-from .shadow_maps import ShadowMaps, create_comparison_sampler, new_shadow_maps
+from .shadow_maps import MAX_SHADOW_MAP_BYTES, ShadowMaps, create_comparison_sampler, new_shadow_maps
 from .targets import Target, check_target_size, new_target
 from .texture_uploads import GpuTexture, upload_texture
 from .uniform_buffers import uniform_buffer
@@ -63,7 +63,7 @@ class DeviceCache:
         self.textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
         self.uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self.bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
-        self._shadow_maps: LruCache[ShadowMaps] = LruCache(SHADOW_MAP_CACHE_ENTRIES)
+        self._shadow_maps: LruCache[ShadowMaps] = LruCache(SHADOW_MAP_CACHE_ENTRIES, MAX_SHADOW_MAP_BYTES, lambda m: m.nbytes)
         self._comparison_sampler = None
         self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
         self._free_targets: OrderedDict[int, tuple[tuple, Target]] = OrderedDict()  # serial → (key, target)
