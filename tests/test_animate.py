@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from cli_errors import one_line_error, run_cli
-from wgpu_shading import UsageError, load_mesh
+from wgpu_shading import MeshError, UsageError, load_mesh
 from wgpu_shading.assets.animation_frames import MAX_FRAMES, AnimationFrames, frame_times
 from wgpu_shading.scene.view.options import ViewOptions
 
@@ -209,3 +209,28 @@ def test_what_the_file_says_is_said_once_for_the_whole_animation(tmp_path):
         list(AnimationFrames(str(path), ViewOptions(size=(16, 16)), fps=4.0))
     said = [str(w.message) for w in caught]
     assert len(said) == 1 and "2 morph weights for 1 targets" in said[0], said
+
+
+def test_render_at_a_moment_when_nothing_shows_draws_the_background_as_animate_does(tmp_path, capsys):
+    # `animate`'s frame at T is what `render --animation-time T` draws: before, render
+    # refused the moment ("contains no triangles"); load_mesh, which must return a Mesh,
+    # still says why there is none.
+    import imageio.v3 as iio
+
+    path = _square_growing_from_nothing(tmp_path)
+    for time, shown in ((0.5, False), (2.0, True)):
+        output = tmp_path / f"at_{time}.png"
+        code, err = run_cli(capsys, "render", str(path), "--animation-time", str(time), "--size", "24", "-o", str(output), "-q")
+        assert code == 0 and err == "", err
+        image = iio.imread(output)
+        assert (image != [0, 0, 0, 255]).any(axis=-1).any() == shown
+    with pytest.raises(MeshError, match=r"appears.gltf.*nothing shows at 0.5 s of animation 0"):
+        load_mesh(path, animation_time=0.5)
+    never = _square_growing_from_nothing(tmp_path)
+    import json
+
+    document = json.loads(never.read_text())
+    document["nodes"][0]["scale"] = [0, 0, 0]  # hidden unanimated too: nothing to place a view around
+    never.write_text(json.dumps(document))
+    code, err = run_cli(capsys, "render", str(never), "--animation-time", "0.5", "--size", "24", "-o", str(tmp_path / "n.png"))
+    one_line_error(code, err, "appears.gltf", "contains no triangles")

@@ -95,17 +95,17 @@ class AnimationFrames(Sequence[Scene]):
         corners = np.array([[x, y, z] for x in (lower[0], upper[0]) for y in (lower[1], upper[1]) for z in (lower[2], upper[2])])
         return Mesh.from_arrays(corners, name="the animation's reach")
 
-    def frame_mesh(self, time: float) -> tuple[LoadedMesh, bool]:
+    def frame_mesh(self, time: float) -> LoadedMesh:
         """The file posed at `time`, read as read_mesh reads it (its notes said once for the
-        whole animation), and whether anything shows then; where nothing does, a box stands
-        in for the mesh (the framing's: the scene is made around it, then drawn empty)."""
+        whole animation); where nothing shows then, the framing box stands in for the mesh
+        (shows False: the scene is made around it, then drawn empty)."""
         with self._lock:
             found = self._pose(time)
             try:
                 if not any(piece.element_count for piece in found.pieces):
                     stand_in = self.framing or Mesh.from_arrays(np.eye(3), name="an empty frame")
-                    return LoadedMesh(stand_in, found.lights, found.camera), False
-                return loaded_mesh(found, str(self._data.path), self._data.path.name, self._crease_angle, said=self._said), True
+                    return LoadedMesh(stand_in, found.lights, found.camera, shows=False)
+                return loaded_mesh(found, str(self._data.path), self._data.path.name, self._crease_angle, said=self._said)
             finally:
                 self._data.notes.clear()  # said (or said by the next frame that shows something)
 
@@ -119,9 +119,7 @@ class AnimationFrames(Sequence[Scene]):
             return [self[i] for i in range(*index.indices(len(self)))]
         time = self.times[index]
         options = replace(self.options, animation_time=time, animation_index=self.animation)
-        loaded, shows = self.frame_mesh(time)
-        scene = load_view(self.source, options, framing=self.framing, loaded=loaded)
-        return scene if shows else replace(scene, objects=())  # nothing shows at this moment: the background
+        return load_view(self.source, options, framing=self.framing, loaded=self.frame_mesh(time))
 
     def __iter__(self) -> Iterator[Scene]:
         for index in range(len(self)):

@@ -4,6 +4,7 @@ here, every choice made by the bare-mesh policy (scene/view/bare_mesh.py)."""
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 from typing import Any, Mapping
 
 import numpy as np
@@ -47,7 +48,8 @@ def mesh_scene(
         camera = None if camera_index is None else loaded.camera(camera_index)
         if camera_index is not None and camera is None:
             warnings.warn(f"{mesh_source}: only glTF files hold cameras; the camera index {camera_index} is ignored", stacklevel=2)
-        return bare_mesh_scene(mesh, size, material_name, up=up, file_lights=own, file_camera=camera, framing=framing)
+        scene = bare_mesh_scene(mesh, size, material_name, up=up, file_lights=own, file_camera=camera, framing=framing)
+        return scene if loaded.shows else replace(scene, objects=())  # a moment when nothing shows (meshes.LoadedMesh)
     except SceneError as error:
         # The camera and the lights are ours, derived from the mesh: the mesh is the culprit.
         lower, upper = mesh.bounds()

@@ -61,11 +61,15 @@ def _without_camera(index: int) -> None:
 @dataclass(frozen=True)
 class LoadedMesh:
     """A mesh file read once: its Mesh, and its own lights and cameras when asked
-    (MeshFile.lights, MeshFile.camera)."""
+    (MeshFile.lights, MeshFile.camera). shows False: at the animation time asked for, every
+    object of the file is hidden (scaled to zero, as exporters make objects appear); `mesh`
+    is then the file unanimated, for the view to be placed around, and the view is drawn
+    empty (assets/mesh_scene.py), as viewers show that moment."""
 
     mesh: Mesh
     lights: Callable[[], list]
     camera: Callable[[int], object] = _without_camera
+    shows: bool = True
 
 
 def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
@@ -77,8 +81,13 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat.
     animation_time (seconds): a glTF file as its animation `animation_index` (0 unless given;
     1, 2, ... or "all") poses it then (docs/animation.md); None: as the file's nodes say,
-    unanimated, unless an animation_index is given (then its start, time 0)."""
-    return read_mesh(source, crease_angle=crease_angle, animation_time=animation_time, animation_index=animation_index).mesh
+    unanimated, unless an animation_index is given (then its start, time 0). A moment at
+    which every object is hidden has no Mesh: MeshError (`render` draws it empty)."""
+    loaded = read_mesh(source, crease_angle=crease_angle, animation_time=animation_time, animation_index=animation_index)
+    if not loaded.shows:
+        time, index = _animation(animation_time, animation_index)
+        raise MeshError(f"mesh file {str(source)!r}: nothing shows at {time:g} s of animation {index} (every object is hidden then)")
+    return loaded.mesh
 
 
 def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
@@ -110,6 +119,13 @@ def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         if animation is not None and not gltf:
             notes.append(f"{path.name}: only glTF files hold animations; the animation time {animation[0]:g} s is ignored")
         found = read(path, file_size, animation) if animation is not None and gltf else read(path, file_size)
+        if animation is not None and gltf and not any(piece.element_count for piece in found.pieces):
+            # Nothing shows at this moment: the file unanimated places the view, drawn empty.
+            # (Read again: this moment alone pays for it.)
+            rest = read(path, file_size)
+            if any(piece.element_count for piece in rest.pieces):
+                loaded = loaded_mesh(rest, text, path.name, crease_angle, notes)
+                return LoadedMesh(loaded.mesh, found.lights, found.camera, shows=False)
     return loaded_mesh(found, text, path.name, crease_angle, notes)
 
 
