@@ -5,7 +5,8 @@ its loaders): `reader(path, file size) → MeshFile` (mesh_pieces.py), the one t
 reader returns. OBJ is read by mesh_formats/obj.py (trimesh's OBJ reader mis-resolves
 relative indices and drops smoothing groups); OFF by mesh_formats/off.py (a token stream:
 trimesh wanted one face per line); binary STL by mesh_formats/stl.py; PLY and ASCII STL
-through trimesh (mesh_formats/trimesh_reader.py); glTF by our own accessor reader (gltf/).
+through trimesh (mesh_formats/trimesh_reader.py), binary PLY point clouds with numpy
+(mesh_formats/ply.py); glTF by our own accessor reader (gltf/).
 The pieces' normals follow docs/real-world-files.md: the file's normals win; glTF primitives
 without NORMAL are flat; otherwise vertices are welded by position and split at the crease
 angle (scene/normals.py).
@@ -37,7 +38,7 @@ from .mesh_pieces import MeshFile, assemble
 # every cold start (docs/performance.md#cold-start-process-start-to-png-on-disk).
 MESH_READERS: dict[str, str] = {
     ".obj": "mesh_formats.obj:read_obj",
-    ".ply": "mesh_formats.trimesh_reader:read_with_trimesh",
+    ".ply": "mesh_formats.ply:read_ply",
     ".stl": "mesh_formats.stl:read_stl",
     ".off": "mesh_formats.off:read_off",
     ".glb": "gltf.reader:read_gltf",
@@ -109,12 +110,24 @@ def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
         if animation is not None and not gltf:
             notes.append(f"{path.name}: only glTF files hold animations; the animation time {animation[0]:g} s is ignored")
         found = read(path, file_size, animation) if animation is not None and gltf else read(path, file_size)
-        pieces = [p for p in found.pieces if len(p.faces)]
-        mesh = assemble(pieces, path.name, float(crease_angle)) if pieces else None
-    for note in dict.fromkeys(notes + found.notes):  # once each, once the file was read without error (or to say why nothing is left)
-        warnings.warn(note, stacklevel=3)
+    return loaded_mesh(found, text, path.name, crease_angle, notes)
+
+
+def loaded_mesh(found: MeshFile, source: str, name: str, crease_angle: float, notes: list[str] = (),
+                said: set[str] | None = None) -> LoadedMesh:
+    """A reader's MeshFile as read_mesh gives it: its pieces assembled into one Mesh named
+    `name`, the notes said once each once the file was read without error (or to say why
+    nothing is left). `said`: notes already said to this caller, not said again (an
+    animation poses one parsed file for every frame: animation_frames.py)."""
+    with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
+        pieces = [p for p in found.pieces if p.element_count]
+        mesh = assemble(pieces, name, float(crease_angle)) if pieces else None
+    for note in dict.fromkeys([*notes, *found.notes]):
+        if said is None or note not in said:
+            warnings.warn(note, stacklevel=4)
+            said is None or said.add(note)
     if mesh is None:
-        raise MeshError(f"mesh file {text!r} contains no triangles")
+        raise MeshError(f"mesh file {source!r} contains no triangles, lines or points: nothing to draw")
     return LoadedMesh(mesh, found.lights, found.camera)
 
 

@@ -35,7 +35,8 @@ from ..errors import DeviceError
 from ..scene import Scene
 from ..scene.objects import check_scene_argument
 from .device import default_device, lost_device_errors
-from .features import FeatureSet, object_features
+from .features import FeatureSet
+from .stroke_features import part_features
 from .frames_in_flight import render_many
 from .gpu.device_cache import DeviceCache
 from .gpu.vertex_order import SharedOrders
@@ -227,5 +228,5 @@ class Renderer:
             return [self, *helpers[: count - 1]]
 
     def features(self, scene: Scene) -> list[FeatureSet]:
-        """The feature set of each object's first part (what `wgpu-shading shader` prints)."""
-        return [object_features(scene, obj, index) for index, obj in enumerate(scene.objects)]
+        """The feature set of each object's first part (points and lines: their own, stroke_features.py)."""
+        return [part_features(scene, obj, index, obj.mesh.parts[0], obj.part_materials()[0]) for index, obj in enumerate(scene.objects)]

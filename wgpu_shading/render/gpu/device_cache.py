@@ -38,6 +38,7 @@ from ..shaders.uniforms import finite_uniform_bytes
 from .bind_groups import cached_bind_group
 from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh
 from .samplers import create_sampler
+from .stroke_uploads import GpuPoints, GpuSegments, upload_points, upload_segments
 from .shadow_maps import ShadowMaps, create_comparison_sampler, new_shadow_maps
 from .targets import Target, check_target_size, new_target
 from .texture_uploads import GpuTexture, upload_texture
@@ -85,6 +86,23 @@ class DeviceCache:
                 if name in plan:
                     upload_attribute(self.device, gpu_mesh, mesh, name, self._mesh_usage)
         return gpu_mesh
+
+    def gpu_points(self, mesh: Mesh) -> GpuPoints:
+        """The mesh's points (stroke_uploads.py), an entry of the mesh cache beside its triangles."""
+        gpu_points = self.meshes.get(mesh, "points")
+        if gpu_points is None:
+            gpu_points = self.meshes.put(mesh, upload_points(self.device, mesh, self._mesh_usage), "points")
+        return gpu_points
+
+    def gpu_segments(self, mesh: Mesh, kind: str) -> GpuSegments:
+        """The mesh's line segments (kind "lines") or its triangles' edges ("edges", without
+        vertex colours: they are drawn in the edge colour), as stroke_uploads.py uploads them."""
+        gpu_segments = self.meshes.get(mesh, kind)
+        if gpu_segments is None:
+            segments = mesh.line_indices if kind == "lines" else mesh.edge_indices
+            upload = upload_segments(self.device, mesh, segments, self._mesh_usage, colors=kind == "lines")
+            gpu_segments = self.meshes.put(mesh, upload, kind)
+        return gpu_segments
 
     def gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:
         """The texture's upload; `srgb`: as rgba8unorm-srgb (material_maps.decodes_srgb).

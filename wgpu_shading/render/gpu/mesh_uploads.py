@@ -23,6 +23,10 @@ class GpuMesh:
     triangle_count: int
     colors: object | None = None
     tangents: object | None = None
+    # the mesh's other texture coordinate sets (Mesh.extra_uvs[:, k − 1] as uv_set_k), once a draw reads them
+    uv_set_1: object | None = None
+    uv_set_2: object | None = None
+    uv_set_3: object | None = None
     # flat shading's vertex-pulling bind groups (one per layout: a handful)
     storage_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
     # the vertex-cache order the buffers hold (render/gpu/vertex_order.py); None: the mesh's own
@@ -30,7 +34,7 @@ class GpuMesh:
 
     @property
     def nbytes(self) -> int:
-        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents)
+        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents, self.uv_set_1, self.uv_set_2, self.uv_set_3)
         return sum(b.size for b in buffers if b is not None)
 
 def vertex_order_enabled() -> bool:
@@ -96,14 +100,18 @@ def _reordered_buffer(device, array: np.ndarray, order: VertexOrder | None, usag
 
 # The per-vertex arrays a draw may need besides positions and normals: GpuMesh and Mesh
 # attributes of these names (the binding plan's VertexAttribute names).
-OPTIONAL_ATTRIBUTES = ("uvs", "colors", "tangents")
+OPTIONAL_ATTRIBUTES = ("uvs", "colors", "tangents", "uv_set_1", "uv_set_2", "uv_set_3")
 
 
 def upload_attribute(device, gpu_mesh: GpuMesh, mesh: Mesh, name: str, extra_usage: int) -> None:
     """The mesh's `name` array (uvs, float32 RGBA colors, a file's float32 xyzw tangents),
     uploaded only once a draw needs it: most meshes are drawn untextured, and a big mesh's
     uvs are a seventh of its memory."""
-    values = getattr(mesh, name)
+    if name.startswith("uv_set_"):  # set k of the mesh's other texture coordinates
+        k = int(name.rpartition("_")[2])
+        values = None if mesh.extra_uvs is None or mesh.extra_uvs.shape[1] < k else np.ascontiguousarray(mesh.extra_uvs[:, k - 1])
+    else:
+        values = getattr(mesh, name)
     if getattr(gpu_mesh, name) is None and values is not None:
         usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
         setattr(gpu_mesh, name, _reordered_buffer(device, values, gpu_mesh.order, usage))

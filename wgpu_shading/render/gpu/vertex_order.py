@@ -82,8 +82,8 @@ def cache_order(
     ordered = scratch.array
     ordered[:] = flat
     for number, part in enumerate(parts):
-        if number in in_order or part.count < 2:
-            continue
+        if number in in_order or part.count < 2 or part.primitive != "triangles":
+            continue  # (points and lines have uploads of their own: stroke_uploads.py)
         start, stop = 3 * part.first, 3 * (part.first + part.count)
         meshoptimizer.optimize_vertex_cache(ordered[start:stop], flat[start:stop], stop - start, vertex_count)
     remap = np.empty(vertex_count, np.uint32)
