@@ -41,6 +41,9 @@ EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a text tool wh
 
 
 _INNERMOST = "wgpu_shading_parser"  # the (sub)command parser that read the arguments
+# A value that starts with a minus sign: a number (-2, -.5, -1e3, -inf, -nan), an axis (-Z),
+# or a vector whose first component is one (-1,2,3).
+NEGATIVE_VALUE = re.compile(r"^-((\d+\.?\d*|\.\d+)(e[-+]?\d+)?|inf(inity)?|nan|[xyz])(,.*)?$", re.IGNORECASE)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -55,6 +58,11 @@ class _Parser(argparse.ArgumentParser):
         # typos silently and change meaning when a flag that shares the prefix is added.
         kwargs.setdefault("allow_abbrev", False)
         super().__init__(*args, **kwargs)
+        # What argparse takes for a value although it starts with "-": its own negative
+        # numbers (-30, -.5) and also -1e3, -inf, axes (--up -Z) and vectors (-1,2,3), which
+        # it took for unknown options ("--up: expected one argument"). No flag looks like
+        # these; set before any argument is added (argparse checks each flag against it).
+        self._negative_number_matcher = NEGATIVE_VALUE
 
     def error(self, message: str):  # type: ignore[override]
         # "argument --size/--resolution: ..." → "--size: ...", as the errors raised later name flags
