@@ -215,11 +215,15 @@ def scaling_table(scaling, sphere_size: int = 512, torus: str = "10K") -> str:
     for key, unit in (("triangles", f"triangles (sphere, {sphere_size}²)"), ("pixels", f"pixels (torus {torus})")):
         points = scaling[key]
         names = list(points[0].timings)
-        lines += [f"| {unit} | " + " | ".join(names) + " | ours ÷ moderngl |", "|---:|" + "---:|" * (len(names) + 1)]
+        lines += [f"| {unit} | " + " | ".join(names) + " | ours ÷ moderngl | CPU: ours ÷ moderngl |", "|---:|" + "---:|" * (len(names) + 2)]
         for point in points:
             t = {n: point.timings[n].median_ms for n in names}
             ratio = t["wgpu-shading"] / _median(point.timings, "moderngl")
-            lines.append(f"| {point.x:,} | " + " | ".join(_ms(t[n]) for n in names) + f" | {_ratio(ratio)} |")
+            cpu = (
+                point.timings["wgpu-shading"].cpu_median_ms / point.timings["moderngl"].cpu_median_ms
+                if "moderngl" in point.timings else float("nan")
+            )
+            lines.append(f"| {point.x:,} | " + " | ".join(_ms(t[n]) for n in names) + f" | {_ratio(ratio)} | {_ratio(cpu)} |")
         lines.append("")
     return "\n".join(lines)
 
@@ -279,6 +283,23 @@ def everything(results: dict) -> str:
         from .dataset import table as dataset_table
 
         parts.append(dataset_table(results["dataset"]))
+    if "callgrind" in results:
+        from .callgrind import callgrind_table
+
+        parts.append(callgrind_table(results["callgrind"]))
+    for text in results.get("scripts", {}).values():  # the standalone benchmarks' own tables
+        parts.append(text)
+    loads = results.get("section_loads", {})
+    if loads:
+        parts += [
+            "Load average (1 min) over each section, and its wall and CPU time (this process; the "
+            "fresh processes and Dask workers a section starts are not in it):",
+            "",
+            "| section | load at start | load at end | wall s | CPU s |",
+            "|---|---:|---:|---:|---:|",
+            *(f"| {name} | {start:.1f} | {end:.1f} | {wall:.0f} | {cpu:.0f} |" for name, (start, end, wall, cpu) in loads.items()),
+            "",
+        ]
     parts.append(
         f"Run time {results['seconds'] / 60:.1f} min; load average (1, 5, 15 min) at start "
         f"{tuple(round(x, 2) for x in results['load_average_at_start'])}, at end "

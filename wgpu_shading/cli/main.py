@@ -145,10 +145,27 @@ def _terminate(signum, frame) -> None:
     raise Terminated()
 
 
+def _redeliver_interrupts(unraisable) -> None:
+    """sys.unraisablehook while the CLI runs. A signal's exception raised while a destructor
+    runs (a wgpu object's __del__, called by the garbage collector between any two lines) is
+    swallowed there ("Exception ignored in ..."), and the command went on: a turntable of
+    1,000,000 frames kept rendering after SIGTERM. The signal is raised again, so its handler
+    runs again: from a helper thread, a moment later, so that it lands in ordinary code and
+    not in this hook (should it land in a destructor again, this hook sends it again)."""
+    if isinstance(unraisable.exc_value, KeyboardInterrupt):  # Terminated too
+        signum = signal.SIGTERM if isinstance(unraisable.exc_value, Terminated) else signal.SIGINT
+        resend = threading.Timer(0.01, os.kill, (os.getpid(), signum))
+        resend.daemon = True
+        resend.start()
+    else:
+        sys.__unraisablehook__(unraisable)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     if threading.current_thread() is not threading.main_thread():
         return _main(argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
+    previous_hook, sys.unraisablehook = sys.unraisablehook, _redeliver_interrupts
     try:
         return _main(argv)
     except Terminated:  # arrived after _main's own handlers
@@ -156,6 +173,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 143
     finally:
         signal.signal(signal.SIGTERM, previous)
+        sys.unraisablehook = previous_hook
 
 
 def _main(argv: Sequence[str] | None = None) -> int:
