@@ -269,6 +269,10 @@ def everything(results: dict) -> str:
         from .dataset import table as dataset_table
 
         parts.append(dataset_table(results["dataset"]))
+    if "shadows" in results:
+        from .shadows import shadows_table
+
+        parts.append(shadows_table(results["shadows"]))
     parts.append(
         f"Run time {results['seconds'] / 60:.1f} min; load average (1, 5, 15 min) at start "
         f"{tuple(round(x, 2) for x in results['load_average_at_start'])}, at end "
