@@ -7,13 +7,38 @@ import sys
 from pathlib import Path
 
 
+def _check_outputs(args: argparse.Namespace) -> bool:
+    """Before minutes of work: --markdown's folder exists and the file can be written, --out
+    (created if missing: its nearest existing ancestor must take new files) can be; returns
+    whether the plot can be drawn (everything else needs only the core packages)."""
+    from ..assets.image_writers import check_folder_writable, check_writable
+    from ..study.accuracy import AccuracyError, require_matplotlib
+
+    if args.markdown is not None:
+        if not Path(args.markdown).parent.is_dir():
+            raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
+        check_writable(Path(args.markdown), "--markdown")
+    existing = Path(args.out).absolute()
+    while not existing.exists():
+        existing = existing.parent
+    check_folder_writable(existing, "--out")
+    if args.no_plot:
+        return False
+    try:
+        require_matplotlib()
+    except AccuracyError as error:
+        print(f"wgpu-shading: note: {error}; writing everything else", file=sys.stderr)
+        return False
+    return True
+
+
 def command_bench_accuracy(args: argparse.Namespace) -> int:
     """The accuracy/time study (docs/accuracy.md): sweep, then CSV, JSON, Markdown, pictures."""
     if args.shadows:
         return command_shadow_study(args)
     from dataclasses import replace as with_changes
 
-    from ..study.accuracy import QUICK, AccuracyError, StudyConfig, require_matplotlib, run_study, write_study
+    from ..study.accuracy import QUICK, StudyConfig, run_study, write_study
     from ..render.renderer import Renderer
 
     config = QUICK if args.quick else StudyConfig()
@@ -29,24 +54,7 @@ def command_bench_accuracy(args: argparse.Namespace) -> int:
     if args.no_same_mesh:
         changes["same_mesh"] = False
     config = with_changes(config, **changes)
-    if args.markdown is not None and not Path(args.markdown).parent.is_dir():
-        raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
-    from ..assets.image_writers import check_folder_writable, check_writable
-
-    if args.markdown is not None:
-        check_writable(Path(args.markdown), "--markdown")
-    # --out is created if missing: its nearest existing ancestor must take new files.
-    existing = Path(args.out).absolute()
-    while not existing.exists():
-        existing = existing.parent
-    check_folder_writable(existing, "--out")
-    plot = not args.no_plot
-    if plot:
-        try:
-            require_matplotlib()  # before the sweep, not after minutes of work
-        except AccuracyError as error:  # everything but the plot needs only the core packages
-            plot = False
-            print(f"wgpu-shading: note: {error}; writing everything else", file=sys.stderr)
+    plot = _check_outputs(args)
     command = "wgpu-shading bench accuracy" + "".join(
         f" {flag}" for flag, on in (("--quick", args.quick), ("--no-same-mesh", args.no_same_mesh), ("--no-plot", args.no_plot)) if on
     )
@@ -74,34 +82,19 @@ def command_shadow_study(args: argparse.Namespace) -> int:
     the exact shadows, timed; writes shadows.csv/.json/.md and the plot, says what `auto` is."""
     import time
 
-    from ..assets.image_writers import check_folder_writable, check_writable
     from ..render.renderer import Renderer
     from ..scene import shadows as shadow_settings
     from ..study.accuracy import (
-        QUICK_SHADOW_CASES, AccuracyError, cheapest_shadow_setting, environment, quick_shadow_grid, require_matplotlib,
-        run_shadow_study, shadow_grid, write_shadow_study,
+        QUICK_SHADOW_CASES, cheapest_shadow_setting, environment, quick_shadow_grid, run_shadow_study, shadow_grid,
+        write_shadow_study,
     )
     from ..study.accuracy.shadow_sweep import STUDY_CASES
     from ..study.accuracy.progress import Progress
 
-    if args.markdown is not None:
-        if not Path(args.markdown).parent.is_dir():
-            raise AccuracyError(f"--markdown {args.markdown!r}: folder {str(Path(args.markdown).parent)!r} does not exist")
-        check_writable(Path(args.markdown), "--markdown")
-    existing = Path(args.out).absolute()
-    while not existing.exists():
-        existing = existing.parent
-    check_folder_writable(existing, "--out")
-    plot = not args.no_plot
-    if plot:
-        try:
-            require_matplotlib()
-        except AccuracyError as error:
-            plot = False
-            print(f"wgpu-shading: note: {error}; writing everything else", file=sys.stderr)
+    plot = _check_outputs(args)
     grid, cases = (quick_shadow_grid(), QUICK_SHADOW_CASES) if args.quick else (shadow_grid(), STUDY_CASES)
     size = (128, 128) if args.quick else (256, 256)
-    frames = args.frames if args.frames is not None else (2 if args.quick else 5)
+    frames = args.frames if args.frames is not None else (2 if args.quick else 3)
     command = "wgpu-shading bench accuracy --shadows" + (" --quick" if args.quick else "") + (" --no-plot" if args.no_plot else "")
     command += (f" --frames {args.frames}" if args.frames is not None else "") + f" --out {args.out}"
     command += f" --markdown {args.markdown}" if args.markdown else ""
