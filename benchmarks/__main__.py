@@ -37,6 +37,7 @@ import traceback
 from pathlib import Path
 
 SECTIONS = ("warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "shadows")
+REAL_ONLY = ("callgrind",)  # sections of a real run only (the smoke run has a script of that name instead)
 HERE = Path(__file__).resolve().parent
 # --smoke only: the standalone benchmarks, each with its own smallest arguments. None of
 # them is given an output file (bench_specialization.py --output would rewrite docs/).
@@ -50,6 +51,16 @@ SMOKE_SCRIPTS = {
     "live": ("bench_live.py", "--smoke"),
     "callgrind": ("scripts/callgrind_frames.py", "ours", "--smoke"),
     "ab_issue21": ("scripts/ab_issue21.py", "both", "--smoke"),
+}
+# A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
+# with their own default sizes, so that one command gives every figure of that page
+# (specialization, reference and golden_noise feed other pages: run them by hand).
+# "callgrind" is a section of its own in a real run (valgrind around the frames: callgrind.py).
+REAL_SCRIPTS = {
+    "loading": ("bench_loading.py",),
+    "antialiasing": ("bench_antialiasing.py",),
+    "live": ("bench_live.py",),
+    "ab_issue21": ("scripts/ab_issue21.py", "both"),
 }
 
 
@@ -132,7 +143,8 @@ def main(argv: list[str] | None = None) -> int:
         "checks that they run, the numbers mean nothing",
     )
     parser.add_argument(
-        "--only", help=f"comma-separated sections: {', '.join(SECTIONS)} (with --smoke also: {', '.join(SMOKE_SCRIPTS)})"
+        "--only", help=f"comma-separated sections: {', '.join(SECTIONS + REAL_ONLY + tuple(REAL_SCRIPTS))} "
+        f"(with --smoke: {', '.join(SECTIONS + tuple(SMOKE_SCRIPTS))})"
     )
     parser.add_argument("--no-pygfx", action="store_true", help="leave pygfx out of the warm table")
     parser.add_argument(
@@ -142,7 +154,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     begun = time.perf_counter()
     smoke = args.smoke
-    known = SECTIONS + (tuple(SMOKE_SCRIPTS) if smoke else ())
+    known = SECTIONS + (tuple(SMOKE_SCRIPTS) if smoke else REAL_ONLY + tuple(REAL_SCRIPTS))
     chosen = known if not args.only else tuple(s.strip() for s in args.only.split(","))
     unknown = set(chosen) - set(known)
     if unknown:
@@ -181,8 +193,10 @@ def main(argv: list[str] | None = None) -> int:
         labels = {"memory": {"size": s.memory_size}, "scaling": {"sphere_size": s.scaling_size, "torus": str(2 * TINY_TORUS_SEGMENTS**2)}}
         results["table_labels"] = labels
 
+    results["section_loads"] = {}
+
     def step(name: str):
-        return _step(name, smoke, ran, failed)
+        return _step(name, smoke, ran, failed, results["section_loads"])
 
     if "warm" in chosen:
         with step("warm"):
@@ -271,10 +285,21 @@ def main(argv: list[str] | None = None) -> int:
                                   pyrender=pyrender, pygfx=pygfx)
             print(shadows_table(shadows), flush=True)
             results["shadows"] = shadows
-    for name, (script, *script_args) in SMOKE_SCRIPTS.items():
-        if smoke and name in chosen:
+    if "callgrind" in chosen and not smoke:
+        from .callgrind import callgrind_table, callgrind_unusable, run_callgrind
+
+        reason = callgrind_unusable()
+        if reason is not None:
+            skipped.append(f"the instruction counts ({reason})")
+        else:
+            with step("callgrind"):
+                counts = run_callgrind(moderngl=moderngl)
+                print(callgrind_table(counts), flush=True)
+                results["callgrind"] = counts
+    for name, (script, *script_args) in (SMOKE_SCRIPTS if smoke else REAL_SCRIPTS).items():
+        if name in chosen:
             with step(name):
-                _run_script(script, script_args)
+                results.setdefault("scripts", {})[name] = _run_script(script, script_args)
 
     elapsed = time.perf_counter() - started
     results["seconds"] = elapsed
@@ -306,10 +331,12 @@ def main(argv: list[str] | None = None) -> int:
 
 
 @contextlib.contextmanager
-def _step(name: str, smoke: bool, ran: list[str], failed: list[str]):
+def _step(name: str, smoke: bool, ran: list[str], failed: list[str], loads: dict | None = None):
     """One benchmark. In a smoke run a failure is printed and counted, and the others still
-    run (so one run shows everything that rotted); in a real run it stops the run."""
-    start = time.perf_counter()
+    run (so one run shows everything that rotted); in a real run it stops the run. Every
+    section ends with the machine's load average over it (its figures are read with it)."""
+    start, cpu = time.perf_counter(), time.process_time()
+    load_before = os.getloadavg()
     if smoke:
         print(f"<!-- smoke: {name} -->", flush=True)
     try:
@@ -322,16 +349,27 @@ def _step(name: str, smoke: bool, ran: list[str], failed: list[str]):
         failed.append(name)
     else:
         ran.append(f"{name} ({time.perf_counter() - start:.1f} s)")
+        load_after = os.getloadavg()
+        line = (
+            f"_{name}: {time.perf_counter() - start:.0f} s; load average (1 min) {load_before[0]:.1f} at the start, "
+            f"{load_after[0]:.1f} at the end, on {os.cpu_count()} cores._\n"
+        )
+        print(line, flush=True)
+        if loads is not None:
+            loads[name] = (load_before[0], load_after[0], time.perf_counter() - start, time.process_time() - cpu)
 
 
-def _run_script(script: str, script_args: list[str]) -> None:
-    """A standalone benchmark in its own process, as a person runs it; its tables to stdout."""
+def _run_script(script: str, script_args: list[str]) -> str:
+    """A standalone benchmark in its own process, as a person runs it; its tables to stdout
+    (and returned, for results.md)."""
     command = [sys.executable, str(HERE / script), *script_args]
-    print(f"## {script} {' '.join(script_args)}\n", flush=True)
-    result = subprocess.run(command, cwd=HERE.parent, capture_output=True, text=True, timeout=300)
+    heading = f"## {script} {' '.join(script_args)}".rstrip()
+    print(heading + "\n", flush=True)
+    result = subprocess.run(command, cwd=HERE.parent, capture_output=True, text=True, timeout=1800)
     print(result.stdout.rstrip() + "\n", flush=True)
     if result.returncode != 0:
         raise RuntimeError(f"{script} exited with {result.returncode}:\n{result.stderr.strip()[-2000:]}")
+    return heading + "\n\n" + result.stdout.rstrip() + "\n"
 
 
 def _importable(module: str) -> bool:

@@ -45,20 +45,25 @@ def main() -> None:
         "4 samples + depth": lambda scene: renderer.render_frame(replace(scene, samples=4), depth=True),
     }
     print(f"{args.size}×{args.size}, median of {args.rounds} interleaved warm frames, {renderer.device.adapter.summary}\n")
-    print("| scene | " + " | ".join(variants) + " | 4 samples / 1 |")
-    print("|---|" + "---:|" * (len(variants) + 1))
+    print("| scene | " + " | ".join(variants) + " | 4 samples / 1 | CPU ms (" + " / ".join(variants) + ") | CPU 4 samples / 1 |")
+    print("|---|" + "---:|" * (len(variants) + 3))
     for label, scene in scenes.items():
         for render in variants.values():
             render(scene)  # pipelines and targets made before timing
         times: dict[str, list[float]] = {name: [] for name in variants}
+        cpu: dict[str, list[float]] = {name: [] for name in variants}  # this process, every thread
         for _ in range(args.rounds):
             for name, render in variants.items():
-                start = time.perf_counter()
+                start, start_cpu = time.perf_counter(), time.process_time()
                 render(scene)
                 times[name].append(time.perf_counter() - start)
+                cpu[name].append(time.process_time() - start_cpu)
         medians = {name: statistics.median(values) * 1e3 for name, values in times.items()}
+        cpu_medians = {name: statistics.median(values) * 1e3 for name, values in cpu.items()}
         cells = " | ".join(f"{medians[name]:.1f} ms" for name in variants)
-        print(f"| {label} | {cells} | {medians['4 samples'] / medians['1 sample']:.2f}× |")
+        cpu_cells = " / ".join(f"{cpu_medians[name]:.1f}" for name in variants)
+        print(f"| {label} | {cells} | {medians['4 samples'] / medians['1 sample']:.2f}× | {cpu_cells} "
+              f"| {cpu_medians['4 samples'] / cpu_medians['1 sample']:.2f}× |")
 
 
 if __name__ == "__main__":

@@ -50,8 +50,9 @@ def main() -> None:
 
     renderer.render(scene_of(load_mesh("builtin:torus")))  # device, pipeline and target made once
     print(f"torus: {len(torus.faces)} triangles, {len(torus.vertices)} vertices; {args.rounds} rounds\n")
-    print("| format | trimesh.load (process=True) | trimesh.load (process=False) | load_mesh | load_mesh + render | (load + render) / trimesh.load | / trimesh process=False |")
-    print("|---|---|---|---|---|---|---|")
+    print("| format | trimesh.load (process=True) | trimesh.load (process=False) | load_mesh | load_mesh + render | (load + render) / trimesh.load "
+          "| / trimesh process=False | CPU s: trimesh.load / load_mesh + render | CPU ratio |")
+    print("|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as folder:
         for suffix in args.formats.split(","):
             path = Path(folder) / f"torus.{suffix}"
@@ -63,15 +64,19 @@ def main() -> None:
                 "render": lambda: renderer.render(scene_of(load_mesh(path))),
             }
             times: dict[str, list[float]] = {name: [] for name in variants}
+            cpu: dict[str, list[float]] = {name: [] for name in variants}  # this process, every thread
             for _ in range(args.rounds):
                 for name, run in variants.items():
-                    start = time.perf_counter()
+                    start, start_cpu = time.perf_counter(), time.process_time()
                     run()
                     times[name].append(time.perf_counter() - start)
+                    cpu[name].append(time.process_time() - start_cpu)
             median = {name: statistics.median(values) for name, values in times.items()}
+            cpu_median = {name: statistics.median(values) for name, values in cpu.items()}
             print(
                 f"| {suffix.upper()} | {median['trimesh']:.3f} s | {median['trimesh_raw']:.3f} s | {median['load']:.3f} s "
-                f"| {median['render']:.3f} s | {median['render'] / median['trimesh']:.2f}× | {median['render'] / median['trimesh_raw']:.1f}× |"
+                f"| {median['render']:.3f} s | {median['render'] / median['trimesh']:.2f}× | {median['render'] / median['trimesh_raw']:.1f}× "
+                f"| {cpu_median['trimesh']:.3f} / {cpu_median['render']:.3f} | {cpu_median['render'] / cpu_median['trimesh']:.2f}× |"
             )
 
 

@@ -9,21 +9,31 @@ Variants, interleaved round by round:
                                 triangle + readback, the least any wgpu-py program does
     python + numpy              the interpreter starting and importing numpy
 
-Disk caches (Mesa's shader cache, our FFI table) are warm, as for anyone who has run the
-command once; `fresh caches` runs the CLI with an empty XDG_CACHE_HOME for comparison.
+Disk caches (Mesa's shader cache, our FFI table, Python's bytecode) are warm, as for anyone
+who has run the command once; `fresh caches` runs the CLI with an empty XDG_CACHE_HOME for
+comparison. Python's bytecode: an installed package has its modules compiled (pip does it
+at install), but a clone run from its source tree with PYTHONDONTWRITEBYTECODE set (as this
+project's machines have it) compiles ~90 modules from source at every start, which the
+peers in site-packages never do. So every variant runs with bytecode caching on, all in one
+cache folder (PYTHONPYCACHEPREFIX; filled by the untimed first run), and `CLI, no bytecode
+cache` shows what compiling from source costs.
+
+Every run's CPU time (user + system of the child, from wait4's rusage) is kept beside its
+wall time: on a shared machine it is far less disturbed by the neighbours.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import resource
 import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from .measure import progress
@@ -40,18 +50,35 @@ class ColdResult:
     runs: dict[str, list[float]]  # variant -> seconds per run
     phases: dict[str, float]  # phase -> median seconds (prebuilt FFI on)
     phases_without_ffi: dict[str, float]
+    cpu: dict[str, list[float]] = field(default_factory=dict)  # variant -> CPU seconds (user + system) per run
+    phases_cpu: dict[str, float] = field(default_factory=dict)  # phase -> median CPU seconds (prebuilt FFI on)
 
     def median(self, variant: str) -> float:
         return statistics.median(self.runs[variant])
 
+    def cpu_median(self, variant: str) -> float:
+        return statistics.median(self.cpu[variant]) if self.cpu.get(variant) else float("nan")
 
-def _timed(command: list[str], env: dict[str, str]) -> float:
+
+def _timed(command: list[str], env: dict[str, str]) -> tuple[float, float]:
+    """(wall, CPU) seconds of one run: CPU is the child's user + system time."""
     start = time.perf_counter()
-    result = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
+    process = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        _, err = process.communicate(timeout=300)
+    finally:
+        if process.poll() is None:
+            process.kill()
     elapsed = time.perf_counter() - start
-    if result.returncode != 0:
-        raise RuntimeError(f"{' '.join(command)} failed: {result.stderr.strip()[-400:]}")
-    return elapsed
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)  # cumulative over waited-for children: take the difference
+    cpu = usage.ru_utime + usage.ru_stime - _timed.children_cpu
+    _timed.children_cpu = usage.ru_utime + usage.ru_stime
+    if process.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} failed: {err.strip()[-400:]}")
+    return elapsed, cpu
+
+
+_timed.children_cpu = 0.0
 
 
 def run_cold(
@@ -63,11 +90,15 @@ def run_cold(
     (default max(2, rounds // 2)). The smoke run uses all four to run each step once."""
     folder = Path(tempfile.mkdtemp(prefix="wgpu-shading-cold-"))
     out = str(folder / "t.png")
-    env = {**os.environ}
+    _timed.children_cpu = _children_cpu()
+    env = {key: value for key, value in os.environ.items() if key != "PYTHONDONTWRITEBYTECODE"}
+    env["PYTHONPYCACHEPREFIX"] = str(folder / "pycache")  # bytecode for every variant, as installed packages have it
+    no_bytecode = {**env, "PYTHONDONTWRITEBYTECODE": "1", "PYTHONPYCACHEPREFIX": str(folder / "no-pycache")}
     no_ffi = {**env, "WGPU_SHADING_PREBUILT_FFI": "0"}
     render = [_cli(), "render", "builtin:torus", "-o", out, "-q"] + (["--size", str(size)] if size else [])
     variants = {
         "wgpu-shading CLI": (render, env),
+        "CLI, no bytecode cache (a source tree with PYTHONDONTWRITEBYTECODE)": (render, no_bytecode),
         "CLI, prebuilt FFI off (before)": (render, no_ffi),
         "moderngl script": ([sys.executable, str(SCRIPTS / "moderngl_torus.py"), out] + ([str(size)] if size else []), env),
         "wgpu floor + prebuilt FFI": ([sys.executable, str(SCRIPTS / "wgpu_floor.py"), "--prebuilt-ffi"], env),
@@ -77,39 +108,62 @@ def run_cold(
     if not moderngl:
         del variants["moderngl script"]
     if fill_caches:
-        for command, variant_env in variants.values():  # fill disk caches; not timed
+        for command, variant_env in variants.values():  # fill disk caches (and the bytecode); not timed
             _timed(command, variant_env)
+    else:  # at least the bytecode, or the first timed run of each variant would compile it
+        _timed(render, env)
     runs: dict[str, list[float]] = {name: [] for name in variants}
+    cpu: dict[str, list[float]] = {name: [] for name in variants}
     names = list(variants)
     for round_index in range(rounds):
         progress(f"cold start: round {round_index + 1}/{rounds}")
         shift = round_index % len(names)
         for name in names[shift:] + names[:shift]:
             command, variant_env = variants[name]
-            runs[name].append(_timed(command, variant_env))
+            wall, seconds = _timed(command, variant_env)
+            runs[name].append(wall)
+            cpu[name].append(seconds)
     # First run ever: Mesa's shader cache and our FFI table both live under XDG_CACHE_HOME.
-    runs["CLI, fresh caches (first run ever)"] = []
+    fresh = "CLI, fresh caches (first run ever)"
+    runs[fresh], cpu[fresh] = [], []
     for _ in range(max(1, rounds // 4)):
         with tempfile.TemporaryDirectory() as cache:
-            runs["CLI, fresh caches (first run ever)"].append(_timed(render, {**env, "XDG_CACHE_HOME": cache}))
-    phases = _phases(out, env, rounds, size)
-    phases_without_ffi = _phases(out, no_ffi, phase_rounds or max(2, rounds // 2), size)
+            wall, seconds = _timed(render, {**env, "XDG_CACHE_HOME": cache, "PYTHONPYCACHEPREFIX": str(Path(cache) / "pycache")})
+            runs[fresh].append(wall)
+            cpu[fresh].append(seconds)
+    phases, phases_cpu = _phases(out, env, rounds, size)
+    phases_without_ffi, _ = _phases(out, no_ffi, phase_rounds or max(2, rounds // 2), size)
     shutil.rmtree(folder, ignore_errors=True)
-    return ColdResult(runs, phases, phases_without_ffi)
+    return ColdResult(runs, phases, phases_without_ffi, cpu, phases_cpu)
 
 
-def _phases(out: str, env: dict[str, str], rounds: int, size: int | None = None) -> dict[str, float]:
+def _children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _phases(out: str, env: dict[str, str], rounds: int, size: int | None = None) -> tuple[dict[str, float], dict[str, float]]:
+    """Median wall and CPU seconds of each phase (scripts/cold_phases.py measures both)."""
     samples: dict[str, list[float]] = {}
-    start_samples = []
+    cpu_samples: dict[str, list[float]] = {}
+    start_samples, start_cpu = [], []
     for _ in range(rounds):
         # The interpreter's own start-up, before the script's first line.
-        start_samples.append(_timed([sys.executable, "-c", "pass"], env))
+        wall, seconds = _timed([sys.executable, "-c", "pass"], env)
+        start_samples.append(wall)
+        start_cpu.append(seconds)
         command = [sys.executable, str(SCRIPTS / "cold_phases.py"), out] + ([str(size)] if size else [])
         result = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
         if result.returncode != 0:
             raise RuntimeError(f"cold_phases.py failed: {result.stderr.strip()[-400:]}")
-        for name, seconds in json.loads(result.stdout.strip().splitlines()[-1]).items():
+        _timed.children_cpu = _children_cpu()
+        measured = json.loads(result.stdout.strip().splitlines()[-1])
+        for name, seconds in measured["wall"].items():
             samples.setdefault(name, []).append(seconds)
+        for name, seconds in measured["cpu"].items():
+            cpu_samples.setdefault(name, []).append(seconds)
     phases = {"Python interpreter start": statistics.median(start_samples)}
     phases.update({name: statistics.median(values) for name, values in samples.items()})
-    return phases
+    phases_cpu = {"Python interpreter start": statistics.median(start_cpu)}
+    phases_cpu.update({name: statistics.median(values) for name, values in cpu_samples.items()})
+    return phases, phases_cpu

@@ -46,16 +46,20 @@ def run_depth(
 def depth_table(rows: list[SceneTimings]) -> str:
     lines = [
         "## Colour + depth: ours against pyrender (OSMesa), median ms per frame\n",
-        "| scene | size | wgpu-shading | wgpu-shading + depth | pyrender (colour + depth) | depth costs us | ours + depth ÷ pyrender (≤ 0.5) |",
-        "|---|---|---:|---:|---:|---:|---:|",
+        "| scene | size | wgpu-shading | wgpu-shading + depth | pyrender (colour + depth) | depth costs us | ours + depth ÷ pyrender (≤ 0.5) "
+        "| CPU ms: ours + depth / pyrender | CPU ratio |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for row in rows:
         ours, with_depth = row.timings["wgpu-shading"].median_ms, row.timings["wgpu-shading + depth"].median_ms
+        cpu = row.timings["wgpu-shading + depth"].cpu_median_ms
         if "pyrender" in row.timings:
             pyrender = row.timings["pyrender"].median_ms
             ratio = with_depth / pyrender
             theirs, verdict = f"{pyrender:.1f}", f"{ratio:.2f}× {'✓' if ratio <= 0.5 else '✗'}"
+            their_cpu = row.timings["pyrender"].cpu_median_ms
+            cpu_cells = f"{cpu:.1f} / {their_cpu:.1f} | {cpu / their_cpu:.2f}×"
         else:
-            theirs, verdict = "–", "–"
-        lines.append(f"| {row.scene} | {row.size}² | {ours:.1f} | {with_depth:.1f} | {theirs} | {with_depth - ours:+.1f} | {verdict} |")
+            theirs, verdict, cpu_cells = "–", "–", f"{cpu:.1f} / – | –"
+        lines.append(f"| {row.scene} | {row.size}² | {ours:.1f} | {with_depth:.1f} | {theirs} | {with_depth - ours:+.1f} | {verdict} | {cpu_cells} |")
     return "\n".join(lines) + "\n"

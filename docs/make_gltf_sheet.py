@@ -27,7 +27,7 @@ REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO / "tests"))
 BEFORE = "1f7eeb0"
 SIZE = 200
-F3D_SCRIPT = REPO.parent / "shared" / "tools" / "f3d-render.py"
+F3D_SCRIPT = next(folder / "shared" for folder in REPO.parents if (folder / "shared").is_dir()) / "tools" / "f3d-render.py"
 
 
 def build(folder: Path) -> list[tuple[str, Path, list[str]]]:
@@ -139,36 +139,46 @@ def paste_cell(sheet, draw, corner: tuple[int, int], picture: Path, error: str, 
         sheet.paste(Image.open(picture).convert("RGB").resize((size, size)), (x, y))
 
 
-def main() -> None:
+def extract_commit(commit: str, folder: Path) -> Path:
+    """The package at `commit`, from a `git archive` of it, importable from the folder returned."""
+    old = folder / "before"
+    archive = subprocess.run(["git", "-C", str(REPO), "archive", commit], capture_output=True, check=True).stdout
+    tarfile.open(fileobj=io.BytesIO(archive)).extractall(old, filter="data")
+    if (old / "wgsl").is_dir() and not (old / "wgpu_shading" / "wgsl").exists():
+        (old / "wgpu_shading" / "wgsl").symlink_to(old / "wgsl")  # where the package reads them
+    return old
+
+
+def draw_sheet(rows: list, columns: list, folder: Path, output: str, label_width: int, size: int = SIZE) -> None:
+    """A sheet of `rows` (label, source, options) × `columns` (title, run(source, options, picture) → error text)."""
     from PIL import Image, ImageDraw
 
+    sheet = Image.new("RGB", (label_width + size * len(columns), 20 + size * len(rows)), "white")
+    draw = ImageDraw.Draw(sheet)
+    for c, (title, _) in enumerate(columns):
+        draw.text((label_width + c * size + 4, 4), title, fill="black")
+    for r, (label, source, options) in enumerate(rows):
+        draw.multiline_text((4, 20 + r * size + size // 2 - 6 * label.count("\n")), label, fill="black")
+        for c, (_, run) in enumerate(columns):
+            picture = folder / f"{r}_{c}.png"
+            error = run(source, options, picture)
+            paste_cell(sheet, draw, (label_width + c * size, 20 + r * size), picture, error, size)
+    sheet.save(output)
+
+
+def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--f3d-python")
     parser.add_argument("-o", "--output", default=str(REPO / "docs" / "images" / "gltf_geometry_f3d.png"))
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as temporary:
         folder = Path(temporary)
-        old = folder / "before"
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", BEFORE], capture_output=True, check=True).stdout
-        tarfile.open(fileobj=io.BytesIO(archive)).extractall(old, filter="data")
-        if (old / "wgsl").is_dir() and not (old / "wgpu_shading" / "wgsl").exists():
-            (old / "wgpu_shading" / "wgsl").symlink_to(old / "wgsl")  # where the package reads them
+        old = extract_commit(BEFORE, folder)
         rows = build(folder)
         columns = [("before (1f7eeb0)", lambda s, o, p: ours(str(old), s, o, p)), ("now", lambda s, o, p: ours(str(REPO), s, o, p))]
         if args.f3d_python:
             columns.append(("f3d 4.0", lambda s, o, p: f3d(args.f3d_python, s, o, p)))
-        label_width = 260
-        sheet = Image.new("RGB", (label_width + SIZE * len(columns), 20 + SIZE * len(rows)), "white")
-        draw = ImageDraw.Draw(sheet)
-        for c, (title, _) in enumerate(columns):
-            draw.text((label_width + c * SIZE + 4, 4), title, fill="black")
-        for r, (label, source, options) in enumerate(rows):
-            draw.text((4, 20 + r * SIZE + SIZE // 2), label, fill="black")
-            for c, (_, run) in enumerate(columns):
-                picture = folder / f"{r}_{c}.png"
-                error = run(source, options, picture)
-                paste_cell(sheet, draw, (label_width + c * SIZE, 20 + r * SIZE), picture, error, SIZE)
-        sheet.save(args.output)
+        draw_sheet(rows, columns, folder, args.output, 260)
     print(f"wrote {args.output}")
 
 

@@ -1,5 +1,5 @@
 """Write small glTF 2.0 files (JSON with data: URIs) for tests: primitives with or without
-NORMAL / COLOR_0 / TEXCOORD_0, materials, samplers and a node tree."""
+NORMAL / COLOR_0 / TEXCOORD_0 / TEXCOORD_1, in any mode, materials, samplers and a node tree."""
 
 from __future__ import annotations
 
@@ -31,7 +31,8 @@ def png_data_uri(pixels: np.ndarray) -> str:
 def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (), nodes: list[dict] | None = None,
                textures: list[dict] = (), images: list[np.ndarray] = (), samplers: list[dict] = (), extra: dict | None = None) -> Path:
     """meshes: per mesh, primitives as dicts with arrays `positions`, `indices` and optional
-    `normals`, `colors` (RGBA float), `uvs`, `tangents` (xyzw), plus `material` (index). nodes default to one per mesh."""
+    `normals`, `colors` (RGBA float), `uvs`, `uvs1` (TEXCOORD_1), `tangents` (xyzw), plus `material` (index)
+    and `mode`. nodes default to one per mesh."""
     blob = bytearray()
     views, accessors = [], []
 
@@ -53,12 +54,14 @@ def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (),
         out = []
         for primitive in primitives:
             attributes = {"POSITION": add(np.float32(primitive["positions"]), _FLOAT, 34962)}
-            for key, name in (("normals", "NORMAL"), ("colors", "COLOR_0"), ("uvs", "TEXCOORD_0"), ("tangents", "TANGENT")):
+            for key, name in (("normals", "NORMAL"), ("colors", "COLOR_0"), ("uvs", "TEXCOORD_0"), ("uvs1", "TEXCOORD_1"), ("tangents", "TANGENT")):
                 if primitive.get(key) is not None:
                     attributes[name] = add(np.float32(primitive[key]), _FLOAT, 34962)
             entry = {"attributes": attributes, "indices": add(np.uint32(primitive["indices"]).reshape(-1), _UINT, 34963)}
             if primitive.get("material") is not None:
                 entry["material"] = primitive["material"]
+            if primitive.get("mode") is not None:
+                entry["mode"] = primitive["mode"]
             out.append(entry)
         gltf_meshes.append({"primitives": out})
     if nodes is None:
@@ -81,5 +84,39 @@ def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (),
     if samplers:
         document["samplers"] = list(samplers)
     document.update(extra or {})
+    path.write_text(json.dumps(document))
+    return path
+
+
+def add_animation(path: Path, channels: list[tuple[int, str, np.ndarray, np.ndarray]], interpolation: str = "LINEAR") -> Path:
+    """Add one animation to a file write_gltf wrote: channels of (node, path — translation,
+    rotation, scale or weights —, keyframe times, values (one row per keyframe, or three for
+    CUBICSPLINE)), their accessors appended to the file's buffer."""
+    document = json.loads(path.read_text())
+    buffer = document["buffers"][0]
+    blob = bytearray(base64.b64decode(buffer["uri"].split(",", 1)[1]))
+    samplers, targets = [], []
+
+    def add(array: np.ndarray) -> int:
+        array = np.ascontiguousarray(array, np.float32)
+        while len(blob) % 4:
+            blob.append(0)
+        document["bufferViews"].append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes})
+        blob.extend(array.tobytes())
+        width = 1 if array.ndim == 1 else array.shape[1]
+        document["accessors"].append({"bufferView": len(document["bufferViews"]) - 1, "componentType": _FLOAT,
+                                      "count": len(array), "type": _TYPES[width]})
+        return len(document["accessors"]) - 1
+
+    for node, target, times, values in channels:
+        times = np.asarray(times, np.float32)
+        time_accessor = add(times)
+        document["accessors"][time_accessor] |= {"min": [float(times.min())], "max": [float(times.max())]}
+        samplers.append({"input": time_accessor, "output": add(np.asarray(values, np.float32).reshape(-1, 1 if target == "weights" else len(values[0]))),
+                         "interpolation": interpolation})
+        targets.append({"sampler": len(samplers) - 1, "target": {"node": node, "path": target}})
+    document.setdefault("animations", []).append({"samplers": samplers, "channels": targets})
+    buffer["byteLength"] = len(blob)
+    buffer["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()
     path.write_text(json.dumps(document))
     return path

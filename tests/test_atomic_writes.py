@@ -312,3 +312,34 @@ def test_a_full_disk_fails_the_batch_job_naming_its_file_and_leaves_no_temporary
     assert "v_depth.npy" in message and "No space left on device" in message, message
     assert leftovers(full_disk) == [] and not (full_disk / "out" / "m" / "v.json").exists()
     assert json.loads((full_disk / "out" / "report.json").read_text())["failed"] == {"m/v": message}
+
+
+# A destructor that SIGTERM's exception lands in, as a wgpu object's __del__ does when the
+# garbage collector runs it at the wrong moment: the exception is swallowed there.
+_SWALLOWED = textwrap.dedent(
+    """
+    import importlib, signal, sys, time
+    cli = importlib.import_module("wgpu_shading.cli.main")
+
+    class Garbage:
+        def __del__(self):
+            signal.raise_signal(signal.SIGTERM)  # the handler raises here, inside __del__
+            time.sleep(0.01)
+
+    def command(argv):
+        Garbage()  # collected at once: its __del__ swallows the Terminated raised in it
+        for _ in range(500):  # a long command; the signal must still stop it
+            time.sleep(0.01)
+        print("not stopped")
+        return 0
+
+    cli._main = command  # the command main() runs, with its signal handling around it
+    sys.exit(cli.main([]))
+    """
+)
+
+
+def test_sigterm_swallowed_by_a_destructor_still_stops_the_command(tmp_path):
+    result = subprocess.run([sys.executable, "-c", _SWALLOWED], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 143 and "not stopped" not in result.stdout, (result.stdout, result.stderr)
+    assert result.stderr.strip() == "wgpu-shading: terminated", result.stderr

@@ -217,11 +217,13 @@ def test_smoke_cold_start_times_every_variant_and_phase(smoke):
     assert names >= {
         "wgpu-shading CLI", "CLI, prebuilt FFI off (before)", "wgpu floor + prebuilt FFI",
         "wgpu floor (plain wgpu-py)", "python + import numpy", "CLI, fresh caches (first run ever)",
+        "CLI, no bytecode cache (a source tree with PYTHONDONTWRITEBYTECODE)",
     }
-    assert all(_positive(row["median s"]) for row in variants)
+    assert all(_positive(row["median s"]) and _positive(row["CPU median s"]) for row in variants)  # CPU beside wall
     steps = {row["phase"]: row for row in phases}
     assert "PNG write (as the CLI does it)" in steps and "first draw + readback (LLVM JIT of shader variants)" in steps
     assert _positive(steps["**sum**"]["now"]) and _positive(steps["**sum**"]["prebuilt FFI off (≈ before)"])
+    assert _positive(steps["**sum**"]["CPU now"])
 
 
 def test_smoke_batch_renders_and_writes_the_turntable(smoke):

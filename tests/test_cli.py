@@ -282,6 +282,37 @@ def test_a_mistyped_flag_gets_the_closest_spelling_and_the_commands_help(capsys,
     assert err.startswith("wgpu-shading: error: ") and err.rstrip("\n").endswith(line) and err.count("\n") == 1, err
 
 
+@pytest.mark.parametrize("flag, value, field", [
+    ("--up", "-Z", "up"),
+    ("--camera-direction", "-Y", "camera_direction"),
+    ("--camera-position", "-1,2,3", "camera_position"),
+    ("--camera-position", "-1e1,0,0", "camera_position"),
+    ("--camera-elevation-angle", "-1.5e1", "camera_elevation"),
+    ("--animation-time", "-2.5e-1", "animation_time"),
+])
+def test_a_value_starting_with_a_minus_sign_follows_its_flag(flag, value, field):
+    # argparse took `--up -Z` (as the help writes the axis) and -1e1 for unknown options:
+    # "--up: expected one argument". Now the value, as with `=`.
+    from wgpu_shading.cli.arguments import view_options_from_args
+    from wgpu_shading.cli.main import build_parser
+
+    def parsed(*argv):
+        return getattr(view_options_from_args(build_parser().parse_args(["render", "builtin:torus", *argv])), field)
+
+    assert parsed(flag, value) == parsed(f"{flag}={value}") is not None
+
+
+@pytest.mark.parametrize("argv, line", [
+    (["render", "builtin:torus", "--size", "-q"], "--size: expected one argument"),  # a flag is still a flag
+    (["render", "builtin:torus", "--up", "-Q"], "--up: expected one argument"),
+    (["render", "builtin:torus", "--camera-index", "-1"], "--camera-index: expected an index from 0"),
+])
+def test_a_flag_after_a_flag_is_not_taken_for_its_value(capsys, argv, line):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert line in err and err.count("\n") == 1, err
+
+
 def test_the_installed_command_answers_a_typo_in_one_line_with_status_2():
     result = run_cli("render", "builtin:torus", "--sise", "64")
     assert result.returncode == 2 and "Traceback" not in result.stderr

@@ -180,3 +180,22 @@ def test_the_shipped_arm_bends_its_elbow_and_turns_as_documented(time, elbow):
     # "turn" (animation 1) turns the whole arm about Y by 90° a second
     turned = load_mesh("example:arm.glb", animation_time=1.5, animation_index=1).world_positions()
     np.testing.assert_allclose(turned, rest @ _rotation((0, 1, 0), 135).T, atol=1e-5)
+
+
+@pytest.mark.parametrize("matrix, shown", [
+    (["a"] * 16, "'a'"),
+    ([1e300] * 15 + [1.0], "1e+300"),  # beyond the ±1e15 nodes.py allows (JSON has no inf; 1e400 reads as inf)
+])
+def test_a_bad_matrix_on_an_animated_node_is_refused_as_without_the_animation(tmp_path, matrix, shown):
+    # The animated node's matrix was dropped silently when it did not convert, and decomposed
+    # into NaNs with numpy warnings on stderr when it was not finite: only the unanimated
+    # file was refused. Now the same one-line error, whatever the time.
+    from gltf_builder import add_animation, quad, write_gltf
+
+    positions, faces = quad(0, 0)
+    path = write_gltf(tmp_path / "m.gltf", [[{"positions": positions, "indices": faces}]], nodes=[{"mesh": 0, "matrix": matrix}])
+    add_animation(path, [(0, "translation", [0.0, 1.0], [[0, 0, 0], [1, 0, 0]])])
+    for time in (None, 0.5):
+        with pytest.raises(MeshError, match=r"m.gltf.*nodes\[0\]\.matrix: expected 16 finite numbers") as caught:
+            load_mesh(path, animation_time=time)
+        assert shown in str(caught.value)

@@ -355,3 +355,45 @@ def test_check_report_path_is_checked_before_rendering(torus, capsys, name, mess
     assert main(["check", torus, "--ref", "ref.png", "--report", name]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
+
+
+HOSTILE_NAMES_TEST = textwrap.dedent(
+    """
+    import os
+    import numpy as np
+    import pytest
+
+    def image(value):
+        img = np.zeros((20, 30, 4), np.uint8)
+        img[..., 3] = 255
+        img[5:15, 10:20, 0] = value
+        return img
+
+    @pytest.mark.parametrize("name", ["<script>alert(1)</script>", "x<y", "x>y", "q\\"u'o&amp;te"])
+    def test_named(assert_golden, name):
+        # every case its own colour, all compared with one reference name
+        value = int(os.environ.get("GOLDEN_VALUE", "200")) + 10 * ["<script>alert(1)</script>", "x<y", "x>y", "q\\"u'o&amp;te"].index(name)
+        assert_golden(image(value), f"refs/{len(name)}/same.png")
+    """
+)
+
+
+def test_golden_report_of_tests_named_with_html_and_colliding_folder_names(pytester, monkeypatch):
+    # Test ids with markup and quotes are text on the page, never markup; ids that read the
+    # same once made into folder names (x<y, x>y: both test_named_x_y) keep their own images:
+    # before, the second overwrote the first's and the report showed one picture twice.
+    import html
+
+    pytester.makepyfile(test_user=HOSTILE_NAMES_TEST)
+    _value(monkeypatch, 100)
+    run(pytester, "--update-golden").assert_outcomes(passed=4)
+    _value(monkeypatch, 140)
+    run(pytester, "--golden-report=report").assert_outcomes(failed=4)
+    page = (pytester.path / "report" / "golden-report.html").read_text(encoding="utf-8")
+    assert "<script>alert" not in page and page.count("<script>") == 1  # the page's own script only
+    for name in ("<script>alert(1)</script>", "x<y", "x>y", "q\"u'o&amp;te"):
+        assert html.escape(f"test_user.py::test_named[{name}]", quote=True) in page
+    actual = [iio.imread(path)[10, 15, 0] for path in sorted((pytester.path / "report").rglob("same.actual.png"))]
+    assert sorted(actual) == [140, 150, 160, 170]  # four tests, four folders, four pictures
+    cards = page.split('<article class="failure"')[1:]
+    assert len(cards) == 4 and len({_data_uris(card)[1] for card in cards}) == 4  # each card its own actual image

@@ -150,6 +150,12 @@ def test_keys_change_the_settings_as_documented(live):
         assert s().crease_angle == expected
     key(live, "t")
     assert s().two_sided
+    assert s().edges is False
+    plain = live.frame().color.copy()
+    key(live, "e")  # f3d's E: the triangles' edges over the surface (docs/primitives.md#edges)
+    assert s().edges is True and not np.array_equal(live.frame().color, plain)
+    key(live, "e")
+    assert s().edges is False and np.array_equal(live.frame().color, plain)
     key(live, "a")
     assert s().samples == 4
     assert s().shadows is False  # the torus's lights cast none

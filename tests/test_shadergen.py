@@ -146,6 +146,9 @@ DOMAINS: dict[str, tuple] = {
     "spot_lights": (0, 1, 2),
     "texture_mode": (None, *TEXTURE_MODES),
     "alpha_mode": ALPHA_MODES,
+    "primitive": ("triangles", "points", "lines"),
+    "under_edges": (0, 2),
+    "uv_sets": ((), (("base_color", 1),), (("normal_map", 3), ("occlusion_map", 2), ("emissive_map", 1))),
     "directional_shadows": (0, 1),
     "spot_shadows": (0, 1),
     "positional_shadows": (0, 2),
@@ -262,7 +265,7 @@ def _sources() -> dict[str, str]:
 
     root = files("wgpu_shading.wgsl")
     found = {}
-    for folder in ("", "chunks", "chunks/lighting", "chunks/surface", "chunks/maps", "chunks/shadows"):
+    for folder in ("", "chunks", "chunks/lighting", "chunks/surface", "chunks/maps", "chunks/strokes", "chunks/shadows"):
         base = root.joinpath(*folder.split("/")) if folder else root
         for entry in base.iterdir():
             if entry.name.endswith(".wgsl"):

@@ -127,3 +127,31 @@ def test_bad_shadow_keys_in_a_scene_file_name_the_key(tmp_path, text, words):
         load_scene(path)
     for word in words:
         assert word in str(error.value)
+
+
+def _eight_positional_lights(tmp_path):
+    """Eight casting positional lights around a sphere over a floor, a sphere above: most of
+    their 48 cube faces see a receiver that a caster shadows."""
+    text = "[output]\nsize = [32, 32]\n"
+    for x, z in [(3, 3), (-3, 3), (3, -3), (-3, -3), (0, 4), (4, 0), (-4, 0), (0, -4)]:
+        text += f'[[lights]]\ntype = "positional"\nposition = [{x}, 0.5, {z}]\nshadows = true\n'
+    text += ('[[objects]]\nmesh = "builtin:sphere"\n[[objects]]\nmesh = "builtin:plane"\ntranslate = [0, -1, 0]\n'
+             'scale = [8, 8, 8]\n[[objects]]\nmesh = "builtin:sphere"\ntranslate = [0, 3, 0]\n')
+    path = tmp_path / "eight.toml"
+    path.write_text(text)
+    return path
+
+
+def test_shadow_maps_beyond_their_memory_limit_are_refused_before_any_is_made(renderer, capsys, tmp_path):
+    # Eight positional lights at 8192² asked lavapipe for gigabytes of host memory (12 GiB
+    # for all 48 faces); a GPU answered with an internal error. Now one line, exit 2.
+    from wgpu_shading.render.gpu.shadow_maps import MAX_SHADOW_MAP_BYTES
+
+    assert MAX_SHADOW_MAP_BYTES == 2 << 30
+    with pytest.raises(SceneError, match=r"9 shadow maps .* of 8192×8192 texels, 2\.25 GiB; at most 2 GiB"):
+        renderer.device_cache.shadow_maps(8192, 9)  # refused before the texture is made
+    code, err = run_cli(capsys, "render", str(_eight_positional_lights(tmp_path)), "--shadow-map-size", "8192", "-o", str(tmp_path / "x.png"))
+    one_line_error(code, err, "shadows.map_size", "shadow maps", "GiB")
+    assert not (tmp_path / "x.png").exists()
+    code, err = run_cli(capsys, "render", str(_eight_positional_lights(tmp_path)), "--shadow-map-size", "256", "-o", str(tmp_path / "x.png"))
+    assert code == 0, err  # the same lights at a size that fits

@@ -137,3 +137,22 @@ def test_when_wgpu_py_rejects_the_prebuilt_table_it_imports_normally(tmp_path):
     result = subprocess.run([sys.executable, "-c", FFI_REJECTED], capture_output=True, text=True, env=env, timeout=120)
     assert result.returncode == 0, result.stderr
     assert result.stdout.split() == ["False", "FFI", "True"]
+
+
+def test_render_of_a_builtin_imports_no_reader_pass_or_tool_it_does_not_use(tmp_path):
+    """What `render builtin:torus` imports is what it uses: no mesh-file reader (the glTF
+    reader alone was ~13 ms of every start), no golden-image comparison, no dataset pass.
+    docs/performance.md#cold-start-process-start-to-png-on-disk."""
+    script = (
+        "import sys\nfrom wgpu_shading.cli.main import main\n"
+        f"status = main(['render', 'builtin:torus?segments=12', '--size', '16', '-o', {str(tmp_path / 't.png')!r}, '-q'])\n"
+        "print(' '.join(sorted(name for name in sys.modules if name.startswith('wgpu_shading'))))\n"
+        "sys.exit(status)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    imported = set(result.stdout.split())
+    assert "wgpu_shading.render.renderer" in imported and (tmp_path / "t.png").is_file()
+    unused = {"wgpu_shading.assets.gltf.reader", "wgpu_shading.assets.mesh_formats.obj", "wgpu_shading.testing.golden",
+              "wgpu_shading.testing.comparison", "wgpu_shading.render.passes.extra_outputs", "wgpu_shading.dataset"}
+    assert not unused & imported, unused & imported

@@ -102,3 +102,41 @@ def test_a_lost_default_device_is_replaced_by_a_fresh_one():
     assert second.device is not first.device
     np.testing.assert_array_equal(second.render(scene), before)
     assert device_module.default_device("llvmpipe") is second.device
+
+
+def test_threads_playing_animations_and_drawing_points_edges_and_shadows_match_sequential(renderer):
+    """The newer features from several threads at once, scenes made in the threads too: one
+    AnimationFrames shared by all (its parsed file is posed under a lock), a point cloud,
+    edges over shading, shadows; every image equal to the one drawn alone, in order."""
+    from wgpu_shading.assets.animation_frames import AnimationFrames
+    from wgpu_shading.assets.view_loader import load_view
+    from wgpu_shading.scene.view.options import ViewOptions
+
+    data = Path(__file__).resolve().parent / "data" / "real"
+    size = (40, 32)
+
+    def animations():
+        return [AnimationFrames(str(data / "khronos" / "SimpleSkin.gltf"), ViewOptions(size=size), fps=2.0),
+                AnimationFrames(str(data / "khronos" / "AnimatedMorphCube.gltf"), ViewOptions(size=size, shadows=True), fps=2.0)]
+
+    views = [
+        lambda: load_view(str(data / "primitives" / "ply_points_ascii.ply"), ViewOptions(size=size, point_size=5)),
+        lambda: load_view("builtin:torus", ViewOptions(size=size, edges=True, edge_width=2)),
+        lambda: load_view(str(EXAMPLES / "two_lights.toml"), ViewOptions(size=size, shadows=True, shadow_filter="pcf3")),
+    ]
+    alone = animations()
+    tasks = [(kind, index) for kind in range(2) for index in range(len(alone[kind]))] + [(2 + v, 0) for v in range(len(views))]
+    expected = [renderer.render(alone[kind][index] if kind < 2 else views[kind - 2]()) for kind, index in tasks]
+    assert len({image.tobytes() for image in expected}) > len(tasks) // 2  # they move
+
+    shared_frames, shared = animations(), Renderer(device=renderer.device)
+    order = list(reversed(tasks)) * 2
+
+    def draw(task):
+        kind, index = task
+        return task, shared.render(shared_frames[kind][index] if kind < 2 else views[kind - 2]())
+
+    with ThreadPoolExecutor(max_workers=6) as pool:
+        results = list(pool.map(draw, order))
+    wrong = [task for task, image in results if not np.array_equal(image, expected[tasks.index(task)])]
+    assert not wrong, f"{len(wrong)} of {len(results)} images differ from sequential rendering: {wrong[:8]}"

@@ -120,3 +120,23 @@ def test_same_pixels_on_a_scan(renderer, monkeypatch):
     scene = mesh_scene(str(SHARED_MODELS / "stanford-bunny.obj"), (128, 128), None)
     own, reordered = both_orders(renderer.device, scene, monkeypatch)
     np.testing.assert_array_equal(reordered, own)
+
+
+def test_the_devices_of_render_many_share_one_order_per_mesh(renderer, monkeypatch):
+    """render_many's helper devices take the order the first device computed (meshoptimizer
+    runs once per mesh, not once per device), and every frame is still render()'s."""
+    from wgpu_shading.render.gpu import mesh_uploads
+
+    calls = []
+    real = mesh_uploads.cache_order
+    monkeypatch.setattr(mesh_uploads, "cache_order", lambda *args, **kwargs: calls.append(1) or real(*args, **kwargs))
+    torus = load_mesh("builtin:torus?segments=20")
+    meshes = [shuffled(torus, seed) for seed in (1, 2)]
+    scenes = [replace(scene_of(mesh), camera=Camera(eye=(0.3 * k, 0.4, 2.2), near=0.5, far=10.0))
+              for mesh in meshes for k in range(3)]
+    fresh = Renderer(renderer.device)
+    frames = [frame.color for frame in fresh.render_many(scenes, parallel=2)]
+    assert len(calls) == 2  # two meshes, each ordered once for both devices
+    alone = Renderer(renderer.device)
+    for scene, frame in zip(scenes, frames):
+        assert np.array_equal(frame, alone.render(scene))

@@ -71,8 +71,9 @@ def _sample(option) -> tuple:
 
 SAMPLES = {option.name: _sample(option) for option in VIEW_OPTIONS}
 # What else a sample needs to show in the pictures below.
-WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"]}
-_NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights")  # no back faces, colours or file lights
+WITH = {"blinn_exponent_scale": ["--reflection", "blinn-phong"], "edge_color": ["--edges"], "edge_width": ["--edges"]}
+# no back faces, colours, file lights, points or lines (tests/test_primitives_drawing.py draws those)
+_NO_EFFECT_ON_THE_BOX = ("two_sided", "clamp_vertex_colors", "viewer_lights", "point_size", "line_width")
 # One convex box shadows only its own sides that face away from a light, which that light
 # does not reach anyway (docs/shadows.md): its shadow options draw the same box (pixels
 # compared, not asserted different; tests/test_shadows_*.py show them at work).
@@ -227,12 +228,14 @@ def test_render_and_a_one_job_batch_draw_the_same_pixels(option, box, tmp_path):
 
 def test_a_manifest_row_per_option_draws_what_render_draws(box, tmp_path):
     options = [option for option in VIEW_OPTIONS if option.name != "size"]
-    columns = sorted({option.column for option in options} | {"reflection"})
+    columns = sorted({option.column for option in options} | {"reflection", "edges"})
     lines = [",".join(["mesh", "name", "size", *columns])]
     for option in options:
         row = {option.column: SAMPLES[option.name][1]}
         if option.name == "blinn_exponent_scale":
             row["reflection"] = "blinn-phong"
+        if option.name in ("edge_color", "edge_width"):
+            row["edges"] = "true"
         lines.append(",".join([str(box), option.name, "40x32", *(f'"{row.get(c, "")}"' for c in columns)]))
     manifest = tmp_path / "jobs.csv"
     manifest.write_text("\n".join(lines) + "\n")

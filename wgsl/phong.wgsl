@@ -10,6 +10,7 @@
 // The surface's effects, one chunk each: what they declare is pasted here, what they do
 // at the named points (#hook) below.
 #include "chunks/surface/uvs.wgsl"
+#include "chunks/surface/uv_sets.wgsl"
 #include "chunks/surface/vertex_colors.wgsl"
 #include "chunks/surface/two_sided.wgsl"
 #include "chunks/maps/normal_map.wgsl"

@@ -113,6 +113,16 @@ struct ObjectUniforms {
     // stay perpendicular under non-uniform scale and stay outward under mirroring.
     eye_normal_from_model: mat3x3<f32>,
     material: Material,
+#if STROKES
+    // Points and lines (docs/primitives.md): the target's size and the quad's size (a
+    // point's size, a line's or an edge's width), in pixels.
+    viewport_size: vec2<f32>,
+    stroke_pixels: f32,
+#endif
+#if EDGES
+    // --edge-color, written as it is (a colour on the image, like the background).
+    edge_color: vec4<f32>,
+#endif
 #if not UNLIT
     // global_ambient · material ambient, and each light's LightProducts (same order as the
     // FrameUniforms light arrays).

@@ -1,5 +1,6 @@
 """Where a cold `wgpu-shading render builtin:torus -o OUT.png` spends its time: the CLI's
-own steps, timed one by one in a fresh process. Prints one JSON object of seconds.
+own steps, timed one by one in a fresh process. Prints one JSON object of seconds:
+{"wall": {phase: s}, "cpu": {phase: s}} (CPU: this process's user + system time, every thread).
 
     python benchmarks/scripts/cold_phases.py OUT.png [SIZE]
 
@@ -8,20 +9,21 @@ SIZE: the image side, as the CLI's --size (default 512, the CLI's default).
 
 import time
 
-start = time.perf_counter()
+start, start_cpu = time.perf_counter(), time.process_time()
 import importlib  # noqa: E402  (loaded by the interpreter's start-up already)
 import json  # noqa: E402
 import sys  # noqa: E402
 
-phases = {}
-last = start
+phases, phases_cpu = {}, {}
+last, last_cpu = start, start_cpu
 
 
 def mark(name):
-    global last
-    now = time.perf_counter()
-    phases[name] = now - last
-    last = now
+    """Wall and CPU (this process, every thread) since the last mark."""
+    global last, last_cpu
+    now, now_cpu = time.perf_counter(), time.process_time()
+    phases[name], phases_cpu[name] = now - last, now_cpu - last_cpu
+    last, last_cpu = now, now_cpu
 
 
 importlib.import_module("numpy")  # imported for its cost only (a bare import reads as unused)
@@ -60,4 +62,4 @@ from wgpu_shading.assets.image_writers import write_image  # noqa: E402
 
 write_image(Path(sys.argv[1]), image)
 mark("PNG write (as the CLI does it)")
-print(json.dumps(phases))
+print(json.dumps({"wall": phases, "cpu": phases_cpu}))

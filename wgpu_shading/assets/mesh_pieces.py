@@ -19,10 +19,13 @@ from ..scene.normals import crease_normals
 
 @dataclass
 class MeshPiece:
-    """One vertex set of a file: an OBJ, a glTF primitive instance, a PLY."""
+    """One vertex set of a file: an OBJ, a glTF primitive instance, a PLY.
+
+    `primitive` says what `faces` holds: "triangles" (f, 3), "lines" (f, 2) segments, or
+    "points" (every vertex a point; `faces` unused). Parts count faces, segments or vertices."""
 
     positions: np.ndarray
-    faces: np.ndarray
+    faces: np.ndarray | None
     normals: np.ndarray | None = None
     uvs: np.ndarray | None = None
     colors: np.ndarray | None = None  # (n, 4) float in [0, 1]
@@ -30,6 +33,17 @@ class MeshPiece:
     all_flat: bool = False
     parts: list = field(default_factory=list)  # (first face, count, material, name)
     tangents: np.ndarray | None = None  # (n, 4) glTF TANGENT, only with the file's normals
+    primitive: str = "triangles"
+    extra_uvs: np.ndarray | None = None  # (n, k, 2): texture coordinate sets 1..k (Texture.uv_set)
+
+    @property
+    def element_count(self) -> int:
+        return len(self.positions) if self.primitive == "points" else len(self.faces)
+
+
+def point_piece(positions, normals=None, colors=None, material=None, name: str = "") -> MeshPiece:
+    """A point cloud: every vertex a point, in one part."""
+    return MeshPiece(positions, None, normals, None, colors, parts=[(0, len(positions), material, name)], primitive="points")
 
 
 def _no_lights() -> list:
@@ -70,13 +84,17 @@ def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:
         normals=None if piece.normals is None else piece.normals[corners],
         uvs=None if piece.uvs is None else piece.uvs[corners],
         colors=np.repeat(face_colors, 3, axis=0),
+        extra_uvs=None if piece.extra_uvs is None else piece.extra_uvs[corners],
     )
 
 
 def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
-    """The piece with normals: the file's, flat, or welded and creased."""
+    """The piece with normals: the file's, flat, or welded and creased. Lines and points
+    without normals get zero normals (drawn unlit: docs/primitives.md)."""
     if piece.normals is not None:
         return piece
+    if piece.primitive != "triangles":
+        return replace(piece, normals=np.zeros((len(piece.positions), 3), np.float32))
     if piece.all_flat:  # every corner its own vertex, with its face's normal
         corners = piece.faces.reshape(-1)
         unit, _ = face_normals(piece.positions, piece.faces)
@@ -87,6 +105,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
             normals=np.repeat(unit, 3, axis=0),
             uvs=None if piece.uvs is None else piece.uvs[corners],
             colors=None if piece.colors is None else piece.colors[corners],
+            extra_uvs=None if piece.extra_uvs is None else piece.extra_uvs[corners],
         )
     source, faces, normals = crease_normals(piece.positions, piece.faces, crease_angle, piece.flat)
     if source is None:
@@ -98,40 +117,50 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
         normals=normals,
         uvs=None if piece.uvs is None else piece.uvs[source],
         colors=None if piece.colors is None else piece.colors[source],
+        extra_uvs=None if piece.extra_uvs is None else piece.extra_uvs[source],
     )
 
 
 def _check_piece(piece: MeshPiece, name: str) -> None:
     """What normals and welding index with must be valid first (trimesh reads PLY, STL and
     OFF faces without checking them, process=False): finite positions, indices in range."""
-    if piece.faces.ndim != 2 or piece.faces.shape[1] != 3:
-        raise MeshError(f"{name}: faces must be triangles, got an array of shape {piece.faces.shape}")
+    width = {"triangles": 3, "lines": 2}.get(piece.primitive)
+    if width and (piece.faces.ndim != 2 or piece.faces.shape[1] != width):
+        raise MeshError(f"{name}: {piece.primitive} must have {width} vertices each, got an array of shape {piece.faces.shape}")
     if not np.isfinite(piece.positions).all():
         bad = int(np.flatnonzero(~np.isfinite(piece.positions).all(axis=1))[0])
         raise MeshError(f"{name}: vertex {bad} has a NaN or infinite coordinate: {piece.positions[bad].tolist()}")
+    if not width:
+        return
     low, high = int(piece.faces.min()), int(piece.faces.max())
     if low < 0 or high >= len(piece.positions):
         culprit = low if low < 0 else high
+        what = "a face" if width == 3 else "a line"
         raise MeshError(
-            f"{name}: a face refers to vertex {culprit}, but the file has {len(piece.positions)} vertices "
+            f"{name}: {what} refers to vertex {culprit}, but the file has {len(piece.positions)} vertices "
             f"(valid: 0..{len(piece.positions) - 1})"
         )
 
 
 def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
-    """The pieces as one Mesh: each with its normals, then joined, parts in order."""
+    """The pieces as one Mesh: each with its normals, then joined, parts in order (the
+    triangles, segments and points of each piece numbered after the earlier pieces')."""
     for piece in pieces:
         _check_piece(piece, name)
     pieces = [_piece_normals(piece, crease_angle) for piece in pieces]
     any_uvs = any(p.uvs is not None for p in pieces)
     any_colors = any(p.colors is not None for p in pieces)
     any_tangents = any(p.tangents is not None for p in pieces)
-    positions, faces, normals, uvs, colors, tangents, parts = [], [], [], [], [], [], []
-    vertex_offset = face_offset = 0
+    uv_sets = max((p.extra_uvs.shape[1] for p in pieces if p.extra_uvs is not None), default=0)
+    positions, faces, lines, normals, uvs, colors, tangents, extra_uvs, parts = [], [], [], [], [], [], [], [], []
+    vertex_offset = 0
+    offsets = {"triangles": 0, "lines": 0, "points": 0}
     for piece in pieces:
         count = len(piece.positions)
+        offsets["points"] = vertex_offset
         positions.append(piece.positions)
-        faces.append(piece.faces + vertex_offset if vertex_offset else piece.faces)  # one piece: no copy
+        if piece.primitive != "points":  # (one piece: no copy)
+            (faces if piece.primitive == "triangles" else lines).append(piece.faces + vertex_offset if vertex_offset else piece.faces)
         normals.append(piece.normals)
         if any_uvs:
             uvs.append(piece.uvs if piece.uvs is not None else np.zeros((count, 2)))
@@ -139,23 +168,30 @@ def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
             colors.append(piece.colors if piece.colors is not None else np.ones((count, 4)))
         if any_tangents:  # zeros: no tangent, the derivative frame
             tangents.append(piece.tangents if piece.tangents is not None else np.zeros((count, 4)))
+        if uv_sets:  # sets a piece lacks are zeros (its materials never read them)
+            own = np.zeros((count, 0, 2)) if piece.extra_uvs is None else piece.extra_uvs
+            extra_uvs.append(np.concatenate([own, np.zeros((count, uv_sets - own.shape[1], 2))], axis=1))
         for first, length, material, part_name in piece.parts:
             if material is not None and material.texture is not None and piece.uvs is None:
                 warnings.warn(f"{name}: part {part_name!r} has a texture but no texture coordinates; drawn untextured", stacklevel=3)
                 material = replace(material, texture=None)
-            parts.append(MeshPart(face_offset + first, length, material, part_name))
+            parts.append(MeshPart(offsets[piece.primitive] + first, length, material, part_name, piece.primitive))
         vertex_offset += count
-        face_offset += len(piece.faces)
-    def joined(arrays: list) -> np.ndarray:  # one piece (a PLY, an STL): no copy
-        return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
+        if piece.primitive != "points":
+            offsets[piece.primitive] += len(piece.faces)
+
+    def joined(arrays: list) -> np.ndarray | None:  # one piece (a PLY, an STL): no copy
+        return None if not arrays else arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
 
     return Mesh.from_arrays(
         joined(positions),
         joined(faces),
         normals=joined(normals),
-        uvs=joined(uvs) if any_uvs else None,
-        colors=joined(colors) if any_colors else None,
-        tangents=joined(tangents) if any_tangents else None,
+        uvs=joined(uvs),
+        colors=joined(colors),
+        tangents=joined(tangents),
         parts=tuple(parts),
         name=name,
+        lines=joined(lines),
+        extra_uvs=joined(extra_uvs),
     )

@@ -5,7 +5,8 @@ its loaders): `reader(path, file size) → MeshFile` (mesh_pieces.py), the one t
 reader returns. OBJ is read by mesh_formats/obj.py (trimesh's OBJ reader mis-resolves
 relative indices and drops smoothing groups); OFF by mesh_formats/off.py (a token stream:
 trimesh wanted one face per line); binary STL by mesh_formats/stl.py; PLY and ASCII STL
-through trimesh (mesh_formats/trimesh_reader.py); glTF by our own accessor reader (gltf/).
+through trimesh (mesh_formats/trimesh_reader.py), binary PLY point clouds with numpy
+(mesh_formats/ply.py); glTF by our own accessor reader (gltf/).
 The pieces' normals follow docs/real-world-files.md: the file's normals win; glTF primitives
 without NORMAL are flat; otherwise vertices are welded by position and split at the crease
 angle (scene/normals.py).
@@ -13,6 +14,7 @@ angle (scene/normals.py).
 
 from __future__ import annotations
 
+import importlib
 import os
 import warnings
 from dataclasses import dataclass
@@ -27,25 +29,29 @@ from ..scene.mesh import Mesh
 from ..scene.view.reading import MAX_SECONDS
 from .examples import resolve_example
 from .files import check_regular_file
-from .gltf.reader import read_gltf
 from .mesh_formats.checks import file_size_or_error
-from .mesh_formats.obj import read_obj
-from .mesh_formats.off import read_off
-from .mesh_formats.stl import read_stl
-from .mesh_formats.trimesh_reader import read_with_trimesh
 from .mesh_pieces import MeshFile, assemble
 
-# suffix → reader: the one list of the mesh formats (a new format is a reader and a line here).
-MESH_READERS: dict[str, Callable[[Path, int], MeshFile]] = {
-    ".obj": read_obj,
-    ".ply": read_with_trimesh,
-    ".stl": read_stl,
-    ".off": read_off,
-    ".glb": read_gltf,
-    ".gltf": read_gltf,
+# suffix → reader ("module:function" in this package): the one list of the mesh formats (a
+# new format is a reader and a line here). A reader's module is imported when a file of its
+# format is read: `render builtin:torus` needs none, and the glTF reader alone took ~13 ms of
+# every cold start (docs/performance.md#cold-start-process-start-to-png-on-disk).
+MESH_READERS: dict[str, str] = {
+    ".obj": "mesh_formats.obj:read_obj",
+    ".ply": "mesh_formats.ply:read_ply",
+    ".stl": "mesh_formats.stl:read_stl",
+    ".off": "mesh_formats.off:read_off",
+    ".glb": "gltf.reader:read_gltf",
+    ".gltf": "gltf.reader:read_gltf",
 }
 MESH_SUFFIXES = tuple(MESH_READERS)
 DEFAULT_CREASE_ANGLE = 60.0  # degrees (docs/real-world-files.md)
+
+
+def mesh_reader(reader: str) -> Callable[[Path, int], MeshFile]:
+    """The reader function a MESH_READERS entry names, its module imported now."""
+    module, function = reader.split(":")
+    return getattr(importlib.import_module(f".{module}", __package__), function)
 
 
 def _without_camera(index: int) -> None:
@@ -55,11 +61,15 @@ def _without_camera(index: int) -> None:
 @dataclass(frozen=True)
 class LoadedMesh:
     """A mesh file read once: its Mesh, and its own lights and cameras when asked
-    (MeshFile.lights, MeshFile.camera)."""
+    (MeshFile.lights, MeshFile.camera). shows False: at the animation time asked for, every
+    object of the file is hidden (scaled to zero, as exporters make objects appear); `mesh`
+    is then the file unanimated, for the view to be placed around, and the view is drawn
+    empty (assets/mesh_scene.py), as viewers show that moment."""
 
     mesh: Mesh
     lights: Callable[[], list]
     camera: Callable[[int], object] = _without_camera
+    shows: bool = True
 
 
 def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
@@ -71,8 +81,13 @@ def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat.
     animation_time (seconds): a glTF file as its animation `animation_index` (0 unless given;
     1, 2, ... or "all") poses it then (docs/animation.md); None: as the file's nodes say,
-    unanimated, unless an animation_index is given (then its start, time 0)."""
-    return read_mesh(source, crease_angle=crease_angle, animation_time=animation_time, animation_index=animation_index).mesh
+    unanimated, unless an animation_index is given (then its start, time 0). A moment at
+    which every object is hidden has no Mesh: MeshError (`render` draws it empty)."""
+    loaded = read_mesh(source, crease_angle=crease_angle, animation_time=animation_time, animation_index=animation_index)
+    if not loaded.shows:
+        time, index = _animation(animation_time, animation_index)
+        raise MeshError(f"mesh file {str(source)!r}: nothing shows at {time:g} s of animation {index} (every object is hidden then)")
+    return loaded.mesh
 
 
 def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
@@ -93,21 +108,42 @@ def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     if not path.exists():
         raise MeshError(f"mesh file {text!r} not found")
     check_regular_file(path, f"mesh file {text!r}", MeshError)  # a folder, FIFO or device: refused unread
-    read = MESH_READERS.get(path.suffix.lower())
-    if read is None:
+    reader = MESH_READERS.get(path.suffix.lower())
+    if reader is None:
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")
+    read = mesh_reader(reader)
     file_size = file_size_or_error(path, f"mesh file {text!r}")  # size limit, before anything is read
     notes = []
     with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
-        if animation is not None and read is not read_gltf:
+        gltf = reader == MESH_READERS[".gltf"]
+        if animation is not None and not gltf:
             notes.append(f"{path.name}: only glTF files hold animations; the animation time {animation[0]:g} s is ignored")
-        found = read(path, file_size, animation) if animation is not None and read is read_gltf else read(path, file_size)
-        pieces = [p for p in found.pieces if len(p.faces)]
-        mesh = assemble(pieces, path.name, float(crease_angle)) if pieces else None
-    for note in dict.fromkeys(notes + found.notes):  # once each, once the file was read without error (or to say why nothing is left)
-        warnings.warn(note, stacklevel=3)
+        found = read(path, file_size, animation) if animation is not None and gltf else read(path, file_size)
+        if animation is not None and gltf and not any(piece.element_count for piece in found.pieces):
+            # Nothing shows at this moment: the file unanimated places the view, drawn empty.
+            # (Read again: this moment alone pays for it.)
+            rest = read(path, file_size)
+            if any(piece.element_count for piece in rest.pieces):
+                loaded = loaded_mesh(rest, text, path.name, crease_angle, notes)
+                return LoadedMesh(loaded.mesh, found.lights, found.camera, shows=False)
+    return loaded_mesh(found, text, path.name, crease_angle, notes)
+
+
+def loaded_mesh(found: MeshFile, source: str, name: str, crease_angle: float, notes: list[str] = (),
+                said: set[str] | None = None) -> LoadedMesh:
+    """A reader's MeshFile as read_mesh gives it: its pieces assembled into one Mesh named
+    `name`, the notes said once each once the file was read without error (or to say why
+    nothing is left). `said`: notes already said to this caller, not said again (an
+    animation poses one parsed file for every frame: animation_frames.py)."""
+    with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
+        pieces = [p for p in found.pieces if p.element_count]
+        mesh = assemble(pieces, name, float(crease_angle)) if pieces else None
+    for note in dict.fromkeys([*notes, *found.notes]):
+        if said is None or note not in said:
+            warnings.warn(note, stacklevel=4)
+            said is None or said.add(note)
     if mesh is None:
-        raise MeshError(f"mesh file {text!r} contains no triangles")
+        raise MeshError(f"mesh file {source!r} contains no triangles, lines or points: nothing to draw")
     return LoadedMesh(mesh, found.lights, found.camera)
 
 

@@ -24,13 +24,14 @@ def source_name(source: str, fallback: str) -> str:
     return Path(source).stem or fallback
 
 
-def load_source(source: str, options: ViewOptions, framing=None):
+def load_source(source: str, options: ViewOptions, framing=None, loaded=None):
     """The scene file or the framed bare mesh, read with the options that act when a file is
     read (ViewOptions.loading(): crease_angle for the mesh reader; a bare mesh is framed for
     its up axis and image size). Load it once and apply several ViewOptions to it:
     load_view(source, o) == apply_view_options(load_source(source, o), o). `framing`: a mesh
     a bare mesh's camera frames instead of the file's (animation_frames.py: every pose of an
-    animation)."""
+    animation); `loaded`: the bare mesh file as already read (meshes.LoadedMesh), not read
+    again (animation_frames.py: one parse for every frame)."""
     from .mesh_scene import mesh_scene
     from .scenefile import load_scene
 
@@ -45,11 +46,12 @@ def load_source(source: str, options: ViewOptions, framing=None):
         reading=options.mesh_reading(),
         camera_index=options.camera_index,
         framing=framing,
+        loaded=loaded,
     )
 
 
-def load_view(source: str, options: ViewOptions = ViewOptions(), framing=None):
+def load_view(source: str, options: ViewOptions = ViewOptions(), framing=None, loaded=None):
     """The Scene `wgpu-shading render SOURCE` with these options draws: a scene file (.toml),
-    a mesh file, builtin:NAME or example:NAME, with every option applied (`framing`: as
-    load_source)."""
-    return apply_view_options(load_source(source, options, framing), options)
+    a mesh file, builtin:NAME or example:NAME, with every option applied (`framing`,
+    `loaded`: as load_source)."""
+    return apply_view_options(load_source(source, options, framing, loaded), options)

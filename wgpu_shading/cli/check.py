@@ -72,7 +72,10 @@ def write_check_report(args: argparse.Namespace, result) -> None:
 
 
 def add_check(commands, gpu: argparse.ArgumentParser) -> None:
-    from ..testing.golden import DEFAULT_AMPLIFICATION, Tolerance
+    # The defaults only: every command builds this parser, and the comparison code (numpy
+    # image metrics, diagnosis) is imported by `check` alone, when it runs.
+    from ..testing.images import DEFAULT_AMPLIFICATION
+    from ..testing.tolerance import Tolerance
 
     defaults = Tolerance()
     check = commands.add_parser(

@@ -41,6 +41,9 @@ EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a text tool wh
 
 
 _INNERMOST = "wgpu_shading_parser"  # the (sub)command parser that read the arguments
+# A value that starts with a minus sign: a number (-2, -.5, -1e3, -inf, -nan), an axis (-Z),
+# or a vector whose first component is one (-1,2,3).
+NEGATIVE_VALUE = re.compile(r"^-((\d+\.?\d*|\.\d+)(e[-+]?\d+)?|inf(inity)?|nan|[xyz])(,.*)?$", re.IGNORECASE)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -55,6 +58,11 @@ class _Parser(argparse.ArgumentParser):
         # typos silently and change meaning when a flag that shares the prefix is added.
         kwargs.setdefault("allow_abbrev", False)
         super().__init__(*args, **kwargs)
+        # What argparse takes for a value although it starts with "-": its own negative
+        # numbers (-30, -.5) and also -1e3, -inf, axes (--up -Z) and vectors (-1,2,3), which
+        # it took for unknown options ("--up: expected one argument"). No flag looks like
+        # these; set before any argument is added (argparse checks each flag against it).
+        self._negative_number_matcher = NEGATIVE_VALUE
 
     def error(self, message: str):  # type: ignore[override]
         # "argument --size/--resolution: ..." → "--size: ...", as the errors raised later name flags
@@ -137,10 +145,27 @@ def _terminate(signum, frame) -> None:
     raise Terminated()
 
 
+def _redeliver_interrupts(unraisable) -> None:
+    """sys.unraisablehook while the CLI runs. A signal's exception raised while a destructor
+    runs (a wgpu object's __del__, called by the garbage collector between any two lines) is
+    swallowed there ("Exception ignored in ..."), and the command went on: a turntable of
+    1,000,000 frames kept rendering after SIGTERM. The signal is raised again, so its handler
+    runs again: from a helper thread, a moment later, so that it lands in ordinary code and
+    not in this hook (should it land in a destructor again, this hook sends it again)."""
+    if isinstance(unraisable.exc_value, KeyboardInterrupt):  # Terminated too
+        signum = signal.SIGTERM if isinstance(unraisable.exc_value, Terminated) else signal.SIGINT
+        resend = threading.Timer(0.01, os.kill, (os.getpid(), signum))
+        resend.daemon = True
+        resend.start()
+    else:
+        sys.__unraisablehook__(unraisable)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     if threading.current_thread() is not threading.main_thread():
         return _main(argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
+    previous_hook, sys.unraisablehook = sys.unraisablehook, _redeliver_interrupts
     try:
         return _main(argv)
     except Terminated:  # arrived after _main's own handlers
@@ -148,6 +173,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 143
     finally:
         signal.signal(signal.SIGTERM, previous)
+        sys.unraisablehook = previous_hook
 
 
 def _main(argv: Sequence[str] | None = None) -> int:

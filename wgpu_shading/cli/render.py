@@ -162,19 +162,22 @@ def _auto_shading(args: argparse.Namespace, scene, renderer):
 
 
 def command_shader(args: argparse.Namespace) -> int:
-    from ..render.features import object_features
     from ..render.shaders.shadergen import generate_wgsl
+    from ..render.stroke_features import edge_features, part_features
 
     scene = scene_from_args(args)
     seen = set()
     for index, obj in enumerate(scene.objects):
-        # One draw per part (each with its own material): print each distinct shader once.
-        for part, part_material in zip(obj.mesh.parts, obj.part_materials()):
-            features = object_features(scene, obj, index, part_material)
+        # One draw per part (each with its own material), points and lines included, and the
+        # edges' draw with --edges: print each distinct shader once.
+        draws = [(part_features(scene, obj, index, part, material), f" part {part.name!r}" if len(obj.mesh.parts) > 1 else "")
+                 for part, material in zip(obj.mesh.parts, obj.part_materials()) if part.count]
+        if scene.shading.edges and obj.mesh.triangle_count:
+            draws.append((edge_features(scene), " edges"))
+        for features, label in draws:
             if features in seen:
                 continue
             seen.add(features)
-            label = f" part {part.name!r}" if len(obj.mesh.parts) > 1 else ""
             print(f"// ===== objects {index}: {obj.mesh.name}{label}")
             print(generate_wgsl(features))
     if not scene.objects:

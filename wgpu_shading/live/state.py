@@ -33,6 +33,7 @@ KEYS: dict[str, tuple[str, str]] = {
     "]": ("shininess_up", "shininess up (×√2)"),
     "c": ("crease", "crease angle: 0 → 30 → 60 → 180 degrees (mesh files without normals)"),
     "t": ("two_sided", "two-sided lighting on/off"),
+    "e": ("edges", "the triangles' edges over the surfaces on/off (f3d's E key)"),
     "a": ("samples", "antialiasing: 1 ↔ 4 samples"),
     "d": ("shadows", "shadows on/off: every light casts"),
     "enter": ("reset", "reset the camera"),
@@ -56,7 +57,7 @@ class Settings(ViewOptions):
 
 
 # Options whose keys step from the value the scene has, so the settings hold it from the start.
-SCENE_VALUED = ("frequency", "reflection", "two_sided", "samples", "shadows")
+SCENE_VALUED = ("frequency", "reflection", "two_sided", "edges", "samples", "shadows")
 
 
 def opening_settings(options: ViewOptions, scene: Scene) -> Settings:
@@ -146,6 +147,10 @@ class ViewState:
     @staticmethod
     def _key_two_sided(s: Settings) -> Settings:
         return replace(s, two_sided=not s.two_sided)
+
+    @staticmethod
+    def _key_edges(s: Settings) -> Settings:
+        return replace(s, edges=not s.edges)
 
     @staticmethod
     def _key_samples(s: Settings) -> Settings:

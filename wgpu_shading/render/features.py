@@ -7,7 +7,8 @@ the pipeline key (gpu/pipelines.py) holds it. It is a frozen, hashable dataclass
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 from ..errors import SceneError
 from ..scene.maps import MAP_FIELDS
@@ -45,12 +46,34 @@ class FeatureSet:
     alpha_map: bool = False
     # The mesh's file tangents (glTF TANGENT) give the normal map's frame (Phong only).
     vertex_tangents: bool = False
+    # What the draw draws (docs/primitives.md): triangles, or points or lines as screen-space
+    # quads (render/stroke_features.py makes their feature sets). point_normals: some point
+    # has a normal (lit discs); edges: a triangle mesh's edges in the edge colour;
+    # under_edges: surfaces pushed back this many pixels of their own depth slope (a
+    # pipeline's depth bias), so that their edges drawn over them never z-fight.
+    primitive: str = "triangles"
+    point_normals: bool = False
+    # (texture, set) of every sampled texture that reads another of the mesh's texture
+    # coordinate sets than its uvs (Texture.uv_set ≥ 1: Mesh.extra_uvs); textures absent read set 0.
+    uv_sets: tuple[tuple[str, int], ...] = ()
+    edges: bool = False
+    under_edges: int = 0
     # Shadows (docs/shadows.md), for a draw that receives them: the first N lights of each
     # kind cast (the uniforms hold casting lights first), and how their maps are filtered.
     directional_shadows: int = 0
     spot_shadows: int = 0
     positional_shadows: int = 0
     shadow_filter: str | None = None  # None (no shadow code) | nearest | bilinear | pcf3 | pcf5
+
+    def __post_init__(self) -> None:
+        if self.primitive != "triangles":
+            # Points and lines have no surface: no textures, maps, sides or frequencies; a
+            # line is drawn in its colour, a point lit only as a disc (stroke_features.py).
+            lit = self.primitive == "points" and self.point_normals
+            changes = {**_STROKE_FIXED, "point_normals": lit, "unlit": not lit, "specular": lit and self.specular,
+                       "emission": lit and self.emission, "edges": self.edges and self.primitive == "lines"}
+            for key, value in changes.items():
+                object.__setattr__(self, key, value)
 
     @property
     def shadow_lights(self) -> int:
@@ -108,6 +131,11 @@ class FeatureSet:
             "OCCLUSION_MAP": self.occlusion_map,
             "ALPHA_MAP": self.alpha_map,
             "VERTEX_TANGENTS": self.vertex_tangents,
+            "POINTS": self.primitive == "points",
+            "LINES": self.primitive == "lines",
+            "STROKES": self.primitive != "triangles",
+            "POINT_NORMALS": self.point_normals,
+            "EDGES": self.edges,
             "SHADOWS": self.shadow_lights > 0,
             "SHADOW_LIGHTS": self.shadow_lights,
             "DIRECTIONAL_SHADOWS": self.shadow_lights > 0 and self.directional_shadows > 0,
@@ -118,6 +146,15 @@ class FeatureSet:
             # apart only where the fragment treats the two apart (chunks/shadows/shares.wgsl)
             "SHADOW_SPLIT": self.specular and (self.texture_mode == "modulate" or self.specular_map),
         }
+
+    @property
+    def extra_uv_sets(self) -> tuple[int, ...]:
+        """The mesh's texture coordinate sets besides its uvs that the draw reads."""
+        return tuple(sorted({uv_set for _, uv_set in self.uv_sets}))
+
+    def uv_set(self, texture: str) -> int:
+        """The set the sampled texture `texture` ("base_color", "occlusion_map", ...) reads."""
+        return dict(self.uv_sets).get(texture, 0)
 
     def describe(self) -> str:
         lights = ", ".join(
@@ -154,6 +191,12 @@ class FeatureSet:
             parts.append(f"maps=[{', '.join(self.map_flags)}]")
         if self.cull_back:
             parts.append("cull_back=True")
+        if self.primitive != "triangles":
+            parts.append(f"primitive={self.primitive}" + (" point_normals=True" if self.point_normals else "") + (" edges=True" if self.edges else ""))
+        if self.under_edges:
+            parts.append(f"under_edges={self.under_edges}")
+        if self.uv_sets:
+            parts.append("uv_sets=[" + ", ".join(f"{name}:{uv_set}" for name, uv_set in self.uv_sets) + "]")
         if self.shadow_lights:
             parts.append(f"shadows=[{self.directional_shadows} directional, {self.spot_shadows} spot, "
                          f"{self.positional_shadows} positional; {self.shadow_filter}]")
@@ -171,14 +214,19 @@ class FeatureSet:
         )
 
 
+# What every point and line feature set holds, whatever it was made with.
+_STROKE_FIXED = dict(frequency="phong", texture_mode=None, two_sided=False, cull_back=False, clamp_vertex_colors=False,
+                     normal_map=False, bump_map=False, specular_map=False, shininess_map=False, emissive_map=False,
+                     occlusion_map=False, alpha_map=False, vertex_tangents=False, under_edges=0, uv_sets=(),
+                     directional_shadows=0, spot_shadows=0, positional_shadows=0, shadow_filter=None)
+
+
 def _has_attenuation(light: PositionalLight | SpotLight) -> bool:
     return tuple(light.attenuation) != (1.0, 0.0, 0.0) or light.range > 0.0
 
 
 def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Material | None = None) -> FeatureSet:
     """The feature set for drawing `obj` (or one part of it, drawn with `material`) in `scene`."""
-    lights = scene.lights
-    point_like = [light for light in lights if isinstance(light, (PositionalLight, SpotLight))]
     material = obj.surface_material if material is None else material
     texture_mode = None
     if material.texture is not None:
@@ -195,15 +243,11 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
             f"{obj.mesh.name!r} has no UV coordinates"
         )
     lit = not material.unlit
-    specular = lit and material.has_specular and any(max(light.specular[:3]) > 0.0 for light in lights)
+    specular = lit_specular(scene, material)
     per_fragment_normals = lit and scene.shading.frequency == "phong"
-    return FeatureSet(
+    features = FeatureSet(
         frequency=scene.shading.frequency,
-        reflection=scene.shading.reflection,
-        directional_lights=sum(isinstance(light, DirectionalLight) for light in lights),
-        positional_lights=sum(isinstance(light, PositionalLight) for light in lights),
-        spot_lights=sum(isinstance(light, SpotLight) for light in lights),
-        attenuation=any(_has_attenuation(light) for light in point_like),
+        **scene_lighting(scene),
         specular=specular,
         emission=material.has_emission and not material.unlit,
         texture_mode=texture_mode,
@@ -227,8 +271,11 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         occlusion_map="occlusion_map" in maps and lit,
         alpha_map="alpha_map" in maps and material.alpha_mode != "opaque",
         vertex_tangents=obj.mesh.tangents is not None and "normal_map" in maps and per_fragment_normals,
+        under_edges=surface_offset(scene),
         **_shadow_fields(scene, obj, lit),
     )
+    uv_sets = texture_uv_sets(features, material, obj.mesh, index)
+    return replace(features, uv_sets=uv_sets) if uv_sets else features
 
 
 # The vertex stage passes each casting light's view of the point to the fragment stage
@@ -271,3 +318,46 @@ def _shadow_fields(scene: Scene, obj: SceneObject, lit: bool) -> dict:
         positional_shadows=sum(type(light) is PositionalLight for light in casting),
         shadow_filter=scene.shadows.resolved().filter,
     )
+
+
+# The sampled textures of a draw by the Material field holding each (shaders/bindings.py's names).
+_TEXTURE_FIELDS = {"base_color": "texture", **{name: name for name in MAP_FIELDS}}
+
+
+def texture_uv_sets(features: FeatureSet, material: Material, mesh, index: int) -> tuple[tuple[str, int], ...]:
+    """(texture, set) for the draw's textures that read another set than the mesh's uvs
+    (Texture.uv_set, docs/primitives.md#texture-coordinate-sets); the mesh must have it."""
+    used = (["base_color"] if features.texture_mode is not None else []) + list(features.map_flags)
+    sets = tuple((name, getattr(material, _TEXTURE_FIELDS[name]).uv_set) for name in used
+                 if getattr(material, _TEXTURE_FIELDS[name]).uv_set)
+    available = 0 if mesh.extra_uvs is None else mesh.extra_uvs.shape[1]
+    for name, uv_set in sets:
+        if uv_set > available:
+            raise SceneError(f"objects[{index}]: material {material.name or '(inline)'}: its {_TEXTURE_FIELDS[name]} reads "
+                             f"texture coordinate set {uv_set}, but mesh {mesh.name!r} has {available + 1 if mesh.uvs is not None else 0}")
+    return sets
+
+
+def scene_lighting(scene: Scene) -> dict:
+    """The fields every draw of a scene shares (they shape its frame uniforms): the
+    reflection model and the lights."""
+    lights = scene.lights
+    return dict(
+        reflection=scene.shading.reflection,
+        directional_lights=sum(isinstance(light, DirectionalLight) for light in lights),
+        positional_lights=sum(isinstance(light, PositionalLight) for light in lights),
+        spot_lights=sum(isinstance(light, SpotLight) for light in lights),
+        attenuation=any(_has_attenuation(light) for light in lights if isinstance(light, (PositionalLight, SpotLight))),
+    )
+
+
+def lit_specular(scene: Scene, material: Material) -> bool:
+    """Whether a lit draw of `material` has a highlight: the material and some light have a specular colour."""
+    return not material.unlit and material.has_specular and any(max(light.specular[:3]) > 0.0 for light in scene.lights)
+
+
+def surface_offset(scene: Scene) -> int:
+    """How far surfaces are pushed back under their edges (`--edges`), in pixels of their own
+    depth slope: half the edge width (how far an edge's quad reaches over a triangle next to
+    it), rounded up, plus one. 0 without edges. docs/primitives.md#edges."""
+    return math.ceil(scene.shading.edge_width / 2.0) + 1 if scene.shading.edges else 0

@@ -35,11 +35,12 @@ from ..errors import DeviceError
 from ..scene import Scene
 from ..scene.objects import check_scene_argument
 from .device import default_device, lost_device_errors
-from .features import FeatureSet, object_features
+from .features import FeatureSet
+from .stroke_features import part_features
 from .frames_in_flight import render_many
 from .gpu.device_cache import DeviceCache
+from .gpu.vertex_order import SharedOrders
 from .gpu.targets import Target
-from .passes.extra_outputs import check_space
 from .passes.frame import frame_passes
 from .passes.frame_context import FrameContext, FramePass
 
@@ -137,6 +138,8 @@ class Renderer:
         color=False leaves out the colour pass when depth is not asked for either."""
         check_scene_argument(scene, "render")
         if normals is not None:
+            from .passes.extra_outputs import check_space  # only frames with normals import that pass
+
             check_space(normals)
         passes = frame_passes(
             scene, color_format="float32" if float32 else "rgba8", color=color, depth=depth, normals=normals, ids=ids,
@@ -217,8 +220,13 @@ class Renderer:
                     label=f"wgpu-shading batch helper {len(helpers) + 1}", required_features=sorted(self._device.features)
                 )
                 helpers.append(Renderer(device=helper_device))
+            if count > 1 and (self._cache.shared_orders is None or self._cache.shared_orders.devices != len(helpers) + 1):
+                # One meshoptimizer run per mesh for all the devices (render/gpu/vertex_order.py).
+                shared = SharedOrders(len(helpers) + 1)
+                for renderer in (self, *helpers):
+                    renderer.device_cache.shared_orders = shared
             return [self, *helpers[: count - 1]]
 
     def features(self, scene: Scene) -> list[FeatureSet]:
-        """The feature set of each object's first part (what `wgpu-shading shader` prints)."""
-        return [object_features(scene, obj, index) for index, obj in enumerate(scene.objects)]
+        """The feature set of each object's first part (points and lines: their own, stroke_features.py)."""
+        return [part_features(scene, obj, index, obj.mesh.parts[0], obj.part_materials()[0]) for index, obj in enumerate(scene.objects)]

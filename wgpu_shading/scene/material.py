@@ -16,6 +16,10 @@ from .values import MAX_EXPONENT, MAX_IMAGE_SIDE, TEXTURE_MODES, Color, TextureM
 MAX_TEXTURE_SIDE = MAX_IMAGE_SIDE
 # What a coordinate outside [0, 1] samples (glTF's REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
 WRAP_MODES = ("repeat", "clamp", "mirror")
+# Texture coordinate sets a texture may read: Mesh.uvs and three of Mesh.extra_uvs. WebGPU
+# guarantees 8 vertex buffers to a draw: positions, normals, uvs, colours, tangents, and
+# these three (docs/primitives.md#texture-coordinate-sets).
+MAX_UV_SET = 3
 
 
 @dataclass(frozen=True, eq=False)
@@ -29,8 +33,14 @@ class Texture:
     # How colour images store their values: "srgb" (every image file unless it says otherwise;
     # decoded on the GPU in linear colour space) or "linear". Data maps ignore it.
     encoding: str = "srgb"
+    # The mesh's texture coordinates it is sampled with: 0 = Mesh.uvs, k ≥ 1 = Mesh.extra_uvs
+    # [:, k − 1] (a glTF texture's texCoord with its own transform: docs/primitives.md).
+    uv_set: int = 0
 
     def __post_init__(self) -> None:
+        if isinstance(self.uv_set, bool) or not isinstance(self.uv_set, (int, np.integer)) or not 0 <= self.uv_set <= MAX_UV_SET:
+            raise SceneError(f"texture {self.name!r}.uv_set: expected a whole number from 0 to {MAX_UV_SET}, got {self.uv_set!r}")
+        set_fields(self, uv_set=int(self.uv_set))
         set_fields(self, encoding=choice(self.encoding, f"texture {self.name!r}.encoding", TEXTURE_ENCODINGS))
         if not isinstance(self.nearest, bool):
             raise SceneError(f"texture {self.name!r}.nearest: expected true or false, got {self.nearest!r}")

@@ -22,8 +22,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import MeshError
+from .mesh_parts import PRIMITIVES, MeshPart, check_parts, default_parts, kept_for_lines_and_points, triangle_edges, valid_elements
 from .normals import crease_normals, face_normals
 from .solids import solid_orientation
+from .vertex_normals import validated_normals, vertex_normals
+from .vertex_arrays import bounds, relative_positions, unit_colors, unit_or_zero_normals
+
+__all__ = ["MAX_VERTICES", "MAX_TRIANGLES", "Mesh", "MeshPart", "PRIMITIVES", "face_normals", "owned", "vertex_normals"]
 
 if TYPE_CHECKING:  # pragma: no cover
     from .material import Material
@@ -59,32 +64,25 @@ def _private(array: np.ndarray | None, *inputs: object) -> np.ndarray | None:
     return array
 
 
-@dataclass(frozen=True)
-class MeshPart:
-    """Triangles first .. first + count - 1 of a mesh, with the material the file gave them
-    (None: the file said nothing; the object's or OpenGL's default material is used)."""
-
-    first: int
-    count: int
-    material: "Material | None" = None
-    name: str = ""
-
-
 @dataclass(frozen=True, eq=False)
 class Mesh:
-    """An indexed triangle mesh, ready for upload.
+    """An indexed mesh of triangles, lines and points (scene/mesh_parts.py), ready for upload.
 
     positions: (N, 3) float32, relative to `origin`
-    normals:   (N, 3) float32, unit length (zero only where no normal can be defined)
-    indices:   (F, 3) uint32, counter-clockwise front faces
-    uvs:       (N, 2) float32 or None (v = 0 at the bottom of the image)
+    normals:   (N, 3) float32, unit length (zero only where no normal can be defined); a
+               point whose normal is zero is drawn in its colour, unlit (docs/primitives.md)
+    indices:   (F, 3) uint32, counter-clockwise front faces; (0, 3) for a mesh without surfaces
+    uvs:       (N, 2) float32 or None (v = 0 at the bottom of the image): texture coordinate set 0
     origin:    float64 offset added back to `positions`
     colors:    (N, 4) float32 vertex colors in [0, 1] or None (they multiply the material's
                ambient and diffuse, like GL_COLOR_MATERIAL with GL_AMBIENT_AND_DIFFUSE)
     tangents:  (N, 4) float32 or None: a file's tangents (glTF TANGENT: x, y, z and the
                handedness w, bitangent = cross(normal, tangent)·w); rows of zeros: none
-    parts:     the triangle ranges and their file materials; one part covering every
-               triangle when the file has one material (or none)
+    parts:     the ranges of triangles, line segments and points with their file materials;
+               by default one part per kind present (a mesh of vertices alone: a point cloud)
+    line_indices: (L, 2) uint32 or None: line segments between two vertices
+    extra_uvs: (N, K, 2) float32 or None: texture coordinate sets 1..K (glTF TEXCOORD_n, each
+               with its texture transform; `Texture.uv_set` says which set a texture reads)
     """
 
     positions: np.ndarray = field(repr=False)
@@ -96,18 +94,21 @@ class Mesh:
     colors: np.ndarray | None = field(default=None, repr=False)
     parts: tuple[MeshPart, ...] = field(default=(), repr=False)
     tangents: np.ndarray | None = field(default=None, repr=False)
+    line_indices: np.ndarray | None = field(default=None, repr=False)
+    extra_uvs: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         # A Mesh is a snapshot: renderers cache its upload by identity, so its arrays must
         # never change. The caller's arrays are copied (and left writable); arrays that are
         # read-only and own their memory (made by from_arrays or a loader) are kept as they are.
-        for key in ("positions", "normals", "indices", "uvs", "colors", "tangents"):
+        for key in ("positions", "normals", "indices", "uvs", "colors", "tangents", "line_indices", "extra_uvs"):
             array = getattr(self, key)
             if array is not None:
                 object.__setattr__(self, key, owned(array))
-        parts = tuple(self.parts) or (MeshPart(0, len(self.indices)),)
-        if sum(part.count for part in parts) != len(self.indices):
-            raise MeshError(f"{self.name}: parts cover {sum(p.count for p in parts)} of {len(self.indices)} triangles")
+        if len(self.indices) == 0:
+            object.__setattr__(self, "indices", owned(np.zeros((0, 3), np.uint32)))
+        parts = tuple(self.parts) or default_parts(self.triangle_count, self.line_count, self.vertex_count, None, self.name)
+        check_parts(parts, self.triangle_count, self.line_count, self.vertex_count, self.name)
         object.__setattr__(self, "parts", parts)
 
     @property
@@ -117,7 +118,9 @@ class Mesh:
         return self.parts[0].material if len(materials) == 1 else None
 
     def __repr__(self) -> str:
-        return f"Mesh({self.name!r}, {self.vertex_count} vertices, {self.triangle_count} triangles)"
+        counts = [f"{self.vertex_count} vertices", f"{self.triangle_count} triangles"]
+        counts += [f"{count} {kind}" for count, kind in ((self.line_count, "line segments"), (self.point_count, "points")) if count]
+        return f"Mesh({self.name!r}, {', '.join(counts)})"
 
     def _repr_pretty_(self, printer, cycle: bool) -> None:
         """IPython's (and hypothesis's) pretty printer: the short repr, not every array."""
@@ -132,14 +135,49 @@ class Mesh:
         return len(self.indices)
 
     @property
+    def line_count(self) -> int:
+        """Line segments."""
+        return 0 if self.line_indices is None else len(self.line_indices)
+
+    @property
+    def point_count(self) -> int:
+        return sum(part.count for part in self.parts if part.primitive == "points")
+
+    @property
+    def primitives(self) -> frozenset[str]:
+        """The kinds of primitive the mesh draws ("triangles", "lines", "points")."""
+        return frozenset(part.primitive for part in self.parts if part.count)
+
+    @cached_property
+    def _points_with_normals(self) -> frozenset[tuple[int, int]]:
+        return frozenset((p.first, p.count) for p in self.parts
+                         if p.primitive == "points" and self.normals[p.first : p.first + p.count].any())
+
+    def has_point_normals(self, part: MeshPart) -> bool:
+        """Whether some point of a point part has a normal (it is drawn as a lit disc); cached."""
+        return (part.first, part.count) in self._points_with_normals
+
+    @cached_property
+    def edge_indices(self) -> np.ndarray:
+        """(E, 2) uint32: every edge of the triangles once (what `--edges` draws); cached."""
+        return owned(triangle_edges(self.indices))
+
+    @property
     def nbytes(self) -> int:
         """Size of the mesh's own arrays in bytes."""
-        arrays = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents)
+        arrays = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents, self.line_indices, self.extra_uvs)
         return sum(a.nbytes for a in arrays if a is not None)
+
+    def part_vertices(self, part: MeshPart) -> np.ndarray:
+        """The float32 positions a part draws (origin-relative), corners repeated."""
+        if part.primitive == "points":
+            return self.positions[part.first : part.first + part.count]
+        elements = self.indices if part.primitive == "triangles" else self.line_indices
+        return self.positions[elements[part.first : part.first + part.count].reshape(-1)]
 
     def part_centre(self, part: MeshPart) -> tuple[float, float, float]:
         """Centre of a part's bounding box in model space (float64)."""
-        corners = self.positions[self.indices[part.first : part.first + part.count].reshape(-1)]
+        corners = self.part_vertices(part)
         centre = (corners.min(axis=0).astype(np.float64) + corners.max(axis=0)) / 2.0 + self.origin
         return (float(centre[0]), float(centre[1]), float(centre[2]))
 
@@ -168,7 +206,7 @@ class Mesh:
     def from_arrays(
         cls,
         positions: np.ndarray,
-        indices: np.ndarray,
+        indices: np.ndarray | None = None,
         normals: np.ndarray | None = None,
         uvs: np.ndarray | None = None,
         *,
@@ -179,23 +217,31 @@ class Mesh:
         crease_angle: float | None = None,
         flat_faces: np.ndarray | None = None,
         tangents: np.ndarray | None = None,
+        lines: np.ndarray | None = None,
+        extra_uvs: np.ndarray | None = None,
     ) -> "Mesh":
         """Validate and convert user arrays; computes normals when none are given.
 
+        indices (F, 3) are triangles; lines (L, 2) segments; a mesh with neither is a point
+        cloud (every vertex a point), and `parts` may name ranges of each kind (MeshPart).
         Without normals: crease_angle=None gives the seeds' normalized sum per given vertex;
         a number (degrees) welds vertices by position and splits at edges sharper than it
         (normals.crease_normals; vertices may be split, so the vertex count can change).
+        Vertices of no triangle (points, lines) keep a zero normal: unlit.
         flat_faces (F,) bool marks faces that are always flat (OBJ `s off`).
-        tangents (N, 4): kept only with the caller's normals (welding drops them)."""
+        tangents (N, 4): kept only with the caller's normals (welding drops them).
+        extra_uvs (N, K, 2): texture coordinate sets 1..K (Texture.uv_set)."""
         with np.errstate(all="ignore"):  # every bad value is reported as a MeshError instead
             return cls._from_arrays(
                 positions, indices, normals, uvs, name=name, material=material, colors=colors,
                 parts=parts, crease_angle=crease_angle, flat_faces=flat_faces, tangents=tangents,
+                lines=lines, extra_uvs=extra_uvs,
             )
 
     @classmethod
     def _from_arrays(
-        cls, positions, indices, normals, uvs, *, name: str, material, colors, parts, crease_angle, flat_faces, tangents=None
+        cls, positions, indices, normals, uvs, *, name: str, material, colors, parts, crease_angle, flat_faces, tangents=None,
+        lines=None, extra_uvs=None,
     ) -> "Mesh":
         caller_positions, caller_uvs, caller_colors = positions, uvs, colors
         try:
@@ -206,18 +252,18 @@ class Mesh:
                 positions = positions.astype(np.float64)
         except (TypeError, ValueError) as error:
             raise MeshError(f"{name}: positions must be numbers ({error})") from None
-        faces = np.asarray(indices)
         if positions.ndim != 2 or positions.shape[1] != 3:
             raise MeshError(f"{name}: positions must have shape (N, 3), got {positions.shape}")
-        if faces.ndim == 1 and faces.size % 3 == 0:
-            faces = faces.reshape(-1, 3)
-        if faces.ndim != 2 or faces.shape[1] != 3:
-            raise MeshError(f"{name}: indices must have shape (F, 3) (triangles), got {faces.shape}")
-        if len(positions) == 0 or len(faces) == 0:
+        faces = valid_elements(np.zeros((0, 3)) if indices is None else indices, 3, len(positions), "indices", "(F, 3) (triangles)", name)
+        segments = None if lines is None else valid_elements(lines, 2, len(positions), "lines", "(L, 2) (segments)", name)
+        line_count = 0 if segments is None else len(segments)
+        point_parts = [part for part in parts if part.primitive == "points"]
+        if len(positions) == 0 or not (len(faces) or line_count or point_parts or not parts):
             raise MeshError(f"{name}: the mesh is empty ({len(positions)} vertices, {len(faces)} triangles)")
-        if len(positions) > MAX_VERTICES or len(faces) > MAX_TRIANGLES:
+        if len(positions) > MAX_VERTICES or len(faces) > MAX_TRIANGLES or line_count > MAX_TRIANGLES:
             raise MeshError(
-                f"{name}: {len(positions)} vertices and {len(faces)} triangles; at most {MAX_VERTICES} of each are supported"
+                f"{name}: {len(positions)} vertices, {len(faces)} triangles and {line_count} line segments; "
+                f"at most {MAX_VERTICES} of each are supported"
             )
         bad = ~np.isfinite(positions).all(axis=1)
         if bad.any():
@@ -227,37 +273,34 @@ class Mesh:
                 f"{name}: {count} {'vertex has' if count == 1 else 'vertices have'} NaN or infinite coordinates "
                 f"(first: vertex {first} = {positions[first].tolist()})"
             )
-        if faces.dtype.kind not in "iu":
-            if faces.dtype.kind == "f" and np.all(np.isfinite(faces)) and np.all(faces == np.round(faces)):
-                faces = faces.astype(np.int64)
-            else:
-                raise MeshError(f"{name}: indices must be integers, got dtype {faces.dtype}")
-        low, high = int(faces.min()), int(faces.max())
-        if low < 0 or high >= len(positions):
-            culprit = low if low < 0 else high
-            raise MeshError(
-                f"{name}: index {culprit} is out of range; the mesh has {len(positions)} vertices (valid: 0..{len(positions) - 1})"
-            )
-        faces = np.ascontiguousarray(faces, dtype=np.uint32)
+        parts = tuple(parts) or default_parts(len(faces), line_count, len(positions), material, name)
+        check_parts(parts, len(faces), line_count, len(positions), name)
         if colors is not None:
             colors = np.asarray(colors)
-            if colors.dtype.kind in "iu":
-                colors = colors.astype(np.float32) / 255.0
-            if colors.ndim != 2 or len(colors) != len(positions) or colors.shape[1] not in (3, 4):
-                raise MeshError(f"{name}: colors must have shape ({len(positions)}, 3 or 4), got {colors.shape}")
-            if colors.shape[1] == 3:
-                colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
-            colors = np.ascontiguousarray(np.clip(np.nan_to_num(colors, nan=1.0), 0.0, 1.0), dtype=np.float32)
-        if normals is None and crease_angle is not None:
+            if colors.ndim != 2 or len(colors) != len(positions) or colors.shape[1] not in (3, 4) or colors.dtype.kind not in "iuf":
+                raise MeshError(f"{name}: colors must be numbers of shape ({len(positions)}, 3 or 4), got {colors.shape} {colors.dtype}")
+            colors = unit_colors(colors)
+        if extra_uvs is not None:
+            extra_uvs = np.asarray(extra_uvs, dtype=np.float64)
+            if extra_uvs.ndim != 3 or extra_uvs.shape[0] != len(positions) or extra_uvs.shape[2] != 2 or not extra_uvs.shape[1]:
+                raise MeshError(f"{name}: extra_uvs must have shape ({len(positions)}, K, 2), got {extra_uvs.shape}")
+            if not np.isfinite(extra_uvs).all():
+                raise MeshError(f"{name}: extra_uvs contain NaN or infinite values")
+        if normals is None and crease_angle is not None and len(faces):
             source, faces, unit_normals = crease_normals(positions, faces, crease_angle, flat_faces)
             if source is not None:
+                source, segments, parts = kept_for_lines_and_points(source, segments, parts)
+                unit_normals = np.concatenate([unit_normals, np.zeros((len(source) - len(unit_normals), 3))])
                 positions = positions[source]
                 uvs = None if uvs is None else np.asarray(uvs)[source]
                 colors = None if colors is None else colors[source]
+                extra_uvs = None if extra_uvs is None else extra_uvs[source]
+        elif not len(faces):  # lines and points: the given normals or none (unlit)
+            unit_normals = np.zeros(positions.shape, np.float32) if normals is None else unit_or_zero_normals(_rows(normals, positions, name))
         elif normals is None:
             unit_normals = vertex_normals(positions, faces)
         else:
-            unit_normals = _validated_normals(np.asarray(normals, dtype=np.float64), positions, faces, name)
+            unit_normals = validated_normals(np.asarray(normals, dtype=np.float64), positions, faces, name)
         if normals is None:
             tangents = None  # tangents belong to the file's normals
         if tangents is not None:
@@ -272,7 +315,7 @@ class Mesh:
             if not np.isfinite(uvs).all():
                 raise MeshError(f"{name}: uvs contain NaN or infinite values")
             uvs = np.ascontiguousarray(uvs, dtype=np.float32)
-        lower, upper = positions.min(axis=0).astype(np.float64), positions.max(axis=0).astype(np.float64)
+        lower, upper = bounds(positions)
         extent = float(np.linalg.norm(upper - lower))
         if not MIN_EXTENT <= extent <= MAX_EXTENT:
             raise MeshError(
@@ -281,89 +324,32 @@ class Mesh:
             )
         if float(np.abs(lower).max()) > MAX_ORIGIN or float(np.abs(upper).max()) > MAX_ORIGIN:
             raise MeshError(f"{name}: coordinates must be within ±{MAX_ORIGIN:g}")
-        _check_some_area(positions, faces, extent, name)
+        if len(faces):
+            _check_some_area(positions, faces, extent, name)
         origin = (lower + upper) / 2.0
         if np.all(np.abs(origin) <= 1e-3 * max(float((upper - lower).max()), 1e-30)):
             origin = np.zeros(3)  # keep meshes that are already centred bit-exact
-        given = (caller_positions, indices, normals, caller_uvs, caller_colors)
+        given = (caller_positions, indices, normals, caller_uvs, caller_colors, lines, extra_uvs)
         return cls(
-            positions=_private(_relative(positions, origin), *given),
+            positions=_private(relative_positions(positions, origin), *given),
             normals=_private(np.ascontiguousarray(unit_normals, dtype=np.float32), *given),
             indices=_private(faces, *given),
             uvs=_private(uvs, *given),
             origin=tuple(float(v) for v in origin),
             name=name,
             colors=_private(colors, *given),
-            parts=tuple(parts) or (MeshPart(0, len(faces), material, name),),
+            parts=parts,
             tangents=_private(tangents, *given),
+            line_indices=_private(segments, *given),
+            extra_uvs=None if extra_uvs is None else _private(np.ascontiguousarray(extra_uvs, dtype=np.float32), *given),
         )
 
 
-# --------------------------------------------------------------------------- normals
-
-
-def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Normalized sum of the unit normals of the faces around each vertex (the seeds' rule, docs/conventions.md#vertex-normals).
-
-    Zero-area faces contribute nothing. Where the sum cancels (a vertex shared by a
-    thin double-sided sheet, say), the normal of the largest adjacent face is used
-    instead, so every vertex that touches a real face gets a unit normal. Vertices
-    that touch no face with area keep a zero normal; the shaders then fall back to
-    the geometric normal.
-    """
-    positions = np.asarray(positions, dtype=np.float64)
-    unit_faces, areas = face_normals(positions, faces)
-    count = len(positions)
-    flat_vertices = faces.reshape(-1)
-    summed = np.stack(
-        [np.bincount(flat_vertices, weights=np.repeat(unit_faces[:, k], 3), minlength=count) for k in range(3)],
-        axis=1,
-    )
-    length = np.linalg.norm(summed, axis=1)
-    adjacent = np.bincount(flat_vertices, weights=np.repeat((areas > 0).astype(float), 3), minlength=count)
-    # A sum of k unit vectors that is shorter than 1e-6·k has cancelled: its direction is noise.
-    cancelled = (length <= 1e-6 * np.maximum(adjacent, 1.0)) & (adjacent > 0)
-    result = np.zeros_like(summed)
-    good = length > 0
-    good &= ~cancelled
-    result[good] = summed[good] / length[good, None]
-    if cancelled.any():
-        # The largest adjacent face wins: sort faces by area and let larger ones overwrite.
-        order = np.argsort(areas)
-        corner_vertices = faces[order].reshape(-1)
-        corner_normals = np.repeat(unit_faces[order], 3, axis=0)
-        corner_areas = np.repeat(areas[order], 3)
-        keep = cancelled[corner_vertices] & (corner_areas > 0)
-        result[corner_vertices[keep]] = corner_normals[keep]
-    return result
-
-
-def _validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndarray, name: str) -> np.ndarray:
-    if normals.shape != positions.shape:
-        raise MeshError(f"{name}: normals must have shape {positions.shape}, got {normals.shape}")
-    squared = np.einsum("ij,ij->i", normals, normals)
-    if np.all(np.abs(squared - 1.0) < 1e-9):  # already unit (and so finite): computed ones, most files
-        return normals
-    finite = np.isfinite(normals).all(axis=1)
-    length = np.linalg.norm(np.where(finite[:, None], normals, 0.0), axis=1)
-    usable = finite & (length > 1e-20)
-    result = np.zeros_like(normals)
-    result[usable] = normals[usable] / length[usable, None]
-    if not usable.all():
-        # Zero-length or NaN normals in the input: replace those with computed ones
-        # rather than let normalize(0) reach the shader.
-        computed = vertex_normals(positions, faces)
-        result[~usable] = computed[~usable]
-    return result
-
-
-def _relative(positions: np.ndarray, origin: np.ndarray) -> np.ndarray:
-    """float32(positions − origin), the subtraction in float64, a block of rows at a time
-    (a whole float64 copy of a 10M-triangle mesh's positions is 120 MB)."""
-    result = np.empty(positions.shape, np.float32)
-    for start in range(0, len(positions), 1 << 16):
-        result[start : start + (1 << 16)] = positions[start : start + (1 << 16)].astype(np.float64) - origin
-    return result
+def _rows(normals, positions: np.ndarray, name: str) -> np.ndarray:
+    normals = np.asarray(normals)
+    if normals.shape != positions.shape or normals.dtype.kind not in "iuf":
+        raise MeshError(f"{name}: normals must be numbers of shape {positions.shape}, got {normals.shape}")
+    return normals
 
 
 def _check_some_area(positions: np.ndarray, faces: np.ndarray, extent: float, name: str) -> None:

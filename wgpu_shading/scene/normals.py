@@ -24,7 +24,6 @@ import math
 import numpy as np
 
 
-
 FACE_BLOCK = 1 << 16  # faces whose normals are computed at a time: ~12 MB of temporaries
 KEPT_FACES = 1 << 18  # meshes up to this many faces keep their face normals (8 MB) instead of recomputing them
 ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (_mean_normals)

@@ -21,6 +21,8 @@ from .values import (
     MAX_LIGHTS,
     MAX_OBJECTS,
     MAX_SCALE,
+    MAX_STROKE_PIXELS,
+    MIN_STROKE_PIXELS,
     MIN_SCALE,
     REFLECTIONS,
     Color,
@@ -168,15 +170,30 @@ class Shading:
     # "auto": each material's own colour space (glTF linear, everything else display);
     # "display" or "linear" for every material (scene/maps.py, docs/conventions.md).
     color_space: str = "auto"
+    # Points, lines and edges (docs/primitives.md), in pixels of the image: a point is a
+    # point_size square (a disc facing its normal when it has one), a line line_width wide;
+    # `edges` draws every triangle's edges over the surfaces in edge_color, edge_width wide.
+    point_size: float = 3.0
+    line_width: float = 1.0
+    edges: bool = False
+    edge_color: Color = (0.0, 0.0, 0.0, 1.0)
+    edge_width: float = 1.0
 
     def color_space_of(self, material: Material) -> str:
         """The colour space `material` is drawn in."""
         return material.color_space if self.color_space == "auto" else self.color_space
 
     def __post_init__(self) -> None:
-        for key in ("local_viewer", "two_sided", "clamp_vertex_colors"):
+        for key in ("local_viewer", "two_sided", "clamp_vertex_colors", "edges"):
             if not isinstance(getattr(self, key), bool):
                 raise SceneError(f"shading.{key}: expected true or false, got {getattr(self, key)!r}")
+        edge_color = color(self.edge_color, "shading.edge_color")
+        if max(edge_color) > 1.0:
+            raise SceneError(f"shading.edge_color: components must be between 0 and 1 (a colour on the image), got {list(edge_color)}")
+        set_fields(self, edge_color=edge_color, **{
+            key: number(getattr(self, key), f"shading.{key}", MIN_STROKE_PIXELS, MAX_STROKE_PIXELS)
+            for key in ("point_size", "line_width", "edge_width")
+        })
         set_fields(
             self,
             frequency=choice(self.frequency, "shading.frequency", FREQUENCIES),

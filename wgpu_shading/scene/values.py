@@ -37,6 +37,9 @@ MAX_LIGHTS = 256  # all kinds together: the frame uniforms must fit WebGPU's 64 
 # Objects of one scene: each is a draw with its own uniform block (and a mesh to load);
 # 2,000 cubes take ~3 s to render on lavapipe, 100,000 took minutes with no end in sight.
 MAX_OBJECTS = 4096
+# Points, lines and edges are drawn this many pixels across at most (docs/primitives.md):
+# OpenGL implementations cap point sizes at 64..256; from 1, every one covers a pixel.
+MIN_STROKE_PIXELS, MAX_STROKE_PIXELS = 1.0, 256.0
 
 
 # --------------------------------------------------------------------------- validation

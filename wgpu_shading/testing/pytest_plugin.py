@@ -29,6 +29,7 @@ renderer are imported when a test first uses the fixture.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 from pathlib import Path
@@ -195,8 +196,15 @@ class GoldenChecker:
             base = _report_folder(self._config)  # the images beside the page: one artifact
         else:
             base = self._request.getfixturevalue("tmp_path_factory").getbasetemp() / "golden"
-        # One folder per test, so references with the same name in different tests do not collide.
-        test = re.sub(r"[^A-Za-z0-9_.-]+", "_", self._request.node.nodeid).strip("_")[:150]
+        # One folder per test, so references with the same name in different tests do not
+        # collide. A node id whose parameters had to be changed to make a folder name
+        # (test_x[a<b] and test_x[a>b] both read test_x_a_b) or that was cut short gets a
+        # hash of the whole id: one test's images overwrote the other's, and the golden
+        # report showed the same pictures for both.
+        nodeid = self._request.node.nodeid
+        test = re.sub(r"[^A-Za-z0-9_.-]+", "_", nodeid).strip("_")
+        if test != re.sub(r"::|/", "_", nodeid) or len(test) > 150:
+            test = f"{test[:150]}-{hashlib.sha1(nodeid.encode('utf-8', 'surrogatepass')).hexdigest()[:10]}"
         return base / test
 
     def render(self, scene, size=None):

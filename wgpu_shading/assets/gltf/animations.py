@@ -122,9 +122,12 @@ def _trs(node: dict) -> dict:
     if "matrix" not in node:
         return node
     try:
-        matrix = np.array(node.pop("matrix"), dtype=np.float64).reshape(4, 4).T  # column-major
+        matrix = np.array(node["matrix"], dtype=np.float64).reshape(4, 4).T  # column-major
     except (TypeError, ValueError):
-        return node  # nodes.py reports the bad matrix when the node is used
+        return node  # kept: nodes.py reports the bad matrix, as for the file unanimated
+    if not (np.abs(matrix) <= 1e15).all():  # NaN, inf or beyond the limit: as above
+        return node
+    del node["matrix"]
     linear = matrix[:3, :3]
     scale = np.linalg.norm(linear, axis=0)
     if np.linalg.det(linear) < 0:

@@ -109,6 +109,9 @@ class GltfData:
         self.notes: list[str] = []  # warnings for the user, said once the file is read (meshes.py)
         self._buffers: dict[int, bytes] = {}
         self._accessors: dict[int, np.ndarray] = {}
+        # reader.py's classic materials, made (their textures decoded) once however many times
+        # the document is posed (an animation's frames: assets/animation_frames.py)
+        self.materials: dict[tuple, object] = {}
 
     # ------------------------------------------------------------------ JSON fields
 

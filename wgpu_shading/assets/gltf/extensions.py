@@ -2,7 +2,8 @@
 (buffers, accessors), nodes.py (node graph, skins) and primitives.py (primitives).
 
 Materials: materials.py (linear colours, metallic-roughness with maps, the default material).
-KHR_texture_transform on the base color texture is applied to the uvs (texCoord ignored).
+Every texture reads its own texture coordinates: its TEXCOORD set (`texCoord`, and
+KHR_texture_transform's `texCoord` override) with its own transform (reader.py).
 """
 
 from __future__ import annotations
@@ -52,23 +53,64 @@ def check_extensions(document: dict, path: Path) -> None:
             ) from None
 
 
-def transform_uvs(uvs: np.ndarray, material: dict | None) -> np.ndarray:
-    """The reader's uvs with the base color texture's KHR_texture_transform applied (the
-    extension's test file showed its own "not supported" tiles without it).
-    uv' = T · R · S · uv in glTF's uv space, whose v the reader has flipped (v = 1 − v_glTF)."""
+# The glTF textures of a material and the Material fields each one feeds (materials.py).
+TEXTURE_FIELDS = {
+    "baseColorTexture": ("texture",),
+    "metallicRoughnessTexture": ("specular_map", "shininess_map"),
+    "normalTexture": ("normal_map",),
+    "occlusionTexture": ("occlusion_map",),
+    "emissiveTexture": ("emissive_map",),
+    "specularColorTexture": ("specular_map",),
+    "specularTexture": ("specular_map",),
+}
+UvChannel = tuple  # (TEXCOORD set, offset u, offset v, rotation, scale u, scale v)
+_IDENTITY = (0.0, 0.0, 0.0, 1.0, 1.0)
+
+
+def texture_infos(material: dict | None) -> dict[str, dict]:
+    """The material's textureInfo objects by TEXTURE_FIELDS name (specular-glossiness's
+    diffuseTexture is the base colour texture)."""
     if not material:
+        return {}
+    pbr = material.get("pbrMetallicRoughness") or {}
+    extensions = material.get("extensions") or {}
+    gloss = extensions.get(_SPECULAR_GLOSSINESS)
+    specular = extensions.get("KHR_materials_specular") or {}
+    infos = {
+        "baseColorTexture": (gloss or {}).get("diffuseTexture") if gloss is not None else pbr.get("baseColorTexture"),
+        "metallicRoughnessTexture": None if gloss is not None else pbr.get("metallicRoughnessTexture"),
+        "normalTexture": material.get("normalTexture"),
+        "occlusionTexture": material.get("occlusionTexture"),
+        "emissiveTexture": material.get("emissiveTexture"),
+        "specularColorTexture": specular.get("specularColorTexture"),
+        "specularTexture": specular.get("specularTexture"),
+    }
+    return {name: info for name, info in infos.items() if isinstance(info, dict)}
+
+
+def uv_channel(info: dict) -> UvChannel:
+    """Which texture coordinates a textureInfo reads: its TEXCOORD set (`texCoord`, which
+    KHR_texture_transform's own `texCoord` overrides) and its transform."""
+    transform = (info.get("extensions") or {}).get("KHR_texture_transform") or {}
+    uv_set = transform.get("texCoord", info.get("texCoord", 0))
+    if isinstance(uv_set, bool) or not isinstance(uv_set, int) or uv_set < 0:
+        raise ValueError(f"texCoord must be a non-negative integer, got {reprlib.repr(uv_set)}")
+    offset = [float(v) for v in transform.get("offset", [0.0, 0.0])]
+    scale = [float(v) for v in transform.get("scale", [1.0, 1.0])]
+    if len(offset) != 2 or len(scale) != 2:
+        raise ValueError("offset and scale must have two numbers each")
+    return (uv_set, *offset, float(transform.get("rotation", 0.0)), *scale)
+
+
+def channel_uvs(uv_sets: dict[int, np.ndarray], channel: UvChannel) -> np.ndarray | None:
+    """The channel's texture coordinates: its TEXCOORD set (the reader's, v flipped) with
+    KHR_texture_transform applied, uv' = T · R · S · uv in glTF's uv space; None when the
+    primitive has no such set."""
+    uvs = uv_sets.get(channel[0])
+    if uvs is None or channel[1:] == _IDENTITY:
         return uvs
-    info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture") or {}
-    gloss = material.get("extensions", {}).get(_SPECULAR_GLOSSINESS)
-    if gloss is not None:
-        info = gloss.get("diffuseTexture") or {}
-    transform = info.get("extensions", {}).get("KHR_texture_transform")
-    if not transform:
-        return uvs
-    offset = np.array(transform.get("offset", [0.0, 0.0]), dtype=np.float64)
-    rotation = float(transform.get("rotation", 0.0))
-    scale = np.array(transform.get("scale", [1.0, 1.0]), dtype=np.float64)
+    offset_u, offset_v, rotation, scale_u, scale_v = channel[1:]
     cos, sin = np.cos(rotation), np.sin(rotation)
-    linear = np.array([[cos, sin], [-sin, cos]]) @ np.diag(scale)  # the extension's R · S
-    gltf_uv = np.stack([uvs[:, 0], 1.0 - uvs[:, 1]], axis=1) @ linear.T + offset
+    linear = np.array([[cos, sin], [-sin, cos]]) @ np.diag([scale_u, scale_v])  # the extension's R · S
+    gltf_uv = np.stack([uvs[:, 0], 1.0 - uvs[:, 1]], axis=1) @ linear.T + [offset_u, offset_v]
     return np.stack([gltf_uv[:, 0], 1.0 - gltf_uv[:, 1]], axis=1)

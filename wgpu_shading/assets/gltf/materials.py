@@ -212,7 +212,7 @@ def gltf_material(document: dict, row: dict, images, name: str, notes: list[str]
         # The reader gives None for an image it cannot load (missing, a folder, a FIFO, not
         # an image); say so, as for an OBJ's missing map_Kd, instead of an untextured surprise.
         notes.append(f"{name}: material {material.get('name', '')!r}: its base colour texture could not be read; drawn untextured")
-    unlit = "KHR_materials_unlit" in extensions
+    unlit = "KHR_materials_unlit" in extensions or row.get("unlit", False)  # lines, points without normals (reader.py)
     if "diffuse_factor" in fields:
         factor = fields.pop("diffuse_factor")
         texture = texture if unlit else _with_diffuse_factor(texture, factor, label)

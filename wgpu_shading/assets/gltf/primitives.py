@@ -1,10 +1,11 @@
-"""glTF primitives → triangle pieces, one per primitive instance (our own reader, document.py).
+"""glTF primitives → pieces, one per primitive instance (our own reader, document.py).
 
-Triangles, triangle strips and triangle fans are drawn (§3.7.2.1: strips alternate their
-winding, fans turn around their first vertex); points and lines are not surfaces and are
-skipped. A primitive instance is its morph targets moved by its node's weights
-(morph_targets.py), then its node's world matrix applied, or, for a skinned mesh, the
-joints' pose (nodes.pose). Draco-compressed primitives are
+Every mode of §3.7.2.1 is read: triangles, triangle strips (alternating their winding) and
+triangle fans (turning around their first vertex) as triangles; LINES, LINE_STRIP and
+LINE_LOOP as line segments; POINTS as points (docs/primitives.md). Every TEXCOORD_n is
+read (a texture's `texCoord` picks one: reader.py). A primitive instance is its morph
+targets moved by its node's weights (morph_targets.py), then its node's world matrix
+applied, or, for a skinned mesh, the joints' pose (nodes.pose). Draco-compressed primitives are
 decoded with DracoPy (the `draco` extra).
 """
 
@@ -21,7 +22,11 @@ from .document import MAX_GLTF_ITEMS, GltfData, gltf_error
 from .morph_targets import apply_morph_targets, morph_weights
 from .nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices
 
-_TRIANGLES, _STRIP, _FAN = 4, 5, 6
+_POINTS, _LINES, _LINE_LOOP, _LINE_STRIP, _TRIANGLES, _STRIP, _FAN = range(7)
+PRIMITIVE_OF_MODE = {_POINTS: "points", _LINES: "lines", _LINE_LOOP: "lines", _LINE_STRIP: "lines"}  # else triangles
+# TEXCOORD_0..7 are read (what glTF exporters write, and more); a draw reads at most
+# MAX_UV_SET + 1 of them, each with its transform (reader.py).
+_UV_SET_NAMES = tuple(f"TEXCOORD_{k}" for k in range(8))
 _DRACO = "KHR_draco_mesh_compression"
 _SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 
@@ -29,14 +34,19 @@ _SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 @dataclass
 class GltfPiece:
     positions: np.ndarray
-    faces: np.ndarray
+    faces: np.ndarray | None  # (f, 3) triangles, (f, 2) line segments, None for points (every vertex one)
     normals: np.ndarray | None
-    uvs: np.ndarray | None  # v flipped: 0 at the image's bottom (glTF's origin is its top)
+    uv_sets: dict[int, np.ndarray]  # TEXCOORD_n by n, v flipped: 0 at the image's bottom (glTF's origin is its top)
     colors: np.ndarray | None  # (n, 4) in [0, 1]
     primitive: dict  # the glTF primitive (its material, attributes)
     name: str
     key: tuple[int, int]  # (mesh, primitive): instances of one primitive share its material
     tangents: np.ndarray | None = None  # (n, 4) TANGENT: xyz and handedness w, in world space
+    kind: str = "triangles"  # triangles | lines | points
+
+    @property
+    def element_count(self) -> int:
+        return len(self.positions) if self.faces is None else len(self.faces)
 
 
 def triangles(mode: int, indices: np.ndarray) -> np.ndarray:
@@ -54,6 +64,18 @@ def triangles(mode: int, indices: np.ndarray) -> np.ndarray:
     # strips join separate runs with repeated indices: those triangles have no area
     keep = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
     return faces[keep]
+
+
+def segments(mode: int, indices: np.ndarray) -> np.ndarray:
+    """(f, 2) segments of a LINES, LINE_STRIP or LINE_LOOP index list (§3.7.2.1)."""
+    if mode == _LINES:
+        return indices[: len(indices) // 2 * 2].reshape(-1, 2)
+    if len(indices) < 2:
+        return np.zeros((0, 2), np.int64)
+    pairs = np.stack([indices[:-1], indices[1:]], axis=1)
+    if mode == _LINE_LOOP:  # the loop closes from the last vertex back to the first
+        pairs = np.concatenate([pairs, [[indices[-1], indices[0]]]])
+    return pairs
 
 
 def _attribute(data: GltfData, attributes: dict, name: str, where: str, count: int, widths: tuple[int, ...]) -> np.ndarray | None:
@@ -104,11 +126,9 @@ def _draco(data: GltfData, primitive: dict, where: str) -> dict:
 
 
 def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | None:
-    """POSITION, NORMAL, TEXCOORD_0, COLOR_0, JOINTS_0/WEIGHTS_0 and the triangles of one
-    primitive, in the primitive's own space; None for points, lines and a primitive without POSITION."""
+    """POSITION, NORMAL, TEXCOORD_n, COLOR_0, JOINTS_0/WEIGHTS_0 and the triangles, segments
+    or points of one primitive, in the primitive's own space; None for a primitive without POSITION."""
     mode = data.integer(primitive.get("mode", _TRIANGLES), f"{where}.mode", 0, 6)
-    if mode not in (_TRIANGLES, _STRIP, _FAN):
-        return None
     attributes = primitive.get("attributes")
     if not isinstance(attributes, dict):
         raise gltf_error(data.path, f"{where}.attributes", f"expected an object, got {type(attributes).__name__}")
@@ -121,7 +141,7 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
         positions = decoded.get("POSITION")
         if positions is None or positions.shape[1] != 3:
             raise gltf_error(data.path, f"{where}.extensions.{_DRACO}", "has no POSITION attribute")
-        arrays = {name: decoded.get(name) for name in ("NORMAL", "TANGENT", "TEXCOORD_0", "COLOR_0", "JOINTS_0", "WEIGHTS_0")}
+        arrays = {name: decoded.get(name) for name in ("NORMAL", "TANGENT", "COLOR_0", "JOINTS_0", "WEIGHTS_0") + _UV_SET_NAMES}
         indices = decoded["indices"]
     else:
         positions = _attribute(data, attributes, "POSITION", where, data.accessor(attributes["POSITION"], f"{where}.attributes.POSITION").shape[0], (3,))
@@ -129,7 +149,7 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
         arrays = {
             "NORMAL": _attribute(data, attributes, "NORMAL", where, count, (3,)),
             "TANGENT": _optional_tangents(data, attributes, where, count),
-            "TEXCOORD_0": _attribute(data, attributes, "TEXCOORD_0", where, count, (2,)),
+            **{name: _attribute(data, attributes, name, where, count, (2,)) for name in _UV_SET_NAMES},
             "COLOR_0": _attribute(data, attributes, "COLOR_0", where, count, (3, 4)),
             "JOINTS_0": _attribute(data, attributes, "JOINTS_0", where, count, (4,)),
             "WEIGHTS_0": _attribute(data, attributes, "WEIGHTS_0", where, count, (4,)),
@@ -150,11 +170,16 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
     # KHR_mesh_quantization allows integer positions, normals and uvs: placed as floats
     if arrays["TANGENT"] is not None and (arrays["TANGENT"].ndim != 2 or arrays["TANGENT"].shape[1] != 4):
         arrays["TANGENT"] = None  # a Draco TANGENT of another shape: the derivative frame instead
-    for name in ("NORMAL", "TANGENT", "TEXCOORD_0"):
-        if arrays[name] is not None:
+    for name in ("NORMAL", "TANGENT") + _UV_SET_NAMES:
+        if arrays.get(name) is not None:
             arrays[name] = arrays[name].astype(np.float64)
     arrays["POSITION"] = positions.astype(np.float64)
-    arrays["faces"] = triangles(mode, indices)
+    arrays["kind"] = PRIMITIVE_OF_MODE.get(mode, "triangles")
+    if arrays["kind"] == "points":  # every listed vertex a point (in index order, after morphing: _listed_points)
+        arrays["faces"] = None
+        arrays["point_order"] = None if "indices" not in primitive else indices
+    else:
+        arrays["faces"] = segments(mode, indices) if arrays["kind"] == "lines" else triangles(mode, indices)
     return arrays
 
 
@@ -189,15 +214,26 @@ def gltf_pieces(data: GltfData, nodes: list | None = None) -> list[GltfPiece]:
             if key not in cache:
                 cache[key] = _primitive_arrays(data, primitive, where)
             arrays = cache[key]
-            if arrays is None or not len(arrays["faces"]):
+            if arrays is None or not len(arrays["POSITION"] if arrays["faces"] is None else arrays["faces"]):
                 continue
             vertices += len(arrays["POSITION"])
-            faces += len(arrays["faces"])
+            faces += 0 if arrays["faces"] is None else len(arrays["faces"])
             if vertices > MAX_VERTICES or faces > MAX_TRIANGLES:
                 raise gltf_error(data.path, "scene", f"its instances hold more than {MAX_VERTICES} vertices or triangles (the limit)")
-            arrays = apply_morph_targets(data, primitive, arrays, weights, where)
+            arrays = _listed_points(apply_morph_targets(data, primitive, arrays, weights, where))
             pieces.append(_instance(data, arrays, primitive, where, world[node_index], skin, key, mesh.get("name") or where))
     return pieces
+
+
+_PER_VERTEX = ("POSITION", "NORMAL", "TANGENT", "COLOR_0", "JOINTS_0", "WEIGHTS_0") + _UV_SET_NAMES
+
+
+def _listed_points(arrays: dict) -> dict:
+    """An indexed POINTS primitive's vertices in the order its indices list them (each index a point)."""
+    order = arrays.get("point_order")
+    if order is None:
+        return arrays
+    return {**arrays, "point_order": None, **{name: arrays[name][order] for name in _PER_VERTEX if arrays.get(name) is not None}}
 
 
 def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPiece:
@@ -214,18 +250,17 @@ def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPi
             normals = normals @ np.linalg.inv(linear)  # the inverse transpose, applied to rows
         if tangents is not None:  # tangents follow the surface (the matrix); a mirror flips w
             tangents = np.concatenate([tangents[:, :3] @ linear.T, tangents[:, 3:] * np.sign(np.linalg.det(linear))], axis=1)
-        if np.linalg.det(linear) < 0:
+        if np.linalg.det(linear) < 0 and arrays["kind"] == "triangles":
             faces = faces[:, ::-1]  # a mirroring node keeps the outside outside
-    uvs = arrays["TEXCOORD_0"]
-    if uvs is not None:
-        uvs = np.stack([uvs[:, 0], 1.0 - uvs[:, 1]], axis=1)
+    uv_sets = {k: np.stack([uvs[:, 0], 1.0 - uvs[:, 1]], axis=1) for k, name in enumerate(_UV_SET_NAMES)
+               if (uvs := arrays.get(name)) is not None}
     colors = arrays["COLOR_0"]
     if colors is not None:
         colors = colors.astype(np.float64)
         if colors.shape[1] == 3:
             colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
         colors = np.clip(colors, 0.0, 1.0)
-    return GltfPiece(positions, faces, normals, uvs, colors, primitive, str(name), key, tangents)
+    return GltfPiece(positions, faces, normals, uv_sets, colors, primitive, str(name), key, tangents, arrays["kind"])
 
 
 def material_images(data: GltfData, material: dict, warn_name: str):

@@ -18,10 +18,6 @@ from ..files import read_text_bytes
 
 MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format
 _TEXT_FORMATS = (".obj",)  # always text: decoded here, handed to trimesh as UTF-8
-_PLY_SIZES = {
-    "char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2, "int16": 2, "uint16": 2,
-    "int": 4, "uint": 4, "int32": 4, "uint32": 4, "float": 4, "float32": 4, "double": 8, "float64": 8,
-}
 
 
 def check_file_size(path: Path, where: str) -> int:
@@ -43,49 +39,6 @@ def check_declared_counts(where: str, vertices: int, faces: int, needed_bytes: i
             f"{where}: declares {vertices} vertices and {faces} faces, which need at least {needed_bytes} bytes, "
             f"but the file has only {available} after its header (truncated or damaged)"
         )
-
-
-def ply_declared_counts(path: Path, where: str, file_size: int) -> tuple[int, int]:
-    """The vertex and face counts a PLY header declares, checked against the file size."""
-    with open(path, "rb") as file:
-        head = file.read(65536)
-    if not head.startswith(b"ply"):
-        raise MeshError(f"{where}: not a PLY file (it does not start with 'ply')")
-    end = head.find(b"end_header")
-    if end < 0:
-        raise MeshError(f"{where}: the PLY header has no 'end_header' within its first 64 KiB")
-    header_end = head.find(b"\n", end)
-    header_bytes = (header_end + 1) if header_end >= 0 else len(head)
-    lines = head[:end].decode("latin-1").splitlines()
-    binary = any(line.split()[:2] in (["format", "binary_little_endian"], ["format", "binary_big_endian"]) for line in lines if line.strip())
-    counts: dict[str, int] = {}
-    minimum = 0
-    element = None
-    for line in lines:
-        words = line.split()
-        if not words:
-            continue
-        if words[0] == "element" and len(words) >= 3:
-            try:
-                count = int(words[2])
-            except ValueError:
-                raise MeshError(f"{where}: bad PLY element count {words[2][:20]!r}") from None
-            if count < 0:
-                raise MeshError(f"{where}: negative PLY element count {count}")
-            element = words[1]
-            counts[element] = count
-        elif words[0] == "property" and element is not None and len(words) >= 3:
-            count = counts[element]
-            if words[1] == "list" and len(words) >= 5:
-                # at least the length field and, for faces, three indices
-                items = 3 if element == "face" else 0
-                per_item = (_PLY_SIZES.get(words[2], 1) + items * _PLY_SIZES.get(words[3], 1)) if binary else 2 * (1 + items)
-            else:
-                per_item = _PLY_SIZES.get(words[1], 1) if binary else 2  # a digit and a separator
-            minimum += count * per_item
-    vertices, faces = counts.get("vertex", 0), counts.get("face", 0)
-    check_declared_counts(where, vertices, faces, minimum, file_size - header_bytes)
-    return vertices, faces
 
 
 def text_source(path: Path, where: str, file_size: int) -> io.BytesIO | None:

@@ -25,6 +25,7 @@ from ...errors import MeshError
 from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 from ..mesh_pieces import MeshFile, MeshPiece
+from .obj_elements import obj_elements, bare_points
 from .mtl import read_mtl_files
 
 
@@ -258,6 +259,7 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     is_vt = (first == ord("v")) & (second == ord("t"))
     is_vn = (first == ord("v")) & (second == ord("n"))
     is_f = (first == ord("f")) & blank
+    is_l, is_p = (first == ord("l")) & blank, (first == ord("p")) & blank
     v_count, vt_count, vn_count = np.cumsum(is_v), np.cumsum(is_vt), np.cumsum(is_vn)
     # Counted before the text is split into lines (a Python string per line: ~60 bytes each).
     vertices, polygons = int(v_count[-1]) if len(v_count) else 0, int(is_f.sum())
@@ -284,10 +286,26 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
         changes.append((index, material, flat))
     face_lines = np.flatnonzero(is_f)
     v_lines = np.flatnonzero(is_v)
-    if not len(face_lines) or not len(v_lines):
-        raise MeshError(f"mesh file {name!r} contains no triangles ({len(v_lines)} vertices, no faces)")
-    # Runs: blocks of consecutive face lines (the counts and the state are fixed within one).
+    if not len(v_lines):
+        raise MeshError(f"mesh file {name!r} contains no triangles, lines or points (no vertices)")
+    v = _floats(_slices(lines, v_lines), "v ", 3, name, v_lines + 1)
+    materials = read_mtl_files(libraries, path.parent, name) if libraries else {}
     change_at = np.array([c[0] for c in changes], np.int64)
+
+    def material_at(index: int) -> str | None:
+        state = int(np.searchsorted(change_at, index)) - 1
+        return changes[state][1] if state >= 0 else None
+
+    # `l` and `p` records, each kind a piece of its own (obj_elements.py)
+    segments = obj_elements(lines, np.flatnonzero(is_l), v_count, material_at, v, materials, name, "lines")
+    points = obj_elements(lines, np.flatnonzero(is_p), v_count, material_at, v, materials, name, "points")
+    if not len(face_lines) and segments is None and points is None:
+        points = bare_points(v)  # nothing joins the vertices: a point cloud
+    others = [MeshPiece(e.positions, e.indices, colors=e.colors, parts=e.parts, primitive=kind)
+              for kind, e in (("lines", segments), ("points", points)) if e is not None]
+    if not len(face_lines):
+        return MeshFile(others)
+    # Runs: blocks of consecutive face lines (the counts and the state are fixed within one).
     breaks = np.flatnonzero(np.diff(face_lines) != 1) + 1
     runs = []
     for a, b in zip(np.concatenate([[0], breaks]).tolist(), np.concatenate([breaks, [len(face_lines)]]).tolist()):
@@ -296,7 +314,6 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
         run_material, run_flat = (changes[state][1], changes[state][2]) if state >= 0 else (None, False)
         runs.append(_Run(run_material, run_flat, int(v_count[first_index]), int(vt_count[first_index]),
                          int(vn_count[first_index]), first_index + 1, lines[first_index : int(face_lines[b - 1]) + 1]))
-    v = _floats(_slices(lines, v_lines), "v ", 3, name, v_lines + 1)
     vt_lines, vn_lines = np.flatnonzero(is_vt), np.flatnonzero(is_vn)
     vt = _floats(_slices(lines, vt_lines), "vt", 2, name, vt_lines + 1) if len(vt_lines) else np.zeros((0, 2))
     vn = _floats(_slices(lines, vn_lines), "vn", 3, name, vn_lines + 1) if len(vn_lines) else np.zeros((0, 3))
@@ -310,7 +327,6 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     corners = np.concatenate(corner_list)
     flat_faces = np.concatenate(flat_list)
     face_material = np.array([m or "" for chunk in material_list for m in chunk], dtype=object)
-    materials = read_mtl_files(libraries, path.parent, name) if libraries else {}
     # Distinct (v, vt, vn) combinations become vertices.
     has_uv = bool(len(vt)) and bool((corners[:, :, 1] >= 0).all())
     has_normal = bool(len(vn)) and bool((corners[:, :, 2] >= 0).all())
@@ -357,4 +373,4 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
         parts.append((start, int(count), materials.get(material_name) if material_name else None, material_name))
         start += int(count)
     # one piece: a vertex per distinct (v, vt, vn) corner, faces sorted by material, flat under `s off`
-    return MeshFile([MeshPiece(positions, faces, normals, uvs, colors, flat_faces, parts=parts)])
+    return MeshFile([MeshPiece(positions, faces, normals, uvs, colors, flat_faces, parts=parts)] + others)

@@ -27,7 +27,7 @@ import numpy as np
 
 from ...errors import MeshError
 from ..files import read_text_bytes
-from ..mesh_pieces import MeshFile, MeshPiece, with_face_colors
+from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import check_declared_counts
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
@@ -56,6 +56,8 @@ class _Header:
 def read_off(path: Path, file_size: int) -> MeshFile:
     """An OFF file as one piece, its face colours given each face's own corners."""
     off = _read_arrays(path, file_size)
+    if not len(off.faces):  # `N 0 0`: a point cloud (docs/primitives.md)
+        return MeshFile([point_piece(off.positions, off.normals, off.colors, name=path.name)])
     piece = MeshPiece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])
     return MeshFile([piece if off.face_colors is None else with_face_colors(piece, off.face_colors)])
 

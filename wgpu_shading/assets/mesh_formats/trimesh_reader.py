@@ -1,6 +1,7 @@
 """PLY and ASCII STL, read through trimesh: its reading turned into one MeshFile, its
-exceptions into one-line MeshErrors, a PLY header's counts checked against the file's size
-before trimesh allocates them (checks.py)."""
+exceptions into one-line MeshErrors; a PLY without faces into points (docs/primitives.md).
+A PLY header's counts are checked against the file's size before trimesh allocates them
+(ply.py, which hands trimesh the PLYs it does not read itself)."""
 
 from __future__ import annotations
 
@@ -9,13 +10,15 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
-from ..mesh_pieces import MeshFile, MeshPiece, with_face_colors
-from .checks import describe_load_error, ply_declared_counts, text_source
+from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
+from .checks import describe_load_error, text_source
 
 
-def read_with_trimesh(path: Path, file_size: int) -> MeshFile:
-    """A PLY or an ASCII STL file (assets/meshes.py's reader for .ply; stl.py's for ASCII)."""
-    return MeshFile([_trimesh_piece(path, file_size)])
+def read_with_trimesh(path: Path, file_size: int, declared: tuple[int, int] | None = None) -> MeshFile:
+    """A PLY or an ASCII STL file (ply.py's reader for PLYs that are not binary point clouds,
+    `declared` their header's vertex and face counts, already checked against the file's
+    size; stl.py's for ASCII STL)."""
+    return MeshFile([_trimesh_piece(path, file_size, declared)])
 
 
 def _load_trimesh(path: Path, file_size: int | None = None, content: bytes | None = None, **options):
@@ -53,11 +56,11 @@ def _file_normals(geometry) -> np.ndarray | None:
     return None
 
 
-def _trimesh_piece(path: Path, file_size: int) -> MeshPiece:
+def _trimesh_piece(path: Path, file_size: int, declared: tuple[int, int] | None) -> MeshPiece:
     import trimesh
 
     # A PLY header's counts are checked against the file size before trimesh allocates them.
-    declared = ply_declared_counts(path, f"mesh file {str(path)!r}", file_size) if path.suffix.lower() == ".ply" else None
+
     loaded = _load_trimesh(path, file_size)
     if isinstance(loaded, trimesh.Scene):
         geometries = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
@@ -71,7 +74,7 @@ def _trimesh_piece(path: Path, file_size: int) -> MeshPiece:
         raw = loaded.metadata.get("_ply_raw", {}) if isinstance(loaded.metadata, dict) else {}
         if "tristrips" in raw:
             raise MeshError(f"mesh file {str(path)!r}: the PLY has triangle strips (element 'tristrips'), not faces; only 'face' elements are supported")
-        raise MeshError(f"mesh file {str(path)!r}: a point cloud ({len(loaded.vertices)} vertices, no faces); nothing to shade")
+        return _point_cloud_piece(loaded, path, declared)
     if not isinstance(loaded, trimesh.Trimesh):
         raise MeshError(f"mesh file {str(path)!r}: contains no triangles (found {type(loaded).__name__})")
     positions = np.asarray(loaded.vertices, dtype=np.float64)
@@ -102,6 +105,26 @@ def _trimesh_piece(path: Path, file_size: int) -> MeshPiece:
     normals = _file_normals(loaded)
     piece = MeshPiece(positions, faces, normals, uvs, None if colors is None else _unit_colors(colors), parts=[(0, len(faces), None, path.name)])
     return piece if face_colors is None else with_face_colors(piece, _unit_colors(face_colors))
+
+
+def _point_cloud_piece(loaded, path: Path, declared: tuple[int, int] | None) -> MeshPiece:
+    """A PLY without faces: its vertices as points, with their colours and normals (nx ny
+    nz) when it has them (docs/primitives.md)."""
+    positions = np.asarray(loaded.vertices)
+    if declared is not None and len(positions) < declared[0]:
+        raise MeshError(f"mesh file {str(path)!r}: truncated: the header declares {declared[0]} vertices, the file holds {len(positions)}")
+    raw = loaded.metadata.get("_ply_raw", {}).get("vertex", {}).get("data") if isinstance(loaded.metadata, dict) else None
+    normals = None
+    if raw is not None and all(name in _fields(raw) for name in ("nx", "ny", "nz")):
+        normals = np.stack([np.asarray(raw[name], dtype=np.float32).reshape(-1) for name in ("nx", "ny", "nz")], axis=1)
+    colors = np.asarray(loaded.colors) if len(getattr(loaded, "colors", ())) == len(positions) else None
+    return point_piece(positions, normals, None if colors is None else _unit_colors(colors), name=path.name)
+
+
+def _fields(raw) -> tuple[str, ...]:
+    """The property names of trimesh's raw PLY element: a structured array (binary) or a dict (ASCII)."""
+    names = getattr(getattr(raw, "dtype", None), "names", None)
+    return tuple(names) if names else tuple(raw) if isinstance(raw, dict) else ()
 
 
 def _unit_colors(colors: np.ndarray) -> np.ndarray:

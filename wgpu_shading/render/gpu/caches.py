@@ -12,6 +12,7 @@ must level off in memory. The limits (docs/reliability.md states them):
     uniform buffers  UNIFORM_CACHE_ENTRIES (one per object index and layout size)
     bind groups      BIND_GROUP_CACHE_ENTRIES per owner
     shadow maps      SHADOW_MAP_CACHE_ENTRIES textures (map size × layer count; docs/shadows.md)
+                     and at most MAX_SHADOW_MAP_BYTES (shadow_maps.py) besides the newest
 
 Eviction only drops the cache's reference; wgpu releases the GPU object when the last
 reference goes (a frame still in flight keeps its own). The caches are not thread-safe

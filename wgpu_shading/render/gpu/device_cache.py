@@ -38,17 +38,21 @@ from ..shaders.uniforms import finite_uniform_bytes
 from .bind_groups import cached_bind_group
 from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh
 from .samplers import create_sampler
-from .shadow_maps import ShadowMaps, create_comparison_sampler, new_shadow_maps
+from .stroke_uploads import GpuPoints, GpuSegments, upload_points, upload_segments
+from .shadow_maps import MAX_SHADOW_MAP_BYTES, ShadowMaps, create_comparison_sampler, new_shadow_maps
 from .targets import Target, check_target_size, new_target
 from .texture_uploads import GpuTexture, upload_texture
 from .uniform_buffers import uniform_buffer
+from .vertex_order import SharedOrders
 
 
 class DeviceCache:
     """Pipelines, uploads, uniform buffers, bind groups and targets of one wgpu device."""
 
-    def __init__(self, device):
+    def __init__(self, device, shared_orders: SharedOrders | None = None):
         self.device = device
+        # vertex-cache orders shared with the other devices of one renderer (render_many)
+        self.shared_orders = shared_orders
         self.pipelines = PipelineCache(device)
         # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
         # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
@@ -59,7 +63,7 @@ class DeviceCache:
         self.textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
         self.uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self.bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
-        self._shadow_maps: LruCache[ShadowMaps] = LruCache(SHADOW_MAP_CACHE_ENTRIES)
+        self._shadow_maps: LruCache[ShadowMaps] = LruCache(SHADOW_MAP_CACHE_ENTRIES, MAX_SHADOW_MAP_BYTES, lambda m: m.nbytes)
         self._comparison_sampler = None
         self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
         self._free_targets: OrderedDict[int, tuple[tuple, Target]] = OrderedDict()  # serial → (key, target)
@@ -76,12 +80,29 @@ class DeviceCache:
             in_order = in_order | gpu_mesh.order.in_order
             gpu_mesh = None
         if gpu_mesh is None:
-            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order))
+            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order, self.shared_orders))
         if plan is not None:
             for name in OPTIONAL_ATTRIBUTES:
                 if name in plan:
                     upload_attribute(self.device, gpu_mesh, mesh, name, self._mesh_usage)
         return gpu_mesh
+
+    def gpu_points(self, mesh: Mesh) -> GpuPoints:
+        """The mesh's points (stroke_uploads.py), an entry of the mesh cache beside its triangles."""
+        gpu_points = self.meshes.get(mesh, "points")
+        if gpu_points is None:
+            gpu_points = self.meshes.put(mesh, upload_points(self.device, mesh, self._mesh_usage), "points")
+        return gpu_points
+
+    def gpu_segments(self, mesh: Mesh, kind: str) -> GpuSegments:
+        """The mesh's line segments (kind "lines") or its triangles' edges ("edges", without
+        vertex colours: they are drawn in the edge colour), as stroke_uploads.py uploads them."""
+        gpu_segments = self.meshes.get(mesh, kind)
+        if gpu_segments is None:
+            segments = mesh.line_indices if kind == "lines" else mesh.edge_indices
+            upload = upload_segments(self.device, mesh, segments, self._mesh_usage, colors=kind == "lines")
+            gpu_segments = self.meshes.put(mesh, upload, kind)
+        return gpu_segments
 
     def gpu_texture(self, texture: Texture, srgb: bool = False) -> GpuTexture:
         """The texture's upload; `srgb`: as rgba8unorm-srgb (material_maps.decodes_srgb).

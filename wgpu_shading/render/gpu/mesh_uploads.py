@@ -11,7 +11,7 @@ import wgpu
 
 from ...scene import Mesh
 from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
-from .vertex_order import VertexOrder, cache_order
+from .vertex_order import SharedOrders, VertexOrder, cache_order
 
 
 @dataclass
@@ -23,6 +23,10 @@ class GpuMesh:
     triangle_count: int
     colors: object | None = None
     tangents: object | None = None
+    # the mesh's other texture coordinate sets (Mesh.extra_uvs[:, k − 1] as uv_set_k), once a draw reads them
+    uv_set_1: object | None = None
+    uv_set_2: object | None = None
+    uv_set_3: object | None = None
     # flat shading's vertex-pulling bind groups (one per layout: a handful)
     storage_groups: LruCache = field(default_factory=lambda: LruCache(BIND_GROUP_CACHE_ENTRIES))
     # the vertex-cache order the buffers hold (render/gpu/vertex_order.py); None: the mesh's own
@@ -30,7 +34,7 @@ class GpuMesh:
 
     @property
     def nbytes(self) -> int:
-        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents)
+        buffers = (self.positions, self.normals, self.indices, self.uvs, self.colors, self.tangents, self.uv_set_1, self.uv_set_2, self.uv_set_3)
         return sum(b.size for b in buffers if b is not None)
 
 def vertex_order_enabled() -> bool:
@@ -38,7 +42,9 @@ def vertex_order_enabled() -> bool:
     A/B measurements and the test that the pixels do not change)."""
     return os.environ.get("WGPU_SHADING_VERTEX_ORDER", "1") != "0"
 
-def upload_mesh(device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] = frozenset()) -> GpuMesh:
+def upload_mesh(
+    device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] = frozenset(), shared: SharedOrders | None = None
+) -> GpuMesh:
     """Positions, normals and indices of `mesh` in GPU buffers. One upload serves every
     frequency: vertex buffers for Gouraud/Phong, storage buffers for flat shading's vertex
     pulling. `extra_usage` is MAP_WRITE where the device writes such buffers in place.
@@ -47,7 +53,9 @@ def upload_mesh(device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] =
     vertex-cache order, and the vertices in first-use order (render/gpu/vertex_order.py: same
     pixels, less vertex work). The vertices are written into their buffers in the new order
     a chunk at a time, and the reordered indices live in scratch memory that is handed back
-    right after their upload: the upload still leaves one copy of the mesh (the driver's)."""
+    right after their upload: the upload still leaves one copy of the mesh (the driver's).
+    `shared`: the order another device of the same renderer computed for this mesh is used
+    as it is, and the one computed here is offered to the others (vertex_order.SharedOrders)."""
     usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
     index_usage = wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | extra_usage
     if not vertex_order_enabled():
@@ -58,11 +66,18 @@ def upload_mesh(device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] =
             uvs=None,
             triangle_count=mesh.triangle_count,
         )
-    scratch, order = cache_order(mesh.indices, mesh.vertex_count, mesh.parts, in_order)
-    try:
-        indices = device.create_buffer_with_data(data=scratch.array, usage=index_usage)
-    finally:
-        scratch.close()
+    taken = shared.take(mesh, in_order) if shared is not None else None
+    if taken is not None:
+        reordered, order = taken
+        indices = device.create_buffer_with_data(data=reordered, usage=index_usage)
+    else:
+        scratch, order = cache_order(mesh.indices, mesh.vertex_count, mesh.parts, in_order)
+        try:
+            indices = device.create_buffer_with_data(data=scratch.array, usage=index_usage)
+            if shared is not None:
+                shared.offer(mesh, in_order, scratch.array, order)
+        finally:
+            scratch.close()
     return GpuMesh(
         positions=_reordered_buffer(device, mesh.positions, order, usage),
         normals=_reordered_buffer(device, mesh.normals, order, wgpu.BufferUsage.VERTEX | extra_usage),
@@ -85,14 +100,18 @@ def _reordered_buffer(device, array: np.ndarray, order: VertexOrder | None, usag
 
 # The per-vertex arrays a draw may need besides positions and normals: GpuMesh and Mesh
 # attributes of these names (the binding plan's VertexAttribute names).
-OPTIONAL_ATTRIBUTES = ("uvs", "colors", "tangents")
+OPTIONAL_ATTRIBUTES = ("uvs", "colors", "tangents", "uv_set_1", "uv_set_2", "uv_set_3")
 
 
 def upload_attribute(device, gpu_mesh: GpuMesh, mesh: Mesh, name: str, extra_usage: int) -> None:
     """The mesh's `name` array (uvs, float32 RGBA colors, a file's float32 xyzw tangents),
     uploaded only once a draw needs it: most meshes are drawn untextured, and a big mesh's
     uvs are a seventh of its memory."""
-    values = getattr(mesh, name)
+    if name.startswith("uv_set_"):  # set k of the mesh's other texture coordinates
+        k = int(name.rpartition("_")[2])
+        values = None if mesh.extra_uvs is None or mesh.extra_uvs.shape[1] < k else np.ascontiguousarray(mesh.extra_uvs[:, k - 1])
+    else:
+        values = getattr(mesh, name)
     if getattr(gpu_mesh, name) is None and values is not None:
         usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
         setattr(gpu_mesh, name, _reordered_buffer(device, values, gpu_mesh.order, usage))

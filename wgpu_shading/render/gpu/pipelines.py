@@ -66,6 +66,7 @@ class PipelineDescriptor:
     plan: BindingPlan
     topology: str = wgpu.PrimitiveTopology.triangle_list
     indexed: bool = True  # drawn from the mesh's index buffer (else vertices are pulled: flat shading)
+    quads: bool = False  # each instance a quad, a strip of four vertices (points and lines: passes/strokes.py)
     front_face_cw: bool = False
     cull_mode: str = wgpu.CullMode.none
     depth_format: str = DEPTH_FORMAT

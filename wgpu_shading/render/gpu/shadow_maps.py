@@ -13,6 +13,10 @@ import wgpu
 from ...errors import SceneError
 
 SHADOW_FORMAT = wgpu.TextureFormat.depth32float
+# A frame's shadow maps together (4 bytes a texel): 8 maps of 8192² texels, 128 of 2048². Eight
+# positional lights casting at 8192² asked for 48 cube faces, 12 GiB, which lavapipe
+# tried to allocate in host memory (and a GPU failed with an internal error).
+MAX_SHADOW_MAP_BYTES = 2 << 30
 
 
 @dataclass(eq=False)
@@ -33,6 +37,12 @@ class ShadowMaps:
 def new_shadow_maps(device, size: int, layers: int) -> ShadowMaps:
     """`layers` maps of size × size texels (at least one, so there is always a texture to bind)."""
     layers = max(layers, 1)
+    if 4 * size * size * layers > MAX_SHADOW_MAP_BYTES:
+        raise SceneError(
+            f"shadows.map_size: the casting lights need {layers} shadow maps (one per directional or spot light, up to "
+            f"six per positional light) of {size}×{size} texels, {4 * size * size * layers / 2**30:.2f} GiB; at most "
+            f"{MAX_SHADOW_MAP_BYTES >> 30} GiB are made (a smaller map_size, or fewer casting lights)"
+        )
     limits = device.limits
     if size > limits["max-texture-dimension-2d"]:
         raise SceneError(f"shadows.map_size: {size} texels; this adapter allows at most {limits['max-texture-dimension-2d']}")

@@ -22,6 +22,8 @@ decides nothing unless two triangles of one part cover a pixel at exactly equal 
 from __future__ import annotations
 
 import mmap
+import threading
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -80,8 +82,8 @@ def cache_order(
     ordered = scratch.array
     ordered[:] = flat
     for number, part in enumerate(parts):
-        if number in in_order or part.count < 2:
-            continue
+        if number in in_order or part.count < 2 or part.primitive != "triangles":
+            continue  # (points and lines have uploads of their own: stroke_uploads.py)
         start, stop = 3 * part.first, 3 * (part.first + part.count)
         meshoptimizer.optimize_vertex_cache(ordered[start:stop], flat[start:stop], stop - start, vertex_count)
     remap = np.empty(vertex_count, np.uint32)
@@ -95,6 +97,42 @@ def cache_order(
     if flat.nbytes >= _TRIM_BYTES:
         _return_freed_memory()
     return scratch, VertexOrder(gather=gather, in_order=frozenset(in_order))
+
+
+class SharedOrders:
+    """Vertex-cache orders one device computed, for the other devices of the same renderer
+    (render_many's helpers) to upload the same mesh without running meshoptimizer again:
+    the same order, so every device draws the same triangles in the same order. An entry
+    holds a copy of the reordered indices until each sibling has taken it; at most
+    SHARED_ORDER_BYTES of them are kept (a bigger mesh is reordered on each device instead,
+    so a big upload never costs a second copy of its indices)."""
+
+    def __init__(self, devices: int):
+        self.devices = devices  # how many devices upload from this (the renderer's and its helpers')
+        self._entries: dict[tuple[int, frozenset[int]], list] = {}  # (id(mesh), in_order) → [mesh ref, indices, order, left]
+        self._lock = threading.Lock()
+
+    def take(self, mesh, in_order: frozenset[int]) -> tuple[np.ndarray, VertexOrder] | None:
+        with self._lock:
+            entry = self._entries.get((id(mesh), in_order))
+            if entry is None or entry[0]() is not mesh:  # never offered, or another mesh since
+                return None
+            entry[3] -= 1
+            if entry[3] <= 0:
+                del self._entries[(id(mesh), in_order)]
+            return entry[1], entry[2]
+
+    def offer(self, mesh, in_order: frozenset[int], indices: np.ndarray, order: VertexOrder) -> None:
+        if self.devices < 2 or indices.nbytes > SHARED_ORDER_BYTES:
+            return
+        with self._lock:
+            self._entries = {key: entry for key, entry in self._entries.items() if entry[0]() is not None}  # dead meshes
+            if sum(entry[1].nbytes for entry in self._entries.values()) + indices.nbytes > SHARED_ORDER_BYTES:
+                return
+            self._entries[(id(mesh), in_order)] = [weakref.ref(mesh), indices.copy(), order, self.devices - 1]
+
+
+SHARED_ORDER_BYTES = 64 << 20  # reordered indices kept for sibling devices (a 5M-triangle mesh's)
 
 
 # meshoptimizer's working arrays for a big mesh (several times its index buffer) are freed

@@ -28,6 +28,7 @@ from ..shaders.material_maps import decodes_srgb
 from ..shaders.shadergen import generate_wgsl
 from ..shaders.uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
 from .draws import Draw, encode_draws
+from .strokes import edge_draw, stroke_draw
 from .frame_context import FrameContext
 from .shadow import receiver_uniforms
 
@@ -50,6 +51,11 @@ def color_pipeline(key: PipelineKey) -> PipelineDescriptor:
         # Blended parts are drawn after the opaque ones, back to front, and do not hide each
         # other (they still hide behind opaque parts).
         depth_write=features.alpha_mode != "blend",
+        # Under edges (`--edges`), surfaces are pushed back by their own depth slope over
+        # `under_edges` pixels (the edge quads' reach over them), plus one unit, so their
+        # edges win the depth test (docs/primitives.md#edges; VTK's polygon offset). Reversed Z: away is minus.
+        depth_bias=-1 if features.under_edges else 0,
+        depth_bias_slope_scale=-float(features.under_edges),
         color_format=key.target_format,
         blend=BLEND_OVER if features.alpha_mode == "blend" else None,
         samples=key.samples,
@@ -88,6 +94,7 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
     that what lies behind a translucent part is already drawn (docs/conventions.md)."""
     opaque: list[Draw] = []
     blended: list[tuple[float, Draw]] = []
+    edges: list[Draw] = []  # --edges: over every opaque surface, under the blended ones
     for index, obj in enumerate(scene.objects):
         model_view = eye_from_world * glm.dmat4(obj.world_from_model())  # double precision, once per object
         mirrored = is_mirrored(model_view)
@@ -96,6 +103,14 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
         blended_parts = frozenset(k for k, m in enumerate(materials) if m.alpha_mode == "blend")
         for part, material in zip(obj.mesh.parts, materials):
             if part.count == 0:
+                continue
+            if part.primitive != "triangles":  # points and lines (passes/strokes.py)
+                draw = stroke_draw(cache, scene, obj, part, material, model_view, color_format, samples,
+                                   len(opaque) + len(blended) + len(edges))
+                if draw.entry.key.features.alpha_mode == "blend":
+                    blended.append(((model_view * glm.dvec4(*obj.mesh.part_centre(part), 1.0)).z, draw))
+                else:
+                    opaque.append(draw)
                 continue
             features = object_features(scene, obj, index, material)
             entry = cache.pipelines.get(PipelineKey(COLOR, features, color_format, samples, mirrored, features.cull_back))
@@ -112,7 +127,7 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
                 receiver_uniforms(object_data, scene, obj)
             draw = Draw(
                 entry=entry,
-                draw_index=len(opaque) + len(blended),
+                draw_index=len(opaque) + len(blended) + len(edges),
                 gpu_mesh=cache.gpu_mesh(obj.mesh, entry.plan, blended_parts),
                 object_data=object_data,
                 first_triangle=part.first,
@@ -126,8 +141,10 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
                 blended.append((depth, draw))
             else:
                 opaque.append(draw)
+        if scene.shading.edges and obj.mesh.triangle_count:
+            edges.append(edge_draw(cache, scene, obj, model_view, color_format, samples, len(opaque) + len(blended) + len(edges)))
     blended.sort(key=lambda item: item[0])
-    return opaque + [draw for _, draw in blended]
+    return opaque + edges + [draw for _, draw in blended]
 
 
 def encode_color_frame(cache: DeviceCache, encoder, frame: FrameContext, target: Target, *, read_depth: bool) -> None:

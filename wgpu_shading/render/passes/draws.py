@@ -18,17 +18,20 @@ from ..gpu.caches import LruCache
 from ..gpu.device_cache import DeviceCache
 from ..gpu.mesh_uploads import GpuMesh
 from ..gpu.pipelines import PipelineEntry
+from ..gpu.stroke_uploads import GpuPoints, GpuSegments
 from ..gpu.texture_uploads import GpuTexture
 from ..shaders.bindings import Binding
 
 
 @dataclass
 class Draw:
-    """One draw call: one part of one object (a range of its triangles)."""
+    """One draw call: one part of one object (a range of its triangles; for a pipeline that
+    draws quads, points or line segments, `first_triangle` and `triangle_count` are the
+    range of its instances)."""
 
     entry: PipelineEntry
     draw_index: int  # which "object" uniform buffer of the pass it uses
-    gpu_mesh: GpuMesh
+    gpu_mesh: GpuMesh | GpuPoints | GpuSegments  # the upload whose buffers the plan names
     object_data: np.ndarray  # the "object" uniform block
     first_triangle: int
     triangle_count: int
@@ -69,7 +72,9 @@ def encode_draws(
         for vertex_buffer in entry.plan.vertex_buffers:
             render_pass.set_vertex_buffer(vertex_buffer.slot, getattr(gpu_mesh, vertex_buffer.name))
         first_corner, corner_count = 3 * draw.first_triangle, 3 * draw.triangle_count
-        if entry.indexed:
+        if entry.descriptor.quads:  # a strip of four vertices (two triangles) an instance: points, segments
+            render_pass.draw(4, draw.triangle_count, 0, draw.first_triangle)
+        elif entry.indexed:
             render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
             render_pass.draw_indexed(corner_count, 1, first_corner, 0, 0)
         else:

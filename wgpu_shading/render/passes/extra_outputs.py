@@ -22,13 +22,14 @@ from pyglm import glm
 from ...errors import SceneError
 from ...scene import Scene, SceneObject
 from ...scene.mesh import MeshPart
+from ..features import FeatureSet
 from ..gpu.device_cache import DeviceCache
 from ..gpu.pipelines import PassKind, PipelineDescriptor, PipelineKey
 from ..gpu.readback import read_buffer
 from ..gpu.targets import Target
 from ..shaders.bindings import extra_outputs_plan
 from ..shaders.shadergen import generate_extra_outputs_wgsl
-from ..shaders.uniforms import clip_from_eye, is_mirrored
+from ..shaders.uniforms import clip_from_eye, is_mirrored, stroke_uniforms
 from .draws import Draw, encode_draws
 from .frame_context import FrameContext
 
@@ -37,12 +38,16 @@ TARGET_FORMAT = "float32"  # an rgba32float target, like `render --float`'s: the
 
 
 def extra_outputs_pipeline(key: PipelineKey) -> PipelineDescriptor:
-    """One shader for every draw; `cull_back` for the parts the lit pass culls (glTF
-    doubleSided false), whose winding then depends on `mirrored`."""
+    """One shader for every triangle draw; `cull_back` for the parts the lit pass culls (glTF
+    doubleSided false), whose winding then depends on `mirrored`. Points and lines (the
+    key's features: which primitive, discs or not) are the colour pass's quads."""
     return PipelineDescriptor(
-        label="extra outputs",
-        source=generate_extra_outputs_wgsl(),
-        plan=extra_outputs_plan(),
+        label="extra outputs" + ("" if key.features is None else f" ({key.features.primitive})"),
+        source=generate_extra_outputs_wgsl(key.features),
+        plan=extra_outputs_plan(key.features),
+        indexed=key.features is None,
+        quads=key.features is not None,
+        topology=wgpu.PrimitiveTopology.triangle_list if key.features is None else wgpu.PrimitiveTopology.triangle_strip,
         front_face_cw=key.mirrored,
         cull_mode=wgpu.CullMode.back if key.cull_back else wgpu.CullMode.none,
         color_format=key.target_format,
@@ -106,15 +111,37 @@ def prepare_draws(cache: DeviceCache, frame: FrameContext, space: str, aspect: f
         model_view = frame.eye_from_world * model
         # the back faces the lit pass culls (glTF doubleSided false) are culled here too
         cull = materials[id(obj)][id(part)].double_sided is False and not scene.shading.two_sided
-        entry = cache.pipelines.get(extra_outputs_key(cull, is_mirrored(model_view)))
+        if part.primitive == "triangles":
+            entry = cache.pipelines.get(extra_outputs_key(cull, is_mirrored(model_view)))
+        else:
+            entry = cache.pipelines.get(PipelineKey(EXTRA_OUTPUTS, _stroke_outputs(obj, part), TARGET_FORMAT))
         normal_from_model = glm.inverseTranspose(glm.dmat3(model_view if space == "eye" else model))
         data = np.zeros((), entry.uniform_dtypes["object"])
         data["clip_from_eye"] = clip
         data["eye_from_model"] = np.array(model_view).T
         data["output_normal_from_model"][:, :3] = np.array(normal_from_model).T
         data["object_id"] = segment
-        draws.append(Draw(entry, segment, cache.gpu_mesh(obj.mesh, entry.plan), data, part.first, part.count, {}))
+        if part.primitive == "triangles":
+            draws.append(Draw(entry, segment, cache.gpu_mesh(obj.mesh, entry.plan), data, part.first, part.count, {}))
+        else:
+            draws.append(_stroke_draw(cache, scene, obj, part, entry, segment, data, model_view))
     return draws
+
+
+def _stroke_outputs(obj: SceneObject, part: MeshPart) -> FeatureSet:
+    """What the outputs of a point or line part need: which quad, and discs where points have normals."""
+    return FeatureSet(primitive=part.primitive, point_normals=part.primitive == "points" and obj.mesh.has_point_normals(part))
+
+
+def _stroke_draw(cache: DeviceCache, scene: Scene, obj: SceneObject, part: MeshPart, entry, segment: int, data: np.ndarray,
+                 model_view: glm.dmat4) -> Draw:
+    """A point or line part's draw: the colour pass's quads (passes/strokes.py), the same sizes."""
+    points = part.primitive == "points"
+    stroke_uniforms(data, scene.size, scene.shading.point_size if points else scene.shading.line_width)
+    if "eye_normal_from_model" in data.dtype.names:
+        data["eye_normal_from_model"][:, :3] = np.array(glm.inverseTranspose(glm.dmat3(model_view))).T
+    upload = cache.gpu_points(obj.mesh) if points else cache.gpu_segments(obj.mesh, "lines")
+    return Draw(entry, segment, upload, data, part.first - (upload.base if points else 0), part.count, {})
 
 
 def encode_extra_outputs(cache: DeviceCache, encoder, frame: FrameContext, space: str, target: Target) -> None:

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from ...scene import Scene, has_shadows
 from .color import ColorPass
-from .extra_outputs import ExtraOutputsPass
 from .frame_context import FramePass
 from .shadow import ShadowPass
 
@@ -26,5 +25,7 @@ def frame_passes(
     if color or depth:
         passes.append(ColorPass(color_format, read_depth=depth))
     if normals is not None or ids:
+        from .extra_outputs import ExtraOutputsPass  # imported by the frames that ask for it (cold start)
+
         passes.append(ExtraOutputsPass(normals or "eye"))
     return passes

@@ -29,6 +29,7 @@ from typing import Callable
 import wgpu
 
 from ...scene import Material, Texture
+from ...scene.material import MAX_UV_SET
 from ..features import FeatureSet
 from .material_maps import bump_normal_texture
 
@@ -76,6 +77,7 @@ class VertexAttribute:
     storage_type: str  # flat shading's storage array, e.g. array<f32> (x, y, z flattened)
     when: When
     comment: str = ""
+    step_mode: str = wgpu.VertexStepMode.vertex  # instance: one value per point or segment (a quad)
 
 
 # ---------------------------------------------------------------------------- the tables
@@ -112,6 +114,26 @@ VERTEX_ATTRIBUTES: tuple[VertexAttribute, ...] = (
     VertexAttribute("uvs", "uv", "vec2<f32>", "float32x2", 8, "array<f32>", textured, "u, v per vertex"),
     VertexAttribute("colors", "color", "vec4<f32>", "float32x4", 16, "array<vec4<f32>>", lambda f: f.vertex_colors, "r, g, b, a per vertex"),
     VertexAttribute("tangents", "tangent", "vec4<f32>", "float32x4", 16, "array<vec4<f32>>", lambda f: f.vertex_tangents, "glTF TANGENT: x, y, z, handedness w"),
+    # The mesh's other texture coordinate sets (Mesh.extra_uvs), only where a texture reads them.
+    *(VertexAttribute(f"uv_set_{k}", f"uv_{k}", "vec2<f32>", "float32x2", 8, "array<f32>", lambda f, k=k: k in f.extra_uv_sets,
+                      f"texture coordinate set {k}") for k in range(1, MAX_UV_SET + 1)),
+)
+
+
+# Points and line segments (docs/primitives.md): quads built by the vertex stage, one
+# instance each, so their attributes step per instance (render/gpu/stroke_uploads.py
+# uploads them; six vertices of a quad read the same values).
+_INSTANCE = wgpu.VertexStepMode.instance
+POINT_ATTRIBUTES: tuple[VertexAttribute, ...] = (
+    VertexAttribute("positions", "position", "vec3<f32>", "float32x3", 12, "", always, "a point", _INSTANCE),
+    VertexAttribute("normals", "normal", "vec3<f32>", "float32x3", 12, "", lambda f: f.point_normals, "zero: none (unlit)", _INSTANCE),
+    VertexAttribute("colors", "color", "vec4<f32>", "float32x4", 16, "", lambda f: f.vertex_colors, "", _INSTANCE),
+)
+SEGMENT_ATTRIBUTES: tuple[VertexAttribute, ...] = (
+    VertexAttribute("starts", "start", "vec3<f32>", "float32x3", 12, "", always, "a segment's two ends", _INSTANCE),
+    VertexAttribute("ends", "end", "vec3<f32>", "float32x3", 12, "", always, "", _INSTANCE),
+    VertexAttribute("start_colors", "start_color", "vec4<f32>", "float32x4", 16, "", lambda f: f.vertex_colors, "", _INSTANCE),
+    VertexAttribute("end_colors", "end_color", "vec4<f32>", "float32x4", 16, "", lambda f: f.vertex_colors, "", _INSTANCE),
 )
 
 
@@ -173,10 +195,12 @@ class VertexBuffer:
     wgsl_type: str
     vertex_format: str
     stride: int
+    step_mode: str = wgpu.VertexStepMode.vertex
 
     def layout(self) -> dict:
         return {
             "array_stride": self.stride,
+            "step_mode": self.step_mode,
             "attributes": [{"format": self.vertex_format, "offset": 0, "shader_location": self.slot}],
         }
 
@@ -262,7 +286,7 @@ def make_plan(
     for entry in entries:
         groups[entry.group].append(replace(entry, binding=len(groups[entry.group])))
     vertex_buffers = tuple(
-        VertexBuffer(a.name, slot, a.field, a.wgsl_type, a.vertex_format, a.stride) for slot, a in enumerate(attributes)
+        VertexBuffer(a.name, slot, a.field, a.wgsl_type, a.vertex_format, a.stride, a.step_mode) for slot, a in enumerate(attributes)
     )
     return BindingPlan(features, tuple(tuple(group) for group in groups), vertex_buffers, textures)
 
@@ -270,6 +294,9 @@ def make_plan(
 @lru_cache(maxsize=256)
 def binding_plan(features: FeatureSet) -> BindingPlan:
     """The plan for one feature set (cached: a FeatureSet is hashable)."""
+    if features.primitive != "triangles":  # points and lines: the two uniform blocks and their instances
+        attributes = POINT_ATTRIBUTES if features.primitive == "points" else SEGMENT_ATTRIBUTES
+        return make_plan(features, _candidate_bindings(features), [a for a in attributes if a.when(features)])
     attributes = [] if flat(features) else [a for a in VERTEX_ATTRIBUTES if a.when(features)]
     textures = tuple(t for t in SAMPLED_TEXTURES if t.when(features))
     return make_plan(features, _candidate_bindings(features), attributes, textures)
@@ -283,9 +310,14 @@ def shadow_map_plan() -> BindingPlan:
     return make_plan(None, entries, [a for a in VERTEX_ATTRIBUTES if a.name == "positions"])
 
 
-@lru_cache(maxsize=1)
-def extra_outputs_plan() -> BindingPlan:
+@lru_cache(maxsize=8)
+def extra_outputs_plan(strokes: FeatureSet | None = None) -> BindingPlan:
     """The normals-and-ids pass (extra_outputs.py): one uniform block per object part and
-    the mesh's positions and normals."""
-    entries = [Binding("object", 0, "uniform", "extra_uniforms", "ExtraUniforms", VERTEX_AND_FRAGMENT, "One per object part.")]
-    return make_plan(None, entries, [a for a in VERTEX_ATTRIBUTES if a.name in ("positions", "normals")])
+    the mesh's positions and normals; for points and lines (`strokes`, their feature set)
+    their instances' positions (and a point's normal)."""
+    uniforms = "ExtraUniforms" if strokes is None else "PointOutputUniforms" if strokes.primitive == "points" else "LineOutputUniforms"
+    entries = [Binding("object", 0, "uniform", "extra_uniforms", uniforms, VERTEX_AND_FRAGMENT, "One per object part.")]
+    if strokes is None:
+        return make_plan(None, entries, [a for a in VERTEX_ATTRIBUTES if a.name in ("positions", "normals")])
+    attributes = POINT_ATTRIBUTES if strokes.primitive == "points" else SEGMENT_ATTRIBUTES
+    return make_plan(strokes, entries, [a for a in attributes if a.when(strokes) and "color" not in a.name])

@@ -25,19 +25,32 @@ from .bindings import BindingPlan, binding_plan, extra_outputs_plan, shadow_map_
 from .layout import layouts_for
 from .preprocess import preprocess, read_source
 
-ENTRY_FILES = {"flat": "flat.wgsl", "gouraud": "gouraud.wgsl", "phong": "phong.wgsl"}
+ENTRY_FILES = {"flat": "flat.wgsl", "gouraud": "gouraud.wgsl", "phong": "phong.wgsl"}  # triangles, by frequency
+STROKE_ENTRY_FILES = {"points": "points.wgsl", "lines": "lines.wgsl"}  # docs/primitives.md
 GENERATED_BINDINGS = "bindings.wgsl"
+UV_SETS_TEMPLATE = "chunks/surface/uv_sets.wgsl"
+# Set k's varying is at location k + 4, after every other varying of the entry shaders; with
+# shadows, whose varyings take locations 5..25 (chunks/shadows/), at k + 25.
+UV_SET_LOCATION_BEFORE, UV_SET_LOCATION_BEFORE_WITH_SHADOWS = 4, 25
 
 
 def sources_for(features: FeatureSet | None, plan: BindingPlan | None = None) -> Callable[[str], str]:
     """The reader `preprocess` uses for `features` (None: the extra outputs pass; or the
-    `plan` given): files of `wgsl/`, and the generated binding declarations under the name
-    "bindings.wgsl"."""
+    `plan` given): files of `wgsl/`, the generated binding declarations under the name
+    "bindings.wgsl", and the template of the other texture coordinate sets written once per
+    set the draw reads."""
     if plan is None:
         plan = extra_outputs_plan() if features is None else binding_plan(features)
 
     def reader(name: str) -> str:
-        return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
+        if name == GENERATED_BINDINGS:
+            return plan.wgsl()
+        if name == UV_SETS_TEMPLATE:
+            template = read_source(name)
+            sets = () if features is None else features.extra_uv_sets
+            before = UV_SET_LOCATION_BEFORE_WITH_SHADOWS if features is not None and features.shadow_lights else UV_SET_LOCATION_BEFORE
+            return "\n".join(template.replace("%SET%", str(k)).replace("%LOCATION%", str(before + k)) for k in sets)
+        return read_source(name)
 
     return reader
 
@@ -58,8 +71,11 @@ def generate_wgsl(features: FeatureSet) -> str:
     ):
         if count:
             header.append(f"const {constant}: u32 = {count}u;")
+    # The texture coordinate set each sampled texture reads (surface_uv_of, chunks/surface/uvs.wgsl).
+    header += [f"const {texture.name.upper()}_UV_SET: u32 = {features.uv_set(texture.name)}u;" for texture in binding_plan(features).textures]
     header += _shadow_constants(features)
-    body = preprocess(ENTRY_FILES[features.frequency], features.defines(), sources_for(features))
+    entry = STROKE_ENTRY_FILES.get(features.primitive) or ENTRY_FILES[features.frequency]
+    body = preprocess(entry, features.defines(), sources_for(features))
     return _tidy("\n".join(header) + "\n\n" + body)
 
 
@@ -95,7 +111,14 @@ def generate_shadow_map_wgsl() -> str:
     return _tidy(preprocess("shadow_map.wgsl", {}, sources_for(None, shadow_map_plan())))
 
 
-@lru_cache(maxsize=1)
-def generate_extra_outputs_wgsl() -> str:
-    """The normals-and-ids shader (wgsl/extra_outputs.wgsl with its generated bindings)."""
-    return _tidy(preprocess("extra_outputs.wgsl", {}, sources_for(None)))
+@lru_cache(maxsize=8)
+def generate_extra_outputs_wgsl(strokes: FeatureSet | None = None) -> str:
+    """The normals-and-ids shader (wgsl/extra_outputs.wgsl with its generated bindings); for
+    points and lines (`strokes`: their feature set), their quads."""
+    plan = extra_outputs_plan(strokes)
+
+    def reader(name: str) -> str:
+        return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
+
+    entry = "extra_outputs.wgsl" if strokes is None else f"{strokes.primitive}_outputs.wgsl"
+    return _tidy(preprocess(entry, (strokes or FeatureSet()).defines(), reader))

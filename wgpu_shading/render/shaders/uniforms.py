@@ -155,6 +155,16 @@ def object_uniforms(
     return data
 
 
+def stroke_uniforms(data: np.ndarray, size: tuple[int, int], pixels: float, edge_color=None) -> np.ndarray:
+    """A point's or line's ObjectUniforms (object_uniforms' block) with the target's size and
+    the quad's size in pixels, and the edge colour of an edges draw (docs/primitives.md)."""
+    data["viewport_size"] = size
+    data["stroke_pixels"] = pixels
+    if edge_color is not None:
+        data["edge_color"] = edge_color
+    return data
+
+
 def _fill_light_products(data: np.ndarray, material: Material, scene: Scene) -> None:
     """Light colors times material colors, in float64 then rounded once: the shader reads
     these instead of multiplying the two uniforms per fragment (docs/performance.md)."""

@@ -30,7 +30,7 @@ from ..camera import PROJECTIONS
 from ..maps import SCENE_COLOR_SPACES
 from ..shadows import AUTO, SHADOW_FILTERS
 from ..material_table import material as named_material
-from ..values import FREQUENCIES, REFLECTIONS
+from ..values import FREQUENCIES, MAX_STROKE_PIXELS, MIN_STROKE_PIXELS, REFLECTIONS
 from .reading import (
     LIGHT_SYNTAX,
     read_bool,
@@ -137,6 +137,11 @@ def _positive(value: Any, where: str) -> float:
     return read_float(value, where, 0.0, low_open=True)
 
 
+def _pixels(value: Any, where: str) -> float:
+    """A point size or line width in pixels (docs/valid-ranges.md)."""
+    return read_float(value, where, MIN_STROKE_PIXELS, MAX_STROKE_PIXELS)
+
+
 def _switches(true_flag: str, true_help: str, false_flag: str, false_help: str) -> tuple:
     return ((true_flag, True, true_help), (false_flag, False, false_help))
 
@@ -183,6 +188,18 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
     _O("color_space", read_choice(SCENE_COLOR_SPACES), "shading.color_space",
        "colour values: auto (glTF linear with sRGB output, others display values), display or linear for every material", "linear",
        flags=("--color-space",), metavar=_choices(SCENE_COLOR_SPACES)),
+    _O("point_size", _pixels, "shading.point_size",
+       "points (point clouds, glTF POINTS) PX pixels across: squares, discs facing their normals when they have them (default 3)",
+       6.0, flags=("--point-size",), metavar="PX"),
+    _O("line_width", _pixels, "shading.line_width", "lines (OBJ l, glTF LINES) PX pixels wide (default 1)", 3.0,
+       flags=("--line-width",), metavar="PX"),
+    _O("edges", read_bool, "shading.edges", "draw the triangles' edges over the surfaces (f3d's --edges)", True,
+       switches=_switches("--edges", "draw the triangles' edges over the surfaces (f3d's --edges)",
+                          "--no-edges", "draw no edges (the default)")),
+    _O("edge_color", read_color, "shading.edge_color", "the edges' colour, components 0..1 (default black)", (1.0, 0.5, 0.0),
+       flags=("--edge-color",), metavar="R,G,B[,A]"),
+    _O("edge_width", _pixels, "shading.edge_width", "the edges PX pixels wide (default 1)", 2.0,
+       flags=("--edge-width",), metavar="PX"),
     _O("crease_angle", read_crease_angle, "objects.crease_angle",
        "mesh files without normals: edges sharper than this are creases (default 60; 180 smooth, 0 flat)", 120.0,
        flags=("--crease-angle",), metavar="DEG", load="mesh"),

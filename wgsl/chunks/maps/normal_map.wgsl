@@ -45,10 +45,15 @@ fn perturbed_normal(normal: vec3<f32>, eye_position: vec3<f32>, uv: vec2<f32>, m
 }
 
 #at phong.fragment_normal
-    let mapped = map_normal(surface_uv);
+#if NORMAL_MAP
+    let normal_uv = surface_uv_of(NORMAL_MAP_UV_SET);  // (a bump map, from OBJ, reads set 0 with it)
+#else
+    let normal_uv = surface_uv_of(BUMP_MAP_UV_SET);
+#endif
+    let mapped = map_normal(normal_uv);
     // The derivative frame is computed in uniform control flow (dpdx) even where the file's
     // tangents replace it.
-    normal = perturbed_normal(normal, in.eye_position, surface_uv, mapped, face_sign);
+    normal = perturbed_normal(normal, in.eye_position, normal_uv, mapped, face_sign);
 #if VERTEX_TANGENTS
     normal = vertex_tangent_normal(safe_normalize(in.eye_normal, FALLBACK_NORMAL), in.eye_tangent, mapped, face_sign, normal);
 #endif

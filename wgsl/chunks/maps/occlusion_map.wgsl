@@ -17,9 +17,9 @@ fn occlusion_factor(texel: vec4<f32>) -> f32 {
     ambient *= ambient_occlusion;
 #end
 #at gouraud.vertex_surface flat.vertex_surface
-    ambient_occlusion = occlusion_factor(textureSampleLevel(occlusion_map_texture, occlusion_map_sampler, surface_uv, 0.0));
+    ambient_occlusion = occlusion_factor(textureSampleLevel(occlusion_map_texture, occlusion_map_sampler, surface_uv_of(OCCLUSION_MAP_UV_SET), 0.0));
 #end
 #at phong.fragment_surface
-    ambient_occlusion = occlusion_factor(textureSample(occlusion_map_texture, occlusion_map_sampler, surface_uv));
+    ambient_occlusion = occlusion_factor(textureSample(occlusion_map_texture, occlusion_map_sampler, surface_uv_of(OCCLUSION_MAP_UV_SET)));
 #end
 #endif

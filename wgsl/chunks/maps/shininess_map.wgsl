@@ -8,9 +8,9 @@ var<private> shininess_scale: f32 = 1.0;
     shininess *= shininess_scale;
 #end
 #at gouraud.vertex_surface flat.vertex_surface
-    shininess_scale = textureSampleLevel(shininess_map_texture, shininess_map_sampler, surface_uv, 0.0).r;
+    shininess_scale = textureSampleLevel(shininess_map_texture, shininess_map_sampler, surface_uv_of(SHININESS_MAP_UV_SET), 0.0).r;
 #end
 #at phong.fragment_surface
-    shininess_scale = textureSample(shininess_map_texture, shininess_map_sampler, surface_uv).r;
+    shininess_scale = textureSample(shininess_map_texture, shininess_map_sampler, surface_uv_of(SHININESS_MAP_UV_SET)).r;
 #end
 #endif

@@ -4,7 +4,7 @@
 // (modulate_all), or is mixed evenly with the lit color (blend); its alpha multiplies the
 // surface's.
 #at output.surface
-    let texel = textureSample(base_color_texture, base_color_sampler, surface_uv);
+    let texel = textureSample(base_color_texture, base_color_sampler, surface_uv_of(BASE_COLOR_UV_SET));
 #if TEXTURE_MODULATE
     // A texture showing the real surface: it replaces the surface color under ambient and
     // diffuse light; the highlight stays the light's color. Without a material this is the

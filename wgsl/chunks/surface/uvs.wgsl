@@ -4,6 +4,14 @@
 // shading, the lit vertex or face centroid).
 var<private> surface_uv: vec2<f32>;
 
+// The texture coordinates a texture reads at the point being shaded: its set (Texture.uv_set,
+// a const of the generated shader per texture: BASE_COLOR_UV_SET, OCCLUSION_MAP_UV_SET, ...);
+// set 0 is `surface_uv`, the mesh's other sets come from chunks/surface/uv_sets.wgsl.
+fn surface_uv_of(uv_set: u32) -> vec2<f32> {
+#hook uvs.other_sets  // (the mesh's other texture coordinate sets)
+    return surface_uv;
+}
+
 #if FREQUENCY_FLAT
 fn model_uv(vertex: u32) -> vec2<f32> {
     return vec2<f32>(mesh_uvs[2u * vertex], mesh_uvs[2u * vertex + 1u]);

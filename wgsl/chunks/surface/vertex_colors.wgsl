@@ -23,6 +23,22 @@ var<private> surface_color: vec4<f32> = vec4<f32>(1.0);
 #at gouraud.vertex_surface
     surface_color = vertex.color;
 #end
+#at points.varyings
+    @location(0) @interpolate(flat) color: vec4<f32>,
+#end
+#at lines.varyings
+    @location(0) color: vec4<f32>,
+#end
+#at points.vertex
+    out.color = vertex.color;
+#end
+#at lines.vertex
+    // interpolated from one end of the segment to the other
+    out.color = select(vertex.start_color, vertex.end_color, corner.x > 0.5);
+#end
+#at points.fragment_surface lines.fragment_surface
+    surface_color = in.color;
+#end
 #at flat.vertex_surface
     // One color per face, like its normal: the mean of its corners' colors.
     surface_color = (mesh_colors[mesh_indices[first]] + mesh_colors[mesh_indices[first + 1u]]

@@ -1,0 +1,85 @@
+"""OBJ's line and point elements: `l` polylines and `p` points (the OBJ specification's
+"line" and "point" elements), and a file of bare `v` lines read as a point cloud.
+
+Each record's indices refer to `v` lines (a `v/vt` pair's texture index is ignored: lines
+and points are drawn in their colour); negative ones count back from the vertices declared
+so far, as in faces (obj.py). A record's material is the `usemtl` in force on its line.
+Lines and points get vertices of their own, copied from the `v` lines they use, so the
+faces' vertices (split by uv and normal) are not touched.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import MeshError
+from ...scene.material import Material
+
+
+@dataclass
+class ObjElements:
+    """The lines (indices (k, 2) segments) or points (indices None: every vertex a point)
+    of an OBJ, on vertices of their own, in parts by material."""
+
+    positions: np.ndarray  # (n, 3) float64
+    colors: np.ndarray | None  # (n, 3) float64 from `v x y z r g b`
+    indices: np.ndarray | None
+    parts: list[tuple[int, int, Material | None, str]]
+
+
+def _record_indices(line: str, line_number: int, declared: int, path: str) -> list[int]:
+    tokens = line.split()[1:]
+    try:
+        raw = [int(token.split("/")[0]) for token in tokens]
+    except ValueError:
+        raise MeshError(f"{path}:{line_number}: cannot read {line.strip()!r} (expected vertex indices)") from None
+    resolved = []
+    for value in raw:
+        index = value - 1 if value > 0 else declared + value
+        if value == 0 or not 0 <= index < declared:
+            raise MeshError(f"{path}:{line_number}: {line.strip()!r} refers to a vertex that does not exist ({declared} v declared before it)")
+        resolved.append(index)
+    return resolved
+
+
+def obj_elements(lines: list[str], record_lines: np.ndarray, v_count: np.ndarray, material_at, v: np.ndarray,
+                 materials: dict, path: str, kind: str) -> ObjElements | None:
+    """The `l` (kind "lines") or `p` (kind "points") records at `record_lines` (0-based line
+    numbers); `v_count[i]` is how many `v` lines precede line i, `material_at(i)` the
+    material name in force there."""
+    if not len(record_lines):
+        return None
+    by_material: dict[str, list[np.ndarray]] = {}
+    for index in record_lines.tolist():
+        vertices = _record_indices(lines[index], index + 1, int(v_count[index]), path)
+        if kind == "lines":
+            if len(vertices) < 2:
+                raise MeshError(f"{path}:{index + 1}: a line needs at least 2 vertices, got {lines[index].strip()!r}")
+            elements = np.array([vertices[:-1], vertices[1:]], np.int64).T
+        else:
+            elements = np.array(vertices, np.int64)
+        by_material.setdefault(material_at(index) or "", []).append(elements)
+    return _on_own_vertices(by_material, v, materials, kind)
+
+
+def bare_points(v: np.ndarray) -> ObjElements:
+    """A file of `v` lines and nothing to join them: every vertex a point (trimesh's
+    obj_points.obj, written by Blender)."""
+    return ObjElements(v[:, :3], v[:, 3:6] if v.shape[1] == 6 else None, None, [(0, len(v), None, "")])
+
+
+def _on_own_vertices(by_material: dict, v: np.ndarray, materials: dict, kind: str) -> ObjElements:
+    groups = [(name, np.concatenate(chunks)) for name, chunks in by_material.items()]
+    if kind == "points":  # each listed point its own vertex, in part order
+        used = np.concatenate([elements for _, elements in groups])
+        indices = None
+    else:
+        used, inverse = np.unique(np.concatenate([elements.reshape(-1) for _, elements in groups]), return_inverse=True)
+        indices = inverse.reshape(-1, 2)
+    parts, start = [], 0
+    for name, elements in groups:
+        parts.append((start, len(elements), materials.get(name) if name else None, name))
+        start += len(elements)
+    return ObjElements(v[used, :3], v[used, 3:6] if v.shape[1] == 6 else None, indices, parts)

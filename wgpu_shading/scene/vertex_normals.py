@@ -1,0 +1,68 @@
+"""Vertex normals as the seeds define them, and normals a caller gives made usable.
+
+`vertex_normals`: the normalized sum of the unit normals of the faces around each given
+vertex (no welding: normals.py welds and creases). `validated_normals`: given normals made
+unit length, with computed ones where a given one has no direction.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import MeshError
+from .normals import face_normals
+
+
+def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Normalized sum of the unit normals of the faces around each vertex (the seeds' rule, docs/conventions.md#vertex-normals).
+
+    Zero-area faces contribute nothing. Where the sum cancels (a vertex shared by a
+    thin double-sided sheet, say), the normal of the largest adjacent face is used
+    instead, so every vertex that touches a real face gets a unit normal. Vertices
+    that touch no face with area keep a zero normal; the shaders then fall back to
+    the geometric normal.
+    """
+    positions = np.asarray(positions, dtype=np.float64)
+    unit_faces, areas = face_normals(positions, faces)
+    count = len(positions)
+    flat_vertices = faces.reshape(-1)
+    summed = np.stack(
+        [np.bincount(flat_vertices, weights=np.repeat(unit_faces[:, k], 3), minlength=count) for k in range(3)],
+        axis=1,
+    )
+    length = np.linalg.norm(summed, axis=1)
+    adjacent = np.bincount(flat_vertices, weights=np.repeat((areas > 0).astype(float), 3), minlength=count)
+    # A sum of k unit vectors that is shorter than 1e-6·k has cancelled: its direction is noise.
+    cancelled = (length <= 1e-6 * np.maximum(adjacent, 1.0)) & (adjacent > 0)
+    result = np.zeros_like(summed)
+    good = length > 0
+    good &= ~cancelled
+    result[good] = summed[good] / length[good, None]
+    if cancelled.any():
+        # The largest adjacent face wins: sort faces by area and let larger ones overwrite.
+        order = np.argsort(areas)
+        corner_vertices = faces[order].reshape(-1)
+        corner_normals = np.repeat(unit_faces[order], 3, axis=0)
+        corner_areas = np.repeat(areas[order], 3)
+        keep = cancelled[corner_vertices] & (corner_areas > 0)
+        result[corner_vertices[keep]] = corner_normals[keep]
+    return result
+
+
+def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndarray, name: str) -> np.ndarray:
+    if normals.shape != positions.shape:
+        raise MeshError(f"{name}: normals must have shape {positions.shape}, got {normals.shape}")
+    squared = np.einsum("ij,ij->i", normals, normals)
+    if np.all(np.abs(squared - 1.0) < 1e-9):  # already unit (and so finite): computed ones, most files
+        return normals
+    finite = np.isfinite(normals).all(axis=1)
+    length = np.linalg.norm(np.where(finite[:, None], normals, 0.0), axis=1)
+    usable = finite & (length > 1e-20)
+    result = np.zeros_like(normals)
+    result[usable] = normals[usable] / length[usable, None]
+    if not usable.all():
+        # Zero-length or NaN normals in the input: replace those with computed ones
+        # rather than let normalize(0) reach the shader.
+        computed = vertex_normals(positions, faces)
+        result[~usable] = computed[~usable]
+    return result
