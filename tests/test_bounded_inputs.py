@@ -5,6 +5,8 @@ without being opened, and Pillow's decompression-bomb limit matching our documen
 
 from __future__ import annotations
 
+import importlib.util
+
 import os
 import struct
 import warnings
@@ -233,6 +235,26 @@ def test_trimesh_internals_are_not_leaked_into_messages():
     assert "FilePathResolver" not in text and "'../secret.bin'" in text and "outside its folder" in text
     text = describe_load_error(AssertionError(), Path("m.ply"))
     assert "AssertionError" not in text and "not a valid PLY file" in text
+
+
+def test_a_ply_of_edges_is_not_called_an_invalid_file(tmp_path, capsys):
+    # trimesh reads a PLY whose only elements are vertices and edges as a path, which needs
+    # scipy: its ImportError was reported as "not a valid PLY file (neither its binary form
+    # nor UTF-8 text)", which the file is. Now one line that says what is missing.
+    import struct
+
+    from cli_errors import one_line_error, run_cli
+
+    pytest.importorskip("trimesh")
+    if importlib.util.find_spec("scipy") is not None:
+        pytest.skip("with scipy installed, trimesh reads the edges")
+    path = tmp_path / "edges.ply"
+    header = ("ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+              "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n")
+    path.write_bytes(header.encode() + struct.pack("<ffffffii", 0, 0, 0, 1, 1, 1, 0, 1))
+    code, err = run_cli(capsys, "render", str(path), "-o", str(tmp_path / "e.png"))
+    line = one_line_error(code, err, "edges.ply", "'scipy'", "not installed")
+    assert "not a valid" not in line
 
 
 def test_pillow_warnings_about_a_texture_are_one_line_naming_it(tmp_path, capsys):

@@ -318,3 +318,36 @@ def test_the_command_line_draws_a_real_point_cloud_with_its_outputs(tmp_path):
     np.testing.assert_array_equal(np.isfinite(depth), ids > 0)
     assert ((np.abs(normals).sum(axis=2) > 0) == (ids > 0)).mean() > 0.99  # every disc has its normal
     assert (colour & (ids == 0)).sum() == 0
+
+
+@pytest.mark.parametrize("text, suffix", [
+    ("v 5 -2 7\n", ".obj"),  # one point, away from the origin
+    ("v 1 1 1\nv 1 1 1\nv 1 1 1\n", ".obj"),  # three at one place
+    ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n", ".ply"),
+])
+def test_a_point_cloud_at_a_single_place_is_a_dot_in_the_middle(tmp_path, text, suffix):
+    # Refused before: "the mesh is 0 units across; between 1e-09 and 1e+09 are supported".
+    # A point is so many pixels across from any distance: the bare-mesh view frames a unit
+    # sphere around it, and the dot is the point size, centred (f3d draws it too).
+    import imageio.v3 as iio
+
+    from wgpu_shading.cli.main import main
+
+    source, output = tmp_path / f"one{suffix}", tmp_path / "one.png"
+    source.write_text(text)
+    assert main(["render", str(source), "--size", "64", "--point-size", "5", "-o", str(output), "-q"]) == 0
+    rows, columns = np.nonzero((iio.imread(output)[..., :3] != 0).any(axis=-1))
+    assert (rows.min(), rows.max(), columns.min(), columns.max()) == (29, 33, 29, 33)  # 5 × 5 pixel centres within 2.5 of (32, 32)
+
+
+def test_only_points_may_lie_at_a_single_place():
+    from wgpu_shading import MeshError
+
+    place = np.zeros((3, 3))
+    with pytest.raises(MeshError, match="0 units across"):
+        Mesh.from_arrays(place, np.array([[0, 1, 2]]))
+    with pytest.raises(MeshError, match="0 units across"):
+        Mesh.from_arrays(place, lines=np.array([[0, 1]]))
+    with pytest.raises(MeshError, match="1e-12 units across"):  # two points, too close to frame: as before
+        Mesh.from_arrays(np.array([[0.0, 0, 0], [1e-12, 0, 0]]))
+    assert Mesh.from_arrays(place).point_count == 3

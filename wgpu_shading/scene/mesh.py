@@ -317,7 +317,10 @@ class Mesh:
             uvs = np.ascontiguousarray(uvs, dtype=np.float32)
         lower, upper = bounds(positions)
         extent = float(np.linalg.norm(upper - lower))
-        if not MIN_EXTENT <= extent <= MAX_EXTENT:
+        # A point cloud whose points all lie at one place (a single point) has no extent and
+        # needs none: a point is drawn so many pixels across wherever the camera is.
+        single_place = extent == 0.0 and not len(faces) and not line_count
+        if not MIN_EXTENT <= extent <= MAX_EXTENT and not single_place:
             raise MeshError(
                 f"{name}: the mesh is {extent:.3g} units across; between {MIN_EXTENT:g} and {MAX_EXTENT:g} are supported "
                 "(float32 on the GPU): scale the file's coordinates, then use the object's scale"

@@ -63,6 +63,7 @@ KEY_AZIMUTH = 30.0  # degrees to the right
 KEY_DIFFUSE = (0.7, 0.7, 0.7, 1.0)
 KEY_SPECULAR = (1.0, 1.0, 1.0, 1.0)
 HEADLIGHT_DIFFUSE = (0.5, 0.5, 0.5, 1.0)
+SINGLE_PLACE_RADIUS = 1.0  # the framing of a mesh without extent (a single point), world units
 
 
 def bare_mesh_scene(
@@ -129,9 +130,12 @@ def relit(scene: Scene, objects: tuple[SceneObject, ...], camera: Camera) -> dic
 
 
 def bounding_sphere(mesh: Mesh) -> tuple[np.ndarray, float]:
-    """Centre and radius of the mesh's bounding box's sphere (world units)."""
+    """Centre and radius of the mesh's bounding box's sphere (world units); a unit sphere
+    around a mesh at a single place (a point cloud of one point: Mesh allows no other mesh
+    without extent), whose points show at their size in pixels from any distance."""
     lower, upper = mesh.bounds()
-    return (lower + upper) / 2.0, max(float(np.linalg.norm(upper - lower)) / 2.0, 1e-12)
+    radius = float(np.linalg.norm(upper - lower)) / 2.0
+    return (lower + upper) / 2.0, radius if radius > 0.0 else SINGLE_PLACE_RADIUS
 
 
 def depth_range(eye, center, radius: float) -> tuple[float, float]:
