@@ -36,7 +36,7 @@ import time
 import traceback
 from pathlib import Path
 
-SECTIONS = ("warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset")
+SECTIONS = ("warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "shadows")
 REAL_ONLY = ("callgrind",)  # sections of a real run only (the smoke run has a script of that name instead)
 HERE = Path(__file__).resolve().parent
 # --smoke only: the standalone benchmarks, each with its own smallest arguments. None of
@@ -97,6 +97,7 @@ class Settings:
     dataset_sizes: tuple[int, ...] = (256, 512)
     dataset_passes: int = 3
     file_triangles: int = 10_000_000  # memory: the binary STL loaded and rendered (issue #29: < 3x its arrays)
+    shadow_sizes: tuple[int, ...] = (512,)  # benchmarks/shadows.py: a shadowed frame against pyrender and pygfx
 
 
 FULL = Settings(
@@ -128,7 +129,7 @@ SMOKE = Settings(
     scaling_counts=(200, 2_000), scaling_sides=(32, 64), scaling_rounds=1, scaling_frames=1,
     tiny=True, scaling_size=64, thread_frames=1, thread_seconds=0.1,
     cold_size=64, cold_fill_caches=False, cold_phase_rounds=1,
-    dataset_views=3, dataset_sizes=(32,), dataset_passes=1, file_triangles=2_000,
+    dataset_views=3, dataset_sizes=(32,), dataset_passes=1, file_triangles=2_000, shadow_sizes=(64,),
 )
 
 
@@ -170,7 +171,7 @@ def main(argv: list[str] | None = None) -> int:
     skipped: list[str] = []
     moderngl = not smoke or _peer_usable("moderngl", skipped)
     pygfx = not args.no_pygfx and (not smoke or _peer_usable("pygfx", skipped))
-    pyrender = _pyrender_usable(skipped) if {"depth", "dataset"} & set(chosen) else False
+    pyrender = _pyrender_usable(skipped) if {"depth", "dataset", "shadows"} & set(chosen) else False
     out = args.out or (Path(tempfile.mkdtemp(prefix="wgpu-shading-bench-smoke-")) if smoke else HERE / "results")
     ran: list[str] = []
     failed: list[str] = []
@@ -276,6 +277,14 @@ def main(argv: list[str] | None = None) -> int:
             )
             print("## Dataset rendering (benchmarks/dataset.py)\n\n" + table(dataset) + "\n", flush=True)
             results["dataset"] = dataset
+    if "shadows" in chosen:
+        with step("shadows"):
+            from .shadows import run_shadows, shadows_table
+
+            shadows = run_shadows(renderer, s.shadow_sizes, rounds=s.warm_rounds, frames=s.warm_frames, tiny=s.tiny,
+                                  pyrender=pyrender, pygfx=pygfx)
+            print(shadows_table(shadows), flush=True)
+            results["shadows"] = shadows
     if "callgrind" in chosen and not smoke:
         from .callgrind import callgrind_table, callgrind_unusable, run_callgrind
 

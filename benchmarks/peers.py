@@ -332,7 +332,7 @@ class PygfxPeer(Peer):
 
         from wgpu_shading.render.device import select_adapter
 
-        _select_pygfx_adapter(gfx, select_adapter)
+        select_pygfx_adapter(gfx, select_adapter)
         self.name = "pygfx lean" if lean else "pygfx"
         width, height = draw.size
         self.canvas = RenderCanvas(size=(width, height), pixel_ratio=1)
@@ -364,7 +364,7 @@ class PygfxPeer(Peer):
 _PYGFX_ADAPTER_SELECTED = False
 
 
-def _select_pygfx_adapter(gfx, select_adapter) -> None:
+def select_pygfx_adapter(gfx, select_adapter) -> None:
     """pygfx picks its own adapter unless told; give it the lavapipe adapter we use."""
     global _PYGFX_ADAPTER_SELECTED
     if not _PYGFX_ADAPTER_SELECTED:

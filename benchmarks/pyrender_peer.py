@@ -80,8 +80,9 @@ class PyrenderScenes:
             self._meshes[id(obj.mesh)] = pyrender.Mesh([primitive])
         return self._meshes[id(obj.mesh)]
 
-    def render(self, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-        """Colour (RGB8) and eye depth (float32, 0 where nothing was drawn)."""
+    def render(self, scene: Scene, flags: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """Colour (RGB8) and eye depth (float32, 0 where nothing was drawn); `flags`:
+        pyrender.RenderFlags (its shadows, benchmarks/shadows.py)."""
         pyrender = self.pyrender
         key = tuple((id(obj.mesh), obj.world_from_model().tobytes()) for obj in scene.objects)
         if key != self._key:  # other meshes or poses: a new pyrender scene (the meshes are kept)
@@ -119,7 +120,7 @@ class PyrenderScenes:
                 target.add(pyrender.PointLight(color=color, intensity=intensity), pose=pose)
         if (width, height) not in self._renderers:
             self._renderers[width, height] = pyrender.OffscreenRenderer(width, height)
-        return self._renderers[width, height].render(target)
+        return self._renderers[width, height].render(target, flags=flags)
 
     def close(self) -> None:
         for renderer in self._renderers.values():

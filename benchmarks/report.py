@@ -283,6 +283,10 @@ def everything(results: dict) -> str:
         from .dataset import table as dataset_table
 
         parts.append(dataset_table(results["dataset"]))
+    if "shadows" in results:
+        from .shadows import shadows_table
+
+        parts.append(shadows_table(results["shadows"]))
     if "callgrind" in results:
         from .callgrind import callgrind_table
 

@@ -83,7 +83,7 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 
 SMOKE_STEPS = (
     "warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference",
-    "golden_noise", "gif_palette", "loading", "antialiasing", "live", "callgrind", "ab_issue21",
+    "golden_noise", "gif_palette", "loading", "antialiasing", "live", "callgrind", "ab_issue21", "shadows",
     "report",
 )
 
@@ -177,6 +177,17 @@ def test_smoke_depth_times_colour_and_depth_against_pyrender(smoke):
     for row in rows:
         assert _positive(row["wgpu-shading"]) and _positive(row["wgpu-shading + depth"])
         assert _positive(row["pyrender (colour + depth)"]) == _pyrender_usable()
+
+
+def test_smoke_shadows_times_a_shadowed_frame_against_pyrender_and_pygfx(smoke):
+    frames, by_size = _tables(_section(smoke, "shadows"))
+    assert [(row["light"], row["size"]) for row in frames] == [("directional light", "64²"), ("spot light", "64²")]
+    for row in frames:
+        assert all(_positive(row[name].split()[0]) for name in ("wgpu-shading (maps drawn)", "maps reused", "no shadows"))
+        assert _positive(row["pyrender"].split()[0]) == _pyrender_usable()
+        assert _positive(row["pygfx lean"].split()[0]) == _importable("pygfx")
+    assert [row["map"] for row in by_size] == ["none", "256", "512"]  # the smoke run's sizes
+    assert all(_positive(row["frame"]) for row in by_size)
 
 
 def _importable(name: str) -> bool:

@@ -69,3 +69,42 @@ def test_auto_resolves_field_by_field():
     resolved = ShadowSettings(map_size=512).resolved()
     assert resolved.map_size == 512 and resolved.filter != "auto" and resolved.bias != "auto"
     assert ShadowSettings(512, "nearest", 0.0).resolved() == ShadowSettings(512, "nearest", 0.0)
+
+
+def test_auto_is_the_studys_choice_for_the_stored_points():
+    """scene/shadows.py's AUTO_* are what the rule picks from the study the docs show
+    (docs/accuracy/shadows.json, written by `wgpu-shading bench accuracy --shadows`): a re-run
+    that chooses otherwise fails here, naming the constants to set."""
+    from pathlib import Path
+
+    from wgpu_shading.scene import shadows
+    from wgpu_shading.study.accuracy import load_shadow_points
+
+    stored = Path(__file__).resolve().parent.parent / "docs" / "accuracy" / "shadows.json"
+    chosen = cheapest_shadow_setting(load_shadow_points(stored))
+    assert chosen is not None, "no setting of the stored study meets the budget"
+    assert shadows.AUTO_IS_MEASURED
+    assert (shadows.AUTO_MAP_SIZE, shadows.AUTO_FILTER, shadows.AUTO_BIAS) == (chosen.map_size, chosen.filter, chosen.bias), (
+        f"set AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = {chosen.map_size}, {chosen.filter!r}, {chosen.bias!r} in scene/shadows.py")
+
+
+def test_a_point_reads_back_as_it_was_written(tmp_path):
+    from wgpu_shading.study.accuracy import load_shadow_points, write_shadow_study
+
+    points = [point(1024, "pcf3", 1.0, 3.0), point(512, "nearest", 3.0, 2.0, case="b")]
+    write_shadow_study(points, tmp_path, plot=False, command="test")
+    assert load_shadow_points(tmp_path / "shadows.json") == tuple(points)
+    assert "auto = 512 texels, nearest, bias 3 texels" in (tmp_path / "shadows.md").read_text()
+
+
+def test_bench_accuracy_shadows_writes_the_study_and_says_what_auto_is(tmp_path, capsys):
+    from wgpu_shading.cli.main import main
+
+    markdown = tmp_path / "accuracy.md"
+    markdown.write_text("# Accuracy\n\n<!-- accuracy:shadows-auto -->\n<!-- /accuracy:shadows-auto -->\n")
+    assert main(["bench", "accuracy", "--shadows", "--quick", "--no-plot", "--frames", "1", "--out", str(tmp_path / "out"),
+                 "--markdown", str(markdown)]) == 0
+    printed = capsys.readouterr().out
+    assert "auto: (" in printed
+    assert {p.name for p in (tmp_path / "out").iterdir()} == {"shadows.csv", "shadows.json", "shadows.md"}
+    assert "auto = " in markdown.read_text() or "No setting" in markdown.read_text()

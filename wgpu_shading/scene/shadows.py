@@ -31,10 +31,11 @@ MIN_SHADOW_MAP_SIZE, MAX_SHADOW_MAP_SIZE = 16, 8192
 MAX_SHADOW_BIAS_TEXELS = 64.0
 
 # What "auto" resolves to, field by field: the accuracy study's choice
-# (docs/shadows.md#auto, study/accuracy/shadow_choice.py). PROVISIONAL until the study runs
-# on the GPU's shadows: a common starting point, not a measurement (AUTO_IS_MEASURED).
-AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = 2048, "nearest", 3.0
-AUTO_IS_MEASURED = False
+# (docs/shadows.md#auto, study/accuracy/shadow_choice.py), measured on the GPU's shadows
+# over every hard case (docs/accuracy.md#shadows; tests/test_shadow_study.py checks these
+# against the stored points).
+AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = 512, "nearest", 3.0
+AUTO_IS_MEASURED = True
 
 ShadowFilter = Literal["auto", "nearest", "bilinear", "pcf3", "pcf5"]
 MapSize = Union[int, Literal["auto"]]

@@ -18,6 +18,7 @@ The modules, in the order the study runs:
     write.py      write_study: CSV, JSON, table.md, pictures, docs/accuracy.md blocks
     shadow_sweep.py   shadows: map size × filter × bias against the exact shadows, timed
     shadow_choice.py  the rule `auto` follows for shadows: the cheapest setting within the budget
+    shadow_write.py   shadows.csv/.json/.md, the error-against-cost plot, docs/accuracy.md's shadows blocks
 
 Errors are in units of 1/255 against float64 references (`study/reference/`); frame times
 are medians of warm RGBA8 frames (see sweep.py). The automatic shading choice that uses
@@ -33,14 +34,19 @@ from .config import QUICK, STUDY_MATERIAL, StudyConfig, study_scene
 from .pictures import require_matplotlib
 from .results import Study
 from .shadow_choice import ShadowBudget, cheapest_shadow_setting, qualifying_settings
-from .shadow_sweep import ShadowPoint, ShadowSetting, gpu_draws_shadows, run_shadow_study, shadow_grid, shadow_table
-from .sweep import run_study
+from .shadow_sweep import (
+    QUICK_SHADOW_CASES, ShadowPoint, ShadowSetting, gpu_draws_shadows, quick_shadow_grid, run_shadow_study, shadow_grid,
+    shadow_table,
+)
+from .shadow_write import load_shadow_points, write_shadow_study
+from .sweep import environment, run_study
 from .tables import headline
 from .write import update_markdown, write_study
 
 __all__ = [
     "ShadowBudget", "ShadowPoint", "ShadowSetting", "cheapest_shadow_setting", "gpu_draws_shadows", "qualifying_settings",
-    "run_shadow_study", "shadow_grid", "shadow_table",
+    "run_shadow_study", "shadow_grid", "shadow_table", "QUICK_SHADOW_CASES", "quick_shadow_grid", "load_shadow_points",
+    "write_shadow_study", "environment",
     "AccuracyError",
     "QUICK",
     "STUDY_MATERIAL",

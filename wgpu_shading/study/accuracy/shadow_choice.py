@@ -29,16 +29,17 @@ class ShadowBudget:
 
 
 def qualifying_settings(points: Iterable[ShadowPoint], budget: ShadowBudget = ShadowBudget()) -> dict[ShadowSetting, float]:
-    """Settings within the budget on every case they were measured on → their median frame time (ms)."""
+    """Settings within the budget on every case they were measured on → their median frame
+    cost (ms: CPU time where measured, ShadowPoint.cost_ms)."""
     by_setting: dict[ShadowSetting, list[ShadowPoint]] = {}
     for point in points:
         by_setting.setdefault(point.setting, []).append(point)
-    return {setting: statistics.median(p.frame_ms for p in rows)
+    return {setting: statistics.median(p.cost_ms for p in rows)
             for setting, rows in by_setting.items() if all(budget.allows(p) for p in rows)}
 
 
 def cheapest_shadow_setting(points: Iterable[ShadowPoint], budget: ShadowBudget = ShadowBudget()) -> ShadowSetting | None:
-    """The cheapest qualifying setting (None if none qualifies): least median frame time;
+    """The cheapest qualifying setting (None if none qualifies): least median frame cost;
     within 5 % of it, the smaller map, then the filter earlier in SHADOW_FILTERS, then the
     smaller bias (the least a receiver is moved)."""
     qualifying = qualifying_settings(points, budget)
