@@ -17,7 +17,7 @@ import pytest
 from wgpu_shading import MeshError, load_mesh
 from wgpu_shading.cli.main import main
 
-from gltf_builder import FLOAT, UINT, USHORT, Doc
+from gltf_builder import FLOAT as _FLOAT, UINT as _UINT, USHORT as _USHORT, Doc
 
 SQUARE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], np.float32)
 
@@ -42,10 +42,10 @@ def test_sparse_accessor_replaces_the_listed_elements(tmp_path):
     position = doc.accessor(base)
     doc.accessors[position]["sparse"] = {
         "count": 2,
-        "indices": {"bufferView": doc.view(np.array([1, 4], np.uint16)), "componentType": USHORT},
+        "indices": {"bufferView": doc.view(np.array([1, 4], np.uint16)), "componentType": _USHORT},
         "values": {"bufferView": doc.view(np.array([[1, 0, 3], [1, 1, 3]], np.float32))},
     }
-    indices = doc.accessor(np.array([0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4], np.uint16), USHORT)
+    indices = doc.accessor(np.array([0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4], np.uint16), _USHORT)
     mesh = load_mesh(doc.write(tmp_path / "sparse.gltf", [[{"attributes": {"POSITION": position}, "indices": indices}]], [{"mesh": 0}]))
     expected = base.copy()
     expected[[1, 4]] = [[1, 0, 3], [1, 1, 3]]
@@ -54,9 +54,9 @@ def test_sparse_accessor_replaces_the_listed_elements(tmp_path):
 
 def test_sparse_accessor_without_buffer_view_starts_from_zeros(tmp_path):
     doc = Doc()
-    doc.accessors.append({"componentType": FLOAT, "count": 3, "type": "VEC3", "sparse": {
+    doc.accessors.append({"componentType": _FLOAT, "count": 3, "type": "VEC3", "sparse": {
         "count": 2,
-        "indices": {"bufferView": doc.view(np.array([1, 2], np.uint32)), "componentType": UINT},
+        "indices": {"bufferView": doc.view(np.array([1, 2], np.uint32)), "componentType": _UINT},
         "values": {"bufferView": doc.view(np.array([[1, 0, 0], [0, 1, 0]], np.float32))},
     }})
     mesh = load_mesh(doc.write(tmp_path / "zeros.gltf", [[{"attributes": {"POSITION": 0}}]], [{"mesh": 0}]))
@@ -68,7 +68,7 @@ def test_triangle_fans_and_strips_are_drawn_with_their_winding(tmp_path, mode, i
     # glTF §3.7.2.1: fan {v(i+1), v(i+2), v0}; strip {v(i), v(i+1+i%2), v(i+2-i%2)}: both
     # cover the square counter-clockwise (normal +Z). Fans were dropped ("no triangles").
     doc = Doc()
-    primitive = {"attributes": {"POSITION": doc.accessor(SQUARE)}, "indices": doc.accessor(np.array(indices, np.uint16), USHORT), "mode": mode}
+    primitive = {"attributes": {"POSITION": doc.accessor(SQUARE)}, "indices": doc.accessor(np.array(indices, np.uint16), _USHORT), "mode": mode}
     mesh = load_mesh(doc.write(tmp_path / "fan.gltf", [[primitive]], [{"mesh": 0}]))
     assert mesh.triangle_count == 2
     assert np.allclose(_normals_of(mesh), [0, 0, 1])
@@ -88,7 +88,7 @@ def test_skinned_mesh_is_posed_by_its_joints(tmp_path):
     # origin) stays. The mesh node's own translation is ignored for skinned meshes (§3.7.3).
     doc = Doc()
     positions = doc.accessor(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32))
-    joints = doc.accessor(np.array([[0, 0, 0, 0], [1, 0, 0, 0], [0, 1, 0, 0]], np.uint16), USHORT)
+    joints = doc.accessor(np.array([[0, 0, 0, 0], [1, 0, 0, 0], [0, 1, 0, 0]], np.uint16), _USHORT)
     weights = doc.accessor(np.array([[1, 0, 0, 0], [1, 0, 0, 0], [0.5, 0.5, 0, 0]], np.float32))
     inverse = doc.accessor(np.tile(np.eye(4, dtype=np.float32).reshape(1, 16), (2, 1)))
     primitive = {"attributes": {"POSITION": positions, "JOINTS_0": joints, "WEIGHTS_0": weights}}
@@ -102,7 +102,7 @@ def test_nodes_scaled_to_zero_are_hidden_with_their_children(tmp_path):
     doc = Doc()
     square = doc.accessor(SQUARE)
     nodes = [{"mesh": 0}, {"mesh": 0, "scale": [0, 0, 0], "children": [2]}, {"mesh": 0, "translation": [5, 0, 0], "_child": True}]
-    mesh = load_mesh(doc.write(tmp_path / "hidden.gltf", [[{"attributes": {"POSITION": square}, "indices": doc.accessor(np.array([0, 1, 2, 0, 2, 3]), USHORT)}]], nodes))
+    mesh = load_mesh(doc.write(tmp_path / "hidden.gltf", [[{"attributes": {"POSITION": square}, "indices": doc.accessor(np.array([0, 1, 2, 0, 2, 3]), _USHORT)}]], nodes))
     assert mesh.triangle_count == 2 and mesh.world_positions()[:, 0].max() == 1.0
 
 
@@ -112,7 +112,7 @@ def test_a_100000_deep_node_chain_loads_in_linear_time(tmp_path):
     count = 100_000
     nodes = [{"children": [k + 1], "translation": [1e-5, 0, 0]} | ({"_child": True} if k else {}) for k in range(count - 1)]
     nodes.append({"mesh": 0, "_child": True})
-    path = doc.write(tmp_path / "chain.gltf", [[{"attributes": {"POSITION": square}, "indices": doc.accessor(np.array([0, 1, 2, 0, 2, 3]), USHORT)}]], nodes)
+    path = doc.write(tmp_path / "chain.gltf", [[{"attributes": {"POSITION": square}, "indices": doc.accessor(np.array([0, 1, 2, 0, 2, 3]), _USHORT)}]], nodes)
     start = time.perf_counter()
     mesh = load_mesh(path)
     assert time.perf_counter() - start < 15.0  # quadratic before: over a minute
@@ -134,7 +134,7 @@ def test_a_huge_count_without_data_is_refused_before_allocating(tmp_path, capsys
     # 831 bytes claiming 2^26 vertices took 30 s and 6.2 GB.
     path = tmp_path / "huge.gltf"
     path.write_text(json.dumps({"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
-                                "nodes": [{"mesh": 0}], "accessors": [{"componentType": FLOAT, "count": 1 << 26, "type": "VEC3"}]}))
+                                "nodes": [{"mesh": 0}], "accessors": [{"componentType": _FLOAT, "count": 1 << 26, "type": "VEC3"}]}))
     start = time.perf_counter()
     assert "count" in _cli(capsys, path)
     assert time.perf_counter() - start < 5.0
@@ -143,7 +143,7 @@ def test_a_huge_count_without_data_is_refused_before_allocating(tmp_path, capsys
 def _square_doc(tmp_path, uri=None, **mutations) -> Path:
     doc = Doc()
     square = doc.accessor(SQUARE)
-    indices = doc.accessor(np.array([0, 1, 2, 0, 2, 3]), USHORT)
+    indices = doc.accessor(np.array([0, 1, 2, 0, 2, 3]), _USHORT)
     return doc.write(tmp_path / "h.gltf", [[{"attributes": {"POSITION": square}, "indices": indices}]], [{"mesh": 0}], uri=uri)
 
 
@@ -185,7 +185,7 @@ def test_hostile_gltf_fields_are_one_line_errors(tmp_path, capsys, mutate, words
 def test_percent_encoded_buffer_uris_are_decoded(tmp_path):
     doc = Doc()
     square = doc.accessor(SQUARE)
-    indices = doc.accessor(np.array([0, 1, 2, 0, 2, 3]), USHORT)
+    indices = doc.accessor(np.array([0, 1, 2, 0, 2, 3]), _USHORT)
     (tmp_path / "my file.bin").write_bytes(bytes(doc.blob))
     mesh = load_mesh(doc.write(tmp_path / "p.gltf", [[{"attributes": {"POSITION": square}, "indices": indices}]], [{"mesh": 0}], uri="my%20file.bin"))
     assert mesh.triangle_count == 2
@@ -229,8 +229,8 @@ def test_a_fifo_named_as_a_gltf_image_is_a_warning_without_reading(tmp_path):
 def test_quantized_integer_positions_are_scaled_by_their_node(tmp_path):
     # KHR_mesh_quantization: unsigned short positions, not normalized, dequantized by the node's scale.
     doc = Doc()
-    positions = doc.accessor(np.array([[0, 0, 0, 0], [4, 0, 0, 0], [4, 4, 0, 0], [0, 4, 0, 0]], np.uint16)[:, :3], USHORT)
-    indices = doc.accessor(np.array([0, 1, 2, 0, 2, 3]), USHORT)
+    positions = doc.accessor(np.array([[0, 0, 0, 0], [4, 0, 0, 0], [4, 4, 0, 0], [0, 4, 0, 0]], np.uint16)[:, :3], _USHORT)
+    indices = doc.accessor(np.array([0, 1, 2, 0, 2, 3]), _USHORT)
     path = doc.write(tmp_path / "q.gltf", [[{"attributes": {"POSITION": positions}, "indices": indices}]], [{"mesh": 0, "scale": [0.25, 0.25, 0.25]}],
                      extensionsUsed=["KHR_mesh_quantization"], extensionsRequired=["KHR_mesh_quantization"])
     assert _same_points(load_mesh(path), SQUARE)
