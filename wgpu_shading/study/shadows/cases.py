@@ -221,16 +221,23 @@ def _scaled_camera(camera: Camera, scale: float, projection: str) -> Camera:
                   fov_y=camera.fov_y, near=camera.near * scale, far=camera.far * scale, projection=projection, ortho_height=height)
 
 
-def _scaled(case: ShadowCase, scale: float) -> ShadowCase:
-    """Every length × scale: positions, object scales, the camera, the closed forms."""
+def scaled_scene(scene: Scene, scale: float) -> Scene:
+    """The scene with every length × scale: object and light positions, object scales,
+    attenuation per unit distance, the camera (its framing kept, for either projection)."""
     def light(l):
-        return replace(l, position=tuple(scale * np.asarray(l.position))) if hasattr(l, "position") else l
+        if not hasattr(l, "position"):
+            return l
+        # Attenuation is per unit distance: kl/scale and kq/scale² keep the picture.
+        return replace(l, position=tuple(scale * np.asarray(l.position)),
+                       attenuation=(l.attenuation[0], l.attenuation[1] / scale, l.attenuation[2] / scale**2))
     objects = tuple(replace(o, translate=tuple(scale * np.asarray(o.translate)), scale=tuple(scale * np.asarray(o.scale)))
-                    for o in case.scene.objects)
-    # Attenuation is per unit distance: kl/scale and kq/scale² keep the picture.
-    lights = tuple(light(l) for l in case.scene.lights)
-    lights = tuple(replace(l, attenuation=(l.attenuation[0], l.attenuation[1] / scale, l.attenuation[2] / scale**2))
-                   if hasattr(l, "attenuation") else l for l in lights)
+                    for o in scene.objects)
+    camera = _scaled_camera(scene.camera, scale, scene.camera.projection)
+    return replace(scene, objects=objects, lights=tuple(light(l) for l in scene.lights), camera=camera)
+
+
+def _scaled(case: ShadowCase, scale: float) -> ShadowCase:
+    """Every length × scale: the scene (its camera is scaled by shadow_case) and the closed forms."""
     ellipse = case.ellipse and replace(case.ellipse, center=tuple(scale * np.asarray(case.ellipse.center)),
                                        semi_major=case.ellipse.semi_major * scale, semi_minor=case.ellipse.semi_minor * scale)
     shapes = tuple(
@@ -239,7 +246,8 @@ def _scaled(case: ShadowCase, scale: float) -> ShadowCase:
                      half_v=tuple(scale * np.asarray(s.half_v)))
         for s in case.shapes
     )
-    return replace(case, scene=replace(case.scene, objects=objects, lights=lights), ellipse=ellipse, shapes=shapes)
+    scene = replace(scaled_scene(case.scene, scale), camera=case.scene.camera)
+    return replace(case, scene=scene, ellipse=ellipse, shapes=shapes)
 
 
 def shadow_case(name: str, size: tuple[int, int] = (128, 128), *, scale: float = 1.0,
