@@ -5,7 +5,6 @@ are computed by hand from the glTF 2.0 specification's definitions."""
 
 from __future__ import annotations
 
-import base64
 import json
 import os
 import time
@@ -18,41 +17,7 @@ import pytest
 from wgpu_shading import MeshError, load_mesh
 from wgpu_shading.cli.main import main
 
-_FLOAT, _USHORT, _UINT = 5126, 5123, 5125
-_TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4", 16: "MAT4"}
-
-
-class Doc:
-    """A glTF document with one buffer, built array by array."""
-
-    def __init__(self):
-        self.blob = bytearray()
-        self.views, self.accessors = [], []
-
-    def view(self, array: np.ndarray) -> int:
-        while len(self.blob) % 4:
-            self.blob.append(0)
-        array = np.ascontiguousarray(array)
-        self.views.append({"buffer": 0, "byteOffset": len(self.blob), "byteLength": array.nbytes})
-        self.blob.extend(array.tobytes())
-        return len(self.views) - 1
-
-    def accessor(self, array, component=_FLOAT, **extra) -> int:
-        array = np.asarray(array, {_FLOAT: np.float32, _USHORT: np.uint16, _UINT: np.uint32}[component])
-        width = 1 if array.ndim == 1 else array.shape[1]
-        self.accessors.append({"bufferView": self.view(array), "componentType": component, "count": len(array), "type": _TYPES[width]} | extra)
-        return len(self.accessors) - 1
-
-    def write(self, path: Path, meshes, nodes, uri: str | None = None, **extra) -> Path:
-        document = {
-            "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [i for i, n in enumerate(nodes) if not n.pop("_child", False)]}],
-            "nodes": nodes, "meshes": [{"primitives": p} for p in meshes],
-            "buffers": [{"byteLength": len(self.blob), "uri": uri or "data:application/octet-stream;base64," + base64.b64encode(bytes(self.blob)).decode()}],
-            "bufferViews": self.views, "accessors": self.accessors,
-        } | extra
-        path.write_text(json.dumps(document))
-        return path
-
+from gltf_builder import FLOAT as _FLOAT, UINT as _UINT, USHORT as _USHORT, Doc
 
 SQUARE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], np.float32)
 
