@@ -226,6 +226,24 @@ def _two_lights() -> ShadowCase:
     )
 
 
+def _far_positional_light() -> ShadowCase:
+    # Found by the random scenes (docs/shadows.md#random-scenes, seed 22): a positional light
+    # 40 units away sees the scene under a few degrees; a cube face 90° wide gave the box a
+    # handful of texels, and at 4° elevation each spans ~20 pixels of ground.
+    box = SceneObject(cube(1.0), SHINY, translate=(0.3, 0.3, -1.3), rotate=(0.0, 126.0, 0.0), scale=(1.0, 0.3, 0.8))
+    light = PositionalLight(position=tuple(np.array([0.3, 0.0, -1.3]) + 40.0 * np.array([0.92, 0.07, -0.37])),
+                            shadows=True)
+    return ShadowCase(
+        "far_positional_light",
+        Scene(
+            objects=(box, _ground(24.0)),
+            lights=(light,),
+            camera=Camera(eye=(-7.5, 4.4, -0.5), target=(0.5, 0.4, -0.9), fov_y=60.0, near=0.2, far=60.0),
+        ),
+        "a positional light 40 units away at 4° elevation: its cube map must spend its texels on the few degrees the scene takes up",
+    )
+
+
 _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     **{f"sphere_over_plane_{e:g}": _sphere_over(e) for e in ELEVATIONS},
     "sphere_on_plane": _sphere_on_plane,
@@ -234,6 +252,7 @@ _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     "low_poly_terminator": _terminator,
     "ring_of_boxes": _ring_of_boxes,
     "two_lights": _two_lights,
+    "far_positional_light": _far_positional_light,
 }
 SHADOW_CASE_NAMES: tuple[str, ...] = tuple(_BUILDERS)
 SCALES = (1e-3, 1.0, 1e3)

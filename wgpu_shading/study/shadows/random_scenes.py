@@ -245,7 +245,8 @@ def random_shadow_scene(seed: int, *, size: tuple[int, int] | None = None) -> Ra
         objects, outside = _outside_caster(rng, objects, lights, camera)
     frequency = str(rng.choice(("phong", "gouraud", "flat"), p=(0.5, 0.25, 0.25)))
     reflection = str(rng.choice(("phong", "blinn-phong")))
-    image = size or SIZES[int(rng.choice(len(SIZES), p=np.array(SIZE_WEIGHTS) / sum(SIZE_WEIGHTS)))]
+    drawn_size = SIZES[int(rng.choice(len(SIZES), p=np.array(SIZE_WEIGHTS) / sum(SIZE_WEIGHTS)))]
+    image = size or drawn_size  # drawn either way: the rest of the scene stays the same
     map_size = MAP_SIZES[int(rng.choice(len(MAP_SIZES), p=(0.12, 0.12, 0.14, 0.12, 0.05, 0.45)))]
     shadow_filter = FILTERS[int(rng.choice(len(FILTERS), p=(0.14, 0.12, 0.1, 0.08, 0.56)))]
     scale = 1.0 if rng.random() < 0.4 else float(10.0 ** rng.uniform(-3.0, 3.0))
