@@ -9,7 +9,9 @@ nearest filtering, a smaller image — while it keeps failing, so what is left i
 
 runs seeds 0–299 (random_scenes.py), writes each failure's picture (GPU | exact |
 disagreement) and its minimised scene's picture into --out, and a JSON report with every
-scene's classes and numbers; it prints the counts by class.
+scene's classes and numbers; it prints the counts by class and exits 1 if a scene failed.
+The scenes keep the default (auto) shadow settings, which the guarantees are about;
+--map-size and --filter override them for a study.
 """
 
 from __future__ import annotations
@@ -140,6 +142,7 @@ def count_by_class(records: list[dict]) -> dict[str, dict[str, list[int]]]:
 def run(renderer, seeds, out: Path, *, minimise_failures: bool = True, settings: dict | None = None, log=print) -> list[dict]:
     """Try every seed's scene (its shadow settings replaced by `settings`' fields when given);
     write failures' pictures and the report into `out`."""
+    from ...assets.atomic import atomic_write
     from ...assets.image_writers import write_image
 
     out.mkdir(parents=True, exist_ok=True)
@@ -165,7 +168,7 @@ def run(renderer, seeds, out: Path, *, minimise_failures: bool = True, settings:
                                        "scene": repr(small)}
                 write_image(out / f"{drawn.name}-min.shadows.png", smallest.picture())
         records.append(record)
-        (out / "report.json").write_text(json.dumps(records, indent=1, default=str))
+        atomic_write(out / "report.json", json.dumps(records, indent=1, default=str).encode(), "fuzz report")
     return records
 
 
