@@ -4,7 +4,7 @@ A map only answers for the receivers the camera sees (visible_regions.py), and o
 for the ones some caster can shadow: a receiver point outside every caster's silhouette as
 the light sees it is lit, so each view's window is where a caster's silhouette overlaps a
 visible receiver lying behind it (casters outside the view included; a flat object does
-not shadow itself). Points outside the window read V = 1 (wgsl/shadows.wgsl).
+not shadow itself). Points outside the window read V = 1 (wgsl/chunks/shadows/lookup.wgsl).
 
 - a directional light: one orthographic view, rotated to the smallest rectangle around
   those casters, its depth range from the nearest such caster to the farthest receiver;
