@@ -1,7 +1,7 @@
 """Memory: peak RSS of rendering the 1.3M-triangle sphere, against 3× its arrays + baseline;
 and of loading a 10M-triangle binary STL file and rendering it.
 
-Measured in fresh processes (scripts/memory_peak.py, scripts/stl_load_peak.py). Besides the
+Measured in fresh processes (scripts/memory_peak.py, scripts/load_peak.py). Besides the
 default run, one with LP_NUM_THREADS=0 (llvmpipe rasterizing on the driver's thread,
 nothing queued) isolates how much of the peak is llvmpipe's binned-triangle queue rather
 than our buffers. The STL file (a torus, written once into a temporary folder) goes through
@@ -27,12 +27,12 @@ from wgpu_shading.scene import sphere_for_triangles
 from .measure import progress
 
 SCRIPT = Path(__file__).resolve().parent / "scripts" / "memory_peak.py"
-FILE_SCRIPT = Path(__file__).resolve().parent / "scripts" / "stl_load_peak.py"
+FILE_SCRIPT = Path(__file__).resolve().parent / "scripts" / "load_peak.py"
 
 
 @dataclass
 class FileMemoryRow:
-    """One fresh process loading a mesh file, then rendering it (scripts/stl_load_peak.py)."""
+    """One fresh process loading a mesh file, then rendering it (scripts/load_peak.py)."""
 
     triangles: int
     vertices: int

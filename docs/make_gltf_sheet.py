@@ -4,7 +4,7 @@ a libigl-style OFF), rendered before issue 19 (commit 1f7eeb0), now, and by f3d.
 
     python docs/make_gltf_sheet.py [--f3d-python /tmp/f3d/bin/python] [-o docs/images/gltf_geometry_f3d.png]
 
-The files are written by tests/test_gltf_geometry.py's builder (every number is in this
+The files are written by tests/gltf_builder.py (every number is in this
 script). "before" runs the old commit's CLI from a `git archive` of it, with this Python;
 f3d runs through ../shared/tools/f3d-render.py when --f3d-python is given.
 """
@@ -31,19 +31,18 @@ F3D_SCRIPT = next(folder / "shared" for folder in REPO.parents if (folder / "sha
 
 
 def build(folder: Path) -> list[tuple[str, Path, list[str]]]:
-    from gltf_builder import quad, write_gltf
-    from test_gltf_geometry import _USHORT, Doc
+    from gltf_builder import USHORT, Doc, quad, write_gltf
 
     rows = []
     # sparse: a flat 2×7 strip whose sparse values raise three peaks (Khronos' SimpleSparseAccessor idea)
     doc = Doc()
     base = np.array([[x, y, 0] for y in (0, 1) for x in range(7)], np.float32)
     position = doc.accessor(base)
-    doc.accessors[position]["sparse"] = {"count": 6, "indices": {"bufferView": doc.view(np.array([1, 3, 5, 8, 10, 12], np.uint16)), "componentType": _USHORT},
+    doc.accessors[position]["sparse"] = {"count": 6, "indices": {"bufferView": doc.view(np.array([1, 3, 5, 8, 10, 12], np.uint16)), "componentType": USHORT},
                                          "values": {"bufferView": doc.view(np.array([[1, 0, 2], [3, 0, 2], [5, 0, 2], [1, 1, 2], [3, 1, 2], [5, 1, 2]], np.float32))}}
     doc.accessors[position] |= {"min": [0, 0, 0], "max": [6, 1, 2]}
     indices = sum(([i, i + 1, i + 8, i, i + 8, i + 7] for i in range(6)), [])
-    rows.append(("sparse accessor: three peaks", doc.write(folder / "sparse.gltf", [[{"attributes": {"POSITION": position}, "indices": doc.accessor(np.array(indices, np.uint16), _USHORT)}]],
+    rows.append(("sparse accessor: three peaks", doc.write(folder / "sparse.gltf", [[{"attributes": {"POSITION": position}, "indices": doc.accessor(np.array(indices, np.uint16), USHORT)}]],
                                                            [{"mesh": 0, "rotation": [-0.5, 0, 0, 0.8660254]}]), []))
     # triangle fan: a hexagon
     doc = Doc()
@@ -66,8 +65,8 @@ def build(folder: Path) -> list[tuple[str, Path, list[str]]]:
     faces += [0, 2, 3, 0, 3, 1, 32, 33, 35, 32, 35, 34]
     inverse_bind = np.stack([np.eye(4), np.array([[1, 0, 0, 0], [0, 1, 0, -1], [0, 0, 1, 0], [0, 0, 0, 1]])]).transpose(0, 2, 1).reshape(2, 16)
     half = math.radians(60) / 2
-    primitive = {"attributes": {"POSITION": doc.accessor(np.array(vertices, np.float32)), "JOINTS_0": doc.accessor(np.array(joints, np.uint16), _USHORT),
-                                "WEIGHTS_0": doc.accessor(np.array(weights, np.float32))}, "indices": doc.accessor(np.array(faces, np.uint16), _USHORT)}
+    primitive = {"attributes": {"POSITION": doc.accessor(np.array(vertices, np.float32)), "JOINTS_0": doc.accessor(np.array(joints, np.uint16), USHORT),
+                                "WEIGHTS_0": doc.accessor(np.array(weights, np.float32))}, "indices": doc.accessor(np.array(faces, np.uint16), USHORT)}
     nodes = [{"mesh": 0, "skin": 0}, {"children": [2]}, {"translation": [0, 1, 0], "rotation": [0, 0, math.sin(half), math.cos(half)], "_child": True}]
     rows.append(("skin: bar bent by its joint", doc.write(folder / "skin.gltf", [[primitive]], nodes,
                                                           skins=[{"joints": [1, 2], "inverseBindMatrices": doc.accessor(inverse_bind.astype(np.float32))}]), []))

@@ -18,12 +18,10 @@ from PIL import Image, ImageDraw
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-sys.path.insert(0, str(REPO / "tests"))
 
 from wgpu_shading.assets.image_writers import write_image  # noqa: E402
 from wgpu_shading.study import reference as ref  # noqa: E402
-from wgpu_shading.study.shadows import ELEVATIONS, SHADOW_CASE_NAMES, shadow_case  # noqa: E402
-from test_shadow_reference import ground_view, plane_points  # noqa: E402
+from wgpu_shading.study.shadows import ELEVATIONS, SHADOW_CASE_NAMES, ground_view, plane_points, shadow_case  # noqa: E402
 
 SIZE = 200
 

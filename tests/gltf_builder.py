@@ -10,8 +10,46 @@ from pathlib import Path
 
 import numpy as np
 
-_FLOAT, _UINT = 5126, 5125
-_TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4"}
+FLOAT, USHORT, UINT = 5126, 5123, 5125  # glTF componentType
+_DTYPES = {FLOAT: np.float32, USHORT: np.uint16, UINT: np.uint32}
+_TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4", 16: "MAT4"}
+
+
+class Doc:
+    """A glTF document with one buffer, built array by array (what write_gltf and
+    add_animation use; tests that shape accessors by hand use it directly)."""
+
+    def __init__(self, blob: bytes = b"", views: list | None = None, accessors: list | None = None):
+        self.blob = bytearray(blob)
+        self.views, self.accessors = views if views is not None else [], accessors if accessors is not None else []
+
+    def view(self, array: np.ndarray, target: int | None = None) -> int:
+        while len(self.blob) % 4:
+            self.blob.append(0)
+        array = np.ascontiguousarray(array)
+        self.views.append({"buffer": 0, "byteOffset": len(self.blob), "byteLength": array.nbytes} | ({"target": target} if target else {}))
+        self.blob.extend(array.tobytes())
+        return len(self.views) - 1
+
+    def accessor(self, array, component=FLOAT, target: int | None = None, **extra) -> int:
+        array = np.asarray(array, _DTYPES[component])
+        width = 1 if array.ndim == 1 else array.shape[1]
+        self.accessors.append({"bufferView": self.view(array, target), "componentType": component, "count": len(array), "type": _TYPES[width]} | extra)
+        return len(self.accessors) - 1
+
+    def buffer(self, uri: str | None = None) -> dict:
+        return {"byteLength": len(self.blob), "uri": uri or "data:application/octet-stream;base64," + base64.b64encode(bytes(self.blob)).decode()}
+
+    def write(self, path: Path, meshes, nodes, uri: str | None = None, **extra) -> Path:
+        """meshes: per mesh, its primitives as glTF dicts (accessor indices already made);
+        a node with `"_child": True` is left out of the scene's roots."""
+        document = {
+            "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [i for i, n in enumerate(nodes) if not n.pop("_child", False)]}],
+            "nodes": nodes, "meshes": [{"primitives": p} for p in meshes],
+            "buffers": [self.buffer(uri)], "bufferViews": self.views, "accessors": self.accessors,
+        } | extra
+        path.write_text(json.dumps(document))
+        return path
 
 
 def quad(x0: float, y0: float, size: float = 1.0, z: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -33,31 +71,21 @@ def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (),
     """meshes: per mesh, primitives as dicts with arrays `positions`, `indices` and optional
     `normals`, `colors` (RGBA float), `uvs`, `uvs1` (TEXCOORD_1), `tangents` (xyzw), plus `material` (index)
     and `mode`. nodes default to one per mesh."""
-    blob = bytearray()
-    views, accessors = [], []
+    doc = Doc()
 
-    def add(array: np.ndarray, component: int, target: int | None) -> int:
-        array = np.ascontiguousarray(array)
-        while len(blob) % 4:
-            blob.append(0)
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes} | ({"target": target} if target else {}))
-        blob.extend(array.tobytes())
-        width = 1 if array.ndim == 1 else array.shape[1]
-        accessor = {"bufferView": len(views) - 1, "componentType": component, "count": len(array), "type": _TYPES[width]}
-        if component == _FLOAT and width == 3:
-            accessor |= {"min": array.min(axis=0).tolist(), "max": array.max(axis=0).tolist()}
-        accessors.append(accessor)
-        return len(accessors) - 1
+    def add(array: np.ndarray, component: int, target: int) -> int:
+        bounds = {"min": array.min(axis=0).tolist(), "max": array.max(axis=0).tolist()} if component == FLOAT and array.shape[1:] == (3,) else {}
+        return doc.accessor(array, component, target, **bounds)
 
     gltf_meshes = []
     for primitives in meshes:
         out = []
         for primitive in primitives:
-            attributes = {"POSITION": add(np.float32(primitive["positions"]), _FLOAT, 34962)}
+            attributes = {"POSITION": add(np.float32(primitive["positions"]), FLOAT, 34962)}
             for key, name in (("normals", "NORMAL"), ("colors", "COLOR_0"), ("uvs", "TEXCOORD_0"), ("uvs1", "TEXCOORD_1"), ("tangents", "TANGENT")):
                 if primitive.get(key) is not None:
-                    attributes[name] = add(np.float32(primitive[key]), _FLOAT, 34962)
-            entry = {"attributes": attributes, "indices": add(np.uint32(primitive["indices"]).reshape(-1), _UINT, 34963)}
+                    attributes[name] = add(np.float32(primitive[key]), FLOAT, 34962)
+            entry = {"attributes": attributes, "indices": add(np.uint32(primitive["indices"]).reshape(-1), UINT, 34963)}
             if primitive.get("material") is not None:
                 entry["material"] = primitive["material"]
             if primitive.get("mode") is not None:
@@ -72,9 +100,9 @@ def write_gltf(path: Path, meshes: list[list[dict]], materials: list[dict] = (),
         "scenes": [{"nodes": list(range(len(nodes)))}],
         "nodes": nodes,
         "meshes": gltf_meshes,
-        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()}],
-        "bufferViews": views,
-        "accessors": accessors,
+        "buffers": [doc.buffer()],
+        "bufferViews": doc.views,
+        "accessors": doc.accessors,
     }
     if materials:
         document["materials"] = list(materials)
@@ -93,20 +121,11 @@ def add_animation(path: Path, channels: list[tuple[int, str, np.ndarray, np.ndar
     rotation, scale or weights —, keyframe times, values (one row per keyframe, or three for
     CUBICSPLINE)), their accessors appended to the file's buffer."""
     document = json.loads(path.read_text())
-    buffer = document["buffers"][0]
-    blob = bytearray(base64.b64decode(buffer["uri"].split(",", 1)[1]))
+    doc = Doc(base64.b64decode(document["buffers"][0]["uri"].split(",", 1)[1]), document["bufferViews"], document["accessors"])
     samplers, targets = [], []
 
     def add(array: np.ndarray) -> int:
-        array = np.ascontiguousarray(array, np.float32)
-        while len(blob) % 4:
-            blob.append(0)
-        document["bufferViews"].append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes})
-        blob.extend(array.tobytes())
-        width = 1 if array.ndim == 1 else array.shape[1]
-        document["accessors"].append({"bufferView": len(document["bufferViews"]) - 1, "componentType": _FLOAT,
-                                      "count": len(array), "type": _TYPES[width]})
-        return len(document["accessors"]) - 1
+        return doc.accessor(np.asarray(array, np.float32))
 
     for node, target, times, values in channels:
         times = np.asarray(times, np.float32)
@@ -116,7 +135,6 @@ def add_animation(path: Path, channels: list[tuple[int, str, np.ndarray, np.ndar
                          "interpolation": interpolation})
         targets.append({"sampler": len(samplers) - 1, "target": {"node": node, "path": target}})
     document.setdefault("animations", []).append({"samplers": samplers, "channels": targets})
-    buffer["byteLength"] = len(blob)
-    buffer["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()
+    document["buffers"][0] = doc.buffer()
     path.write_text(json.dumps(document))
     return path

@@ -234,3 +234,23 @@ def test_render_at_a_moment_when_nothing_shows_draws_the_background_as_animate_d
     never.write_text(json.dumps(document))
     code, err = run_cli(capsys, "render", str(never), "--animation-time", "0.5", "--size", "24", "-o", str(tmp_path / "n.png"))
     one_line_error(code, err, "appears.gltf", "contains no triangles")
+
+
+def test_a_warning_about_the_file_is_said_even_when_the_first_frames_show_nothing(tmp_path):
+    # The lost texture's note is made once (materials are made once per file); the first
+    # frame, empty, must not swallow it before a frame that shows something says it.
+    import json
+    import warnings
+
+    path = _square_growing_from_nothing(tmp_path)
+    document = json.loads(path.read_text())
+    document["images"] = [{"uri": "missing.png"}]
+    document["textures"] = [{"source": 0}]
+    document["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
+    document["meshes"][0]["primitives"][0]["material"] = 0
+    path.write_text(json.dumps(document))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        list(AnimationFrames(str(path), ViewOptions(size=(16, 16)), fps=1.0))
+    said = [str(w.message) for w in caught]
+    assert len(said) == 1 and "could not be read" in said[0], said

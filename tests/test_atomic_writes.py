@@ -267,6 +267,38 @@ def test_sigterm_during_a_turntable_leaves_no_partial_animation(tmp_path, name):
     assert path.read_bytes() == OLD and leftovers(tmp_path) == []
 
 
+_INTERRUPTIBLE_CLI = textwrap.dedent(
+    """
+    import signal, sys
+    signal.signal(signal.SIGINT, signal.default_int_handler)  # as in a terminal (see _SLOW_WRITER)
+    from wgpu_shading.cli.main import main
+    sys.exit(main(sys.argv[1:]))
+    """
+)
+
+
+def test_ctrl_c_during_animate_leaves_the_previous_gif(tmp_path):
+    # animate streams its frames into a temporary beside the output (as turntable does):
+    # Ctrl-C while the GIF grows keeps the previous file and leaves no temporary.
+    path = tmp_path / "arm.gif"
+    path.write_bytes(OLD)
+    child = subprocess.Popen(
+        [sys.executable, "-c", _INTERRUPTIBLE_CLI, "animate", "example:arm.glb", "--size", "32", "--fps", "1000", "-o", str(path), "-q"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not any(size(p) > 0 for p in tmp_path.glob(".arm.gif.wgpu-shading-tmp-*")):
+            assert time.monotonic() < deadline and child.poll() is None, child.stderr.read() if child.poll() is not None else "timeout"
+            time.sleep(0.05)
+        child.send_signal(signal.SIGINT)
+        _, err = child.communicate(timeout=30)
+    finally:
+        child.kill()
+    assert child.returncode == 130 and err.strip() == "wgpu-shading: interrupted", err
+    assert path.read_bytes() == OLD and leftovers(tmp_path) == []
+
+
 # --------------------------------------------------------------------------- standard output
 
 

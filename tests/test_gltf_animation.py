@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from cli_errors import one_line_error, run_cli
 from wgpu_shading import MeshError, load_mesh
 from wgpu_shading.assets.gltf.animations import interpolate
 
@@ -199,3 +200,83 @@ def test_a_bad_matrix_on_an_animated_node_is_refused_as_without_the_animation(tm
         with pytest.raises(MeshError, match=r"m.gltf.*nodes\[0\]\.matrix: expected 16 finite numbers") as caught:
             load_mesh(path, animation_time=time)
         assert shown in str(caught.value)
+
+
+def _hostile(tmp_path, change) -> Path:
+    """A square animated along x (times 0, 1, 2), then `change`d (its document, as JSON)."""
+    import json
+
+    from gltf_builder import add_animation, quad, write_gltf
+
+    positions, faces = quad(0, 0)
+    path = write_gltf(tmp_path / "h.gltf", [[{"positions": positions, "indices": faces}]])
+    add_animation(path, [(0, "translation", [0.0, 1.0, 2.0], [[0, 0, 0], [1, 0, 0], [0, 0, 0]])])
+    document = json.loads(path.read_text())
+    change(document)
+    path.write_text(json.dumps(document))
+    return path
+
+
+def _times(document) -> dict:
+    return document["accessors"][document["animations"][0]["samplers"][0]["input"]]
+
+
+def _sampler(document) -> dict:
+    return document["animations"][0]["samplers"][0]
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda d: _times(d).update(count=10**7), ["accessors[", "10000000 elements need"]),  # far more keyframes than the buffer holds
+    (lambda d: _times(d).update(count=2**31), ["accessors[", ".count", "2147483648"]),
+    (lambda d: _sampler(d).update(interpolation="CUBICSPLINE"), ["samplers[0].output", "expected 9 elements for 3 CUBICSPLINE keyframes, got 3"]),
+    (lambda d: _sampler(d).update(interpolation="QUADRATIC"), ["samplers[0].interpolation", "'QUADRATIC'"]),
+    (lambda d: _sampler(d).update(output=_sampler(d)["input"]), ["samplers[0].output", "translation needs elements of width 3, got 1"]),
+    (lambda d: d["animations"][0]["channels"][0].update(sampler=7), ["channels[0].sampler", "7 is not an index"]),
+    (lambda d: d["animations"][0]["channels"][0]["target"].update(node=-1), ["channels[0].target.node", "-1 is not an index into nodes"]),
+    (lambda d: d.update(animations={"a": 1}), ["animations: expected a list"]),
+])
+def test_a_hostile_animation_is_one_line_naming_its_field(tmp_path, capsys, change, words):
+    path = _hostile(tmp_path, change)
+    for command in (["render", str(path), "--animation-time", "0.5"], ["animate", str(path), "--fps", "2"]):
+        code, err = run_cli(capsys, *command, "--size", "16", "-o", str(tmp_path / ("x.gif" if command[0] == "animate" else "x.png")))
+        one_line_error(code, err, "h.gltf", *words)
+
+
+@pytest.mark.parametrize("times, words", [
+    ([0.0, 2.0, 1.0], ["samplers[0].input", "finite and increasing"]),  # not monotonic
+    ([0.0, float("nan"), 2.0], ["samplers[0].input", "finite and increasing"]),
+    ([0.0, 1.0, float("inf")], ["samplers[0].input", "finite and increasing"]),
+])
+def test_keyframe_times_must_be_finite_and_increasing(tmp_path, capsys, times, words):
+    import base64
+    import json
+
+    from gltf_builder import add_animation, quad, write_gltf
+
+    positions, faces = quad(0, 0)
+    path = add_animation(write_gltf(tmp_path / "h.gltf", [[{"positions": positions, "indices": faces}]]),
+                         [(0, "translation", [0.0, 1.0, 2.0], [[0, 0, 0], [1, 0, 0], [0, 0, 0]])])
+    document = json.loads(path.read_text())
+    view = document["bufferViews"][_times(document)["bufferView"]]
+    blob = bytearray(base64.b64decode(document["buffers"][0]["uri"].split(",", 1)[1]))
+    blob[view["byteOffset"] : view["byteOffset"] + 12] = np.array(times, "<f4").tobytes()
+    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()
+    _times(document).pop("min"), _times(document).pop("max")
+    path.write_text(json.dumps(document))
+    code, err = run_cli(capsys, "render", str(path), "--animation-time", "0.5", "--size", "16", "-o", str(tmp_path / "x.png"))
+    one_line_error(code, err, "h.gltf", *words)
+
+
+@pytest.mark.parametrize("camera, words", [
+    ({"type": "perspective", "perspective": {"yfov": 0, "znear": 0.1}}, ["cameras[0].perspective.yfov", "greater than 0"]),
+    ({"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0}}, ["cameras[0].perspective.znear", "greater than 0"]),
+    ({"type": "perspective", "perspective": {"yfov": 0.8, "znear": -1}}, ["cameras[0].perspective.znear", "got -1"]),
+    ({"type": "perspective", "perspective": {"yfov": 0.8, "znear": 1, "zfar": 0.5}}, ["cameras[0].perspective.zfar", "greater than 1"]),
+    ({"type": "orthographic", "orthographic": {"xmag": 1, "ymag": -1, "znear": 0, "zfar": 10}}, ["cameras[0].orthographic.ymag"]),
+    ({"type": "fisheye"}, ["cameras[0]", "'fisheye'"]),
+])
+def test_a_hostile_camera_is_one_line_naming_its_field(tmp_path, capsys, camera, words):
+    path = _hostile(tmp_path, lambda d: (d.update(cameras=[camera]), d["nodes"].append({"camera": 0, "translation": [0, 0, 5]}),
+                                         d["scenes"][0]["nodes"].append(len(d["nodes"]) - 1)))
+    code, err = run_cli(capsys, "render", str(path), "--camera-index", "0", "--size", "16", "-o", str(tmp_path / "x.png"))
+    one_line_error(code, err, "h.gltf", *words)

@@ -3,6 +3,9 @@ command line), and a warning where a texture is lost (docs/real-world-files.md).
 
 from __future__ import annotations
 
+import re
+
+import numpy as np
 import pytest
 
 from cli_errors import one_line_error, run_cli
@@ -51,3 +54,22 @@ def test_a_hostile_gltf_material_is_a_mesh_error_naming_the_file(tmp_path, capsy
     with pytest.raises(MeshError) as error:
         load_mesh(path)
     assert line == f"wgpu-shading: error: {error.value}"
+
+
+@pytest.mark.parametrize("info, field", [
+    ({"index": 0, "extensions": {"KHR_texture_transform": "Not an object"}}, "baseColorTexture.extensions.KHR_texture_transform: expected an object"),
+    ({"index": 0, "extensions": ["KHR_texture_transform"]}, "baseColorTexture.extensions: expected an object"),
+    ({"index": 0, "extensions": {"KHR_texture_transform": {"texCoord": "x"}}}, "baseColorTexture.extensions.KHR_texture_transform.texCoord must be"),
+    ({"index": 0, "texCoord": -1}, "baseColorTexture.texCoord must be a non-negative integer, got -1"),
+])
+def test_a_bad_texture_info_names_its_field(tmp_path, info, field):
+    # assimp's test file glTF2/wrongTypes/badExtension.gltf (a string where the extension's
+    # object belongs) was refused with "'str' object has no attribute 'get'".
+    from gltf_builder import quad, write_gltf
+
+    positions, faces = quad(0, 0)
+    path = write_gltf(tmp_path / "t.gltf", [[{"positions": positions, "indices": faces, "uvs": positions[:, :2], "material": 0}]],
+                      materials=[{"pbrMetallicRoughness": {"baseColorTexture": info}}], images=[np.full((2, 2, 4), 255, np.uint8)])
+    with pytest.raises(MeshError, match=re.escape(field)) as caught:
+        load_mesh(path)
+    assert "attribute" not in str(caught.value)

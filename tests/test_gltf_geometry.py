@@ -5,7 +5,6 @@ are computed by hand from the glTF 2.0 specification's definitions."""
 
 from __future__ import annotations
 
-import base64
 import json
 import os
 import time
@@ -18,41 +17,7 @@ import pytest
 from wgpu_shading import MeshError, load_mesh
 from wgpu_shading.cli.main import main
 
-_FLOAT, _USHORT, _UINT = 5126, 5123, 5125
-_TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4", 16: "MAT4"}
-
-
-class Doc:
-    """A glTF document with one buffer, built array by array."""
-
-    def __init__(self):
-        self.blob = bytearray()
-        self.views, self.accessors = [], []
-
-    def view(self, array: np.ndarray) -> int:
-        while len(self.blob) % 4:
-            self.blob.append(0)
-        array = np.ascontiguousarray(array)
-        self.views.append({"buffer": 0, "byteOffset": len(self.blob), "byteLength": array.nbytes})
-        self.blob.extend(array.tobytes())
-        return len(self.views) - 1
-
-    def accessor(self, array, component=_FLOAT, **extra) -> int:
-        array = np.asarray(array, {_FLOAT: np.float32, _USHORT: np.uint16, _UINT: np.uint32}[component])
-        width = 1 if array.ndim == 1 else array.shape[1]
-        self.accessors.append({"bufferView": self.view(array), "componentType": component, "count": len(array), "type": _TYPES[width]} | extra)
-        return len(self.accessors) - 1
-
-    def write(self, path: Path, meshes, nodes, uri: str | None = None, **extra) -> Path:
-        document = {
-            "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [i for i, n in enumerate(nodes) if not n.pop("_child", False)]}],
-            "nodes": nodes, "meshes": [{"primitives": p} for p in meshes],
-            "buffers": [{"byteLength": len(self.blob), "uri": uri or "data:application/octet-stream;base64," + base64.b64encode(bytes(self.blob)).decode()}],
-            "bufferViews": self.views, "accessors": self.accessors,
-        } | extra
-        path.write_text(json.dumps(document))
-        return path
-
+from gltf_builder import FLOAT as _FLOAT, UINT as _UINT, USHORT as _USHORT, Doc
 
 SQUARE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], np.float32)
 
@@ -269,3 +234,41 @@ def test_quantized_integer_positions_are_scaled_by_their_node(tmp_path):
     path = doc.write(tmp_path / "q.gltf", [[{"attributes": {"POSITION": positions}, "indices": indices}]], [{"mesh": 0, "scale": [0.25, 0.25, 0.25]}],
                      extensionsUsed=["KHR_mesh_quantization"], extensionsRequired=["KHR_mesh_quantization"])
     assert _same_points(load_mesh(path), SQUARE)
+
+
+def _skinned_doc(tmp_path, *, joints_values=None, inverse=None, weights=None, target=None) -> Path:
+    """test_skinned_mesh_is_posed_by_its_joints' file, with a morph target, parts replaced."""
+    doc = Doc()
+    positions = doc.accessor(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32))
+    joints = doc.accessor(np.array(joints_values if joints_values is not None else [[0, 0, 0, 0], [1, 0, 0, 0], [0, 1, 0, 0]], np.uint16), _USHORT)
+    weights = doc.accessor(np.array(weights if weights is not None else [[1, 0, 0, 0], [1, 0, 0, 0], [0.5, 0.5, 0, 0]], np.float32))
+    inverse = doc.accessor(inverse if inverse is not None else np.tile(np.eye(4, dtype=np.float32).reshape(1, 16), (2, 1)))
+    moved = doc.accessor(target if target is not None else np.full((3, 3), 0.5, np.float32))
+    primitive = {"attributes": {"POSITION": positions, "JOINTS_0": joints, "WEIGHTS_0": weights}, "targets": [{"POSITION": moved}]}
+    nodes = [{"mesh": 0, "skin": 0, "weights": [1.0]}, {"children": [2]}, {"translation": [0, 2, 0], "_child": True}]
+    return doc.write(tmp_path / "skin.gltf", [[primitive]], nodes, skins=[{"joints": [1, 2], "inverseBindMatrices": inverse}])
+
+
+@pytest.mark.parametrize("parts, mutate, words", [
+    ({}, lambda d: d["skins"][0].update(joints=[1, 99]), ["skins[0].joints", "99 is not an index into nodes"]),
+    ({}, lambda d: d["skins"][0].update(joints=[]), ["skins[0].joints"]),
+    ({}, lambda d: d["nodes"][0].update(skin=4), ["nodes[0].skin", "4 is not an index into skins"]),
+    ({"joints_values": [[0, 0, 0, 0], [7, 0, 0, 0], [0, 1, 0, 0]]}, None, ["JOINTS_0", "a JOINTS value 7 is beyond the skin's 2 joints"]),
+    ({"inverse": np.eye(4, dtype=np.float32).reshape(1, 16)}, None, ["skins[0].inverseBindMatrices", "expected 2 MAT4, got 1"]),
+    ({"inverse": np.full((2, 16), np.nan, np.float32)}, None, ["skins[0].inverseBindMatrices", "not finite"]),
+    ({"weights": np.full((3, 4), np.nan, np.float32)}, None, ["WEIGHTS_0", "finite"]),
+    ({"target": np.full((2, 3), 0.5, np.float32)}, None, ["targets[0].POSITION", "expected 3 finite VEC3 displacements, got 2"]),
+    ({"target": np.full((3, 3), np.inf, np.float32)}, None, ["targets[0].POSITION"]),
+    ({}, lambda d: d["nodes"][0].update(weights=[float("nan")]), ["nodes[0].weights"]),
+    ({}, lambda d: d["nodes"][0].update(weights=[1e30]), ["nodes[0].weights", "within ±1e6"]),
+    ({}, lambda d: d["meshes"][0]["primitives"][0].update(targets=[{"POSITION": 99}]), ["targets[0].POSITION", "99 is not an index into accessors"]),
+    ({}, lambda d: d["meshes"][0]["primitives"][0].update(targets={"POSITION": 0}), ["targets", "expected a list of objects"]),
+])
+def test_hostile_skins_and_morph_targets_are_one_line_errors(tmp_path, capsys, parts, mutate, words):
+    path = _skinned_doc(tmp_path, **parts)
+    if mutate is not None:
+        document = json.loads(path.read_text())
+        mutate(document)
+        path.write_text(json.dumps(document))
+    line = _cli(capsys, path)
+    assert "skin.gltf" in line and all(word in line for word in words), line

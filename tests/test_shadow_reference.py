@@ -14,35 +14,11 @@ import pytest
 
 from wgpu_shading.scene import Camera, DirectionalLight, Material, Scene, SceneObject, plane, uv_sphere
 from wgpu_shading.study import reference as ref
-from wgpu_shading.study.shadows import ELEVATIONS, SHADOW_CASE_NAMES, shadow_case
+from wgpu_shading.study.shadows import ELEVATIONS, SHADOW_CASE_NAMES, ground_view, plane_points, shadow_case
 from wgpu_shading.study.reference.analytic_scene import ray_sphere
 from wgpu_shading.study.shadows.check import boundary_midpoints, pixels_near
 
 pytest.importorskip("embreex")
-
-
-def plane_points(scene: Scene) -> np.ndarray:
-    """(H, W, 3) world points where each pixel's ray meets the plane y = 0 (closed form)."""
-    width, height = scene.size
-    columns, rows = np.meshgrid(np.arange(width) + 0.5, np.arange(height) + 0.5)
-    origins, directions = ref.window_rays(scene.camera, scene.size, columns, rows)
-    to_world = np.linalg.inv(ref.eye_from_world(scene.camera))
-    origins = origins @ to_world[:3, :3].T + to_world[:3, 3]
-    directions = directions @ to_world[:3, :3].T
-    t = -origins[..., 1] / directions[..., 1]
-    return origins + t[..., None] * directions
-
-
-def ground_view(case, pixels: int = 160):
-    """The case seen from straight below the plane (orthographic, image rows along the
-    shadow's major axis), framing the exact ellipse with a margin."""
-    ellipse = case.ellipse
-    center = np.asarray(ellipse.center)
-    height = 2.4 * ellipse.semi_major
-    width_pixels = max(16, int(round(pixels * ellipse.semi_minor / ellipse.semi_major)) * 2)
-    camera = Camera(eye=tuple(center - np.array([0.0, 10.0, 0.0])), target=tuple(center), up=ellipse.major_direction,
-                    near=1.0, far=40.0 + 4 * height, projection="orthographic", ortho_height=height)
-    return replace(case.scene, camera=camera, size=(int(width_pixels * 1.2), pixels)), height / pixels
 
 
 @pytest.mark.parametrize("elevation", ELEVATIONS)

@@ -101,13 +101,14 @@ class AnimationFrames(Sequence[Scene]):
         (shows False: the scene is made around it, then drawn empty)."""
         with self._lock:
             found = self._pose(time)
+            if not any(piece.element_count for piece in found.pieces):
+                self._data.notes[:] = dict.fromkeys(self._data.notes)  # kept, once each, for a frame that shows
+                stand_in = self.framing or Mesh.from_arrays(np.eye(3), name="an empty frame")
+                return LoadedMesh(stand_in, found.lights, found.camera, shows=False)
             try:
-                if not any(piece.element_count for piece in found.pieces):
-                    stand_in = self.framing or Mesh.from_arrays(np.eye(3), name="an empty frame")
-                    return LoadedMesh(stand_in, found.lights, found.camera, shows=False)
                 return loaded_mesh(found, str(self._data.path), self._data.path.name, self._crease_angle, said=self._said)
             finally:
-                self._data.notes.clear()  # said (or said by the next frame that shows something)
+                self._data.notes.clear()  # said: each pose adds its own again
 
     def __len__(self) -> int:
         return len(self.times)

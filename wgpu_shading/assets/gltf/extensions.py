@@ -88,13 +88,19 @@ def texture_infos(material: dict | None) -> dict[str, dict]:
     return {name: info for name, info in infos.items() if isinstance(info, dict)}
 
 
-def uv_channel(info: dict) -> UvChannel:
+def uv_channel(info: dict, name: str = "textureInfo") -> UvChannel:
     """Which texture coordinates a textureInfo reads: its TEXCOORD set (`texCoord`, which
-    KHR_texture_transform's own `texCoord` overrides) and its transform."""
-    transform = (info.get("extensions") or {}).get("KHR_texture_transform") or {}
+    KHR_texture_transform's own `texCoord` overrides) and its transform. `name` (the
+    texture's, baseColorTexture ...) is in the errors."""
+    extensions = info.get("extensions") or {}
+    transform = extensions.get("KHR_texture_transform") or {} if isinstance(extensions, dict) else extensions
+    if not isinstance(transform, dict):  # a string or a list where the objects belong (assimp's badExtension.gltf)
+        where = f"{name}.extensions" + (".KHR_texture_transform" if isinstance(extensions, dict) else "")
+        raise ValueError(f"{where}: expected an object, got {reprlib.repr(transform)}")
     uv_set = transform.get("texCoord", info.get("texCoord", 0))
     if isinstance(uv_set, bool) or not isinstance(uv_set, int) or uv_set < 0:
-        raise ValueError(f"texCoord must be a non-negative integer, got {reprlib.repr(uv_set)}")
+        field = f"{name}.extensions.KHR_texture_transform.texCoord" if "texCoord" in transform else f"{name}.texCoord"
+        raise ValueError(f"{field} must be a non-negative integer, got {reprlib.repr(uv_set)}")
     offset = [float(v) for v in transform.get("offset", [0.0, 0.0])]
     scale = [float(v) for v in transform.get("scale", [1.0, 1.0])]
     if len(offset) != 2 or len(scale) != 2:

@@ -85,7 +85,7 @@ def _channels(document_material: dict | None, images, uv_sets, path: Path, piece
     a TEXCOORD set and a transform), the base colour texture's first, and each Material
     texture field's channel (None: its set is not in the primitive, the field is dropped)."""
     try:
-        wanted = {name: uv_channel(info) for name, info in texture_infos(document_material).items()}
+        wanted = {name: uv_channel(info, name) for name, info in texture_infos(document_material).items()}
     except (AttributeError, TypeError, ValueError) as error:
         raise MeshError(f"mesh file {str(path)!r}: texture coordinates of {piece_name!r}: {error}") from None
     loaded = {name: channel for name, channel in wanted.items() if getattr(images, name, None) is not None}

@@ -28,12 +28,14 @@ from ..gpu.pipelines import PassKind, PipelineDescriptor, PipelineKey
 from ..gpu.readback import read_buffer
 from ..gpu.targets import Target
 from ..shaders.bindings import extra_outputs_plan
-from ..shaders.shadergen import generate_extra_outputs_wgsl
+from ..shaders.shadergen import generate_pass_wgsl
 from ..shaders.uniforms import clip_from_eye, is_mirrored, stroke_uniforms
 from .draws import Draw, encode_draws
 from .frame_context import FrameContext
 
 NORMAL_SPACES = ("eye", "world")
+# Its entry shader by primitive: triangles, and the colour pass's quads of points and lines.
+_ENTRY = {"triangles": "extra_outputs.wgsl", "points": "points_outputs.wgsl", "lines": "lines_outputs.wgsl"}
 TARGET_FORMAT = "float32"  # an rgba32float target, like `render --float`'s: the same pool
 
 
@@ -41,10 +43,11 @@ def extra_outputs_pipeline(key: PipelineKey) -> PipelineDescriptor:
     """One shader for every triangle draw; `cull_back` for the parts the lit pass culls (glTF
     doubleSided false), whose winding then depends on `mirrored`. Points and lines (the
     key's features: which primitive, discs or not) are the colour pass's quads."""
+    plan = extra_outputs_plan(key.features)
     return PipelineDescriptor(
         label="extra outputs" + ("" if key.features is None else f" ({key.features.primitive})"),
-        source=generate_extra_outputs_wgsl(key.features),
-        plan=extra_outputs_plan(key.features),
+        source=generate_pass_wgsl(_ENTRY[key.features.primitive if key.features else "triangles"], plan),
+        plan=plan,
         indexed=key.features is None,
         quads=key.features is not None,
         topology=wgpu.PrimitiveTopology.triangle_list if key.features is None else wgpu.PrimitiveTopology.triangle_strip,

@@ -25,7 +25,7 @@ from ..gpu.pipelines import PassKind, PipelineDescriptor, PipelineKey
 from ..gpu.shadow_maps import SHADOW_FORMAT
 from ..gpu.targets import Target
 from ..shaders.bindings import shadow_map_plan
-from ..shaders.shadergen import generate_shadow_map_wgsl, shadow_uniforms_dtype
+from ..shaders.shadergen import generate_pass_wgsl, shadow_uniforms_dtype
 from .draws import Draw, encode_draws
 from .frame_context import FrameContext
 from .shadow_views import LightShadow, fit_shadow_views
@@ -40,7 +40,7 @@ def shadow_map_pipeline(key: PipelineKey) -> PipelineDescriptor:
     """One depth-only pipeline for every caster and view: both sides of every triangle cast."""
     return PipelineDescriptor(
         label="shadow map",
-        source=generate_shadow_map_wgsl(),
+        source=generate_pass_wgsl("shadow_map.wgsl", shadow_map_plan()),
         plan=shadow_map_plan(),
         depth_format=SHADOW_FORMAT,
         color_format=None,

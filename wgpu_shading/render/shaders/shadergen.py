@@ -1,8 +1,9 @@
 """Feature set → WGSL source, from the files in `wgsl/` (preprocess.py: #include, #if and
 the named points chunks put their code at).
 
-An entry shader per frequency (`flat.wgsl`, `gouraud.wgsl`, `phong.wgsl`) and per pass
-(`extra_outputs.wgsl`) reads as the list of the chunks it includes, one per effect
+An entry shader per frequency (`flat.wgsl`, `gouraud.wgsl`, `phong.wgsl`), per primitive
+(`points.wgsl`, `lines.wgsl`) and per pass (`shadow_map.wgsl`, `extra_outputs.wgsl`, …:
+`generate_pass_wgsl`) reads as the list of the chunks it includes, one per effect
 (`wgsl/chunks/`); the feature set's defines keep the code of the effects a draw uses and
 drop the rest. The generated module starts with a comment naming the feature set and
 `const` declarations for the light counts.
@@ -21,7 +22,7 @@ from typing import Callable
 import numpy as np
 
 from ..features import FeatureSet
-from .bindings import BindingPlan, binding_plan, extra_outputs_plan, shadow_map_plan
+from .bindings import BindingPlan, binding_plan
 from .layout import layouts_for
 from .preprocess import preprocess, read_source
 
@@ -35,12 +36,12 @@ UV_SET_LOCATION_BEFORE, UV_SET_LOCATION_BEFORE_WITH_SHADOWS = 4, 25
 
 
 def sources_for(features: FeatureSet | None, plan: BindingPlan | None = None) -> Callable[[str], str]:
-    """The reader `preprocess` uses for `features` (None: the extra outputs pass; or the
-    `plan` given): files of `wgsl/`, the generated binding declarations under the name
+    """The reader `preprocess` uses for `features` (its binding plan, or the `plan` given:
+    a pass's own, whose features may be None): files of `wgsl/`, the generated binding declarations under the name
     "bindings.wgsl", and the template of the other texture coordinate sets written once per
     set the draw reads."""
     if plan is None:
-        plan = extra_outputs_plan() if features is None else binding_plan(features)
+        plan = binding_plan(features)
 
     def reader(name: str) -> str:
         if name == GENERATED_BINDINGS:
@@ -105,20 +106,10 @@ def shadow_uniforms_dtype(lights: int) -> np.dtype:
     return layouts_for(source).dtype("ShadowUniforms")
 
 
-@lru_cache(maxsize=1)
-def generate_shadow_map_wgsl() -> str:
-    """The shadow pass's depth-only shader (wgsl/shadow_map.wgsl with its generated bindings)."""
-    return _tidy(preprocess("shadow_map.wgsl", {}, sources_for(None, shadow_map_plan())))
-
-
-@lru_cache(maxsize=8)
-def generate_extra_outputs_wgsl(strokes: FeatureSet | None = None) -> str:
-    """The normals-and-ids shader (wgsl/extra_outputs.wgsl with its generated bindings); for
-    points and lines (`strokes`: their feature set), their quads."""
-    plan = extra_outputs_plan(strokes)
-
-    def reader(name: str) -> str:
-        return plan.wgsl() if name == GENERATED_BINDINGS else read_source(name)
-
-    entry = "extra_outputs.wgsl" if strokes is None else f"{strokes.primitive}_outputs.wgsl"
-    return _tidy(preprocess(entry, (strokes or FeatureSet()).defines(), reader))
+@lru_cache(maxsize=16)
+def generate_pass_wgsl(entry: str, plan: BindingPlan) -> str:
+    """The shader of a pass that draws with its own entry file in `wgsl/` (the shadow maps'
+    `shadow_map.wgsl`, the extra outputs' `extra_outputs.wgsl`, …): the file with the plan's
+    generated bindings, under the defines of the plan's feature set (None: every define
+    false). A new pass names its entry file and plan here; it adds no function."""
+    return _tidy(preprocess(entry, (plan.features or FeatureSet()).defines(), sources_for(plan.features, plan)))

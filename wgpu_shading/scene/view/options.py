@@ -28,7 +28,7 @@ from typing import Any, Callable
 
 from ..camera import PROJECTIONS
 from ..maps import SCENE_COLOR_SPACES
-from ..shadows import AUTO, SHADOW_FILTERS
+from ..shadows import AUTO, MAX_SHADOW_BIAS_TEXELS, MAX_SHADOW_MAP_SIZE, MIN_SHADOW_MAP_SIZE, SHADOW_FILTERS
 from ..material_table import material as named_material
 from ..values import FREQUENCIES, MAX_STROKE_PIXELS, MIN_STROKE_PIXELS, REFLECTIONS
 from .reading import (
@@ -256,13 +256,13 @@ VIEW_OPTIONS: tuple[ViewOption, ...] = (
        switches=_switches("--receive-shadows", "every object receives shadows (the default)",
                           "--no-receive-shadows", "no object receives shadows")),
     _O("shadow_map_size", read_shadow_map_size, "shadows.map_size",
-       "side of each shadow map in texels, 16..8192, or auto (the accuracy study's choice)", 512,
+       f"side of each shadow map in texels, {MIN_SHADOW_MAP_SIZE}..{MAX_SHADOW_MAP_SIZE}, or auto (the accuracy study's choice)", 512,
        flags=("--shadow-map-size",), metavar="N", column="shadow_map_size"),
     _O("shadow_filter", read_choice((AUTO,) + SHADOW_FILTERS), "shadows.filter",
        "how a shadow map is read: the nearest texel, a bilinear comparison, 3×3 or 5×5 PCF, or auto", "pcf3",
        flags=("--shadow-filter",), metavar=_choices((AUTO,) + SHADOW_FILTERS), column="shadow_filter"),
     _O("shadow_bias", read_shadow_bias, "shadows.bias",
-       "how far each receiver is moved towards the light, in shadow-map texels (0..64), or auto", 4.0,
+       f"how far each receiver is moved towards the light, in shadow-map texels (0..{MAX_SHADOW_BIAS_TEXELS:g}), or auto", 4.0,
        flags=("--shadow-bias",), metavar="TEXELS", column="shadow_bias"),
     _O("viewer_lights", read_bool, None,
        "a glTF file with its own lights (KHR_lights_punctual) is lit by them; true: by the viewer's key light and headlight instead", True,

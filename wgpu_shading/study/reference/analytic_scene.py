@@ -12,11 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...scene import DirectionalLight, Material, Scene
+from ...scene import Material, Scene
 from .analytic import render_analytic_rectangle, render_analytic_sphere
 from .image import ReferenceImage
 from .lighting import combine, dot, shade, view_vectors
 from .transforms import eye_from_world, pixel_rays, transform_points
+from .visibility import segments_to_light
 
 # A sphere's own surface is not its occluder closer than this fraction of its radius: the
 # root t = 0 of a ray starting on it, rounded (float64: ~1e-16 relative).
@@ -85,14 +86,7 @@ def shadow_visibility(scene: Scene, shapes, points: np.ndarray, own: np.ndarray)
     for index, light in enumerate(scene.lights):
         if not light.shadows:
             continue
-        if isinstance(light, DirectionalLight):
-            towards = -np.asarray(light.direction, dtype=np.float64)
-            directions = np.broadcast_to(towards / np.linalg.norm(towards), points.shape)
-            lengths = np.full(len(points), np.inf)
-        else:
-            offset = np.asarray(light.position, dtype=np.float64) - points
-            lengths = np.linalg.norm(offset, axis=1)
-            directions = offset / np.where(lengths > 0.0, lengths, 1.0)[:, None]
+        directions, lengths = segments_to_light(light, points)
         result[index, _occluded(shapes, own, points, directions, lengths)] = 0.0
     return result
 

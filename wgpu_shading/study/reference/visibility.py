@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import SceneError
-from ...scene import DirectionalLight, Scene
+from ...scene import DirectionalLight, Light, Scene
 from .transforms import transform_points, world_from_model
 
 # Hits closer to the ray's origin than this fraction of the casters' bounding-box diagonal
@@ -43,6 +43,19 @@ from .transforms import transform_points, world_from_model
 # resolution of the scaled box (2⁻²⁴ · 100 / 100 ≈ 6e-8), and trimesh's step past a hit.
 SELF_HIT_DISTANCE = 1e-6
 MAX_HITS_PER_RAY = 64  # a ray through more surfaces than this is counted as shadowed anyway
+
+
+def segments_to_light(light: Light, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The segments a shadow test walks from world points (N, 3) towards a light: unit
+    directions (N, 3) and lengths (N,) — inf towards a directional light; 0 where a
+    positional or spot light stands exactly at the point (its direction is then 0)."""
+    if isinstance(light, DirectionalLight):
+        towards = -np.asarray(light.direction, dtype=np.float64)
+        directions = np.broadcast_to(towards / np.linalg.norm(towards), points.shape)
+        return directions, np.full(len(points), np.inf)
+    offset = np.asarray(light.position, dtype=np.float64) - points
+    lengths = np.linalg.norm(offset, axis=1)
+    return offset / np.where(lengths > 0.0, lengths, 1.0)[:, None], lengths
 
 
 def _ray_engine(vertices: np.ndarray, faces: np.ndarray):
@@ -118,15 +131,8 @@ class ShadowRays:
         for index, light in enumerate(scene.lights):
             if not light.shadows:
                 continue
-            if isinstance(light, DirectionalLight):
-                towards = -np.asarray(light.direction, dtype=np.float64)
-                directions = np.broadcast_to(towards / np.linalg.norm(towards), points.shape)
-                lengths = np.full(len(points), np.inf)
-            else:
-                offset = np.asarray(light.position, dtype=np.float64) - points
-                lengths = np.linalg.norm(offset, axis=1)
-                # A light exactly at the point shadows nothing there (no segment).
-                directions = offset / np.where(lengths > 0.0, lengths, 1.0)[:, None]
+            directions, lengths = segments_to_light(light, points)
+            # A light exactly at the point shadows nothing there (no segment).
             rays = receives & (lengths > 0.0)
             blocked = self.occluded(points[rays], np.ascontiguousarray(directions[rays]), lengths[rays], own[rays])
             result[index, np.flatnonzero(rays)[blocked]] = 0.0

@@ -18,9 +18,10 @@ from .check import (
     failure_picture,
     measure_shadows,
 )
-from .cases import ELEVATIONS, PROJECTIONS, SCALES, SHADOW_CASE_NAMES, ShadowCase, ShadowEllipse, shadow_case, shadow_cases
+from .cases import ELEVATIONS, PROJECTIONS, SCALES, SHADOW_CASE_NAMES, ShadowCase, ShadowEllipse, ground_view, plane_points, shadow_case, shadow_cases
 
 __all__ = [
     "LightResult", "ShadowError", "ShadowReference", "ShadowReport", "check_shadows", "failure_picture", "measure_shadows",
-    "ELEVATIONS", "PROJECTIONS", "SCALES", "SHADOW_CASE_NAMES", "ShadowCase", "ShadowEllipse", "shadow_case", "shadow_cases",
+    "ELEVATIONS", "PROJECTIONS", "SCALES", "SHADOW_CASE_NAMES", "ShadowCase", "ShadowEllipse", "ground_view", "plane_points",
+    "shadow_case", "shadow_cases",
 ]

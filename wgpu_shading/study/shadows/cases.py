@@ -30,7 +30,7 @@ from ...scene import (
     torus,
     uv_sphere,
 )
-from ..reference import AnalyticRectangle, AnalyticSphere
+from ..reference import AnalyticRectangle, AnalyticSphere, eye_from_world, window_rays
 
 GROUND = Material(ambient=(0.25, 0.25, 0.25, 1.0), diffuse=(0.75, 0.75, 0.72, 1.0), name="ground")
 SHINY = Material(ambient=(0.2, 0.15, 0.1, 1.0), diffuse=(0.8, 0.55, 0.3, 1.0), specular=(0.5, 0.5, 0.5, 1.0),
@@ -74,6 +74,31 @@ class ShadowCase:
     about: str
     ellipse: ShadowEllipse | None = None
     shapes: tuple = ()
+
+
+def plane_points(scene: Scene) -> np.ndarray:
+    """(H, W, 3) world points where each pixel's ray meets the plane y = 0 (closed form)."""
+    width, height = scene.size
+    columns, rows = np.meshgrid(np.arange(width) + 0.5, np.arange(height) + 0.5)
+    origins, directions = window_rays(scene.camera, scene.size, columns, rows)
+    to_world = np.linalg.inv(eye_from_world(scene.camera))
+    origins = origins @ to_world[:3, :3].T + to_world[:3, 3]
+    directions = directions @ to_world[:3, :3].T
+    t = -origins[..., 1] / directions[..., 1]
+    return origins + t[..., None] * directions
+
+
+def ground_view(case: ShadowCase, pixels: int = 160) -> tuple[Scene, float]:
+    """The case seen from straight below the plane (orthographic, image rows along the
+    shadow's major axis), framing the exact ellipse with a margin; and a pixel's size in
+    world units."""
+    ellipse = case.ellipse
+    center = np.asarray(ellipse.center)
+    height = 2.4 * ellipse.semi_major
+    width_pixels = max(16, int(round(pixels * ellipse.semi_minor / ellipse.semi_major)) * 2)
+    camera = Camera(eye=tuple(center - np.array([0.0, 10.0, 0.0])), target=tuple(center), up=ellipse.major_direction,
+                    near=1.0, far=40.0 + 4 * height, projection="orthographic", ortho_height=height)
+    return replace(case.scene, camera=camera, size=(int(width_pixels * 1.2), pixels)), height / pixels
 
 
 def _ground(size: float) -> SceneObject:

@@ -1,17 +1,21 @@
-"""Peak resident memory of loading a large binary STL with `load_mesh`, and of rendering it,
+"""Peak resident memory of loading a large mesh file with `load_mesh`, and of rendering it,
 in a fresh process (Linux).
 
-    python benchmarks/scripts/stl_load_peak.py 10000000 /tmp/torus10m.stl
-    python benchmarks/scripts/stl_load_peak.py 10000000 /tmp/torus10m.stl --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.stl
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.stl --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/points10m.ply
 
-Writes a smooth torus of about that many triangles as a binary STL (every corner repeated,
-as STL stores it; triangles in the order of the torus's grid; skipped when the file exists),
-then loads it and prints one JSON object: the mesh's arrays (positions + normals + indices,
-what a Renderer uploads), the process's resident memory after imports (with --render: after
-the device and a small render too), its peak (VmHWM), and the peak above that baseline as a
-multiple of the mesh's arrays; with --render also the peak of the load alone, then the mesh
-rendered as `wgpu-shading render` frames it. docs/reliability.md and the memory table of
-`python -m benchmarks` (benchmarks/memory.py) quote the result.
+Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
+COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
+order of the torus's grid); `.ply`, a point cloud of COUNT points on a sphere as a binary
+little-endian PLY (float x y z, float nx ny nz, uchar red green blue: 27 bytes a point, as
+scanners write them). Then loads it and prints one JSON object: the mesh's arrays
+(positions + normals + indices + colours, what a Renderer uploads), the process's resident
+memory after imports (with --render: after the device and a small render too), its peak
+(VmHWM), and the peak above that baseline as a multiple of the mesh's arrays; with --render
+also the peak of the load alone, then the mesh rendered as `wgpu-shading render` frames it.
+docs/reliability.md, docs/primitives.md and the memory table of `python -m benchmarks`
+(benchmarks/memory.py) quote the result.
 """
 
 import json
@@ -41,6 +45,29 @@ def write_torus_stl(path: Path, triangles: int) -> None:
         records.tofile(file)
 
 
+def write_point_ply(path: Path, count: int) -> None:
+    rng = np.random.default_rng(1)
+    records = np.zeros(count, np.dtype([("p", "<f4", (3,)), ("n", "<f4", (3,)), ("c", "u1", (3,))]))
+    for start in range(0, count, 1 << 20):  # in blocks: the writer itself stays small
+        block = rng.normal(size=(min(1 << 20, count - start), 3))
+        block /= np.linalg.norm(block, axis=1, keepdims=True)
+        records["p"][start : start + len(block)] = block
+        records["n"][start : start + len(block)] = block
+        records["c"][start : start + len(block)] = np.round((block * 0.5 + 0.5) * 255)
+    header = (
+        "ply\nformat binary_little_endian 1.0\ncomment load_peak.py\n"
+        f"element vertex {count}\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float nx\nproperty float ny\nproperty float nz\n"
+        "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n"
+    )
+    with open(path, "wb") as file:
+        file.write(header.encode("ascii"))
+        records.tofile(file)
+
+
+WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply}
+
+
 def status(key: str) -> int:
     with open("/proc/self/status") as file:
         for line in file:
@@ -50,10 +77,10 @@ def status(key: str) -> int:
 
 
 def main() -> None:
-    triangles, path = int(sys.argv[1]), Path(sys.argv[2])
+    count, path = int(sys.argv[1]), Path(sys.argv[2])
     render_size = int(sys.argv[sys.argv.index("--render") + 1]) if "--render" in sys.argv else None
     if not path.exists():
-        write_torus_stl(path, triangles)
+        WRITERS[path.suffix.lower()](path, count)
     import trimesh  # noqa: F401  - imported by load_mesh; counted in the baseline
 
     from wgpu_shading import load_mesh
@@ -70,10 +97,10 @@ def main() -> None:
     start, cpu = time.perf_counter(), time.process_time()
     mesh = load_mesh(path)
     seconds, cpu_seconds = time.perf_counter() - start, time.process_time() - cpu
-    arrays = sum(array.nbytes for array in (mesh.positions, mesh.normals, mesh.indices))
+    arrays = sum(array.nbytes for array in (mesh.positions, mesh.normals, mesh.indices, mesh.colors) if array is not None)
     load_peak = status("VmHWM")
     result = {
-        "file_bytes": path.stat().st_size, "triangles": mesh.triangle_count, "vertices": mesh.vertex_count,
+        "file_bytes": path.stat().st_size, "triangles": mesh.triangle_count, "points": mesh.point_count, "vertices": mesh.vertex_count,
         "mesh_array_bytes": arrays, "baseline_rss": baseline, "load_peak_rss": load_peak, "peak_rss": load_peak,
         "load_seconds": round(seconds, 1), "load_cpu_seconds": round(cpu_seconds, 1),
     }
