@@ -198,10 +198,11 @@ class Mesh:
 
     @cached_property
     def exact_solid(self) -> int:
-        """`solid` with only corners at identical positions counted as one vertex: +1 when the
-        rasterizer, too, sees a closed surface wound counter-clockwise from outside (no crack
-        along a seam; render/gpu/clusters.py)."""
-        return solid_orientation(self.positions, self.indices, weld_tolerance=0.0)
+        """`solid` with only corners at identical positions counted as one vertex, and every
+        piece on its own: +1 when the rasterizer, too, sees closed surfaces each wound
+        counter-clockwise from outside (no crack along a seam, no piece inside out;
+        render/gpu/clusters.py)."""
+        return solid_orientation(self.positions, self.indices, weld_tolerance=0.0, each_piece=True)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """float64 (lower, upper) corners of the bounding box in model space (from the cached

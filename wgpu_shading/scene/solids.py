@@ -15,11 +15,16 @@ from .normals import weld_by_position
 # Vertices closer than this fraction of the mesh's size are welded: far above float32's
 # rounding of one position (6e-8), far below any edge a mesh means to have.
 WELD_TOLERANCE = 1e-6
+_BLOCK = 1 << 14  # triangles a step: the edge codes' temporaries stay small
 
 
-def solid_orientation(positions: np.ndarray, indices: np.ndarray, weld_tolerance: float = WELD_TOLERANCE) -> int:
+def solid_orientation(
+    positions: np.ndarray, indices: np.ndarray, weld_tolerance: float = WELD_TOLERANCE, each_piece: bool = False
+) -> int:
     """+1 if the triangles form closed surfaces wound counter-clockwise seen from outside,
-    −1 if closed and wound the other way (inside out), 0 if not closed.
+    −1 if closed and wound the other way (inside out), 0 if not closed. With `each_piece`,
+    the sign is that of every connected piece's own volume, and 0 where they differ (a
+    flipped piece beside a bigger right one would otherwise pass as +1).
 
     Vertices within `weld_tolerance` of the mesh's size of each other are one vertex (a
     file's seams may repeat a vertex with a last-digit difference); with 0, only vertices
@@ -45,6 +50,7 @@ def solid_orientation(positions: np.ndarray, indices: np.ndarray, weld_tolerance
     # temporaries stay small). Triangles with a repeated vertex leave their codes at -1.
     codes = np.empty(3 * len(indices), np.int64)
     volume = 0.0
+    volumes = np.empty(len(indices))
     for start in range(0, len(indices), _BLOCK):
         block = welded[indices[start : start + _BLOCK]].astype(np.int64)
         empty = (block[:, 0] == block[:, 1]) | (block[:, 1] == block[:, 2]) | (block[:, 2] == block[:, 0])
@@ -55,8 +61,9 @@ def solid_orientation(positions: np.ndarray, indices: np.ndarray, weld_tolerance
             codes[3 * start + slot * len(block) : 3 * start + (slot + 1) * len(block)] = code
         # The signed volume (divergence theorem, relative to the centre for precision).
         a, b, c = (positions[indices[start : start + _BLOCK, slot]] - centre for slot in range(3))
-        volume += float((a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1]) + a[:, 1] * (b[:, 2] * c[:, 0] - b[:, 0] * c[:, 2])
-                         + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])).sum()) / 6.0
+        volumes[start : start + _BLOCK] = (a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1]) + a[:, 1] * (b[:, 2] * c[:, 0] - b[:, 0] * c[:, 2])
+                                           + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])) / 6.0
+        volume += float(volumes[start : start + _BLOCK].sum())
     codes.sort()
     codes = codes[np.searchsorted(codes, 0) :]
     # A closed, consistent surface sorts into pairs (edge, 0), (edge, 1), each edge in one pair only.
@@ -69,7 +76,31 @@ def solid_orientation(positions: np.ndarray, indices: np.ndarray, weld_tolerance
         return 0
     if volume == 0.0:
         return 0
-    return 1 if volume > 0.0 else -1
+    orientation = 1 if volume > 0.0 else -1
+    if each_piece:
+        piece = _pieces(welded[indices[:, 0]], welded[indices], count)
+        sums = np.bincount(piece, weights=volumes, minlength=count)[np.unique(piece)]
+        if not (orientation * sums > 0.0).all():
+            return 0
+    return orientation
 
 
-_BLOCK = 1 << 14
+def _pieces(first: np.ndarray, triangles: np.ndarray, count: int) -> np.ndarray:
+    """Each triangle's connected piece (triangles sharing a vertex are connected), as the
+    lowest vertex number of the piece: union by hooking every vertex's label to its
+    triangles' lowest, then pointer jumping, until the three corners of every triangle
+    agree (a few rounds: the labels halve their distance to the root each jump)."""
+    label = np.arange(count)
+    while True:
+        corners = label[triangles]
+        lowest = corners.min(axis=1)
+        if (corners == lowest[:, None]).all():
+            return label[first]
+        for slot in range(3):
+            np.minimum.at(label, corners[:, slot], lowest)
+        while True:
+            jumped = label[label]
+            if np.array_equal(jumped, label):
+                break
+            label = jumped
+

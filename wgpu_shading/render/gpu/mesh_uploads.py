@@ -47,6 +47,12 @@ def vertex_order_enabled() -> bool:
     return os.environ.get("WGPU_SHADING_VERTEX_ORDER", "1") != "0"
 
 
+def clusters_enabled() -> bool:
+    """WGPU_SHADING_CLUSTERS=0 draws every triangle of every frame from then on (read per
+    frame: the A/B of benchmarks/depth.py and of the test that the pixels do not change)."""
+    return os.environ.get("WGPU_SHADING_CLUSTERS", "1") != "0"
+
+
 def asks_for_clusters(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
     """A frame that could leave out the triangles turned away (passes/turned_away.py) asks
     the upload for its clusters (clusters.py). True when the upload should be made again
@@ -60,11 +66,7 @@ def asks_for_clusters(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
     gpu_mesh.cluster_asks += 1
     if gpu_mesh.cluster_asks < CLUSTERS_AFTER_FRAMES:
         return False
-    wanted = (
-        CLUSTER_MIN_TRIANGLES <= mesh.triangle_count <= CLUSTER_MAX_TRIANGLES
-        and os.environ.get("WGPU_SHADING_CLUSTERS", "1") != "0"
-        and mesh.exact_solid == 1
-    )
+    wanted = CLUSTER_MIN_TRIANGLES <= mesh.triangle_count <= CLUSTER_MAX_TRIANGLES and clusters_enabled() and mesh.exact_solid == 1
     gpu_mesh.cluster_asks = gpu_mesh.cluster_asks if wanted else -1
     return wanted
 

@@ -18,6 +18,7 @@ import numpy as np
 from pyglm import glm
 
 from ...scene import Scene, SceneObject
+from ..gpu.mesh_uploads import GpuMesh, clusters_enabled
 
 
 def eye_outside(scene: Scene, obj: SceneObject, materials, model_view: glm.dmat4) -> tuple[np.ndarray, bool] | None:
@@ -49,6 +50,6 @@ def turned_away(view: tuple[np.ndarray, bool] | None, gpu_mesh: GpuMesh) -> np.n
     """(C,) bool over the upload's clusters, True for those this frame leaves out, seen from
     `view` (eye_outside); None when the frame draws every triangle."""
     clusters = gpu_mesh.order.clusters if gpu_mesh.order is not None else None
-    if view is None or clusters is None:
+    if view is None or clusters is None or not clusters_enabled():
         return None
     return clusters.facing_away(*view)
