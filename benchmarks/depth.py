@@ -10,7 +10,7 @@ Every contender returns the colour image and the eye-space depth as numpy arrays
 
 interleaved in one process like the warm table (benchmarks/measure.py), after
 scenes.settle: the steady state of a mesh drawn many times, whose upload then has its
-clusters (the closed spheres: the smoke run's 10K one too). The targets: ours with depth
+clusters (the closed spheres: the smoke run's 20K one too). The targets: ours with depth
 ≤ 0.5× pyrender (issue #21), the 1.3M sphere ≤ 0.7× (issue #29). Without pyrender (the
 [bench] extra, and OSMesa: apt install libosmesa6) the table has our columns only, and the
 run says why.

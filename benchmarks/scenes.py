@@ -111,7 +111,7 @@ def geometry_draw(scene: Scene, name: str) -> GeometryDraw:
 # The smoke run's stand-ins (python -m benchmarks --smoke): the same scenes with meshes
 # small enough that every benchmark runs in moments.
 TINY_TORUS_SEGMENTS = 8  # 128 triangles
-TINY_SPHERE_TRIANGLES = 10_000  # above CLUSTER_MIN_TRIANGLES: the smoke run culls its clusters too
+TINY_SPHERE_TRIANGLES = 20_000  # above CLUSTER_MIN_TRIANGLES: the smoke run culls its clusters too
 
 
 def torus_scene(size: int, segments: int = 72) -> Scene:
@@ -185,7 +185,7 @@ def settle(renderer, scene: Scene) -> None:
 
 def benchmark_scenes(sizes: tuple[int, ...], *, tiny: bool = False) -> list[tuple[str, int, Scene]]:
     """(label, size, scene) for every scene × size; the bunny only when shared/ exists.
-    tiny: the smoke run's stand-ins instead (a 128-triangle torus, a 10K sphere; no bunny)."""
+    tiny: the smoke run's stand-ins instead (a 128-triangle torus, a 20K sphere; no bunny)."""
     result = []
     if tiny:
         for size in sizes:

@@ -160,7 +160,7 @@ def test_the_clusters_bound_is_conservative_against_every_triangles_own_normal(s
 
 
 def test_a_benchmark_sphere_leaves_out_its_back_half_after_the_frames_that_pay_for_it(renderer, monkeypatch):
-    """Without the test's shortcut: the smoke run's 10K sphere gets its clusters at the
+    """Without the test's shortcut: the smoke run's 20K sphere gets its clusters at the
     CLUSTERS_AFTER_FRAMES-th frame (benchmarks/scenes.settle) and then draws about half."""
     from benchmarks.scenes import TINY_SPHERE_TRIANGLES, settle, sphere_scene
 

@@ -74,28 +74,29 @@ def solid_orientation(
         return 0
     if (down[1:] >> 1 == down[:-1] >> 1).any():  # an edge shared by more than two triangles
         return 0
+    del codes, down, up  # (before the pieces' arrays: a lower peak)
     if volume == 0.0:
         return 0
     orientation = 1 if volume > 0.0 else -1
     if each_piece:
-        piece = _pieces(welded[indices[:, 0]], welded[indices], count)
+        piece = _pieces(welded[indices], count)
         sums = np.bincount(piece, weights=volumes, minlength=count)[np.unique(piece)]
         if not (orientation * sums > 0.0).all():
             return 0
     return orientation
 
 
-def _pieces(first: np.ndarray, triangles: np.ndarray, count: int) -> np.ndarray:
+def _pieces(triangles: np.ndarray, count: int) -> np.ndarray:
     """Each triangle's connected piece (triangles sharing a vertex are connected), as the
     lowest vertex number of the piece: union by hooking every vertex's label to its
     triangles' lowest, then pointer jumping, until the three corners of every triangle
     agree (a few rounds: the labels halve their distance to the root each jump)."""
-    label = np.arange(count)
+    label = np.arange(count, dtype=triangles.dtype)  # (int32, as weld_by_position's ids)
     while True:
         corners = label[triangles]
         lowest = corners.min(axis=1)
         if (corners == lowest[:, None]).all():
-            return label[first]
+            return lowest
         for slot in range(3):
             np.minimum.at(label, corners[:, slot], lowest)
         while True:

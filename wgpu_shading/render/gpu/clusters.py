@@ -16,6 +16,15 @@ pixel in 8 of them). So a cluster is left out only when every triangle with a co
 (the cluster and the ring of triangles around it) is turned away: the silhouette is then a
 whole triangle away, and so is the surface in front of every pixel the cluster covers.
 
+What this does not cover: two sides of a closed surface that come closer than the depth
+buffer resolves (a shell thinner than ~1e-6 of its distance from the camera, away from any
+silhouette) already fight for their pixels when every triangle is drawn; there, leaving
+the side turned away out shows the near side only, which changes those pixels. Nor a
+piece that passes through itself so that some region lies inside it negatively (the
+closed-surface check sees edges and volumes, not intersections). The tests
+(tests/test_clusters.py) compare every output over random views of closed meshes whose
+sides are far apart, as solids' are.
+
 Built once per upload, in the vertex-cache order (vertex_order.py): runs of CLUSTER_TRIANGLES
 consecutive triangles of a part (coherent patches), each with a cone around the normals of
 its triangles and their ring (axis, half-angle) and a sphere around those triangles (the
@@ -34,9 +43,11 @@ import numpy as np
 
 CLUSTER_TRIANGLES = 128
 # Meshes clustered: below the minimum a frame's vertex work is too small to repay the test
-# and the build; above the maximum the build's working arrays (~1.5× the index buffer)
-# would raise a big upload's memory peak (docs/reliability.md).
-CLUSTER_MIN_TRIANGLES = 1 << 13
+# and the extra draws (CPU A/B at 512², docs/performance.md: a 10K torus 1.03×, 18K 0.92×,
+# a 20K sphere 0.78×, 40K 0.62×); above the maximum the build's working arrays (about
+# twice the mesh's arrays) would raise a big upload's memory peak (docs/reliability.md,
+# "Peak memory of a large mesh load").
+CLUSTER_MIN_TRIANGLES = 1 << 14
 CLUSTER_MAX_TRIANGLES = 1 << 22
 # An upload is clustered at the frame that many frames after it (mesh_uploads.asks_for_clusters).
 CLUSTERS_AFTER_FRAMES = 16
@@ -155,7 +166,6 @@ def _vertex_cones(positions: np.ndarray, triangles: np.ndarray, welded: np.ndarr
     float64 arithmetic a block of triangles at a time (whole-mesh temporaries cost more in
     page faults than in arithmetic), one coordinate at a time (np.cross is ten times slower)."""
     count = int(welded.max()) + 1
-    total = [np.zeros(count) for _ in range(3)]
     reach, broken = np.zeros(count), np.zeros(count, bool)
     normals = np.empty((3, len(triangles)), np.float32)
     for start in range(0, len(triangles), _BLOCK):
@@ -170,11 +180,13 @@ def _vertex_cones(positions: np.ndarray, triangles: np.ndarray, welded: np.ndarr
         normal /= np.where(unreliable, 1.0, area)
         normals[:, start : start + _BLOCK] = normal
         for slot in range(3):
-            for k in range(3):
-                np.add.at(total[k], vertex[slot], normal[k])
             np.maximum.at(reach, vertex[slot], np.maximum(lengths[slot], lengths[slot - 1]))  # its two edges
             broken[vertex[slot][unreliable]] = True
-    total = np.stack(total, axis=1)
+    # Each vertex's axis: the sum of its triangles' normals (any axis bounds them: the
+    # half-angle is measured from it), a whole-mesh bincount (np.add.at is ~10× slower).
+    corners = [welded[triangles[:, slot]] for slot in range(3)]
+    total = np.stack([sum(np.bincount(vertex, weights=normals[k], minlength=count) for vertex in corners) for k in range(3)], axis=1)
+    del corners
     length = np.sqrt(np.einsum("ij,ij->i", total, total))
     axis = total / np.where(length > 0.0, length, 1.0)[:, None]
     lowest = np.ones(count)

@@ -58,9 +58,11 @@ def asks_for_clusters(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
     the upload for its clusters (clusters.py). True when the upload should be made again
     with them: at the CLUSTERS_AFTER_FRAMES-th such frame after the one that uploaded it,
     for a closed surface wound counter-clockwise from outside and big enough to pay
-    (WGPU_SHADING_CLUSTERS=0 turns them off). Building them costs about what they save in
-    CLUSTERS_AFTER_FRAMES frames (docs/performance.md), so a mesh drawn a few times never
-    pays for them and one drawn many times pays at most twice what it needed."""
+    (WGPU_SHADING_CLUSTERS=0 turns them off). Building them (the closed-surface check and
+    the clusters) costs the 1.3M-triangle sphere ~1.5 s CPU, what ~18 of its frames save
+    (docs/performance.md): waiting that many frames first keeps a mesh drawn a few times (a
+    dataset's views) from paying for them, and one drawn many times pays about twice the
+    least it could have."""
     if gpu_mesh.order is None or gpu_mesh.order.clusters is not None or gpu_mesh.cluster_asks < 0:
         return False
     gpu_mesh.cluster_asks += 1
