@@ -9,7 +9,7 @@ import pytest
 from pyglm import glm
 
 from wgpu_shading.scene import Camera, SceneObject
-from wgpu_shading.scene.builtins import cube
+from wgpu_shading.scene.geometry.builtins import cube
 
 
 def test_eye_from_world_by_hand():

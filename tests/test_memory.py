@@ -89,7 +89,7 @@ def test_a_long_run_with_new_sizes_meshes_and_feature_sets_levels_off(renderer):
     from wgpu_shading import PositionalLight, Renderer, Scene, SceneObject, Shading
     from wgpu_shading.render.gpu.caches import MESH_CACHE_ENTRIES, TARGET_CACHE_ENTRIES
     from wgpu_shading.render.gpu.pipelines import PipelineCache
-    from wgpu_shading.scene.builtins import uv_sphere
+    from wgpu_shading.scene.geometry.builtins import uv_sphere
 
     long_run = Renderer(device=renderer.device)
     long_run.device_cache.pipelines = PipelineCache(renderer.device, max_entries=2)  # 4 feature sets below

@@ -12,7 +12,7 @@ import pytest
 from wgpu_shading import MeshError, SceneError, load_mesh
 from wgpu_shading.assets.scenefile import load_scene
 from wgpu_shading.scene import Mesh, SceneObject
-from wgpu_shading.scene.normals import crease_normals, weld_by_position
+from wgpu_shading.scene.geometry.crease_normals import crease_normals, weld_by_position
 
 REAL = Path(__file__).parent / "data" / "real"
 CUBE_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)

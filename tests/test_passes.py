@@ -131,7 +131,7 @@ def test_an_alpha_blended_material_in_the_float32_target(renderer):
     """Half-transparent red over transparent black, in both targets: colour × alpha and the
     alpha itself (the "over" blend of docs/conventions.md), closed form."""
     from wgpu_shading import Material, Scene, SceneObject
-    from wgpu_shading.scene.builtins import plane
+    from wgpu_shading.scene.geometry.builtins import plane
 
     red = Material(ambient=(1, 0, 0, 0.5), diffuse=(0, 0, 0, 0.5), specular=(0, 0, 0, 1), alpha_mode="blend")
     scene = Scene(objects=(SceneObject(plane(8.0), red),), lights=(), ambient=(1, 1, 1, 1),

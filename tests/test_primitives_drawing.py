@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading.scene import Camera, DirectionalLight, Material, Mesh, PositionalLight, Scene, SceneObject, Shading, SpotLight
-from wgpu_shading.scene.mesh_parts import MeshPart
+from wgpu_shading.scene.geometry.mesh_parts import MeshPart
 from wgpu_shading.study import reference as ref
 
 W = H = 64

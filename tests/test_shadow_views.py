@@ -1,7 +1,7 @@
 """Where the shadow maps look (render/passes/shadow_views.py, docs/shadows.md#shadow-maps):
 each view covers every visible receiver a caster can shadow — casters outside the camera's
 view included — and little else; cube faces that cannot reach a visible receiver are
-skipped; closed surfaces are told from open ones (scene/solids.py). CPU only."""
+skipped; closed surfaces are told from open ones (scene/geometry/solids.py). CPU only."""
 
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ from wgpu_shading.scene import (
     torus,
     uv_sphere,
 )
-from wgpu_shading.scene.solids import solid_orientation
+from wgpu_shading.scene.geometry.solids import solid_orientation
 from wgpu_shading.study.shadows import shadow_case
 
 SIZE, MARGIN = 1024, 2.0

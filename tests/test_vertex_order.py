@@ -17,7 +17,7 @@ import pytest
 from wgpu_shading import Camera, Renderer, Scene, SceneObject, load_mesh
 from wgpu_shading.render.gpu.vertex_order import cache_order
 from wgpu_shading.scene import Material, Mesh, PositionalLight, Shading
-from wgpu_shading.scene.mesh import MeshPart
+from wgpu_shading.scene.geometry.mesh import MeshPart
 
 RED = Material(ambient=(0.2, 0.0, 0.0, 1.0), diffuse=(0.8, 0.1, 0.1, 1.0), specular=(1, 1, 1, 1), shininess=30.0)
 GLASS = Material(diffuse=(0.1, 0.8, 0.2, 0.4), specular=(1, 1, 1, 1), shininess=60.0, alpha_mode="blend")

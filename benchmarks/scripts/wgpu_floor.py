@@ -6,7 +6,7 @@ one triangle into a 512×512 texture and read it back; no scene, no lighting, no
     python benchmarks/scripts/wgpu_floor.py [--prebuilt-ffi]
 
 --prebuilt-ffi loads wgpu-py's backend with wgpu-shading's cached cffi type table first
-(wgpu_shading/_prebuilt_ffi.py); without it, this is plain wgpu-py.
+(wgpu_shading/render/_prebuilt_ffi.py); without it, this is plain wgpu-py.
 """
 
 import os

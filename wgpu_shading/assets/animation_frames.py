@@ -23,7 +23,7 @@ from typing import Iterator, Sequence
 import numpy as np
 
 from ..errors import MeshError, UsageError
-from ..scene.mesh import Mesh
+from ..scene.geometry.mesh import Mesh
 from ..scene.objects import Scene
 from ..scene.view.options import ViewOptions
 from .examples import resolve_example

@@ -2,7 +2,7 @@
 instance, each with its parts and materials) and their assembly into one Mesh, with
 normals as docs/real-world-files.md says: the file's normals win; glTF primitives
 without NORMAL are flat; otherwise vertices are welded by position and split at the crease
-angle (scene/normals.py)."""
+angle (scene/geometry/crease_normals.py)."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ from typing import Callable
 import numpy as np
 
 from ..errors import MeshError
-from ..scene.mesh import Mesh, MeshPart, face_normals
-from ..scene.normals import crease_normals
+from ..scene.geometry.mesh import Mesh, MeshPart, face_normals
+from ..scene.geometry.crease_normals import crease_normals
 
 
 @dataclass

@@ -9,7 +9,7 @@ through trimesh (mesh_formats/trimesh_reader.py), binary PLY point clouds with n
 (mesh_formats/ply.py); glTF by our own accessor reader (gltf/).
 The pieces' normals follow docs/real-world-files.md: the file's normals win; glTF primitives
 without NORMAL are flat; otherwise vertices are welded by position and split at the crease
-angle (scene/normals.py).
+angle (scene/geometry/crease_normals.py).
 """
 
 from __future__ import annotations
@@ -24,8 +24,8 @@ from typing import Callable
 import numpy as np
 
 from ..errors import MeshError
-from ..scene.builtins import BUILTIN_PREFIX, builtin
-from ..scene.mesh import Mesh
+from ..scene.geometry.builtins import BUILTIN_PREFIX, builtin
+from ..scene.geometry.mesh import Mesh
 from ..scene.view.reading import MAX_SECONDS
 from .examples import resolve_example
 from .files import check_regular_file

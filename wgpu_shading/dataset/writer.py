@@ -2,7 +2,7 @@
 same folder, then os.replace), the job's record (name.json: row digest, files, camera) last,
 so a record on disk means every file it lists is complete. A process killed mid-write leaves
 only a `.NAME.wgpu-shading-tmp-batch-*` file, which the next run removes
-(remove_stale_temporaries) while it holds the folder's lock (dataset/ownership.py)."""
+(remove_stale_temporaries) while it holds the folder's lock (dataset/lock.py)."""
 
 from __future__ import annotations
 

@@ -6,7 +6,7 @@ surface to map); the lights and the reflection model are the scene's, like every
 from __future__ import annotations
 
 from ..scene import Material, Scene, SceneObject
-from ..scene.mesh_parts import MeshPart
+from ..scene.geometry.mesh_parts import MeshPart
 from .features import FeatureSet, lit_specular, object_features, scene_lighting
 
 

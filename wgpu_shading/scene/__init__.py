@@ -11,12 +11,12 @@ ranges, and why each keeps every value the GPU sees finite in float32: docs/vali
 (tests/test_valid_ranges.py keeps it equal to the checks here).
 """
 
-from .builtins import BUILTIN_PREFIX, BUILTINS, builtin, cube, plane, sphere_for_triangles, torus, uv_sphere
+from .geometry.builtins import BUILTIN_PREFIX, BUILTINS, builtin, cube, plane, sphere_for_triangles, torus, uv_sphere
 from .camera import Camera
 from .lights import LIGHT_TYPES, DirectionalLight, Light, PositionalLight, SpotLight
 from .material import Material, Texture
 from .material_table import MATERIALS, canonical_name, material
-from .mesh import Mesh, face_normals, vertex_normals
+from .geometry.mesh import Mesh, face_normals, vertex_normals
 from .objects import Scene, SceneObject, Shading, every_light_casts, has_shadows, shadowing_lights
 from .shadows import SHADOW_FILTERS, ShadowSettings
 from .values import (

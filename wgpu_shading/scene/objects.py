@@ -13,7 +13,7 @@ from .camera import Camera
 from .lights import DirectionalLight, Light, PositionalLight, SpotLight
 from .maps import SCENE_COLOR_SPACES
 from .material import Material
-from .mesh import Mesh
+from .geometry.mesh import Mesh
 from .shadows import ShadowSettings
 from .values import (
     FREQUENCIES,

@@ -20,7 +20,7 @@ from urllib.parse import unquote
 import numpy as np
 
 from ...errors import MeshError
-from ...scene.mesh import MAX_VERTICES
+from ...scene.geometry.mesh import MAX_VERTICES
 from ..files import check_regular_file
 
 MAX_GLTF_ITEMS = 1 << 20  # nodes, meshes, accessors, ... in one file (each list)

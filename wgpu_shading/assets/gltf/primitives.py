@@ -17,7 +17,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ...errors import MeshError
-from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from .document import MAX_GLTF_ITEMS, GltfData, gltf_error
 from .morph_targets import apply_morph_targets, morph_weights
 from .nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices

@@ -13,7 +13,7 @@ import re
 from pathlib import Path
 
 from ...errors import MeshError
-from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 
 MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format

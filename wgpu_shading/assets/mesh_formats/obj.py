@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
-from ...scene.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 from ..mesh_pieces import MeshFile, MeshPiece
 from .obj_elements import obj_elements, bare_points

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
-from ...scene.mesh import MAX_TRIANGLES
+from ...scene.geometry.mesh import MAX_TRIANGLES
 from ..mesh_pieces import MeshFile, MeshPiece
 from .trimesh_reader import read_with_trimesh
 

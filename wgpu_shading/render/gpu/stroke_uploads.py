@@ -2,7 +2,7 @@
 POINT_ATTRIBUTES, SEGMENT_ATTRIBUTES), apart from the triangles' upload (mesh_uploads.py,
 which keeps only the vertices triangles use, in its own order).
 
-Points are vertex ranges of the mesh (scene/mesh_parts.py): the vertices from the first
+Points are vertex ranges of the mesh (scene/geometry/mesh_parts.py): the vertices from the first
 point part's first to the last one's end are uploaded as they are, and a part draws the
 instances from its first vertex on (`base`). Segments (a mesh's lines, or its triangles'
 edges for `--edges`) are uploaded as their two ends, one instance each.

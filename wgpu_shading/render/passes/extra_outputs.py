@@ -21,7 +21,7 @@ from pyglm import glm
 
 from ...errors import SceneError
 from ...scene import Scene, SceneObject
-from ...scene.mesh import MeshPart
+from ...scene.geometry.mesh import MeshPart
 from ..features import FeatureSet
 from ..gpu.device_cache import DeviceCache
 from ..gpu.pipelines import PassKind, PipelineDescriptor, PipelineKey

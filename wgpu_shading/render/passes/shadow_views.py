@@ -4,7 +4,7 @@ A map only answers for the receivers the camera sees (visible_regions.py), and o
 for the ones some caster can shadow: a receiver point outside every caster's silhouette as
 the light sees it is lit, so each view's window is where a caster's silhouette overlaps a
 visible receiver lying behind it (casters outside the view included; a flat object does
-not shadow itself). Points outside the window read V = 1 (wgsl/shadows.wgsl).
+not shadow itself). Points outside the window read V = 1 (wgsl/chunks/shadows/lookup.wgsl).
 
 - a directional light: one orthographic view, rotated to the smallest rectangle around
   those casters, its depth range from the nearest such caster to the farthest receiver;
@@ -12,7 +12,9 @@ not shadow itself). Points outside the window read V = 1 (wgsl/shadows.wgsl).
   reaching beyond MAX_SINGLE_VIEW_TAN from the axis is a cube map instead;
 - a positional light: a cube map, six views along the world axes, each widened by a guard
   band of `margin` texels so that a filter near a face's edge reads texels of that face (no
-  seams); a face whose pyramid holds no visible receiver a caster can shadow is skipped.
+  seams); a face whose pyramid holds no visible receiver a caster can shadow is skipped, and
+  the faces share one window, the union of what each needs (a far light's cube spends its
+  texels on the few degrees the scene takes up).
 
 Depth is stored reversed (1 near, 0 far or nothing), as in the colour pass: orthographic
 views linearly between their fitted near and far planes, perspective views as near / t
@@ -308,20 +310,33 @@ def _face_reaches(light_from_world: np.ndarray, guard: float, regions: list[np.n
 
 
 def _cube(index: int, light, fit: _Scene, size: int, margin: float) -> LightShadow:
+    """The cube's faces that can reach a visible receiver a caster shadows, all with one
+    window: the union of what each needs in its own x/t, y/t (the faces are alike, so one
+    texel mapping serves them all), padded by `margin` texels and never wider than the face
+    and its guard band. A light far from the scene sees it under a small angle: a window as
+    wide as the face would spread its texels over directions nothing visible lies in."""
     position = np.asarray(light.position, dtype=np.float64)
     guard = cube_guard(size, margin)
     near = NEAR_FRACTION * fit.farthest(position)
-    views: list[ShadowView | None] = []
+    needed, lower, upper = [], np.full(2, np.inf), np.full(2, -np.inf)
     for face in range(6):
         light_from_world = _rigid(face_rotation(face), position)
-        needed = (_face_reaches(light_from_world, guard, list(fit.receivers.values()))
-                  and fit.window(light_from_world, False, guard) is not None)
-        if needed and isinstance(light, SpotLight):  # the face's pyramid meets the cone
+        found = fit.window(light_from_world, False, guard) if _face_reaches(light_from_world, guard, list(fit.receivers.values())) else None
+        if found is not None and isinstance(light, SpotLight):  # the face's pyramid meets the cone
             axis = np.asarray(light.direction, dtype=np.float64)
             cosine = float(np.clip(-light_from_world[2, :3] @ axis / np.linalg.norm(axis), -1.0, 1.0))
-            needed = math.degrees(math.acos(cosine)) - math.degrees(math.atan(guard * math.sqrt(2.0))) < light.cutoff
-        views.append(ShadowView(index, False, light_from_world, (-guard, -guard, guard, guard), near, math.inf) if needed else None)
-    return LightShadow(index, tuple(views), _rigid(np.eye(3), position))
+            if math.degrees(math.acos(cosine)) - math.degrees(math.atan(guard * math.sqrt(2.0))) >= light.cutoff:
+                found = None
+        needed.append(light_from_world if found is not None else None)
+        if found is not None:
+            lower, upper = np.minimum(lower, found[0]), np.maximum(upper, found[1])
+    if not any(view is not None for view in needed):
+        return LightShadow(index, (None,) * 6, _rigid(np.eye(3), position))
+    x0, x1 = _padded(max(lower[0], -1.0), min(upper[0], 1.0), size, margin, 1e-6)
+    y0, y1 = _padded(max(lower[1], -1.0), min(upper[1], 1.0), size, margin, 1e-6)
+    window = (max(x0, -guard), max(y0, -guard), min(x1, guard), min(y1, guard))
+    views = tuple(ShadowView(index, False, view, window, near, math.inf) if view is not None else None for view in needed)
+    return LightShadow(index, views, _rigid(np.eye(3), position))
 
 
 def fit_shadow_views(scene: Scene, size: int, margin: float) -> tuple[LightShadow, ...]:

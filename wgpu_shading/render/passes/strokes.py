@@ -21,7 +21,7 @@ import wgpu
 from pyglm import glm
 
 from ...scene import Material, Scene, SceneObject
-from ...scene.mesh_parts import MeshPart
+from ...scene.geometry.mesh_parts import MeshPart
 from ..gpu.device_cache import DeviceCache
 from ..gpu.pipelines import BLEND_OVER, PassKind, PipelineDescriptor, PipelineKey
 from ..shaders.bindings import binding_plan

@@ -211,7 +211,7 @@ def _candidate_bindings(features: FeatureSet) -> list[Binding]:
         Binding("frame", 0, "uniform", "frame_uniforms", "FrameUniforms", VERTEX_AND_FRAGMENT, "Group 0: one per frame, shared by every object."),
         Binding("object", 1, "uniform", "object_uniforms", "ObjectUniforms", VERTEX_AND_FRAGMENT, "Group 1: one per object (and its textures)."),
     ]
-    if features.shadow_lights:  # shadows (passes/shadow.py binds them; wgsl/shadows.wgsl reads them)
+    if features.shadow_lights:  # shadows (passes/shadow.py binds them; wgsl/chunks/shadows/lookup.wgsl reads them)
         entries += [
             Binding("shadow_uniforms", 0, "uniform", "shadow_uniforms", "ShadowUniforms", VERTEX_AND_FRAGMENT,
                     "Shadows: the casting lights' views (docs/shadows.md),"),

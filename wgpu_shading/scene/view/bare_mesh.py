@@ -50,7 +50,7 @@ from ..lights import DirectionalLight
 from ..maps import srgb_decode
 from ..material import Material
 from ..material_table import material as named_material
-from ..mesh import Mesh
+from ..geometry.mesh import Mesh
 from ..objects import BareMesh, Scene, SceneObject
 
 DEFAULT_SIZE = (512, 512)  # the image, when the view gives no size

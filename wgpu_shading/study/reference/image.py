@@ -1,6 +1,6 @@
 """What a render of the float64 reference returns: `ReferenceImage`, the colour plus what the
 tests need to know about each pixel (coverage, visible triangle and object, depth, distance
-to an edge, texel footprint). Both the same-mesh reference (`mesh.py`) and the
+to an edge, texel footprint). Both the same-mesh reference (`shading.py`) and the
 analytic shapes (`analytic.py`) produce one."""
 
 from __future__ import annotations

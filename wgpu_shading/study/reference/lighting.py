@@ -1,7 +1,7 @@
 """The lighting equation of docs/conventions.md in float64, at arrays of eye-space
 points: guarded power and normalize with the conventions' limits, the lights in eye space,
 ambient + diffuse + specular per light, and the texture sampling and combine of docs/conventions.md#textures
-with the final clamp. Shape-agnostic: the rasterized meshes (`mesh.py`) and the
+with the final clamp. Shape-agnostic: the rasterized meshes (`shading.py`) and the
 analytic shapes (`analytic.py`) both shade through `shade` and `combine`."""
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ snapped to 1/256 pixel (done here in exact int64 arithmetic, so ties on an edge 
 exactly by the top-left rule), nearest surface wins. Triangles that cross the near plane or
 leave a wide guard band are clipped in eye space first. Coverage is vectorized over
 (triangle, candidate pixel) pairs, in chunks, so a mesh with a million triangles renders in
-seconds. Shading is not done here: see `mesh.py`.
+seconds. Shading is not done here: see `shading.py`.
 """
 
 from __future__ import annotations

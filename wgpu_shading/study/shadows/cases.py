@@ -226,6 +226,24 @@ def _two_lights() -> ShadowCase:
     )
 
 
+def _far_positional_light() -> ShadowCase:
+    # Found by the random scenes (docs/shadows.md#random-scenes, seed 22): a positional light
+    # 40 units away sees the scene under a few degrees; a cube face 90° wide gave the box a
+    # handful of texels, and at 4° elevation each spans ~20 pixels of ground.
+    box = SceneObject(cube(1.0), SHINY, translate=(0.3, 0.3, -1.3), rotate=(0.0, 126.0, 0.0), scale=(1.0, 0.3, 0.8))
+    light = PositionalLight(position=tuple(np.array([0.3, 0.0, -1.3]) + 40.0 * np.array([0.92, 0.07, -0.37])),
+                            shadows=True)
+    return ShadowCase(
+        "far_positional_light",
+        Scene(
+            objects=(box, _ground(24.0)),
+            lights=(light,),
+            camera=Camera(eye=(-7.5, 4.4, -0.5), target=(0.5, 0.4, -0.9), fov_y=60.0, near=0.2, far=60.0),
+        ),
+        "a positional light 40 units away at 4° elevation: its cube map must spend its texels on the few degrees the scene takes up",
+    )
+
+
 _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     **{f"sphere_over_plane_{e:g}": _sphere_over(e) for e in ELEVATIONS},
     "sphere_on_plane": _sphere_on_plane,
@@ -234,6 +252,7 @@ _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     "low_poly_terminator": _terminator,
     "ring_of_boxes": _ring_of_boxes,
     "two_lights": _two_lights,
+    "far_positional_light": _far_positional_light,
 }
 SHADOW_CASE_NAMES: tuple[str, ...] = tuple(_BUILDERS)
 SCALES = (1e-3, 1.0, 1e3)
@@ -246,16 +265,23 @@ def _scaled_camera(camera: Camera, scale: float, projection: str) -> Camera:
                   fov_y=camera.fov_y, near=camera.near * scale, far=camera.far * scale, projection=projection, ortho_height=height)
 
 
-def _scaled(case: ShadowCase, scale: float) -> ShadowCase:
-    """Every length × scale: positions, object scales, the camera, the closed forms."""
+def scaled_scene(scene: Scene, scale: float) -> Scene:
+    """The scene with every length × scale: object and light positions, object scales,
+    attenuation per unit distance, the camera (its framing kept, for either projection)."""
     def light(l):
-        return replace(l, position=tuple(scale * np.asarray(l.position))) if hasattr(l, "position") else l
+        if not hasattr(l, "position"):
+            return l
+        # Attenuation is per unit distance: kl/scale and kq/scale² keep the picture.
+        return replace(l, position=tuple(scale * np.asarray(l.position)),
+                       attenuation=(l.attenuation[0], l.attenuation[1] / scale, l.attenuation[2] / scale**2))
     objects = tuple(replace(o, translate=tuple(scale * np.asarray(o.translate)), scale=tuple(scale * np.asarray(o.scale)))
-                    for o in case.scene.objects)
-    # Attenuation is per unit distance: kl/scale and kq/scale² keep the picture.
-    lights = tuple(light(l) for l in case.scene.lights)
-    lights = tuple(replace(l, attenuation=(l.attenuation[0], l.attenuation[1] / scale, l.attenuation[2] / scale**2))
-                   if hasattr(l, "attenuation") else l for l in lights)
+                    for o in scene.objects)
+    camera = _scaled_camera(scene.camera, scale, scene.camera.projection)
+    return replace(scene, objects=objects, lights=tuple(light(l) for l in scene.lights), camera=camera)
+
+
+def _scaled(case: ShadowCase, scale: float) -> ShadowCase:
+    """Every length × scale: the scene (its camera is scaled by shadow_case) and the closed forms."""
     ellipse = case.ellipse and replace(case.ellipse, center=tuple(scale * np.asarray(case.ellipse.center)),
                                        semi_major=case.ellipse.semi_major * scale, semi_minor=case.ellipse.semi_minor * scale)
     shapes = tuple(
@@ -264,7 +290,8 @@ def _scaled(case: ShadowCase, scale: float) -> ShadowCase:
                      half_v=tuple(scale * np.asarray(s.half_v)))
         for s in case.shapes
     )
-    return replace(case, scene=replace(case.scene, objects=objects, lights=lights), ellipse=ellipse, shapes=shapes)
+    scene = replace(scaled_scene(case.scene, scale), camera=case.scene.camera)
+    return replace(case, scene=scene, ellipse=ellipse, shapes=shapes)
 
 
 def shadow_case(name: str, size: tuple[int, int] = (128, 128), *, scale: float = 1.0,

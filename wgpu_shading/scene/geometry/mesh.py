@@ -7,7 +7,7 @@ in float64 on the CPU as part of the model matrix (see SceneObject.world_from_mo
 
 Vertex normals come from the file when it has them, else they are the normalized sum
 of the adjacent faces' unit normals (the seeds' definition), optionally after welding by
-position and splitting at creases (docs/real-world-files.md, see normals.py).
+position and splitting at creases (docs/real-world-files.md, see crease_normals.py).
 
 A mesh from a file may have several parts (OBJ `usemtl`, glTF primitives): each part is a
 contiguous range of triangles with its own material, drawn with its own draw call.
@@ -21,9 +21,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import MeshError
+from ...errors import MeshError
 from .mesh_parts import PRIMITIVES, MeshPart, check_parts, default_parts, kept_for_lines_and_points, triangle_edges, valid_elements
-from .normals import crease_normals, face_normals
+from .crease_normals import crease_normals, face_normals
 from .solids import solid_orientation
 from .vertex_normals import validated_normals, vertex_normals
 from .vertex_arrays import bounds, relative_positions, unit_colors, unit_or_zero_normals
@@ -31,7 +31,7 @@ from .vertex_arrays import bounds, relative_positions, unit_colors, unit_or_zero
 __all__ = ["MAX_VERTICES", "MAX_TRIANGLES", "Mesh", "MeshPart", "PRIMITIVES", "face_normals", "owned", "vertex_normals"]
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .material import Material
+    from ..material import Material
 
 # Limits (docs/reliability.md). Counts: host and GPU memory (~100 bytes per triangle in
 # all). Extent (the bounding box's diagonal, in model units): flat shading takes the cross
@@ -66,7 +66,7 @@ def _private(array: np.ndarray | None, *inputs: object) -> np.ndarray | None:
 
 @dataclass(frozen=True, eq=False)
 class Mesh:
-    """An indexed mesh of triangles, lines and points (scene/mesh_parts.py), ready for upload.
+    """An indexed mesh of triangles, lines and points (scene/geometry/mesh_parts.py), ready for upload.
 
     positions: (N, 3) float32, relative to `origin`
     normals:   (N, 3) float32, unit length (zero only where no normal can be defined); a
@@ -193,7 +193,7 @@ class Mesh:
     @cached_property
     def solid(self) -> int:
         """+1 if the mesh is a closed surface wound counter-clockwise seen from outside, −1
-        if closed and inside out, 0 if open (scene/solids.py; cached: shadows ask per frame)."""
+        if closed and inside out, 0 if open (scene/geometry/solids.py; cached: shadows ask per frame)."""
         return solid_orientation(self.positions, self.indices)
 
     @cached_property

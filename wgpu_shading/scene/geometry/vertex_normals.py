@@ -1,7 +1,7 @@
 """Vertex normals as the seeds define them, and normals a caller gives made usable.
 
 `vertex_normals`: the normalized sum of the unit normals of the faces around each given
-vertex (no welding: normals.py welds and creases). `validated_normals`: given normals made
+vertex (no welding: crease_normals.py welds and creases). `validated_normals`: given normals made
 unit length, with computed ones where a given one has no direction.
 """
 
@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import MeshError
-from .normals import face_normals
+from ...errors import MeshError
+from .crease_normals import face_normals
 
 
 def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:

@@ -8,7 +8,7 @@ from urllib.parse import parse_qsl
 
 import numpy as np
 
-from ..errors import MeshError, shown
+from ...errors import MeshError, shown
 from .mesh import Mesh
 
 BUILTIN_PREFIX = "builtin:"

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .normals import weld_by_position
+from .crease_normals import weld_by_position
 
 # Vertices closer than this fraction of the mesh's size are welded: far above float32's
 # rounding of one position (6e-8), far below any edge a mesh means to have.

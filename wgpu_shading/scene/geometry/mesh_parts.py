@@ -19,10 +19,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import MeshError
+from ...errors import MeshError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .material import Material
+    from ..material import Material
 
 PRIMITIVES = ("triangles", "lines", "points")
 
