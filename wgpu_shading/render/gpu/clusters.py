@@ -1,8 +1,8 @@
 """Clusters of triangles that face away from the camera, left out of a frame (same pixels).
 
 A closed surface (every edge shared by two triangles that run along it in opposite
-directions, their corners at identical positions: scene/solids.py without tolerance) wound
-counter-clockwise seen from outside, seen from a camera outside it with nothing of it in
+directions, their corners at identical positions: scene/geometry/solids.py without
+tolerance) wound counter-clockwise seen from outside, seen from a camera outside it with nothing of it in
 front of the near plane: every ray from the eye enters the solid through a triangle turned
 towards it before it meets one turned away, so a triangle turned away never shows; its
 vertex shading and binning, lavapipe's single-threaded part of a frame, are work for nothing
@@ -121,7 +121,7 @@ def cluster_triangles(ordered: np.ndarray, positions: np.ndarray, parts, skipped
     """Group the triangles of every triangle part not in `skipped` into clusters and sort
     each part's clusters by direction, rewriting `ordered` (the flat index buffer, vertex ids
     of `positions`) in place; the table of their bounds, or None when no part has any."""
-    from ...scene.normals import weld_by_position
+    from ...scene.geometry.crease_normals import weld_by_position
 
     runs = [
         (number, part.first, part.count)
