@@ -172,6 +172,10 @@ def test_a_benchmark_sphere_leaves_out_its_back_half_after_the_frames_that_pay_f
     settle(ours, scene)
     assert drawn_share(ours, scene) < 0.85
     assert len(ours.device_cache.meshes) == 1  # the upload without clusters was replaced, not kept beside
+    rng = np.random.default_rng(5)  # the clusters as used (128 triangles, short gaps drawn): the same pixels
+    for camera in [scene.camera] + [random_view(scene.objects[0].mesh, rng) for _ in range(4)]:
+        view = replace(scene, camera=camera)
+        assert_same(every_triangle(ours, view, monkeypatch), outputs(ours, view), "benchmark sphere")
 
 
 def open_sphere() -> Mesh:

@@ -31,7 +31,7 @@ its triangles and their ring (axis, half-angle) and a sphere around those triang
 bounds of meshoptimizer's cluster cone culling, https://github.com/zeux/meshoptimizer#mesh-shading,
 widened to the ring). The clusters of a part are then sorted along a Hilbert curve over the
 octahedral map of their axes, so the ones a frame leaves out lie together, and a frame draws
-the ones it keeps as at most MAX_RANGES ranges of the index buffer.
+the ones it keeps as at most RANGES_PER_PART ranges of the index buffer.
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ CLUSTER_MIN_TRIANGLES = 1 << 14
 CLUSTER_MAX_TRIANGLES = 1 << 22
 # An upload is clustered at the frame that many frames after it (mesh_uploads.asks_for_clusters).
 CLUSTERS_AFTER_FRAMES = 16
-MAX_RANGES = 32  # draws per part at most: gaps between kept clusters are closed, smallest first
+RANGES_PER_PART = 32  # draws per part at most: gaps between kept clusters are closed, smallest first
 # A draw costs lavapipe and wgpu-py about what the vertex work of a few hundred triangles does
 # (docs/performance.md): shorter gaps between kept clusters are drawn, not skipped.
 BRIDGED_TRIANGLES = 3 * CLUSTER_TRIANGLES
@@ -99,7 +99,7 @@ class ClusterTable:
     def kept_ranges(self, part: int, away: np.ndarray) -> list[tuple[int, int]] | None:
         """(first triangle, count) ranges that draw every cluster of `part` not in `away`;
         None for a part without clusters (drawn whole). A gap of fewer than BRIDGED_TRIANGLES
-        is drawn rather than paid for with another draw, and at most MAX_RANGES ranges are
+        is drawn rather than paid for with another draw, and at most RANGES_PER_PART ranges are
         made (the smallest gaps drawn as well)."""
         span = self.parts.get(part)
         if span is None:
@@ -111,8 +111,8 @@ class ClusterTable:
         ends = first + self.count[span]
         gaps = first[starts[1:]] - ends[stops[:-1] - 1]  # triangles left out between runs
         bridged = np.flatnonzero(gaps < BRIDGED_TRIANGLES)
-        if len(starts) - len(bridged) > MAX_RANGES:
-            bridged = np.argsort(gaps, kind="stable")[: len(starts) - MAX_RANGES]
+        if len(starts) - len(bridged) > RANGES_PER_PART:
+            bridged = np.argsort(gaps, kind="stable")[: len(starts) - RANGES_PER_PART]
         starts, stops = np.delete(starts, bridged + 1), np.delete(stops, bridged)
         return [(int(first[a]), int(ends[b - 1] - first[a])) for a, b in zip(starts, stops)]
 
