@@ -221,7 +221,7 @@ def test_edges_are_drawn_over_their_surface_without_z_fighting(renderer, degrees
     if degrees:
         import wgpu_shading.render.features as features
 
-        monkeypatch.setattr(features, "surface_offset", lambda scene: 0)
+        monkeypatch.setattr(features, "surface_offset", lambda scene, mesh=None: 0)
         assert not _diagonal_rows_drawn(renderer.render(with_edges), degrees).all()
     c = np.cos(np.radians(degrees))
     j, i = np.mgrid[0:H, 0:W]
@@ -230,6 +230,27 @@ def test_edges_are_drawn_over_their_surface_without_z_fighting(renderer, degrees
     inner = surface.copy()
     inner[:, :] &= np.roll(surface, 2, 0) & np.roll(surface, -2, 0) & np.roll(surface, 2, 1) & np.roll(surface, -2, 1)
     np.testing.assert_array_equal(image[inner], plain[inner])  # away from edges, the surface as it was
+
+
+@pytest.mark.parametrize("degrees", [0.0, 60.0])
+def test_a_meshs_own_lines_over_its_triangles_are_drawn_without_z_fighting(renderer, degrees, monkeypatch):
+    """A mesh's own segments lying on its triangles (a PLY `edge` element over its faces,
+    OBJ `l` beside `f`) win the depth test at every pixel along them, as `--edges` do:
+    the surfaces of such a mesh are pushed back by ceil(line_width / 2) + 1 pixels of their
+    slope. Control: without that bias, the tilted square's diagonal loses pixels."""
+    quad = _tilted_quad(degrees)
+    white, red = Material(diffuse=(1.0, 1.0, 1.0, 1.0)), Material(diffuse=(1.0, 0.0, 0.0, 1.0))
+    mesh = Mesh.from_arrays(quad.world_positions(), quad.indices, lines=[[0, 2]],
+                            parts=(MeshPart(0, 2, white, "faces"), MeshPart(0, 1, red, "diagonal", "lines")))
+    scene = replace(scene_of(mesh, lights=[DirectionalLight(direction=(0, 0, -1))], camera=DEEP_CAMERA),
+                    objects=(SceneObject(mesh),))  # the parts' own materials
+    on_diagonal = _diagonal_rows_drawn(renderer.render(scene), degrees)
+    assert on_diagonal.all(), f"rows where the diagonal is missing: {np.flatnonzero(~on_diagonal).tolist()}"
+    if degrees:
+        import wgpu_shading.render.features as features
+
+        monkeypatch.setattr(features, "surface_offset", lambda scene, mesh=None: 0)
+        assert not _diagonal_rows_drawn(renderer.render(scene), degrees).all()
 
 
 def test_edges_behind_a_surface_stay_hidden(renderer):

@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 
 from ..errors import SceneError
 from ..scene.maps import MAP_FIELDS
-from ..scene import DirectionalLight, Material, PositionalLight, Scene, SceneObject, SpotLight, has_shadows
+from ..scene import DirectionalLight, Material, Mesh, PositionalLight, Scene, SceneObject, SpotLight, has_shadows
 
 
 @dataclass(frozen=True)
@@ -271,7 +271,7 @@ def object_features(scene: Scene, obj: SceneObject, index: int = 0, material: Ma
         occlusion_map="occlusion_map" in maps and lit,
         alpha_map="alpha_map" in maps and material.alpha_mode != "opaque",
         vertex_tangents=obj.mesh.tangents is not None and "normal_map" in maps and per_fragment_normals,
-        under_edges=surface_offset(scene),
+        under_edges=surface_offset(scene, obj.mesh),
         **_shadow_fields(scene, obj, lit),
     )
     uv_sets = texture_uv_sets(features, material, obj.mesh, index)
@@ -356,8 +356,13 @@ def lit_specular(scene: Scene, material: Material) -> bool:
     return not material.unlit and material.has_specular and any(max(light.specular[:3]) > 0.0 for light in scene.lights)
 
 
-def surface_offset(scene: Scene) -> int:
-    """How far surfaces are pushed back under their edges (`--edges`), in pixels of their own
-    depth slope: half the edge width (how far an edge's quad reaches over a triangle next to
-    it), rounded up, plus one. 0 without edges. docs/primitives.md#edges."""
-    return math.ceil(scene.shading.edge_width / 2.0) + 1 if scene.shading.edges else 0
+def surface_offset(scene: Scene, mesh: Mesh | None = None) -> int:
+    """How far surfaces are pushed back under the lines drawn on them, in pixels of their own
+    depth slope: half the widest such line (how far its quad reaches over a triangle next to
+    it), rounded up, plus one. Those lines are the edges (`--edges`) and the mesh's own
+    segments beside its triangles (a PLY's `edge` element over its faces, OBJ `l` beside
+    `f`); 0 without either. docs/primitives.md#edges."""
+    widths = [scene.shading.edge_width] if scene.shading.edges else []
+    if mesh is not None and mesh.line_count and mesh.triangle_count:
+        widths.append(scene.shading.line_width)
+    return math.ceil(max(widths) / 2.0) + 1 if widths else 0

@@ -65,9 +65,8 @@ def describe_load_error(error: BaseException, path: Path) -> str:
         missing = getattr(error, "name", None) or (named.group(1) if named else "")
         if missing and missing.split(".")[0] not in ("charset_normalizer", "chardet"):
             # trimesh reaches for another optional module for what the file holds (scipy for
-            # a PLY of edges without faces): not a damaged file, a part we do not read.
-            return (f"holds something its reader (trimesh) reads only with the optional module {missing!r}, "
-                    f"not installed (e.g. a PLY of edges without faces); not drawn")
+            # a PLY's edges, which ply_edges.py now reads): not a damaged file, a part we do not read.
+            return f"holds something its reader (trimesh) reads only with the optional module {missing!r}, not installed; not drawn"
         # trimesh asks an optional charset detector when a file is neither valid binary
         # nor UTF-8 text: for us that means the file is not what its suffix says.
         return f"not a valid {path.suffix.lstrip('.').upper()} file (neither its binary form nor UTF-8 text)"

@@ -17,8 +17,10 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
+from ...scene.geometry.mesh import MAX_TRIANGLES
 from ..mesh_pieces import MeshFile, point_piece
 from .checks import check_declared_counts
+from .ply_edges import renamed_edge_file
 from .trimesh_reader import read_with_trimesh
 
 PLY_TYPES = {
@@ -95,6 +97,8 @@ def ply_declared_counts(path: Path, where: str, file_size: int, header: PlyHeade
                 per_item = _PLY_SIZES.get(kind, 1) if header.binary else 2  # a digit and a separator
             minimum += element.count * per_item
     vertices, faces = header.count("vertex"), header.count("face")
+    if header.count("edge") > MAX_TRIANGLES:  # segments cost what triangles cost
+        raise MeshError(f"{where}: declares {header.count('edge')} edges; at most {MAX_TRIANGLES} are supported")
     check_declared_counts(where, vertices, faces, minimum, file_size - header.header_bytes)
     return vertices, faces
 
@@ -164,6 +168,7 @@ def read_ply(path: Path, file_size: int) -> MeshFile:
     header = read_ply_header(path, where)
     declared = ply_declared_counts(path, where, file_size, header)
     if not is_binary_point_cloud(header):
-        return read_with_trimesh(path, file_size, declared)
+        edges = renamed_edge_file(path, header.header_bytes) if header.count("edge") else None
+        return read_with_trimesh(path, file_size, declared, edges)
     points = read_binary_point_cloud(path, header, where)
     return MeshFile([point_piece(points.positions, points.normals, points.colors, name=path.name)])

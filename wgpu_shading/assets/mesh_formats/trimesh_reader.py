@@ -6,35 +6,45 @@ A PLY header's counts are checked against the file's size before trimesh allocat
 from __future__ import annotations
 
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 
 from ...errors import MeshError
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import describe_load_error, text_source
+from .ply_edges import edge_piece
 
 
-def read_with_trimesh(path: Path, file_size: int, declared: tuple[int, int] | None = None) -> MeshFile:
+def read_with_trimesh(path: Path, file_size: int, declared: tuple[int, int] | None = None,
+                      renamed_edges: BinaryIO | None = None) -> MeshFile:
     """A PLY or an ASCII STL file (ply.py's reader for PLYs that are not binary point clouds,
     `declared` their header's vertex and face counts, already checked against the file's
-    size; stl.py's for ASCII STL)."""
-    return MeshFile([_trimesh_piece(path, file_size, declared)])
+    size; stl.py's for ASCII STL). renamed_edges: a PLY with an `edge` element, as
+    ply_edges.renamed_edge_file reads it: its edges drawn as lines, over its faces or alone."""
+    if renamed_edges is None:
+        return MeshFile([_trimesh_piece(_load_trimesh(path, file_size), path, declared)])
+    with renamed_edges:
+        loaded = _load_trimesh(path, source=renamed_edges)
+    raw = loaded.metadata.get("_ply_raw", {}) if isinstance(getattr(loaded, "metadata", None), dict) else {}
+    lines = edge_piece(raw, path)
+    if lines is not None and not len(raw.get("face", {}).get("data", ())):
+        return MeshFile([lines])  # the vertices are the edges' ends, not points of their own
+    surface = _trimesh_piece(loaded, path, declared)
+    return MeshFile([surface] if lines is None else [surface, lines])
 
 
-def _load_trimesh(path: Path, file_size: int | None = None, content: bytes | None = None, **options):
-    """trimesh's reading of `path` (or of `content`, the file rewritten, resolving its
-    other files next to `path`), its exceptions turned into one-line MeshErrors."""
-    import io
-
+def _load_trimesh(path: Path, file_size: int | None = None, source: BinaryIO | None = None, **options):
+    """trimesh's reading of `path` (or of `source`, the file as read through a filter,
+    resolving its other files next to `path`), its exceptions turned into one-line MeshErrors."""
     import trimesh  # lazy: trimesh costs ~0.3 s to import
 
     where = f"mesh file {str(path)!r}"
     try:
         # Text formats are decoded here (UTF-8, else Latin-1): trimesh's own fallback needs
         # the optional charset_normalizer.
-        source = text_source(path, where, file_size) if file_size is not None else None
-        if content is not None:
-            source = io.BytesIO(content)
+        if source is None and file_size is not None:
+            source = text_source(path, where, file_size)
         if source is None:
             return trimesh.load(str(path), process=False, **options)
         resolver = trimesh.resolvers.FilePathResolver(str(path))
@@ -56,12 +66,11 @@ def _file_normals(geometry) -> np.ndarray | None:
     return None
 
 
-def _trimesh_piece(path: Path, file_size: int, declared: tuple[int, int] | None) -> MeshPiece:
+def _trimesh_piece(loaded, path: Path, declared: tuple[int, int] | None) -> MeshPiece:
+    """What trimesh read from `path` as one piece (its header's counts were checked against
+    the file size before trimesh allocated them)."""
     import trimesh
 
-    # A PLY header's counts are checked against the file size before trimesh allocates them.
-
-    loaded = _load_trimesh(path, file_size)
     if isinstance(loaded, trimesh.Scene):
         geometries = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
         if not geometries:
