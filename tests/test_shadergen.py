@@ -65,6 +65,40 @@ def test_unclosed_if_is_an_error():
         run("open.wgsl", A=1)
 
 
+# #for: what each of COUNT lights needs, written out once per light (WGSL has no arrays of
+# interstage variables), with its own #if inside.
+LOOP_FILES = {
+    "loop.wgsl": "#for LIGHT < COUNT\n@location({{5 + 4 * LIGHT}}) share_{{LIGHT}}\n#if A\nsplit_{{LIGHT}}\n#endif\n#endfor\nend\n",
+    "nested_loop.wgsl": "#for I < COUNT\n#for J < COUNT\n#endfor\n#endfor\n",
+    "open_loop.wgsl": "#for I < COUNT\nx\n",
+    "stray_endfor.wgsl": "#endfor\n",
+    "typo_loop.wgsl": "#for I < LIGHTCOUNT\nx\n#endfor\n",
+    "bad_expression.wgsl": "#for I < COUNT\n{{I / 2}}\n#endfor\n",
+}
+
+
+def run_loop(name: str, **defines: int) -> list[str]:
+    return preprocess(name, {"A": 0, "COUNT": 0, **defines}, LOOP_FILES.__getitem__).split("\n")
+
+
+def test_a_loop_is_written_out_once_per_count_with_its_conditionals():
+    assert run_loop("loop.wgsl") == ["end"]
+    assert run_loop("loop.wgsl", COUNT=2) == ["@location(5) share_0", "@location(9) share_1", "end"]
+    assert run_loop("loop.wgsl", COUNT=2, A=1) == ["@location(5) share_0", "split_0", "@location(9) share_1", "split_1", "end"]
+
+
+@pytest.mark.parametrize("name, message", [
+    ("nested_loop.wgsl", "loop.wgsl:2: #for inside a #for"),
+    ("open_loop.wgsl", "open_loop.wgsl:1: #for not closed"),
+    ("stray_endfor.wgsl", "#endfor without #for"),
+    ("typo_loop.wgsl", "unknown feature name 'LIGHTCOUNT'"),
+    ("bad_expression.wgsl", "expected an integer expression of I"),
+])
+def test_malformed_loops_are_errors(name, message):
+    with pytest.raises(ShaderSourceError, match=message):
+        run_loop(name, COUNT=2)
+
+
 def _code(features: FeatureSet) -> str:
     """The generated WGSL without comments (comments may mention absent features)."""
     return re.sub(r"//[^\n]*", "", generate_wgsl(features))

@@ -4,7 +4,9 @@ Each worker keeps one warm ChunkRenderer, made once by a WorkerPlugin (the sched
 the plugin to workers that join later, and to a worker the nanny restarts after a crash).
 Only the plugin's settings are pickled; the Renderer (not picklable) is built on the worker.
 A task is a chunk of views of one mesh. A chunk whose worker died (KilledWorker) is retried
-one job per task, so a job that kills its worker fails alone and is named in the report.
+one job per task, and a single job that died is tried once more when nothing else runs, so
+a job that kills its worker fails alone and is named in the report, and a job that only
+waited on a dying worker is rendered.
 Workers write their files themselves (atomically) and return only small records.
 
 Processes are spawned, never forked: forking after wgpu is set up hangs the child.
@@ -119,32 +121,53 @@ def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distr
     from .worker import render_chunk_task
 
     batch = uuid.uuid4().hex[:12]  # keys unique per run: a reused key returns an old result
-    futures = {}
-    for index, chunk in enumerate(work):
-        future = client.submit(render_chunk_task, chunk, out_dir, plugin_name, key=f"wgpu-shading-chunk-{batch}-{index}", pure=False)
-        futures[future] = chunk
+
+    def submit(chunk: list[Job], key: str):
+        return client.submit(render_chunk_task, chunk, out_dir, plugin_name, key=f"wgpu-shading-{key}-{batch}", pure=False)
+
+    futures = {submit(chunk, f"chunk-{index}"): chunk for index, chunk in enumerate(work)}
     # This client's loop, not the default client's: a process may hold other clients (a
     # notebook's, a test's), and as_completed would otherwise wait on another loop.
     pending = distributed.as_completed(futures, loop=client.loop)
+    # A worker's death blames every task it held, not only the one that killed it: a job
+    # waiting on that worker twice is called KilledWorker too. So a single job that died is
+    # only a suspect until it has died again while nothing else ran (tried last, one by one).
+    suspects: list[list[Job]] = []
     for future in pending:
         chunk = futures.pop(future)
         try:
             records = future.result()
-        except distributed.KilledWorker as error:
+        except distributed.KilledWorker:
             future.release()
             if len(chunk) > 1:  # find the job that kills workers: retry one job per task
                 for job in chunk:
-                    single = client.submit(render_chunk_task, [job], out_dir, plugin_name, key=f"wgpu-shading-job-{batch}-{job.id}", pure=False)
+                    single = submit([job], f"job-{job.id}")
                     futures[single] = [job]
                     pending.add(single)
-                continue
-            records = [_failure(job, f"the worker rendering it died repeatedly ({error})") for job in chunk]
+            else:
+                suspects.append(chunk)
+            continue
         except Exception as error:  # noqa: BLE001 - a bug in the task itself: report, go on
             records = [_failure(job, f"{type(error).__name__}: {error}") for job in chunk]
         future.release()
-        if [record["id"] for record in records] != [job.id for job in chunk]:
-            records = [_failure(job, "internal error: the worker returned results of other jobs") for job in chunk]
-        yield records
+        yield _checked(records, chunk)
+    for chunk in suspects:
+        future = submit(chunk, f"alone-{chunk[0].id}")
+        try:
+            records = future.result()
+        except distributed.KilledWorker as error:
+            records = [_failure(job, f"the worker rendering it died repeatedly ({error})") for job in chunk]
+        except Exception as error:  # noqa: BLE001
+            records = [_failure(job, f"{type(error).__name__}: {error}") for job in chunk]
+        future.release()
+        yield _checked(records, chunk)
+
+
+def _checked(records: list[dict], chunk: list[Job]) -> list[dict]:
+    """The records of the chunk's jobs, in order, or each job failed if a worker answered for others."""
+    if [record["id"] for record in records] != [job.id for job in chunk]:
+        return [_failure(job, "internal error: the worker returned results of other jobs") for job in chunk]
+    return records
 
 
 def _failure(job: Job, message: str) -> dict:

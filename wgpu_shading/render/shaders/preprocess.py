@@ -6,6 +6,8 @@
     #hook lighting.light_diffuse  // what     a named point of the shader (and what goes there)
     #at lighting.light_diffuse [more.points]    the lines up to #end go to those points
     #end
+    #for LIGHT < SHADOW_LIGHTS                  the lines up to #endfor, once per LIGHT = 0, 1, …
+    #endfor                                     with {{LIGHT}}, {{6 + 4 * LIGHT}} written out
 
 An entry shader (wgsl/phong.wgsl) reads as the list of the chunks it includes, one per
 effect (wgsl/chunks/). A chunk declares what it needs (functions, private variables) where
@@ -16,6 +18,12 @@ pasted at its `#hook`, in the order the chunks are included, wherever the `#hook
 does not have are dropped (a chunk serves several entry shaders, each with its own
 points; tests/test_shadergen.py checks that every `#at` names a `#hook` of some file).
 Points may hold points of their own.
+
+`#for` repeats what one light (or one of any counted thing) needs where WGSL cannot index:
+interstage variables are one per location, so the shadow chunks write one per casting light.
+The loop is unrolled before anything else, so its body may hold `#if`s; a `{{…}}` in it is an
+integer expression of the loop's name (`+`, `-`, `*`), written out for each pass; loops do
+not nest.
 
 `#if` expressions use Python's syntax restricted to names, integers, `and`, `or`, `not`
 and comparisons; every name must be one of `FeatureSet.defines()` (a typo is an error,
@@ -32,6 +40,9 @@ from importlib.resources import files
 from typing import Callable, Mapping
 
 _DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif|hook|at|end)\b(.*)$")
+_FOR = re.compile(r"^\s*#for\s+([A-Z_][A-Z0-9_]*)\s*<\s*([A-Z_][A-Z0-9_]*)\s*$")
+_ENDFOR = re.compile(r"^\s*#endfor\s*$")
+_SUBSTITUTION = re.compile(r"\{\{([^{}]*)\}\}")
 _INCLUDE = re.compile(r'^\s*"([\w.\-/]+)"\s*$')
 _POINT = re.compile(r"^[A-Za-z_][\w.]*$")
 
@@ -84,6 +95,59 @@ def _evaluate(expression: str, defines: Mapping[str, int | bool], where: str) ->
     return bool(value(tree))
 
 
+def _arithmetic(expression: str, name: str, value: int, where: str) -> int:
+    """`{{6 + 4 * LIGHT}}`'s integer, for LIGHT = value."""
+    try:
+        tree = ast.parse(expression.strip(), mode="eval").body
+    except SyntaxError:
+        tree = None
+
+    def evaluate(node: ast.AST | None) -> int:
+        if isinstance(node, ast.Name) and node.id == name:
+            return value
+        if isinstance(node, ast.Constant) and type(node.value) is int:
+            return node.value
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult)):
+            left, right = evaluate(node.left), evaluate(node.right)
+            return left + right if isinstance(node.op, ast.Add) else left - right if isinstance(node.op, ast.Sub) else left * right
+        raise ShaderSourceError(f"{where}: expected an integer expression of {name} in {{{{{expression}}}}}")
+
+    return evaluate(tree)
+
+
+def _unroll(source: str, defines: Mapping[str, int | bool], name: str) -> list[tuple[int, str]]:
+    """The numbered lines of `source` with each `#for NAME < COUNT` … `#endfor` written out
+    COUNT times (a written-out line keeps its number in the file, for error messages)."""
+    output: list[tuple[int, str]] = []
+    loop: tuple[str, int, list[tuple[int, str]], str] | None = None  # (loop name, count, body, where)
+    for number, line in enumerate(source.splitlines(), start=1):
+        where = f"{name}:{number}"
+        start, end = _FOR.match(line), _ENDFOR.match(line)
+        if start:
+            if loop is not None:
+                raise ShaderSourceError(f"{where}: #for inside a #for")
+            if start.group(2) not in defines:
+                raise ShaderSourceError(f"{where}: unknown feature name {start.group(2)!r} in #for")
+            loop = (start.group(1), int(defines[start.group(2)]), [], where)
+        elif end:
+            if loop is None:
+                raise ShaderSourceError(f"{where}: #endfor without #for")
+            variable, count, body, loop_where = loop
+            for index in range(count):
+                output.extend(
+                    (line_number, _SUBSTITUTION.sub(lambda m: str(_arithmetic(m.group(1), variable, index, loop_where)), text))
+                    for line_number, text in body
+                )
+            loop = None
+        elif loop is not None:
+            loop[2].append((number, line))
+        else:
+            output.append((number, line))
+    if loop is not None:
+        raise ShaderSourceError(f"{loop[3]}: #for not closed with #endfor")
+    return output
+
+
 @dataclass(frozen=True)
 class _Hook:
     """Where the lines put at a named point go, in the expanded source."""
@@ -111,7 +175,7 @@ class _Expansion:
         stack: list[list[bool]] = []
         active = True
         block: tuple[list[str], list[str | _Hook], int, str] | None = None  # (points, lines, #if depth, where)
-        for number, line in enumerate(self.reader(name).splitlines(), start=1):
+        for number, line in _unroll(self.reader(name), self.defines, name):
             where = f"{name}:{number}"
             match = _DIRECTIVE.match(line)
             target = output if block is None else block[1]

@@ -17,44 +17,14 @@
 // MAX_SHADOW_LIGHTS (Phong) or MAX_VERTEX_LIT_SHADOW_LIGHTS (flat, Gouraud: their shares
 // take locations 6..21) casting lights (render/features.py).
 #at phong.varyings
-#if SHADOW_LIGHTS > 0
-    @location(5) shadow_position_0: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 1
-    @location(6) shadow_position_1: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 2
-    @location(7) shadow_position_2: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 3
-    @location(8) shadow_position_3: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 4
-    @location(9) shadow_position_4: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 5
-    @location(10) shadow_position_5: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 6
-    @location(11) shadow_position_6: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 7
-    @location(12) shadow_position_7: vec3<f32>,
-#endif
+#for LIGHT < SHADOW_LIGHTS
+    @location({{5 + LIGHT}}) shadow_position_{{LIGHT}}: vec3<f32>,
+#endfor
 #end
 #at gouraud.varyings flat.varyings
-#if SHADOW_LIGHTS > 0
-    @location(22) shadow_position_0: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 1
-    @location(23) shadow_position_1: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 2
-    @location(24) shadow_position_2: vec3<f32>,
-#endif
-#if SHADOW_LIGHTS > 3
-    @location(25) shadow_position_3: vec3<f32>,
-#endif
+#for LIGHT < SHADOW_LIGHTS
+    @location({{22 + LIGHT}}) shadow_position_{{LIGHT}}: vec3<f32>,
+#endfor
 #end
 
 // The vertex's (a flat face's: the corner's) point in each casting light's view.
@@ -62,45 +32,15 @@ fn light_position(slot: u32, eye_position: vec4<f32>) -> vec3<f32> {
     return (shadow_uniforms.lights[slot].light_from_eye * eye_position).xyz;
 }
 #at phong.vertex gouraud.vertex
-#if SHADOW_LIGHTS > 0
-    out.shadow_position_0 = light_position(0u, eye_position);
-#endif
-#if SHADOW_LIGHTS > 1
-    out.shadow_position_1 = light_position(1u, eye_position);
-#endif
-#if SHADOW_LIGHTS > 2
-    out.shadow_position_2 = light_position(2u, eye_position);
-#endif
-#if SHADOW_LIGHTS > 3
-    out.shadow_position_3 = light_position(3u, eye_position);
-#endif
-#if SHADOW_LIGHTS > 4
-    out.shadow_position_4 = light_position(4u, eye_position);
-#endif
-#if SHADOW_LIGHTS > 5
-    out.shadow_position_5 = light_position(5u, eye_position);
-#endif
-#if SHADOW_LIGHTS > 6
-    out.shadow_position_6 = light_position(6u, eye_position);
-#endif
-#if SHADOW_LIGHTS > 7
-    out.shadow_position_7 = light_position(7u, eye_position);
-#endif
+#for LIGHT < SHADOW_LIGHTS
+    out.shadow_position_{{LIGHT}} = light_position({{LIGHT}}u, eye_position);
+#endfor
 #end
 #at flat.vertex
     let corner_position = object_uniforms.eye_from_model * vec4<f32>(corner, 1.0);
-#if SHADOW_LIGHTS > 0
-    out.shadow_position_0 = light_position(0u, corner_position);
-#endif
-#if SHADOW_LIGHTS > 1
-    out.shadow_position_1 = light_position(1u, corner_position);
-#endif
-#if SHADOW_LIGHTS > 2
-    out.shadow_position_2 = light_position(2u, corner_position);
-#endif
-#if SHADOW_LIGHTS > 3
-    out.shadow_position_3 = light_position(3u, corner_position);
-#endif
+#for LIGHT < SHADOW_LIGHTS
+    out.shadow_position_{{LIGHT}} = light_position({{LIGHT}}u, corner_position);
+#endfor
 #end
 
 // The receiver at this fragment in each casting light's view: its point, and its
@@ -122,38 +62,10 @@ fn outward_normal(q: vec3<f32>, front_facing: bool) -> vec3<f32> {
 // The fragment stage knows its receiver before anything else (visibility.wgsl declares
 // front_facing where two-sided lighting does not).
 #at phong.fragment_begin vertex_lit.fragment_begin
-#if SHADOW_LIGHTS > 0
-    shadow_points[0] = in.shadow_position_0;
-    shadow_normals[0] = outward_normal(in.shadow_position_0, front_facing);
-#endif
-#if SHADOW_LIGHTS > 1
-    shadow_points[1] = in.shadow_position_1;
-    shadow_normals[1] = outward_normal(in.shadow_position_1, front_facing);
-#endif
-#if SHADOW_LIGHTS > 2
-    shadow_points[2] = in.shadow_position_2;
-    shadow_normals[2] = outward_normal(in.shadow_position_2, front_facing);
-#endif
-#if SHADOW_LIGHTS > 3
-    shadow_points[3] = in.shadow_position_3;
-    shadow_normals[3] = outward_normal(in.shadow_position_3, front_facing);
-#endif
-#if SHADOW_LIGHTS > 4
-    shadow_points[4] = in.shadow_position_4;
-    shadow_normals[4] = outward_normal(in.shadow_position_4, front_facing);
-#endif
-#if SHADOW_LIGHTS > 5
-    shadow_points[5] = in.shadow_position_5;
-    shadow_normals[5] = outward_normal(in.shadow_position_5, front_facing);
-#endif
-#if SHADOW_LIGHTS > 6
-    shadow_points[6] = in.shadow_position_6;
-    shadow_normals[6] = outward_normal(in.shadow_position_6, front_facing);
-#endif
-#if SHADOW_LIGHTS > 7
-    shadow_points[7] = in.shadow_position_7;
-    shadow_normals[7] = outward_normal(in.shadow_position_7, front_facing);
-#endif
+#for LIGHT < SHADOW_LIGHTS
+    shadow_points[{{LIGHT}}] = in.shadow_position_{{LIGHT}};
+    shadow_normals[{{LIGHT}}] = outward_normal(in.shadow_position_{{LIGHT}}, front_facing);
+#endfor
 #end
 
 // The steepest plane the comparison extends, in distance per unit across the light: an

@@ -42,178 +42,55 @@ fn take_share(lit_in: LitColor, parts: array<vec3<f32>, 2>, hidden: f32) -> LitC
 
 // The shares (constant over a flat face; interpolating equal values keeps them).
 #at gouraud.varyings flat.varyings
-#if SHADOW_LIGHTS > 0
-    @location(6) front_share_0: vec3<f32>,
+#for LIGHT < SHADOW_LIGHTS
+    @location({{6 + 4 * LIGHT}}) front_share_{{LIGHT}}: vec3<f32>,
 #if SHADOW_SPLIT
-    @location(7) front_specular_share_0: vec3<f32>,
+    @location({{7 + 4 * LIGHT}}) front_specular_share_{{LIGHT}}: vec3<f32>,
 #endif
 #if TWO_SIDED
-    @location(8) back_share_0: vec3<f32>,
+    @location({{8 + 4 * LIGHT}}) back_share_{{LIGHT}}: vec3<f32>,
 #if SHADOW_SPLIT
-    @location(9) back_specular_share_0: vec3<f32>,
+    @location({{9 + 4 * LIGHT}}) back_specular_share_{{LIGHT}}: vec3<f32>,
 #endif
 #endif
-#endif
-#if SHADOW_LIGHTS > 1
-    @location(10) front_share_1: vec3<f32>,
-#if SHADOW_SPLIT
-    @location(11) front_specular_share_1: vec3<f32>,
-#endif
-#if TWO_SIDED
-    @location(12) back_share_1: vec3<f32>,
-#if SHADOW_SPLIT
-    @location(13) back_specular_share_1: vec3<f32>,
-#endif
-#endif
-#endif
-#if SHADOW_LIGHTS > 2
-    @location(14) front_share_2: vec3<f32>,
-#if SHADOW_SPLIT
-    @location(15) front_specular_share_2: vec3<f32>,
-#endif
-#if TWO_SIDED
-    @location(16) back_share_2: vec3<f32>,
-#if SHADOW_SPLIT
-    @location(17) back_specular_share_2: vec3<f32>,
-#endif
-#endif
-#endif
-#if SHADOW_LIGHTS > 3
-    @location(18) front_share_3: vec3<f32>,
-#if SHADOW_SPLIT
-    @location(19) front_specular_share_3: vec3<f32>,
-#endif
-#if TWO_SIDED
-    @location(20) back_share_3: vec3<f32>,
-#if SHADOW_SPLIT
-    @location(21) back_specular_share_3: vec3<f32>,
-#endif
-#endif
-#endif
+#endfor
 #end
 
 // (Two-sided lighting's `back` colour is known here: two_sided.wgsl is included before.)
 #at vertex_lit.store
-#if SHADOW_LIGHTS > 0
-    let front_0 = share_parts(light_share(eye_position, normal, front, 0u));
-    (*out).front_share_0 = front_0[0];
+#for LIGHT < SHADOW_LIGHTS
+    let front_{{LIGHT}} = share_parts(light_share(eye_position, normal, front, {{LIGHT}}u));
+    (*out).front_share_{{LIGHT}} = front_{{LIGHT}}[0];
 #if SHADOW_SPLIT
-    (*out).front_specular_share_0 = front_0[1];
+    (*out).front_specular_share_{{LIGHT}} = front_{{LIGHT}}[1];
 #endif
 #if TWO_SIDED
-    let back_0 = share_parts(light_share(eye_position, -normal, back, 0u));
-    (*out).back_share_0 = back_0[0];
+    let back_{{LIGHT}} = share_parts(light_share(eye_position, -normal, back, {{LIGHT}}u));
+    (*out).back_share_{{LIGHT}} = back_{{LIGHT}}[0];
 #if SHADOW_SPLIT
-    (*out).back_specular_share_0 = back_0[1];
+    (*out).back_specular_share_{{LIGHT}} = back_{{LIGHT}}[1];
 #endif
 #endif
-#endif
-#if SHADOW_LIGHTS > 1
-    let front_1 = share_parts(light_share(eye_position, normal, front, 1u));
-    (*out).front_share_1 = front_1[0];
-#if SHADOW_SPLIT
-    (*out).front_specular_share_1 = front_1[1];
-#endif
-#if TWO_SIDED
-    let back_1 = share_parts(light_share(eye_position, -normal, back, 1u));
-    (*out).back_share_1 = back_1[0];
-#if SHADOW_SPLIT
-    (*out).back_specular_share_1 = back_1[1];
-#endif
-#endif
-#endif
-#if SHADOW_LIGHTS > 2
-    let front_2 = share_parts(light_share(eye_position, normal, front, 2u));
-    (*out).front_share_2 = front_2[0];
-#if SHADOW_SPLIT
-    (*out).front_specular_share_2 = front_2[1];
-#endif
-#if TWO_SIDED
-    let back_2 = share_parts(light_share(eye_position, -normal, back, 2u));
-    (*out).back_share_2 = back_2[0];
-#if SHADOW_SPLIT
-    (*out).back_specular_share_2 = back_2[1];
-#endif
-#endif
-#endif
-#if SHADOW_LIGHTS > 3
-    let front_3 = share_parts(light_share(eye_position, normal, front, 3u));
-    (*out).front_share_3 = front_3[0];
-#if SHADOW_SPLIT
-    (*out).front_specular_share_3 = front_3[1];
-#endif
-#if TWO_SIDED
-    let back_3 = share_parts(light_share(eye_position, -normal, back, 3u));
-    (*out).back_share_3 = back_3[0];
-#if SHADOW_SPLIT
-    (*out).back_specular_share_3 = back_3[1];
-#endif
-#endif
-#endif
+#endfor
 #end
 
 // After the fragment took its front or back colour (two_sided.wgsl is included before).
 #at vertex_lit.fragment_lit
     var parts: array<vec3<f32>, 2>;
-#if SHADOW_LIGHTS > 0
-    parts = array<vec3<f32>, 2>(in.front_share_0, vec3<f32>(0.0));
+#for LIGHT < SHADOW_LIGHTS
+    parts = array<vec3<f32>, 2>(in.front_share_{{LIGHT}}, vec3<f32>(0.0));
 #if SHADOW_SPLIT
-    parts[1] = in.front_specular_share_0;
+    parts[1] = in.front_specular_share_{{LIGHT}};
 #endif
 #if TWO_SIDED
     if (!front_facing) {
-        parts = array<vec3<f32>, 2>(in.back_share_0, vec3<f32>(0.0));
+        parts = array<vec3<f32>, 2>(in.back_share_{{LIGHT}}, vec3<f32>(0.0));
 #if SHADOW_SPLIT
-        parts[1] = in.back_specular_share_0;
+        parts[1] = in.back_specular_share_{{LIGHT}};
 #endif
     }
 #endif
-    lit = take_share(lit, parts, 1.0 - shadow_visibility(0u));
-#endif
-#if SHADOW_LIGHTS > 1
-    parts = array<vec3<f32>, 2>(in.front_share_1, vec3<f32>(0.0));
-#if SHADOW_SPLIT
-    parts[1] = in.front_specular_share_1;
-#endif
-#if TWO_SIDED
-    if (!front_facing) {
-        parts = array<vec3<f32>, 2>(in.back_share_1, vec3<f32>(0.0));
-#if SHADOW_SPLIT
-        parts[1] = in.back_specular_share_1;
-#endif
-    }
-#endif
-    lit = take_share(lit, parts, 1.0 - shadow_visibility(1u));
-#endif
-#if SHADOW_LIGHTS > 2
-    parts = array<vec3<f32>, 2>(in.front_share_2, vec3<f32>(0.0));
-#if SHADOW_SPLIT
-    parts[1] = in.front_specular_share_2;
-#endif
-#if TWO_SIDED
-    if (!front_facing) {
-        parts = array<vec3<f32>, 2>(in.back_share_2, vec3<f32>(0.0));
-#if SHADOW_SPLIT
-        parts[1] = in.back_specular_share_2;
-#endif
-    }
-#endif
-    lit = take_share(lit, parts, 1.0 - shadow_visibility(2u));
-#endif
-#if SHADOW_LIGHTS > 3
-    parts = array<vec3<f32>, 2>(in.front_share_3, vec3<f32>(0.0));
-#if SHADOW_SPLIT
-    parts[1] = in.front_specular_share_3;
-#endif
-#if TWO_SIDED
-    if (!front_facing) {
-        parts = array<vec3<f32>, 2>(in.back_share_3, vec3<f32>(0.0));
-#if SHADOW_SPLIT
-        parts[1] = in.back_specular_share_3;
-#endif
-    }
-#endif
-    lit = take_share(lit, parts, 1.0 - shadow_visibility(3u));
-#endif
+    lit = take_share(lit, parts, 1.0 - shadow_visibility({{LIGHT}}u));
+#endfor
 #end
 #endif
