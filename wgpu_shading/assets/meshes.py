@@ -1,4 +1,4 @@
-"""Mesh files (OBJ/MTL, PLY, STL, OFF, glTF/GLB) into one Mesh with one part per material.
+"""Mesh files (OBJ/MTL, PLY, STL, OFF, glTF/GLB, XYZ/PTS point text) into one Mesh with one part per material.
 
 Each format has one reader, listed by suffix in MESH_READERS (as trimesh's exchange/ lists
 its loaders): `reader(path, file size) → MeshFile` (mesh_pieces.py), the one type every
@@ -6,7 +6,8 @@ reader returns. OBJ is read by mesh_formats/obj.py (trimesh's OBJ reader mis-res
 relative indices and drops smoothing groups); OFF by mesh_formats/off.py (a token stream:
 trimesh wanted one face per line); binary STL by mesh_formats/stl.py; PLY and ASCII STL
 through trimesh (mesh_formats/trimesh_reader.py), binary PLY point clouds with numpy
-(mesh_formats/ply.py); glTF by our own accessor reader (gltf/).
+(mesh_formats/ply.py); glTF by our own accessor reader (gltf/); point clouds as text
+(.xyz, .pts) by mesh_formats/point_text.py.
 The pieces' normals follow docs/real-world-files.md: the file's normals win; glTF primitives
 without NORMAL are flat; otherwise vertices are welded by position and split at the crease
 angle (scene/geometry/crease_normals.py).
@@ -41,6 +42,8 @@ MESH_READERS: dict[str, str] = {
     ".ply": "mesh_formats.ply:read_ply",
     ".stl": "mesh_formats.stl:read_stl",
     ".off": "mesh_formats.off:read_off",
+    ".xyz": "mesh_formats.point_text:read_xyz",
+    ".pts": "mesh_formats.point_text:read_pts",
     ".glb": "gltf.reader:read_gltf",
     ".gltf": "gltf.reader:read_gltf",
 }
@@ -75,7 +78,7 @@ class LoadedMesh:
 def load_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_CREASE_ANGLE,
               animation_time: float | None = None, animation_index: int | str | None = None) -> Mesh:
     """A built-in (`builtin:torus`), a shipped sample (`example:knot.obj`) or a mesh file
-    (OBJ, PLY, STL, OFF, GLB/glTF).
+    (OBJ, PLY, STL, OFF, GLB/glTF, XYZ/PTS).
 
     crease_angle (degrees, 0..180): where the file has no normals, edges sharper than this
     are creases (docs/real-world-files.md); 180 is the plain average of the welded faces, 0 is flat.

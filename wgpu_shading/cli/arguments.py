@@ -23,7 +23,7 @@ def scene_from_args(args: argparse.Namespace):
 def add_scene_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "input",
-        help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB), builtin:NAME, or example:NAME (`wgpu-shading examples`)",
+        help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB, XYZ), builtin:NAME, or example:NAME (`wgpu-shading examples`)",
     )
     add_view_arguments(parser)
 

@@ -38,7 +38,7 @@ def add_view(commands, gpu: argparse.ArgumentParser) -> None:
     )
     view.add_argument(
         "input",
-        help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB), builtin:NAME, or example:NAME",
+        help="a scene file (.toml), a mesh file (OBJ, PLY, STL, OFF, GLB, XYZ), builtin:NAME, or example:NAME",
     )
     view.add_argument(
         "--compare", choices=("frequency", "reflection"),
