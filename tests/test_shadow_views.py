@@ -121,6 +121,37 @@ def test_cube_faces_that_reach_no_visible_receiver_are_skipped():
             assert view.window == pytest.approx((-cube_guard(SIZE, MARGIN),) * 2 + (cube_guard(SIZE, MARGIN),) * 2)
 
 
+def test_a_far_positional_lights_cube_window_holds_the_scene_and_little_more():
+    """40 units away the scene takes a few degrees of one face: the faces' shared window is
+    fitted to it (a 90° window gave the box a handful of texels), and still holds it."""
+    scene = shadow_case("far_positional_light", (64, 64)).scene
+    (shadow,) = fit_shadow_views(scene, SIZE, MARGIN)
+    views = [view for view in shadow.views if view is not None]
+    assert len(views) == 1
+    x0, y0, x1, y1 = views[0].window
+    assert max(x1 - x0, y1 - y0) < 0.15 * 2.0 * cube_guard(SIZE, MARGIN)
+    box = views[0].light_from_world[:3, :3] @ world_box(scene.objects[0]).T + views[0].light_from_world[:3, 3:]
+    tangents = box[:2] / -box[2]
+    assert (tangents[0] > x0).all() and (tangents[0] < x1).all() and (tangents[1] > y0).all() and (tangents[1] < y1).all()
+
+
+def test_the_world_box_of_a_mesh_stored_off_its_origin_is_where_its_points_are():
+    """Mesh positions are stored relative to mesh.origin and world_from_model puts it back:
+    the box must not add it a second time (the maps were fitted one origin away)."""
+    from wgpu_shading.scene import Mesh
+
+    sphere = uv_sphere(1.0, 16, 8)
+    moved = Mesh.from_arrays(sphere.positions.astype(np.float64) + (40.0, 10.0, -25.0), sphere.indices, sphere.normals)
+    assert np.any(np.asarray(moved.origin) != 0.0)
+    obj = SceneObject(moved, translate=(-40.0, -8.0, 25.0), rotate=(10.0, 20.0, 30.0), scale=(2.0, 1.0, 1.5))
+    model = obj.world_from_model()
+    points = moved.positions.astype(np.float64) @ model[:3, :3].T + model[:3, 3]
+    box = world_box(obj)
+    # the same centre (a sphere: symmetric about it), and every point inside the box
+    assert np.allclose(box.mean(axis=0), (points.min(axis=0) + points.max(axis=0)) / 2.0, atol=1e-3)
+    assert (points.min(axis=0) >= box.min(axis=0) - 1e-9).all() and (points.max(axis=0) <= box.max(axis=0) + 1e-9).all()
+
+
 def test_the_views_do_not_depend_on_the_scene_scale():
     small, large = (fit_shadow_views(shadow_case("sphere_over_plane_10", (64, 64), scale=s).scene, SIZE, MARGIN) for s in (1e-3, 1e3))
     (a,), (b,) = small[0].views, large[0].views

@@ -14,8 +14,12 @@ _FACES = ((0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), 
 
 
 def world_box(obj: SceneObject) -> np.ndarray:
-    """(8, 3) corners of the object's model-space bounding box in world space, indexed 4x + 2y + z."""
-    lower, upper = obj.mesh.bounds()
+    """(8, 3) corners of the object's model-space bounding box in world space, indexed 4x + 2y + z.
+
+    The box of the *stored* positions (relative to mesh.origin): world_from_model puts the
+    origin back itself, so mesh.bounds() here counted it twice and a mesh not centred on its
+    own origin (a loaded model) got its maps fitted where it is not (tests/test_shadow_views.py)."""
+    lower, upper = obj.mesh.relative_bounds
     corners = np.array([[x, y, z] for x in (lower[0], upper[0]) for y in (lower[1], upper[1]) for z in (lower[2], upper[2])])
     model = obj.world_from_model()
     return corners @ model[:3, :3].T + model[:3, 3]

@@ -21,6 +21,7 @@ from ...scene import (
     Camera,
     DirectionalLight,
     Material,
+    Mesh,
     PositionalLight,
     Scene,
     SceneObject,
@@ -226,6 +227,20 @@ def _two_lights() -> ShadowCase:
     )
 
 
+def _off_centre_mesh() -> ShadowCase:
+    # Found by the random scenes (seed 41, the fandisk): a mesh stored away from its own
+    # origin (most files: Mesh keeps positions relative to the centre of their box, and its
+    # model matrix puts that origin back) had its shadow maps fitted one origin away from it.
+    case = _sphere_over_plane(30.0, 2.0, "off_centre_mesh", "")
+    sphere = uv_sphere(1.0, **FINE_SPHERE)
+    offset = np.array([40.0, 10.0, -25.0])
+    moved = Mesh.from_arrays(sphere.positions.astype(np.float64) + offset, sphere.indices, sphere.normals, name="off-centre sphere")
+    ball = replace(case.scene.objects[0], mesh=moved, translate=tuple(np.asarray(case.scene.objects[0].translate) - offset))
+    return replace(case, scene=replace(case.scene, objects=(ball,) + case.scene.objects[1:]),
+                   about="the sphere over a plane at 30°, its mesh's points stored 50 units from its own origin: the maps "
+                         "must be fitted where the model matrix puts it")
+
+
 def _far_positional_light() -> ShadowCase:
     # Found by the random scenes (docs/shadows.md#random-scenes, seed 22): a positional light
     # 40 units away sees the scene under a few degrees; a cube face 90° wide gave the box a
@@ -253,6 +268,7 @@ _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     "ring_of_boxes": _ring_of_boxes,
     "two_lights": _two_lights,
     "far_positional_light": _far_positional_light,
+    "off_centre_mesh": _off_centre_mesh,
 }
 SHADOW_CASE_NAMES: tuple[str, ...] = tuple(_BUILDERS)
 SCALES = (1e-3, 1.0, 1e3)
