@@ -4,24 +4,42 @@ Every contender returns the colour image and the eye-space depth as numpy arrays
 
     wgpu-shading          colour only (`render`), for the cost of depth
     wgpu-shading + depth  `render_frame(scene, depth=True)`: colour + float64 eye depth
+    every triangle        the same with WGPU_SHADING_CLUSTERS=0: no cluster of triangles
+                          turned away left out (render/gpu/clusters.py), the A/B of that
     pyrender              `OffscreenRenderer.render(scene)`: colour + float32 eye depth
 
-interleaved in one process like the warm table (benchmarks/measure.py). The target of
-issue #21: ours with depth ≤ 0.5× pyrender. Without pyrender (the [bench] extra, and
-OSMesa: apt install libosmesa6) the table has our two columns only, and the run says why.
+interleaved in one process like the warm table (benchmarks/measure.py), after
+scenes.settle: the steady state of a mesh drawn many times, whose upload then has its
+clusters (the closed spheres: the smoke run's 20K one too). The targets: ours with depth
+≤ 0.5× pyrender (issue #21), the 1.3M sphere ≤ 0.7× (issue #29). Without pyrender (the
+[bench] extra, and OSMesa: apt install libosmesa6) the table has our columns only, and the
+run says why.
 """
 
 from __future__ import annotations
 
 import gc
+import os
 
 from wgpu_shading import Renderer
 
 from .measure import SceneTimings, interleaved, progress
 from .peers import WgpuShadingPeer
 from .pyrender_peer import PyrenderPeer, WgpuShadingDepthPeer
-from .scenes import benchmark_scenes, geometry_draw
+from .scenes import benchmark_scenes, geometry_draw, settle
 
+
+class EveryTrianglePeer(WgpuShadingDepthPeer):
+    """Colour + depth with every triangle drawn: WGPU_SHADING_CLUSTERS=0 for its frames only."""
+
+    name = "every triangle"
+
+    def render(self):
+        os.environ["WGPU_SHADING_CLUSTERS"] = "0"
+        try:
+            return super().render()
+        finally:
+            os.environ.pop("WGPU_SHADING_CLUSTERS")
 
 
 def run_depth(
@@ -31,7 +49,8 @@ def run_depth(
     for label, size, scene in benchmark_scenes(sizes, tiny=tiny):
         draw = geometry_draw(scene, label)
         progress(f"depth: {label} at {size}² ({draw.triangle_count:,} triangles)")
-        peers = [WgpuShadingPeer(scene, renderer), WgpuShadingDepthPeer(scene, renderer)]
+        peers = [WgpuShadingPeer(scene, renderer), WgpuShadingDepthPeer(scene, renderer), EveryTrianglePeer(scene, renderer)]
+        settle(renderer, scene)
         if pyrender:
             peers.append(PyrenderPeer(scene))
         timings = interleaved({p.name: p.render for p in peers}, rounds=rounds, frames=frames)
@@ -46,13 +65,15 @@ def run_depth(
 def depth_table(rows: list[SceneTimings]) -> str:
     lines = [
         "## Colour + depth: ours against pyrender (OSMesa), median ms per frame\n",
-        "| scene | size | wgpu-shading | wgpu-shading + depth | pyrender (colour + depth) | depth costs us | ours + depth ÷ pyrender (≤ 0.5) "
-        "| CPU ms: ours + depth / pyrender | CPU ratio |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| scene | size | wgpu-shading | wgpu-shading + depth | every triangle | pyrender (colour + depth) | depth costs us "
+        "| ours + depth ÷ pyrender (≤ 0.5) | CPU ms: ours + depth / pyrender | CPU ratio | CPU ms: every triangle | culling: CPU ratio |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for row in rows:
         ours, with_depth = row.timings["wgpu-shading"].median_ms, row.timings["wgpu-shading + depth"].median_ms
         cpu = row.timings["wgpu-shading + depth"].cpu_median_ms
+        every = row.timings["every triangle"]
+        culling = f"{every.median_ms:.1f}", f"{every.cpu_median_ms:.1f} | {cpu / every.cpu_median_ms:.2f}×"
         if "pyrender" in row.timings:
             pyrender = row.timings["pyrender"].median_ms
             ratio = with_depth / pyrender
@@ -61,5 +82,8 @@ def depth_table(rows: list[SceneTimings]) -> str:
             cpu_cells = f"{cpu:.1f} / {their_cpu:.1f} | {cpu / their_cpu:.2f}×"
         else:
             theirs, verdict, cpu_cells = "–", "–", f"{cpu:.1f} / – | –"
-        lines.append(f"| {row.scene} | {row.size}² | {ours:.1f} | {with_depth:.1f} | {theirs} | {with_depth - ours:+.1f} | {verdict} | {cpu_cells} |")
+        lines.append(
+            f"| {row.scene} | {row.size}² | {ours:.1f} | {with_depth:.1f} | {culling[0]} | {theirs} | {with_depth - ours:+.1f} "
+            f"| {verdict} | {cpu_cells} | {culling[1]} |"
+        )
     return "\n".join(lines) + "\n"

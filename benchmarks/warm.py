@@ -14,7 +14,7 @@ from wgpu_shading import Renderer
 
 from .measure import SceneTimings, Timing, interleaved, progress, thread_breakdown
 from .peers import ModernGLPeer, PygfxPeer, RawWgslPeer, TrivialLimitPeer, WgpuShadingPeer
-from .scenes import benchmark_scenes, geometry_draw
+from .scenes import benchmark_scenes, geometry_draw, settle
 
 
 
@@ -34,6 +34,7 @@ def run_warm(
     for label, size, scene in benchmark_scenes(sizes, tiny=tiny):
         draw = geometry_draw(scene, label)
         progress(f"warm: {label} at {size}² ({draw.triangle_count:,} triangles)")
+        settle(renderer, scene)
         peers = [
             WgpuShadingPeer(scene, renderer),
             TrivialLimitPeer(scene, renderer, draw),

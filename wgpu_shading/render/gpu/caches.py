@@ -141,6 +141,12 @@ class ObjectCache(Generic[V]):
             return None
         return item[1]
 
+    def pop(self, obj: object, variant: Hashable = None) -> V | None:
+        """Drop the object's entry (before a new value is made, so both are never held)."""
+        self._purge()
+        item = self._cache.pop((id(obj), variant))
+        return None if item is None or item[0]() is not obj else item[1]
+
     def put(self, obj: object, value: V, variant: Hashable = None) -> V:
         self._purge()
         key = (id(obj), variant)

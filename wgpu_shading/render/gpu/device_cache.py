@@ -36,7 +36,7 @@ from ..device import uses_direct_upload
 from .pipelines import PipelineCache
 from ..shaders.uniforms import finite_uniform_bytes
 from .bind_groups import cached_bind_group
-from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, upload_attribute, upload_mesh
+from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, asks_for_clusters, upload_attribute, upload_mesh
 from .samplers import create_sampler
 from .stroke_uploads import GpuPoints, GpuSegments, upload_points, upload_segments
 from .shadow_maps import MAX_SHADOW_MAP_BYTES, ShadowMaps, create_comparison_sampler, new_shadow_maps
@@ -71,16 +71,24 @@ class DeviceCache:
 
     # ------------------------------------------------------------------ uploads
 
-    def gpu_mesh(self, mesh: Mesh, plan: BindingPlan | None = None, in_order: frozenset[int] = frozenset()) -> GpuMesh:
+    def gpu_mesh(
+        self, mesh: Mesh, plan: BindingPlan | None = None, in_order: frozenset[int] = frozenset(), clusters: bool = False,
+    ) -> GpuMesh:
         """The mesh's upload, with the optional attributes `plan` binds (uvs, colors).
         `in_order`: parts whose triangles must keep their order (blended ones); an upload
-        that reordered one of them is replaced (the same mesh drawn with other materials)."""
+        that reordered one of them is replaced (the same mesh drawn with other materials).
+        `clusters`: the frame could leave out clusters turned away; an upload without them is
+        replaced by one with them when mesh_uploads.asks_for_clusters says so."""
         gpu_mesh = self.meshes.get(mesh)
+        with_clusters = gpu_mesh is not None and gpu_mesh.order is not None and gpu_mesh.order.clusters is not None
         if gpu_mesh is not None and gpu_mesh.order is not None and not in_order <= gpu_mesh.order.in_order:
             in_order = in_order | gpu_mesh.order.in_order
             gpu_mesh = None
+        elif gpu_mesh is not None and clusters and asks_for_clusters(gpu_mesh, mesh):
+            with_clusters, gpu_mesh = True, None
         if gpu_mesh is None:
-            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order, self.shared_orders))
+            self.meshes.pop(mesh)  # the old upload (if any) goes before the new one is made
+            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order, self.shared_orders, with_clusters))
         if plan is not None:
             for name in OPTIONAL_ATTRIBUTES:
                 if name in plan:

@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .clusters import ClusterTable, cluster_triangles
+
 _UNUSED = np.uint32(0xFFFFFFFF)  # meshoptimizer's remap value for a vertex no triangle uses
 _CHUNK = 1 << 16  # vertices or indices handled per step when writing into a GPU buffer
 
@@ -39,6 +41,7 @@ class VertexOrder:
 
     gather: np.ndarray  # uint32: new vertex k is old vertex gather[k] (unused vertices are dropped)
     in_order: frozenset[int]  # the part indices whose triangle order was kept
+    clusters: ClusterTable | None = None  # the triangles grouped for leaving out those turned away (clusters.py)
 
     def vertices(self, array: np.ndarray) -> np.ndarray:
         """A per-vertex array (positions, normals, uvs, colors) in the new vertex order."""
@@ -69,12 +72,14 @@ class ScratchIndices:
 
 
 def cache_order(
-    indices: np.ndarray, vertex_count: int, parts, in_order: frozenset[int] = frozenset()
+    indices: np.ndarray, vertex_count: int, parts, in_order: frozenset[int] = frozenset(), positions: np.ndarray | None = None
 ) -> tuple[ScratchIndices, VertexOrder]:
     """Reorder the triangles of every part not in `in_order` for the post-transform vertex
     cache, then the vertices for fetch locality. `parts` are (first, count) triangle ranges
-    (MeshPart) covering `indices`. Returns the new index buffer (flat uint32, in scratch
-    memory: close it after the upload) and the vertex order."""
+    (MeshPart) covering `indices`. With `positions` (a closed surface: clusters.py), the
+    triangles of those parts are then grouped in clusters sorted by direction. Returns the
+    new index buffer (flat uint32, in scratch memory: close it after the upload) and the
+    vertex order."""
     import meshoptimizer  # imported on first upload: a mesh-less process never pays for it
 
     flat = np.ascontiguousarray(indices, dtype=np.uint32).reshape(-1)
@@ -86,6 +91,7 @@ def cache_order(
             continue  # (points and lines have uploads of their own: stroke_uploads.py)
         start, stop = 3 * part.first, 3 * (part.first + part.count)
         meshoptimizer.optimize_vertex_cache(ordered[start:stop], flat[start:stop], stop - start, vertex_count)
+    clusters = None if positions is None else cluster_triangles(ordered, positions, parts, frozenset(in_order))
     remap = np.empty(vertex_count, np.uint32)
     used = meshoptimizer.optimize_vertex_fetch_remap(remap, ordered, ordered.size, vertex_count)
     for start in range(0, ordered.size, _CHUNK):  # renumber in place, a chunk at a time
@@ -96,7 +102,7 @@ def cache_order(
     del remap, referenced
     if flat.nbytes >= _TRIM_BYTES:
         _return_freed_memory()
-    return scratch, VertexOrder(gather=gather, in_order=frozenset(in_order))
+    return scratch, VertexOrder(gather=gather, in_order=frozenset(in_order), clusters=clusters)
 
 
 class SharedOrders:
@@ -109,17 +115,19 @@ class SharedOrders:
 
     def __init__(self, devices: int):
         self.devices = devices  # how many devices upload from this (the renderer's and its helpers')
-        self._entries: dict[tuple[int, frozenset[int]], list] = {}  # (id(mesh), in_order) → [mesh ref, indices, order, left]
+        # (id(mesh), in_order, with clusters) → [mesh ref, indices, order, left]
+        self._entries: dict[tuple[int, frozenset[int], bool], list] = {}
         self._lock = threading.Lock()
 
-    def take(self, mesh, in_order: frozenset[int]) -> tuple[np.ndarray, VertexOrder] | None:
+    def take(self, mesh, in_order: frozenset[int], clusters: bool = False) -> tuple[np.ndarray, VertexOrder] | None:
+        key = (id(mesh), in_order, clusters)
         with self._lock:
-            entry = self._entries.get((id(mesh), in_order))
+            entry = self._entries.get(key)
             if entry is None or entry[0]() is not mesh:  # never offered, or another mesh since
                 return None
             entry[3] -= 1
             if entry[3] <= 0:
-                del self._entries[(id(mesh), in_order)]
+                del self._entries[key]
             return entry[1], entry[2]
 
     def offer(self, mesh, in_order: frozenset[int], indices: np.ndarray, order: VertexOrder) -> None:
@@ -129,7 +137,7 @@ class SharedOrders:
             self._entries = {key: entry for key, entry in self._entries.items() if entry[0]() is not None}  # dead meshes
             if sum(entry[1].nbytes for entry in self._entries.values()) + indices.nbytes > SHARED_ORDER_BYTES:
                 return
-            self._entries[(id(mesh), in_order)] = [weakref.ref(mesh), indices.copy(), order, self.devices - 1]
+            self._entries[(id(mesh), in_order, order.clusters is not None)] = [weakref.ref(mesh), indices.copy(), order, self.devices - 1]
 
 
 SHARED_ORDER_BYTES = 64 << 20  # reordered indices kept for sibling devices (a 5M-triangle mesh's)

@@ -31,6 +31,7 @@ from .draws import Draw, encode_draws
 from .strokes import edge_draw, stroke_draw
 from .frame_context import FrameContext
 from .shadow import receiver_uniforms
+from .turned_away import eye_outside, turned_away
 
 
 def color_pipeline(key: PipelineKey) -> PipelineDescriptor:
@@ -101,7 +102,12 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
         materials = obj.part_materials()
         # Blended parts keep their triangle order in the upload (they blend in index order).
         blended_parts = frozenset(k for k, m in enumerate(materials) if m.alpha_mode == "blend")
-        for part, material in zip(obj.mesh.parts, materials):
+        # The clusters of the upload this frame leaves out (turned_away.py; None: none).
+        away = None
+        if obj.mesh.triangle_count:
+            view = eye_outside(scene, obj, materials, model_view)
+            away = turned_away(view, cache.gpu_mesh(obj.mesh, None, blended_parts, clusters=view is not None))
+        for number, (part, material) in enumerate(zip(obj.mesh.parts, materials)):
             if part.count == 0:
                 continue
             if part.primitive != "triangles":  # points and lines (passes/strokes.py)
@@ -125,15 +131,17 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
             object_data = object_uniforms(model_view, material, entry.uniform_dtypes["object"], scene)
             if features.shadow_lights:
                 receiver_uniforms(object_data, scene, obj)
+            gpu_mesh = cache.gpu_mesh(obj.mesh, entry.plan, blended_parts)
             draw = Draw(
                 entry=entry,
                 draw_index=len(opaque) + len(blended) + len(edges),
-                gpu_mesh=cache.gpu_mesh(obj.mesh, entry.plan, blended_parts),
+                gpu_mesh=gpu_mesh,
                 object_data=object_data,
                 first_triangle=part.first,
                 triangle_count=part.count,
                 textures=textures,
                 texture_owner=owner,
+                ranges=None if away is None else gpu_mesh.order.clusters.kept_ranges(number, away),
             )
             if features.alpha_mode == "blend":
                 centre = obj.mesh.part_centre(part)

@@ -37,6 +37,9 @@ class Draw:
     triangle_count: int
     textures: dict[str, object]  # the plan's *_texture and *_sampler entries: views and samplers
     texture_owner: GpuTexture | None = None  # whose cache keeps the object bind group (the first texture)
+    # (first triangle, count) ranges drawn instead of the whole part: the clusters a frame
+    # keeps (gpu/clusters.py); None draws first_triangle .. + triangle_count
+    ranges: list[tuple[int, int]] | None = None
 
 
 def group_cache(group: tuple[Binding, ...], draw: Draw) -> LruCache | None:
@@ -71,12 +74,14 @@ def encode_draws(
             render_pass.set_bind_group(index, cache.bind_group(group_cache(group, draw), layout, bound))
         for vertex_buffer in entry.plan.vertex_buffers:
             render_pass.set_vertex_buffer(vertex_buffer.slot, getattr(gpu_mesh, vertex_buffer.name))
-        first_corner, corner_count = 3 * draw.first_triangle, 3 * draw.triangle_count
         if entry.descriptor.quads:  # a strip of four vertices (two triangles) an instance: points, segments
             render_pass.draw(4, draw.triangle_count, 0, draw.first_triangle)
-        elif entry.indexed:
+            continue
+        if entry.indexed:
             render_pass.set_index_buffer(gpu_mesh.indices, wgpu.IndexFormat.uint32)
-            render_pass.draw_indexed(corner_count, 1, first_corner, 0, 0)
-        else:
-            # vertex_index counts from first_vertex: corner k of the whole mesh (flat shading pulls it)
-            render_pass.draw(corner_count, 1, first_corner, 0)
+        for first, count in draw.ranges if draw.ranges is not None else ((draw.first_triangle, draw.triangle_count),):
+            if entry.indexed:
+                render_pass.draw_indexed(3 * count, 1, 3 * first, 0, 0)
+            else:
+                # vertex_index counts from first_vertex: corner k of the whole mesh (flat shading pulls it)
+                render_pass.draw(3 * count, 1, 3 * first, 0)

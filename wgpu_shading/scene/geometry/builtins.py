@@ -30,6 +30,17 @@ def _check_size(name: str, **sizes: float) -> None:
             raise MeshError(f"builtin:{name} needs {key} between 1e-06 and 1e+06, got {value}")
 
 
+def _full_turn(steps: int) -> tuple[np.ndarray, np.ndarray]:
+    """cos and sin of steps + 1 angles from 0 to 2π, the last exactly equal to the first: the
+    duplicated seam vertices sit where the first column's do (sin(2π) is −2.4e-16 in floating
+    point, which left the seam open by that much; a closed surface is what
+    render/gpu/clusters.py needs to skip the faces turned away, docs/performance.md)."""
+    angles = np.linspace(0.0, 2.0 * math.pi, steps + 1)
+    cosines, sines = np.cos(angles), np.sin(angles)
+    cosines[-1], sines[-1] = cosines[0], sines[0]
+    return cosines, sines
+
+
 def uv_sphere(radius: float = 1.0, slices: int = 64, stacks: int = 32) -> Mesh:
     """A UV sphere around the Y axis with exact normals; 2·slices·(stacks−1) triangles.
 
@@ -43,9 +54,10 @@ def uv_sphere(radius: float = 1.0, slices: int = 64, stacks: int = 32) -> Mesh:
     _check_tessellation("sphere", 2 * slices * (stacks - 1), f"slices={slices}, stacks={stacks}")
     theta = np.linspace(0.0, math.pi, stacks + 1)[1:-1]  # polar angle of the inner rings
     phi = np.linspace(0.0, 2.0 * math.pi, slices + 1)  # seam duplicated
+    cos_p, sin_p = _full_turn(slices)
     sin_t, cos_t = np.sin(theta)[:, None], np.cos(theta)[:, None]
     ring = np.stack(
-        [sin_t * np.sin(phi)[None, :], np.broadcast_to(cos_t, (len(theta), len(phi))), sin_t * np.cos(phi)[None, :]],
+        [sin_t * sin_p[None, :], np.broadcast_to(cos_t, (len(theta), len(phi))), sin_t * cos_p[None, :]],
         axis=-1,
     ).reshape(-1, 3)
     u = np.broadcast_to(phi[None, :] / (2.0 * math.pi), (len(theta), len(phi))).reshape(-1)
@@ -102,9 +114,11 @@ def torus(major_radius: float = 0.5, minor_radius: float = 0.2, segments: int = 
     around = np.linspace(0.0, 2.0 * math.pi, segments + 1)  # big circle, seam duplicated
     tube = np.linspace(0.0, 2.0 * math.pi, rings + 1)
     a, t = np.meshgrid(around, tube, indexing="ij")
+    cos_a, sin_a = (np.broadcast_to(values[:, None], a.shape) for values in _full_turn(segments))
+    cos_t, sin_t = (np.broadcast_to(values[None, :], a.shape) for values in _full_turn(rings))
     # Unit direction from the tube centre to the surface: the exact normal.
-    normal = np.stack([np.cos(t) * np.cos(a), np.sin(t), -np.cos(t) * np.sin(a)], axis=-1)
-    centre = np.stack([major_radius * np.cos(a), np.zeros_like(a), -major_radius * np.sin(a)], axis=-1)
+    normal = np.stack([cos_t * cos_a, sin_t, -cos_t * sin_a], axis=-1)
+    centre = np.stack([major_radius * cos_a, np.zeros_like(a), -major_radius * sin_a], axis=-1)
     positions = (centre + minor_radius * normal).reshape(-1, 3)
     uvs = np.stack([a / (2.0 * math.pi), t / (2.0 * math.pi)], axis=-1).reshape(-1, 2)
     columns = rings + 1

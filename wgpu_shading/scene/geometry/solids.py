@@ -15,46 +15,95 @@ from .crease_normals import weld_by_position
 # Vertices closer than this fraction of the mesh's size are welded: far above float32's
 # rounding of one position (6e-8), far below any edge a mesh means to have.
 WELD_TOLERANCE = 1e-6
+_BLOCK = 1 << 14  # triangles a step: the edge codes' temporaries stay small
 
 
-def solid_orientation(positions: np.ndarray, indices: np.ndarray) -> int:
+def solid_orientation(
+    positions: np.ndarray, indices: np.ndarray, weld_tolerance: float = WELD_TOLERANCE, each_piece: bool = False
+) -> int:
     """+1 if the triangles form closed surfaces wound counter-clockwise seen from outside,
-    −1 if closed and wound the other way (inside out), 0 if not closed.
+    −1 if closed and wound the other way (inside out), 0 if not closed. With `each_piece`,
+    the sign is that of every connected piece's own volume, and 0 where they differ (a
+    flipped piece beside a bigger right one would otherwise pass as +1).
 
-    Vertices within WELD_TOLERANCE of the mesh's size of each other are one vertex (a UV
-    sphere's seam and poles repeat theirs, a torus's seam closes at sin(2π) ≈ −2e-16 instead
-    of 0); triangles with a repeated vertex cover nothing and are dropped. The surface is
-    closed and consistently wound when every directed edge (a, b) occurs exactly once and
-    its reverse (b, a) exactly once (each edge shared by two triangles that agree). Written
-    with numpy rather than through trimesh (its watertight and winding checks say the same)
-    to keep trimesh's import (~0.3 s) out of a render that casts shadows."""
+    Vertices within `weld_tolerance` of the mesh's size of each other are one vertex (a
+    file's seams may repeat a vertex with a last-digit difference); with 0, only vertices
+    at exactly the same position are (a surface closed that way has no crack for the
+    rasterizer either: render/gpu/clusters.py). Triangles with a repeated vertex cover
+    nothing and are dropped. The surface is closed and consistently wound when every edge
+    is shared by exactly two triangles that run along it in opposite directions: every
+    directed edge (a, b) occurs once and its reverse (b, a) once. Written with numpy rather
+    than through trimesh (its watertight and winding checks say the same) to keep trimesh's
+    import (~0.3 s) out of a render that casts shadows."""
     if len(indices) == 0:
         return 0
-    corners = np.asarray(positions, dtype=np.float64)
-    corners = corners - corners.mean(axis=0)
-    size = float(np.abs(corners).max())
+    positions = np.asarray(positions)
+    centre = positions.mean(axis=0, dtype=np.float64)
+    size = float(np.abs(positions - centre).max()) if weld_tolerance else 1.0
     if size == 0.0:
         return 0
-    welded = weld_by_position(np.round(corners / (WELD_TOLERANCE * size)))
-    triangles = welded[np.asarray(indices, dtype=np.int64)].reshape(-1, 3)
-    a, b, c = triangles.T
-    triangles = triangles[(a != b) & (b != c) & (c != a)]
-    if len(triangles) == 0:
-        return 0
+    welded = weld_by_position(np.round((positions - centre) / (weld_tolerance * size)) if weld_tolerance else positions)
     count = int(welded.max()) + 1
-    edges = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    codes = np.sort(edges[:, 0] * count + edges[:, 1])
-    if (codes[1:] == codes[:-1]).any():  # a directed edge twice: not one consistent surface
+    indices = np.asarray(indices).reshape(-1, 3)
+    # Each edge's code (its two vertices, lower first: int64, up to 2·count²) twice, with
+    # the direction it is run along in the lowest bit; a block of triangles at a time (the
+    # temporaries stay small). Triangles with a repeated vertex leave their codes at -1.
+    codes = np.empty(3 * len(indices), np.int64)
+    volume = 0.0
+    volumes = np.empty(len(indices))
+    for start in range(0, len(indices), _BLOCK):
+        block = welded[indices[start : start + _BLOCK]].astype(np.int64)
+        empty = (block[:, 0] == block[:, 1]) | (block[:, 1] == block[:, 2]) | (block[:, 2] == block[:, 0])
+        for slot in range(3):
+            begin, end = block[:, slot], block[:, (slot + 1) % 3]
+            code = (np.minimum(begin, end) * count + np.maximum(begin, end)) * 2 + (begin < end)
+            code[empty] = -1
+            codes[3 * start + slot * len(block) : 3 * start + (slot + 1) * len(block)] = code
+        # The signed volume (divergence theorem, relative to the centre for precision).
+        a, b, c = (positions[indices[start : start + _BLOCK, slot]] - centre for slot in range(3))
+        volumes[start : start + _BLOCK] = (a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1]) + a[:, 1] * (b[:, 2] * c[:, 0] - b[:, 0] * c[:, 2])
+                                           + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])) / 6.0
+        volume += float(volumes[start : start + _BLOCK].sum())
+    codes.sort()
+    codes = codes[np.searchsorted(codes, 0) :]
+    # A closed, consistent surface sorts into pairs (edge, 0), (edge, 1), each edge in one pair only.
+    if len(codes) == 0 or len(codes) % 2:
         return 0
-    # Every edge's reverse is an edge: the reversed codes are the same set.
-    if not np.array_equal(codes, np.sort(edges[:, 1] * count + edges[:, 0])):
+    down, up = codes[0::2], codes[1::2]
+    if not (np.array_equal(down >> 1, up >> 1) and not (down & 1).any() and (up & 1).all()):
         return 0
-    # The signed volume (divergence theorem, relative to the centroid for precision).
-    p = corners[np.asarray(indices, dtype=np.int64)]
-    volume = float(np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum()) / 6.0
+    if (down[1:] >> 1 == down[:-1] >> 1).any():  # an edge shared by more than two triangles
+        return 0
+    del codes, down, up  # (before the pieces' arrays: a lower peak)
     if volume == 0.0:
         return 0
-    return 1 if volume > 0.0 else -1
+    orientation = 1 if volume > 0.0 else -1
+    if each_piece:
+        piece = _pieces(welded[indices], count)
+        sums = np.bincount(piece, weights=volumes, minlength=count)[np.unique(piece)]
+        if not (orientation * sums > 0.0).all():
+            return 0
+    return orientation
+
+
+def _pieces(triangles: np.ndarray, count: int) -> np.ndarray:
+    """Each triangle's connected piece (triangles sharing a vertex are connected), as the
+    lowest vertex number of the piece: union by hooking every vertex's label to its
+    triangles' lowest, then pointer jumping, until the three corners of every triangle
+    agree (a few rounds: the labels halve their distance to the root each jump)."""
+    label = np.arange(count, dtype=triangles.dtype)  # (int32, as weld_by_position's ids)
+    while True:
+        corners = label[triangles]
+        lowest = corners.min(axis=1)
+        if (corners == lowest[:, None]).all():
+            return lowest
+        for slot in range(3):
+            np.minimum.at(label, corners[:, slot], lowest)
+        while True:
+            jumped = label[label]
+            if np.array_equal(jumped, label):
+                break
+            label = jumped
 
 
 def winding_number(positions: np.ndarray, indices: np.ndarray, point: np.ndarray) -> float:
