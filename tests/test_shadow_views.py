@@ -152,6 +152,17 @@ def test_the_world_box_of_a_mesh_stored_off_its_origin_is_where_its_points_are()
     assert (points.min(axis=0) >= box.min(axis=0) - 1e-9).all() and (points.max(axis=0) <= box.max(axis=0) + 1e-9).all()
 
 
+def test_the_winding_number_tells_a_light_in_a_solid_from_one_beside_it():
+    """The closed-surface rule holds for a light outside the solid, even inside its box."""
+    from wgpu_shading.scene.geometry.solids import winding_number
+
+    ball, ring = uv_sphere(1.0, 33, 16), torus(1.0, 0.3, 48, 24)
+    assert winding_number(ball.positions, ball.indices, (0.0, 0.0, 0.0)) == pytest.approx(1.0)
+    assert winding_number(ball.positions, ball.indices, (0.72, 0.75, 0.45)) == pytest.approx(0.0, abs=1e-9)  # in the box, not the ball
+    assert winding_number(ring.positions, ring.indices, (0.0, 0.0, 0.0)) == pytest.approx(0.0, abs=1e-9)  # the hole
+    assert winding_number(ring.positions, ring.indices, (1.0, 0.0, 0.0)) == pytest.approx(1.0)  # in the tube
+
+
 def test_the_views_do_not_depend_on_the_scene_scale():
     small, large = (fit_shadow_views(shadow_case("sphere_over_plane_10", (64, 64), scale=s).scene, SIZE, MARGIN) for s in (1e-3, 1e3))
     (a,), (b,) = small[0].views, large[0].views

@@ -58,11 +58,10 @@ def asks_for_clusters(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
     the upload for its clusters (clusters.py). True when the upload should be made again
     with them: at the CLUSTERS_AFTER_FRAMES-th such frame after the one that uploaded it,
     for a closed surface wound counter-clockwise from outside and big enough to pay
-    (WGPU_SHADING_CLUSTERS=0 turns them off). Building them (the closed-surface check and
-    the clusters) costs the 1.3M-triangle sphere ~1.5 s CPU, what ~18 of its frames save
-    (docs/performance.md): waiting that many frames first keeps a mesh drawn a few times (a
-    dataset's views) from paying for them, and one drawn many times pays about twice the
-    least it could have."""
+    (WGPU_SHADING_CLUSTERS=0 turns them off). The frame that builds them (the closed-surface
+    check, the clusters, the upload again) costs the 1.3M-triangle sphere ~2.2 s CPU instead
+    of ~0.15 s, what ~28 of its frames then save (docs/performance.md): waiting 16 frames
+    first keeps a mesh drawn a few times (a dataset's views) from paying for them."""
     if gpu_mesh.order is None or gpu_mesh.order.clusters is not None or gpu_mesh.cluster_asks < 0:
         return False
     gpu_mesh.cluster_asks += 1

@@ -105,3 +105,17 @@ def _pieces(triangles: np.ndarray, count: int) -> np.ndarray:
                 break
             label = jumped
 
+
+def winding_number(positions: np.ndarray, indices: np.ndarray, point: np.ndarray) -> float:
+    """How many times the triangles wind around `point` (float64): the sum of their signed
+    solid angles seen from it over 4π (A. van Oosterom and J. Strackee, "The Solid Angle of
+    a Plane Triangle", IEEE Trans. Biomed. Eng. 30(2), 1983,
+    https://doi.org/10.1109/TBME.1983.325207). For a closed surface wound counter-clockwise
+    seen from outside it is 1 inside the solid and 0 outside (−1 and 0 inside out), whatever
+    its shape: a light near a non-convex solid, inside its bounding box, is told apart."""
+    corners = np.asarray(positions, dtype=np.float64)[np.asarray(indices, dtype=np.int64).reshape(-1, 3)] - np.asarray(point, dtype=np.float64)
+    a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    triple = np.einsum("ij,ij->i", a, np.cross(b, c))
+    below = la * lb * lc + np.einsum("ij,ij->i", a, b) * lc + np.einsum("ij,ij->i", b, c) * la + np.einsum("ij,ij->i", c, a) * lb
+    return float(2.0 * np.arctan2(triple, below).sum() / (4.0 * np.pi))

@@ -241,6 +241,25 @@ def _off_centre_mesh() -> ShadowCase:
                          "must be fitted where the model matrix puts it")
 
 
+def _light_by_a_sphere() -> ShadowCase:
+    # Found by the random scenes (seed 57): a positional light beside a closed mesh, inside
+    # its bounding box but outside the solid. The faces turned from the light meet the lit
+    # ones at a grazing angle, where the map cannot tell them apart; the closed-surface rule
+    # (docs/shadows.md#closed-surfaces) must still hold, so "inside" is the solid, not its box.
+    ball = SceneObject(uv_sphere(1.0, 33, 16), SHINY, translate=(0.0, 1.3, 0.0), rotate=(20.0, 35.0, 0.0))
+    light = PositionalLight(position=(0.72, 2.05, 0.45), attenuation=(1.0, 0.0, 0.05), shadows=True)
+    return ShadowCase(
+        "light_by_a_sphere",
+        Scene(
+            objects=(ball, _ground(12.0)),
+            lights=(light,),
+            camera=Camera(eye=(-1.2, 2.8, 4.2), target=(0.0, 1.2, 0.0), fov_y=40.0, near=0.5, far=40.0),
+        ),
+        "a positional light beside a 33×16 sphere, inside its bounding box but not in it: the terminator is the "
+        "facets' edges, sharp, with no teeth (a convex solid cannot shadow a facet facing the light)",
+    )
+
+
 def _far_positional_light() -> ShadowCase:
     # Found by the random scenes (docs/shadows.md#random-scenes, seed 22): a positional light
     # 40 units away sees the scene under a few degrees; a cube face 90° wide gave the box a
@@ -269,6 +288,7 @@ _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     "two_lights": _two_lights,
     "far_positional_light": _far_positional_light,
     "off_centre_mesh": _off_centre_mesh,
+    "light_by_a_sphere": _light_by_a_sphere,
 }
 SHADOW_CASE_NAMES: tuple[str, ...] = tuple(_BUILDERS)
 SCALES = (1e-3, 1.0, 1e3)
