@@ -77,37 +77,61 @@ def shininess_of(roughness):
     return np.clip((2.0 / alpha**2 - 2.0) / 4.0, 1.0, 512.0)
 
 
+# Per-texel maps are computed this many texel rows at a time: their float64 temporaries
+# are a block's, not a whole image's (a 2048² metallic-roughness texture took ~0.8 GB;
+# docs/reliability.md#peak-memory-of-a-textured-gltf), and the bytes are the same.
+_BLOCK_ROWS = 128
+
+
+def _row_blocks(height: int) -> list[slice]:
+    return [slice(start, min(start + _BLOCK_ROWS, height)) for start in range(0, height, _BLOCK_ROWS)]
+
+
 def _metallic_roughness(document, info, image, base, metallic, roughness, dielectric, name) -> dict:
     """Material fields for the metallic-roughness model; per-texel maps from `image`."""
     if image is None and np.ndim(dielectric) == 1:
         share = metallic * (1.0 - roughness**2)
         return dict(diffuse=base * (1.0 - share), specular=dielectric * (1.0 - metallic) + base * share,
                     shininess=float(shininess_of(roughness)))
-    if image is not None:
-        pixels = np.asarray(image.convert("RGBA"), dtype=np.float64) / 255.0
-        texel_metallic = metallic * pixels[:, :, 2]
-        texel_roughness = roughness * pixels[:, :, 1]
-        if np.ndim(dielectric) == 3:  # KHR_materials_specular textures, on the same texels
-            dielectric = _resized(dielectric, texel_metallic.shape)
-    else:  # f0 from KHR_materials_specular textures, metallic and roughness from factors
-        texel_metallic = np.full(dielectric.shape[:2], metallic)
-        texel_roughness = np.full(dielectric.shape[:2], roughness)
-    share = texel_metallic * (1.0 - texel_roughness**2)
-    specular = dielectric * (1.0 - texel_metallic)[:, :, None] + base * share[:, :, None]
-    shininess = shininess_of(texel_roughness)
-    top_specular = np.maximum(specular.reshape(-1, 3).max(axis=0), 1e-6)
-    top_shininess = float(shininess.max())
+    rgba = None if image is None else np.asarray(image.convert("RGBA"))  # blue: metallic, green: roughness
+    shape = dielectric.shape[:2] if rgba is None else rgba.shape[:2]
+    if rgba is not None and np.ndim(dielectric) == 3:  # KHR_materials_specular textures, on the same texels
+        dielectric = _resized(dielectric, shape)
 
-    def as_map(values: np.ndarray, suffix: str) -> Texture:
-        rgb = np.round(np.clip(values, 0.0, 1.0) * 255.0).astype(np.uint8)
-        return _texture(document, image, info, f"{name} ({suffix})", "linear",
-                        np.concatenate([rgb, np.full(rgb.shape[:2] + (1,), 255, np.uint8)], axis=2))
+    def texels(rows: slice) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """share (how much of the base colour is specular), specular and shininess of some rows."""
+        if rgba is None:  # f0 from KHR_materials_specular textures, metallic and roughness from factors
+            count = len(range(*rows.indices(shape[0])))
+            texel_metallic, texel_roughness = np.full((count, shape[1]), metallic), np.full((count, shape[1]), roughness)
+        else:
+            texel_metallic, texel_roughness = metallic * (rgba[rows, :, 2] / 255.0), roughness * (rgba[rows, :, 1] / 255.0)
+        f0 = dielectric[rows] if np.ndim(dielectric) == 3 else dielectric
+        share = texel_metallic * (1.0 - texel_roughness**2)
+        return share, f0 * (1.0 - texel_metallic)[:, :, None] + base * share[:, :, None], shininess_of(texel_roughness)
 
+    # the maps store each texel over the largest value (then in the material): found first
+    top_specular, top_shininess = np.full(3, 1e-6), 0.0
+    for rows in _row_blocks(shape[0]):
+        _, specular, shininess = texels(rows)
+        top_specular = np.maximum(top_specular, specular.reshape(-1, 3).max(axis=0))
+        top_shininess = max(top_shininess, float(shininess.max()))
+    diffuse_factor = np.empty(shape)
+    specular_map, shininess_map = (np.full(shape + (4,), 255, np.uint8) for _ in range(2))
+    for rows in _row_blocks(shape[0]):
+        share, specular, shininess = texels(rows)
+        diffuse_factor[rows] = 1.0 - share
+        specular_map[rows, :, :3] = _bytes(specular / top_specular)
+        shininess_map[rows, :, :3] = _bytes(shininess / top_shininess)[:, :, None]
     return dict(
-        diffuse=base, specular=top_specular, shininess=top_shininess, diffuse_factor=1.0 - share,
-        specular_map=as_map(specular / top_specular, "specular from metallic-roughness"),
-        shininess_map=as_map(np.repeat((shininess / top_shininess)[:, :, None], 3, axis=2), "shininess from roughness"),
+        diffuse=base, specular=top_specular, shininess=top_shininess, diffuse_factor=diffuse_factor,
+        specular_map=_texture(document, image, info, f"{name} (specular from metallic-roughness)", "linear", specular_map),
+        shininess_map=_texture(document, image, info, f"{name} (shininess from roughness)", "linear", shininess_map),
     )
+
+
+def _bytes(values: np.ndarray) -> np.ndarray:
+    """Values in [0, 1] (clipped) as 8-bit texel values."""
+    return np.round(np.clip(values, 0.0, 1.0) * 255.0).astype(np.uint8)
 
 
 def _resized(values: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
@@ -154,12 +178,11 @@ def _with_diffuse_factor(texture: Texture | None, factor: np.ndarray, label: str
     height, width = texture.pixels.shape[:2]
     if factor.shape != (height, width):
         factor = np.asarray(Image.fromarray(factor.astype(np.float32), mode="F").resize((width, height), Image.BILINEAR), np.float64)
-    rgb = texture.pixels[:, :, :3] / 255.0
-    if texture.encoding == "srgb":  # scale in linear light, store encoded again
-        rgb = srgb_encode(srgb_decode(rgb) * factor[:, :, None])
-    else:
-        rgb = rgb * factor[:, :, None]
-    pixels = np.concatenate([np.round(rgb * 255.0).astype(np.uint8), texture.pixels[:, :, 3:]], axis=2)
+    pixels = np.array(texture.pixels)  # alpha kept as it is
+    for rows in _row_blocks(height):
+        rgb, scale = texture.pixels[rows, :, :3] / 255.0, factor[rows, :, None]
+        # sRGB: scaled in linear light, stored encoded again
+        pixels[rows, :, :3] = _bytes(srgb_encode(srgb_decode(rgb) * scale) if texture.encoding == "srgb" else rgb * scale)
     return Texture(pixels, name=texture.name, nearest=texture.nearest, wrap=texture.wrap, encoding=texture.encoding)
 
 

@@ -1,10 +1,12 @@
 """PLY and ASCII STL, read through trimesh: its reading turned into one MeshFile, its
-exceptions into one-line MeshErrors; a PLY without faces into points (docs/primitives.md).
+exceptions into one-line MeshErrors; a PLY without faces into points (docs/primitives.md),
+its triangle strips into triangles (ply_strips.py).
 A PLY header's counts are checked against the file's size before trimesh allocates them
 (ply.py, which hands trimesh the PLYs it does not read itself)."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import BinaryIO
 
@@ -14,6 +16,7 @@ from ...errors import MeshError
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import describe_load_error, text_source
 from .ply_edges import edge_piece
+from .ply_strips import strip_triangles
 
 
 def read_with_trimesh(path: Path, file_size: int, declared: tuple[int, int] | None = None,
@@ -81,9 +84,13 @@ def _trimesh_piece(loaded, path: Path, declared: tuple[int, int] | None) -> Mesh
         loaded = geometries[0] if len(geometries) == 1 else trimesh.util.concatenate(geometries)
     if isinstance(loaded, trimesh.PointCloud):
         raw = loaded.metadata.get("_ply_raw", {}) if isinstance(loaded.metadata, dict) else {}
-        if "tristrips" in raw:
-            raise MeshError(f"mesh file {str(path)!r}: the PLY has triangle strips (element 'tristrips'), not faces; only 'face' elements are supported")
-        return _point_cloud_piece(loaded, path, declared)
+        points = _point_cloud_piece(loaded, path, declared)
+        if "tristrips" not in raw:
+            return points
+        faces = strip_triangles(raw["tristrips"].get("data"), len(points.positions), path)
+        if not len(faces):
+            raise MeshError(f"mesh file {str(path)!r}: its triangle strips (element 'tristrips') hold no triangles")
+        return replace(points, faces=faces, primitive="triangles", parts=[(0, len(faces), None, path.name)])
     if not isinstance(loaded, trimesh.Trimesh):
         raise MeshError(f"mesh file {str(path)!r}: contains no triangles (found {type(loaded).__name__})")
     positions = np.asarray(loaded.vertices, dtype=np.float64)
