@@ -296,8 +296,12 @@ def _image(data: GltfData, info: object):
     try:
         texture = data.item("textures", info.get("index"), "texture index")
         source = texture.get("source")
-        if source is None:  # KHR_texture_basisu / EXT_texture_webp keep theirs in extensions
-            for extension in (texture.get("extensions") or {}).values():
+        extensions = texture.get("extensions") or {}
+        webp = extensions.get("EXT_texture_webp") if isinstance(extensions, dict) else None
+        if isinstance(webp, dict) and "source" in webp:  # the WebP image wins over its fallback (EXT_texture_webp's README)
+            source = webp["source"]
+        elif source is None:  # KHR_texture_basisu keeps its own in extensions (read if Pillow can)
+            for extension in extensions.values():
                 if isinstance(extension, dict) and "source" in extension:
                     source = extension["source"]
         raw = data.image_bytes(source, "texture source", MAX_TEXTURE_FILE_BYTES)
