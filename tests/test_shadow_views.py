@@ -121,18 +121,43 @@ def test_cube_faces_that_reach_no_visible_receiver_are_skipped():
             assert view.window == pytest.approx((-cube_guard(SIZE, MARGIN),) * 2 + (cube_guard(SIZE, MARGIN),) * 2)
 
 
-def test_a_far_positional_lights_cube_window_holds_the_scene_and_little_more():
-    """40 units away the scene takes a few degrees of one face: the faces' shared window is
-    fitted to it (a 90° window gave the box a handful of texels), and still holds it."""
-    scene = shadow_case("far_positional_light", (64, 64)).scene
+@pytest.mark.parametrize("name", ["far_positional_light", "light_past_a_cube_corner"])
+def test_a_far_positional_light_has_one_view_that_holds_the_scene_and_little_more(name):
+    """40–54 units away the scene takes a few degrees of what the light sees: one perspective
+    view aimed at it (a cube face 90° wide gave the box a handful of texels; near a cube's
+    corner three faces would each need a corner), and it still holds the caster."""
+    scene = shadow_case(name, (64, 64)).scene
     (shadow,) = fit_shadow_views(scene, SIZE, MARGIN)
-    views = [view for view in shadow.views if view is not None]
-    assert len(views) == 1
+    assert shadow.cube_from_world is None and len(shadow.views) == 1
+    views = list(shadow.views)
     x0, y0, x1, y1 = views[0].window
     assert max(x1 - x0, y1 - y0) < 0.15 * 2.0 * cube_guard(SIZE, MARGIN)
     box = views[0].light_from_world[:3, :3] @ world_box(scene.objects[0]).T + views[0].light_from_world[:3, 3:]
     tangents = box[:2] / -box[2]
     assert (tangents[0] > x0).all() and (tangents[0] < x1).all() and (tangents[1] > y0).all() and (tangents[1] < y1).all()
+
+
+def test_a_cubes_faces_share_the_window_each_needs_and_no_more():
+    """A light between two boxes on either side, too wide a spread for one view: the faces
+    share one window, the union of what each needs (a face holding no caster's part of a
+    shadow is skipped), narrower than a whole face, and it holds the boxes."""
+    box = SceneObject(cube(0.5), translate=(1.5, 0.25, 0.5))
+    other = SceneObject(cube(0.5), translate=(-1.5, 0.25, 0.5))
+    light = PositionalLight(position=(0.0, 0.8, 0.0), shadows=True)
+    camera = Camera(eye=(0.0, 6.0, 4.0), target=(0.0, 0.0, 0.0))
+    ground = replace(_ground(), cast_shadows=False)  # (a casting ground beside the light reaches every face)
+    (shadow,) = fit_shadow_views(_scene(box, other, ground, light=light, camera=camera), SIZE, MARGIN)
+    assert shadow.cube_from_world is not None
+    views = [view for view in shadow.views if view is not None]
+    assert views and all(view.window == views[0].window for view in views)
+    x0, y0, x1, y1 = views[0].window
+    guard = cube_guard(SIZE, MARGIN)
+    assert (x1 - x0) * (y1 - y0) < 0.8 * (2.0 * guard) ** 2
+    assert [view is not None for view in shadow.views] == [True, True, False, False, False, False]
+    face = shadow.views[0]  # +X looks at the box
+    local = world_box(box) @ face.light_from_world[:3, :3].T + face.light_from_world[:3, 3]
+    tangents = local[:, :2] / -local[:, 2:]
+    assert (tangents >= (x0, y0)).all() and (tangents <= (x1, y1)).all()
 
 
 def test_the_world_box_of_a_mesh_stored_off_its_origin_is_where_its_points_are():

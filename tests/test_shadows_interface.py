@@ -130,11 +130,12 @@ def test_bad_shadow_keys_in_a_scene_file_name_the_key(tmp_path, text, words):
 
 
 def _eight_positional_lights(tmp_path):
-    """Eight casting positional lights around a sphere over a floor, a sphere above: most of
-    their 48 cube faces see a receiver that a caster shadows."""
+    """Eight casting positional lights around a sphere over a floor, a sphere above, one of
+    them inside the first sphere: seven need a map each (one view aimed at the scene), the
+    one inside a cube map's faces, so at 8192² they are beyond 2 GiB (256 MiB a map)."""
     text = "[output]\nsize = [32, 32]\n"
-    for x, z in [(3, 3), (-3, 3), (3, -3), (-3, -3), (0, 4), (4, 0), (-4, 0), (0, -4)]:
-        text += f'[[lights]]\ntype = "positional"\nposition = [{x}, 0.5, {z}]\nshadows = true\n'
+    for x, y, z in [(3, 0.5, 3), (-3, 0.5, 3), (3, 0.5, -3), (-3, 0.5, -3), (0, 0.5, 4), (4, 0.5, 0), (-4, 0.5, 0), (0, 0, 0)]:
+        text += f'[[lights]]\ntype = "positional"\nposition = [{x}, {y}, {z}]\nshadows = true\n'
     text += ('[[objects]]\nmesh = "builtin:sphere"\n[[objects]]\nmesh = "builtin:plane"\ntranslate = [0, -1, 0]\n'
              'scale = [8, 8, 8]\n[[objects]]\nmesh = "builtin:sphere"\ntranslate = [0, 3, 0]\n')
     path = tmp_path / "eight.toml"
@@ -144,7 +145,8 @@ def _eight_positional_lights(tmp_path):
 
 def test_shadow_maps_beyond_their_memory_limit_are_refused_before_any_is_made(renderer, capsys, tmp_path):
     # Eight positional lights at 8192² asked lavapipe for gigabytes of host memory (12 GiB
-    # for all 48 faces); a GPU answered with an internal error. Now one line, exit 2.
+    # for all 48 faces); a GPU answered with an internal error. Now one line, exit 2. (A light
+    # far enough from the scene needs one view: eight such would be 2 GiB exactly.)
     from wgpu_shading.render.gpu.shadow_maps import MAX_SHADOW_MAP_BYTES
 
     assert MAX_SHADOW_MAP_BYTES == 2 << 30

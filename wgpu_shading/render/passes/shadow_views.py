@@ -10,7 +10,9 @@ not shadow itself). Points outside the window read V = 1 (wgsl/chunks/shadows/lo
   those casters, its depth range from the nearest such caster to the farthest receiver;
 - a spot light: one perspective view from the light, the window inside its cone; a window
   reaching beyond MAX_SINGLE_VIEW_TAN from the axis is a cube map instead;
-- a positional light: a cube map, six views along the world axes, each widened by a guard
+- a positional light: one perspective view aimed at the visible receivers when all it can
+  shadow lies within MAX_SINGLE_VIEW_TAN of that direction (a light far from the scene); else
+  a cube map, six views along the world axes, each widened by a guard
   band of `margin` texels so that a filter near a face's edge reads texels of that face (no
   seams); a face whose pyramid holds no visible receiver a caster can shadow is skipped, and
   the faces share one window, the union of what each needs (a far light's cube spends its
@@ -117,10 +119,13 @@ class _Bounds:
 
 def _bounds(owner: int, local: np.ndarray, orthographic: bool, limit: float, flat: bool) -> _Bounds:
     """Bounds of points in a view's space: x, y (orthographic), or x/t and y/t clamped to
-    ±limit, all of ±limit when a point is not in front of the light (perspective)."""
+    ±limit, all of ±limit when a point is not in front of the light, and empty when none
+    is (perspective)."""
     distance = -local[:, 2]
     if orthographic:
         lower, upper = local[:, :2].min(axis=0), local[:, :2].max(axis=0)
+    elif (distance <= 0.0).all():  # wholly behind the light: nothing of it in the view
+        lower, upper = np.full(2, np.inf), np.full(2, -np.inf)
     elif (distance > 1e-9 * float(np.linalg.norm(local, axis=1).max())).all():
         tangents = local[:, :2] / distance[:, None]
         lower, upper = np.maximum(tangents.min(axis=0), -limit), np.minimum(tangents.max(axis=0), limit)
@@ -129,15 +134,18 @@ def _bounds(owner: int, local: np.ndarray, orthographic: bool, limit: float, fla
     return _Bounds(owner, lower, upper, float(distance.min()), float(distance.max()), flat)
 
 
-def _shadowed_window(receivers: list[_Bounds], casters: list[_Bounds]) -> tuple[np.ndarray, np.ndarray, list[_Bounds]] | None:
+def _shadowed_window(receivers: list[_Bounds], casters: list[_Bounds], clip: float = math.inf) -> tuple[np.ndarray, np.ndarray, list[_Bounds]] | None:
     """The bounds of every (caster ∩ receiver) where the caster can lie in front of the
-    receiver, and the casters that do; None when no caster can shadow a visible receiver."""
+    receiver, and the casters that do, within ±clip (a cube face's own pyramid: a receiver
+    in it is shadowed only by what lies in it too); None when no caster can shadow a
+    visible receiver."""
     lower, upper, active = np.full(2, np.inf), np.full(2, -np.inf), {}
     for caster in casters:
         for receiver in receivers:
             if caster.near >= receiver.far or (caster.flat and caster.owner == receiver.owner):
                 continue
-            low, high = np.maximum(caster.lower, receiver.lower), np.minimum(caster.upper, receiver.upper)
+            low = np.maximum(np.maximum(caster.lower, receiver.lower), -clip)
+            high = np.minimum(np.minimum(caster.upper, receiver.upper), clip)
             if (low <= high).all():
                 lower, upper = np.minimum(lower, low), np.maximum(upper, high)
                 active[caster.owner] = caster
@@ -163,13 +171,13 @@ class _Scene:
         casters = {index: (world_box(obj), _is_flat(obj)) for index, obj in enumerate(scene.objects) if obj.cast_shadows}
         return cls(visible_receivers(scene), casters)
 
-    def window(self, light_from_world: np.ndarray, orthographic: bool, limit: float = math.inf):
+    def window(self, light_from_world: np.ndarray, orthographic: bool, limit: float = math.inf, clip: float = math.inf):
         """_shadowed_window in the view of light_from_world."""
         def local(points):
             return points @ light_from_world[:3, :3].T + light_from_world[:3, 3]
         receivers = [_bounds(i, local(p), orthographic, limit, False) for i, p in self.receivers.items()]
         casters = [_bounds(i, local(p), orthographic, limit, flat) for i, (p, flat) in self.casters.items()]
-        found = _shadowed_window(receivers, casters)
+        found = _shadowed_window(receivers, casters, clip)
         return None if found is None else (*found, receivers)
 
     def farthest(self, position: np.ndarray) -> float:
@@ -268,11 +276,11 @@ def _directional(index: int, light: DirectionalLight, fit: _Scene, size: int, ma
     return ShadowView(index, True, _rigid(basis, origin), (-half_x, -half_y, half_x, half_y), 0.0, t_far - t_near)
 
 
-def _spot(index: int, light: SpotLight, fit: _Scene, size: int, margin: float) -> ShadowView | None | str:
-    """The spot's single view, None if it shadows nothing visible, "cube" if too wide."""
-    position = np.asarray(light.position, dtype=np.float64)
-    light_from_world = _rigid(_basis_along(np.asarray(light.direction, dtype=np.float64)), position)
-    cone = math.tan(math.radians(light.cutoff)) if light.cutoff < 89.0 else math.inf
+def _perspective(index: int, position: np.ndarray, forward: np.ndarray, fit: _Scene, size: int, margin: float,
+                 cone: float = math.inf) -> ShadowView | None | str:
+    """One perspective view from `position` along `forward`, its window inside `cone` (a
+    tangent); None if it shadows nothing visible, "cube" if the window is too wide."""
+    light_from_world = _rigid(_basis_along(forward), position)
     found = fit.window(light_from_world, False, cone)
     if found is None:
         return None
@@ -282,6 +290,26 @@ def _spot(index: int, light: SpotLight, fit: _Scene, size: int, margin: float) -
     x0, x1 = _padded(lower[0], upper[0], size, margin, 1e-6)
     y0, y1 = _padded(lower[1], upper[1], size, margin, 1e-6)
     return ShadowView(index, False, light_from_world, (x0, y0, x1, y1), NEAR_FRACTION * fit.farthest(position), math.inf)
+
+
+def _spot(index: int, light: SpotLight, fit: _Scene, size: int, margin: float) -> ShadowView | None | str:
+    """The spot's single view, None if it shadows nothing visible, "cube" if too wide."""
+    cone = math.tan(math.radians(light.cutoff)) if light.cutoff < 89.0 else math.inf
+    return _perspective(index, np.asarray(light.position, dtype=np.float64), np.asarray(light.direction, dtype=np.float64),
+                        fit, size, margin, cone)
+
+
+def _aimed(index: int, light, fit: _Scene, size: int, margin: float) -> ShadowView | None | str:
+    """A positional light's single view aimed at the middle of the visible receivers, when
+    all it can shadow lies within MAX_SINGLE_VIEW_TAN of that direction (a light far from the
+    scene: near a cube's corner, three faces would each spend a whole face on a corner of
+    it); else "cube"."""
+    position = np.asarray(light.position, dtype=np.float64)
+    points = np.concatenate(list(fit.receivers.values()))
+    forward = (points.min(axis=0) + points.max(axis=0)) / 2.0 - position
+    if not np.linalg.norm(forward) > 0.0:
+        return "cube"
+    return _perspective(index, position, forward, fit, size, margin)
 
 
 def cube_guard(size: int, margin: float) -> float:
@@ -321,7 +349,8 @@ def _cube(index: int, light, fit: _Scene, size: int, margin: float) -> LightShad
     needed, lower, upper = [], np.full(2, np.inf), np.full(2, -np.inf)
     for face in range(6):
         light_from_world = _rigid(face_rotation(face), position)
-        found = fit.window(light_from_world, False, guard) if _face_reaches(light_from_world, guard, list(fit.receivers.values())) else None
+        reaches = _face_reaches(light_from_world, guard, list(fit.receivers.values()))
+        found = fit.window(light_from_world, False, guard, clip=1.0) if reaches else None
         if found is not None and isinstance(light, SpotLight):  # the face's pyramid meets the cone
             axis = np.asarray(light.direction, dtype=np.float64)
             cosine = float(np.clip(-light_from_world[2, :3] @ axis / np.linalg.norm(axis), -1.0, 1.0))
@@ -332,8 +361,8 @@ def _cube(index: int, light, fit: _Scene, size: int, margin: float) -> LightShad
             lower, upper = np.minimum(lower, found[0]), np.maximum(upper, found[1])
     if not any(view is not None for view in needed):
         return LightShadow(index, (None,) * 6, _rigid(np.eye(3), position))
-    x0, x1 = _padded(max(lower[0], -1.0), min(upper[0], 1.0), size, margin, 1e-6)
-    y0, y1 = _padded(max(lower[1], -1.0), min(upper[1], 1.0), size, margin, 1e-6)
+    x0, x1 = _padded(lower[0], upper[0], size, margin, 1e-6)
+    y0, y1 = _padded(lower[1], upper[1], size, margin, 1e-6)
     window = (max(x0, -guard), max(y0, -guard), min(x1, guard), min(y1, guard))
     views = tuple(ShadowView(index, False, view, window, near, math.inf) if view is not None else None for view in needed)
     return LightShadow(index, views, _rigid(np.eye(3), position))
@@ -352,6 +381,6 @@ def fit_shadow_views(scene: Scene, size: int, margin: float) -> tuple[LightShado
         elif isinstance(light, DirectionalLight):
             shadows.append(LightShadow(index, (_directional(index, light, fit, size, margin),)))
         else:
-            single = _spot(index, light, fit, size, margin) if isinstance(light, SpotLight) else "cube"
+            single = (_spot if isinstance(light, SpotLight) else _aimed)(index, light, fit, size, margin)
             shadows.append(_cube(index, light, fit, size, margin) if single == "cube" else LightShadow(index, (single,)))
     return tuple(shadows)

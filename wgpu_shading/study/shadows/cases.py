@@ -227,6 +227,23 @@ def _two_lights() -> ShadowCase:
     )
 
 
+def _light_past_a_cube_corner() -> ShadowCase:
+    # Found by the random scenes (seed 24): a positional light far away along a diagonal
+    # sees the scene across three cube faces, each needing a corner of its own; one window
+    # shared by the faces then covers every face whole, and the torus got a handful of texels.
+    ring = SceneObject(torus(0.35, 0.15, 40, 20), SHINY, translate=(0.0, 0.65, 0.0), rotate=(70.0, -149.0, 0.0))
+    return ShadowCase(
+        "light_past_a_cube_corner",
+        Scene(
+            objects=(ring, _ground(20.0)),
+            lights=(PositionalLight(position=(30.5, 31.3, -31.1), shadows=True),),
+            camera=Camera(eye=(-0.6, 3.2, 1.4), target=(-0.3, 0.3, -0.7), fov_y=50.0, near=0.1, far=60.0),
+        ),
+        "a positional light 54 units away along a diagonal: its view of the scene straddles three cube faces; "
+        "one perspective view aimed at the scene covers it",
+    )
+
+
 def _off_centre_mesh() -> ShadowCase:
     # Found by the random scenes (seed 41, the fandisk): a mesh stored away from its own
     # origin (most files: Mesh keeps positions relative to the centre of their box, and its
@@ -289,6 +306,7 @@ _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     "far_positional_light": _far_positional_light,
     "off_centre_mesh": _off_centre_mesh,
     "light_by_a_sphere": _light_by_a_sphere,
+    "light_past_a_cube_corner": _light_past_a_cube_corner,
 }
 SHADOW_CASE_NAMES: tuple[str, ...] = tuple(_BUILDERS)
 SCALES = (1e-3, 1.0, 1e3)
