@@ -109,6 +109,16 @@ def test_bad_edges_are_one_line_naming_the_file(tmp_path, capsys, fmt):
     assert not (tmp_path / "o.png").exists()
 
 
+def test_an_ascii_file_cut_short_in_its_edges_is_called_truncated(tmp_path):
+    # long numbers: the header's minimum size (a digit and a separator a number) is met
+    header = ("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "element edge 3\nproperty int vertex1\nproperty int vertex2\nend_header\n")
+    rows = "0.000000 0.000000 0.000000\n1.000000 0.000000 0.000000\n1.000000 1.000000 0.000000\n0 1\n"
+    (tmp_path / "cut.ply").write_text(header + rows)
+    with pytest.raises(MeshError, match="cut.ply': truncated: the header declares 3 edges, the file holds 1"):
+        load_mesh(tmp_path / "cut.ply")
+
+
 def test_edges_named_otherwise_are_refused_by_name(tmp_path):
     text = ("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
             "element edge 1\nproperty int v1\nproperty int v2\nend_header\n0 0 0\n1 1 1\n0 1\n")

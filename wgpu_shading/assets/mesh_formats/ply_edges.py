@@ -102,6 +102,9 @@ def edge_piece(raw: dict, path: Path) -> MeshPiece | None:
     if any(end is None for end in ends):
         raise MeshError(f"{where}: the PLY element 'edge' has no 'vertex1' and 'vertex2' properties; edges are read from those")
     segments = np.stack(ends, axis=1)
+    declared = raw[KEPT_NAME].get("length", 0)
+    if len(segments) < declared:  # an ASCII file cut short (trimesh takes the lines there are)
+        raise MeshError(f"{where}: truncated: the header declares {declared} edges, the file holds {len(segments)}")
     if segments.dtype.kind not in "iu" and not np.array_equal(segments, np.round(segments)):  # NaN too
         raise MeshError(f"{where}: a PLY edge's vertex1/vertex2 is not a whole number")
     segments = segments.astype(np.int64)
