@@ -137,6 +137,26 @@ def test_a_far_positional_light_has_one_view_that_holds_the_scene_and_little_mor
     assert (tangents[0] > x0).all() and (tangents[0] < x1).all() and (tangents[1] > y0).all() and (tangents[1] < y1).all()
 
 
+def test_a_positional_lights_single_view_has_every_visible_receiver_in_front():
+    """A single view aimed at the scene reads V = 1 outside its window: a receiver behind it,
+    which the light does reach, needs the cube (random scenes 48, 77 and 95 lost their
+    shadows when a receiver wholly behind the view was left out)."""
+    from wgpu_shading.study.shadows.random_scenes import random_shadow_scene
+
+    singles = 0
+    for seed in (48, 77, 95, *range(20)):
+        scene = random_shadow_scene(seed).scene
+        receivers = np.concatenate(list(visible_receivers(scene).values()))
+        for shadow in fit_shadow_views(scene, SIZE, MARGIN):
+            light = scene.lights[shadow.light]
+            if isinstance(light, PositionalLight) and shadow.cube_from_world is None and shadow.views[0] is not None:
+                singles += 1
+                view = shadow.views[0]
+                local = receivers @ view.light_from_world[:3, :3].T + view.light_from_world[:3, 3]
+                assert (local[:, 2] < 0.0).all(), f"seed {seed}: a receiver behind light {shadow.light}'s view"
+    assert singles >= 3
+
+
 def test_a_cubes_faces_share_the_window_each_needs_and_no_more():
     """A light between two boxes on either side, too wide a spread for one view: the faces
     share one window, the union of what each needs (a face holding no caster's part of a

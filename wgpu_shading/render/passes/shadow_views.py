@@ -307,7 +307,9 @@ def _aimed(index: int, light, fit: _Scene, size: int, margin: float) -> ShadowVi
     position = np.asarray(light.position, dtype=np.float64)
     points = np.concatenate(list(fit.receivers.values()))
     forward = (points.min(axis=0) + points.max(axis=0)) / 2.0 - position
-    if not np.linalg.norm(forward) > 0.0:
+    # Every receiver in front of the view: one behind it (which the light does reach, unlike
+    # a spot's) would be outside the window, read as lit.
+    if not np.linalg.norm(forward) > 0.0 or not ((points - position) @ forward > 0.0).all():
         return "cube"
     return _perspective(index, position, forward, fit, size, margin)
 
