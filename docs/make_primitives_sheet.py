@@ -1,6 +1,7 @@
 """The points, lines and edges sheet of docs/primitives.md: real files other tools wrote
-(../shared/corpora/primitives, SOURCES.md there; the small ones are in tests/data/real/primitives)
-and a coarse sphere with --edges, rendered before issue 27 (commit f58829e), now, and by f3d.
+(../shared/corpora/primitives, SOURCES.md there; the small ones are in tests/data/real/primitives),
+a coarse sphere with --edges and as a PLY of faces and red edges, and the triangle-strip
+PLY of ../shared/corpora/realworld2, rendered before issue 27 (commit f58829e), now, and by f3d.
 
     python docs/make_primitives_sheet.py [--f3d-python /tmp/f3d/bin/python] [-o docs/images/primitives_f3d.png]
 
@@ -43,6 +44,29 @@ engine.window.render_to_image().save(out)
 """
 
 
+def _ply_with_edges(sphere, path: Path) -> Path:
+    """The sphere's triangles and, as a PLY `edge` element in red, its equator and one
+    meridian (a MeshLab-style PLY of faces and edges)."""
+    import numpy as np
+
+    points = sphere.world_positions()
+    segments = []
+    for axis, (u, v) in ((1, (0, 2)), (0, (1, 2))):  # the ring in the plane y = 0, then x = 0
+        on = np.flatnonzero(np.abs(points[:, axis]) < 1e-6)
+        _, first = np.unique(np.round(points[on], 6), axis=0, return_index=True)  # seams repeat vertices
+        ring = on[first][np.argsort(np.arctan2(points[on[first], v], points[on[first], u]))]
+        segments += list(zip(ring.tolist(), np.roll(ring, -1).tolist()))
+    path.write_text(
+        f"ply\nformat ascii 1.0\nelement vertex {len(points)}\nproperty float x\nproperty float y\nproperty float z\n"
+        f"element face {len(sphere.indices)}\nproperty list uchar int vertex_indices\n"
+        f"element edge {len(segments)}\nproperty int vertex1\nproperty int vertex2\n"
+        "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n"
+        + "".join(f"{x!r} {y!r} {z!r}\n" for x, y, z in points.tolist())
+        + "".join(f"3 {a} {b} {c}\n" for a, b, c in sphere.indices.tolist())
+        + "".join(f"{a} {b} 255 0 0\n" for a, b in segments))
+    return path
+
+
 def rows(folder: Path) -> list[tuple[str, Path, list[str]]]:
     from wgpu_shading.scene import builtin
 
@@ -51,6 +75,7 @@ def rows(folder: Path) -> list[tuple[str, Path, list[str]]]:
     points = sphere.world_positions()
     obj.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in points.tolist())
                    + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in sphere.indices.tolist()))
+    edges = _ply_with_edges(sphere, folder / "sphere_edges.ply")
     return [
         ("PLY scan: 45k points, normals, colours\n(StandardCyborg, ASCII)", CORPUS / "ply" / "sven-ear-to-ear-lo-res_Expected.ply", []),
         ("PLY RGB-D fragment: 113k points,\ncolours, no normals (Open3D)", CORPUS / "ply" / "livingroom1_fragment_002.ply", ["--up=-Y"]),
@@ -61,6 +86,9 @@ def rows(folder: Path) -> list[tuple[str, Path, list[str]]]:
         ("OBJ wireframe (Blender)", SMALL / "obj_wireframe.obj", []),
         ("OFF `54 0 0`: neuron tracing\npoints (surfrecon)", CORPUS / "off" / "surfrecon_points.off", ["--point-size", "5"]),
         ("--edges on a 16×8 sphere", obj, ["--edges", "--edge-color", "1,1,1", "--material", "ruby"]),
+        ("PLY faces + `edge` element (red),\n--line-width 2 (MeshLab-style, made here)", edges, ["--line-width", "2"]),
+        ("PLY triangle strips: Cyberware's igea\n(common-3d-test-models)", SHARED / "corpora" / "realworld2" / "ply" / "igea_tristrips.ply", []),
+        ("XYZ text: 100 points `x y z r g b`,\n--point-size 6 (Agisoft)", SMALL / "points_agisoft.xyz", ["--point-size", "6"]),
     ]
 
 
