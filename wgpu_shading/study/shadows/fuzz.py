@@ -156,7 +156,8 @@ def count_by_class(records: list[dict]) -> dict[str, dict[str, list[int]]]:
     return counts
 
 
-def run(renderer, seeds, out: Path, *, minimise_failures: bool = True, settings: dict | None = None, log=print) -> list[dict]:
+def run(renderer, seeds, out: Path, *, minimise_failures: bool = True, settings: dict | None = None, models: bool = True,
+        log=print) -> list[dict]:
     """Try every seed's scene (its shadow settings replaced by `settings`' fields when given);
     write failures' pictures and the report into `out`."""
     from ...assets.atomic import atomic_write
@@ -165,7 +166,7 @@ def run(renderer, seeds, out: Path, *, minimise_failures: bool = True, settings:
     out.mkdir(parents=True, exist_ok=True)
     records = []
     for seed in seeds:
-        drawn = random_shadow_scene(seed)
+        drawn = random_shadow_scene(seed, models=models)
         if settings:
             scene = replace(drawn.scene, shadows=replace(drawn.scene.shadows, **settings))
             drawn = replace(drawn, scene=scene, labels={**drawn.labels, **{k.replace("_", " "): str(v) for k, v in settings.items()}})
@@ -201,6 +202,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-minimise", action="store_true")
     parser.add_argument("--map-size", help="override every scene's shadow-map size (N or auto)")
     parser.add_argument("--filter", help="override every scene's filter")
+    parser.add_argument("--no-models", action="store_true", help="draw no real mesh of ../shared/models (a torus instead)")
     args = parser.parse_args(argv)
     from ...render.renderer import Renderer
 
@@ -210,7 +212,8 @@ def main(argv: list[str] | None = None) -> int:
         settings["map_size"] = args.map_size if args.map_size == "auto" else int(args.map_size)
     if args.filter:
         settings["filter"] = args.filter
-    records = run(renderer, _seeds(args.seeds), args.out, minimise_failures=not args.no_minimise, settings=settings)
+    records = run(renderer, _seeds(args.seeds), args.out, minimise_failures=not args.no_minimise, settings=settings,
+                  models=not args.no_models)
     failed = [r["seed"] for r in records if not r["passed"]]
     print(f"{len(records)} scenes, {len(failed)} failed: {failed}")
     for key, values in count_by_class(records).items():

@@ -1,6 +1,7 @@
 """Random shadowed scenes (docs/shadows.md#random-scenes): the class of scenes the shadow
 guarantees are about, not only the catalogue's examples. `random_shadow_scene(seed)` draws
-one scene, the same for the same seed on every machine (numpy's PCG64 stream), with labels
+one scene, the same for the same seed on every machine (numpy's PCG64 stream; with
+`models=False`, or where ../shared/models is missing, a drawn model is a torus), with labels
 saying which classes it belongs to, so that a run over a few hundred seeds can count what
 it tried and where it failed (study/shadows/fuzz.py runs and minimises them).
 
@@ -91,7 +92,7 @@ def _material(rng: np.random.Generator, name: str) -> Material:
                     emission=tuple(emission) + (1.0,), shininess=float(rng.uniform(1.0, 120.0)), name=name)
 
 
-def _shape(rng: np.random.Generator, shape: str) -> tuple[Mesh, tuple, tuple, str]:
+def _shape(rng: np.random.Generator, shape: str, models: bool = True) -> tuple[Mesh, tuple, tuple, str]:
     """A caster about one unit across: its mesh, rotation (degrees), scale and what it is."""
     turn = tuple(float(v) for v in rng.uniform(-180.0, 180.0, 3)) if rng.random() < 0.6 else (0.0, float(rng.uniform(-180, 180)), 0.0)
     if shape == "sphere":
@@ -109,7 +110,7 @@ def _shape(rng: np.random.Generator, shape: str) -> tuple[Mesh, tuple, tuple, st
         return torus(0.35, minor, segments, max(6, segments // 2)), turn, (1.0, 1.0, 1.0), "torus"
     if shape == "quad":
         return plane(float(rng.uniform(0.5, 1.3))), tuple(float(v) for v in rng.uniform(-180.0, 180.0, 3)), (1.0, 1.0, 1.0), "quad"
-    names = [name for name in MODELS if _model(name) is not None]
+    names = [name for name in MODELS if models and _model(name) is not None]
     if not names:
         return _shape(rng, "torus")
     name = names[int(rng.integers(len(names)))]
@@ -127,13 +128,13 @@ def _world_y(mesh: Mesh, rotate: tuple, scale: tuple) -> tuple[float, float, np.
     return float(world[:, 1].min()), float(world[:, 1].max()), middle
 
 
-def _casters(rng: np.random.Generator, ground: bool, ring: bool) -> tuple[list[SceneObject], list[str], list[str]]:
+def _casters(rng: np.random.Generator, ground: bool, ring: bool, models: bool) -> tuple[list[SceneObject], list[str], list[str]]:
     count = int(rng.integers(3, 6)) if ring else int(rng.integers(1, 5))
     objects, shapes, placements = [], [], []
     tops: list[tuple[np.ndarray, float]] = []  # each caster's horizontal centre and top
     for k in range(count):
         shape = SHAPES[int(rng.choice(len(SHAPES), p=(0.22, 0.12, 0.22, 0.18, 0.12, 0.14)))]
-        mesh, rotate, scale, what = _shape(rng, shape)
+        mesh, rotate, scale, what = _shape(rng, shape, models)
         low, high, middle = _world_y(mesh, rotate, scale)
         if ring:
             angle = 2.0 * math.pi * (k + rng.uniform(-0.2, 0.2)) / count
@@ -222,14 +223,16 @@ def _camera(rng: np.random.Generator, centre: np.ndarray, ground: bool, ground_s
     return camera, what
 
 
-def random_shadow_scene(seed: int, *, size: tuple[int, int] | None = None) -> RandomShadowScene:
-    """One random shadowed scene (see the module); `size` overrides the drawn image size."""
+def random_shadow_scene(seed: int, *, size: tuple[int, int] | None = None, models: bool = True) -> RandomShadowScene:
+    """One random shadowed scene (see the module); `size` overrides the drawn image size;
+    `models=False` draws no real mesh (a torus instead), so the scene does not depend on
+    ../shared/models being there (the tests' fixed seeds)."""
     rng = np.random.default_rng(seed)
     ground = rng.random() < 0.8
     light_count = int(rng.integers(1, 4))
     kinds = [str(rng.choice(("directional", "spot", "positional"))) for _ in range(light_count)]
     ring = "positional" in kinds and rng.random() < 0.4
-    casters, shapes, placements = _casters(rng, ground, ring)
+    casters, shapes, placements = _casters(rng, ground, ring, models)
     ground_size = float(rng.uniform(6.0, 80.0))
     objects = list(casters)
     if ground:
