@@ -189,3 +189,28 @@ def test_the_catalogue_builds_every_case_with_shadows_in_view():
             image = ref.render_reference(case.scene)
             shadowed = sum(image.shadow_mask(i).sum() for i in range(len(case.scene.lights)))
             assert shadowed > 10 and (~image.shadow_mask(0) & image.covered).sum() > 10, case.name
+
+
+def test_a_pixel_point_a_hair_off_its_triangle_is_moved_onto_it():
+    """The exact answer's point lies on its visible triangle (docs/shadows.md#the-exact-answer).
+    A pixel centre the fixed-point rasterizer gives to a triangle can meet its plane a hair
+    beyond an edge (random scene 236: weights −0.002); in a valley that point lies under the
+    other slope, whose facet then hid every light from it. Closed form: a floor y = 0 for
+    x ≤ 0 and a wall rising at 45° from its edge x = 0, a light straight above: the floor's
+    points, its edge included, are lit; a point 0.002 beyond the edge is under the wall."""
+    from wgpu_shading.scene import Mesh
+    from wgpu_shading.study.reference.shading import on_triangle
+    from wgpu_shading.study.reference.visibility import ShadowRays
+
+    corners = np.array([[0.0, 0.0, -1.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [1.0, 1.0, 0.0]])
+    valley = Mesh.from_arrays(corners, np.array([[0, 1, 2], [0, 3, 1]]), name="valley")
+    scene = Scene(objects=(SceneObject(valley),), lights=(DirectionalLight(direction=(0.0, -1.0, 0.0), shadows=True),))
+    weights = np.array([[0.501, 0.501, -0.002], [0.25, 0.25, 0.5]])
+    moved = on_triangle(weights)
+    assert (moved >= 0.0).all() and np.allclose(moved.sum(axis=1), 1.0) and np.allclose(moved[1], weights[1])
+    floor = corners[[0, 1, 2]]
+    rays = ShadowRays(scene)
+    beyond = weights @ floor
+    assert beyond[0, 0] == pytest.approx(0.002)
+    assert rays.visibility(beyond, np.zeros(2, int), np.zeros(2, int)).tolist() == [[0.0, 1.0]]  # under the wall
+    assert rays.visibility(moved @ floor, np.zeros(2, int), np.zeros(2, int)).tolist() == [[1.0, 1.0]]
