@@ -30,7 +30,7 @@ from ...scene import Scene
 from ...scene.shadows import AUTO_MAP_SIZE, AUTO_MAP_SIZE_LIMIT, AUTO_TEXELS_PER_PIXEL
 from ..shaders.uniforms import clip_from_eye
 from .shadow_views import LightShadow, ShadowView
-from .visible_regions import camera_frustum, common_points, world_box
+from .visible_regions import camera_frustum, common_points, visible_receivers, world_box
 
 
 def _window_solid(view: ShadowView, far: float) -> np.ndarray:
@@ -54,7 +54,7 @@ def texels_per_pixel(scene: Scene, shadows: tuple[LightShadow, ...], size: int) 
     projection = clip_from_eye(scene.camera, width / height)
     clip_from_world = projection @ eye_from_world
     frustum = camera_frustum(scene)
-    boxes = [world_box(obj) for obj in scene.objects if obj.receive_shadows]
+    boxes = [world_box(scene.objects[index]) for index in visible_receivers(scene)]
     widest = 0.0
     for view in (view for shadow in shadows for view in shadow.views if view is not None):
         corners = np.concatenate(boxes) @ view.light_from_world[:3, :3].T + view.light_from_world[:3, 3]
