@@ -19,8 +19,8 @@ import numpy as np
 import wgpu
 
 from ...scene import DirectionalLight, Scene, SceneObject
-from ...scene.shadows import AUTO
 from ...scene.geometry.solids import winding_number
+from ...scene.shadows import AUTO
 from ..features import casting_lights
 from ..gpu.device_cache import DeviceCache
 from ..gpu.pipelines import PassKind, PipelineDescriptor, PipelineKey
