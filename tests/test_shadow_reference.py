@@ -214,3 +214,33 @@ def test_a_pixel_point_a_hair_off_its_triangle_is_moved_onto_it():
     assert beyond[0, 0] == pytest.approx(0.002)
     assert rays.visibility(beyond, np.zeros(2, int), np.zeros(2, int)).tolist() == [[0.0, 1.0]]  # under the wall
     assert rays.visibility(moved @ floor, np.zeros(2, int), np.zeros(2, int)).tolist() == [[1.0, 1.0]]
+
+
+def test_a_face_of_a_closed_solid_turned_from_the_light_is_in_its_shadow_up_to_its_edges():
+    """Closed form: a unit cube lit by a directional light 0.57° below the horizon, from −X.
+    Its top face is turned from the light, so every point of it is in the cube's own shadow:
+    the segment towards the light enters the cube at once and leaves it through the −X face.
+    Next to the −X edge that exit lies nearer than the ray cast's float32 guard, and on the
+    edge itself the segment only touches the cube (random scenes 190, 258): the pixel's point
+    belongs to the top face, shadowed up to its edge. The −X face, facing the light, is lit;
+    a positional light inside the cube shadows none of its faces."""
+    from wgpu_shading.scene import PositionalLight, cube
+    from wgpu_shading.study.reference.visibility import ShadowRays
+
+    box = SceneObject(cube(1.0))
+    travel = (1.0, 0.01, 0.0)
+    scene = Scene(objects=(box,), lights=(DirectionalLight(direction=travel, shadows=True),))
+    mesh = box.mesh
+    corners = mesh.positions[mesh.indices].astype(np.float64)
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    up = normals[:, 1] > 0.5 * np.linalg.norm(normals, axis=1)
+    top = int(np.flatnonzero(up & ((corners[:, :, 0] == corners[:, :, 0].min()).sum(axis=1) == 2))[0])  # a −X edge
+    side = int(np.flatnonzero(normals[:, 0] < -0.5 * np.linalg.norm(normals, axis=1))[0])
+    near_edge = corners[top][np.argsort(corners[top][:, 0])[:2]].mean(axis=0)  # the middle of that edge
+    points = np.array([near_edge, near_edge + (1e-9, 0.0, 0.0), corners[top].mean(axis=0), corners[side].mean(axis=0)])
+    triangles = np.array([top, top, top, side])
+    assert near_edge[0] == pytest.approx(-0.5) and near_edge[1] == pytest.approx(0.5)
+    visibility = ShadowRays(scene).visibility(points, np.zeros(4, int), triangles)
+    assert visibility.tolist() == [[0.0, 0.0, 0.0, 1.0]]
+    inside = replace(scene, lights=(PositionalLight(position=(0.0, 0.0, 0.0), shadows=True),))
+    assert ShadowRays(inside).visibility(points, np.zeros(4, int), triangles).tolist() == [[1.0, 1.0, 1.0, 1.0]]
