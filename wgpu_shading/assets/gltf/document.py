@@ -22,6 +22,7 @@ import numpy as np
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_VERTICES
 from ..files import check_regular_file
+from . import meshopt
 
 MAX_GLTF_ITEMS = 1 << 20  # nodes, meshes, accessors, ... in one file (each list)
 MAX_ACCESSOR_COUNT = MAX_VERTICES  # elements of one accessor (2^25)
@@ -109,6 +110,7 @@ class GltfData:
         self.notes: list[str] = []  # warnings for the user, said once the file is read (meshes.py)
         self._buffers: dict[int, bytes] = {}
         self._accessors: dict[int, np.ndarray] = {}
+        self._decoded_views: dict[object, bytes] = {}
         # reader.py's classic materials, made (their textures decoded) once however many times
         # the document is posed (an animation's frames: assets/animation_frames.py)
         self.materials: dict[tuple, object] = {}
@@ -190,18 +192,33 @@ class GltfData:
         return data
 
     def view(self, index: object, field: str) -> tuple[bytes, int, int, int | None]:
-        """(buffer, start, length, byteStride) of a buffer view, its range checked."""
+        """(buffer, start, length, byteStride) of a buffer view, its range checked; a view
+        compressed with EXT_meshopt_compression decoded (once) into a buffer of its own."""
         entry = self.item("bufferViews", index, field)
         where = f"bufferViews[{index}]"
-        data = self.buffer(entry.get("buffer"), f"{where}.buffer")
-        start = self.integer(entry.get("byteOffset", 0), f"{where}.byteOffset")
-        length = self.integer(entry.get("byteLength"), f"{where}.byteLength", 1)
-        if start + length > len(data):
-            raise gltf_error(self.path, where, f"bytes {start}..{start + length} lie beyond its buffer ({len(data)} bytes)")
+        length = self.integer(entry.get("byteLength"), f"{where}.byteLength", 1, MAX_BUFFER_BYTES)
         stride = entry.get("byteStride")
         if stride is not None:
             stride = self.integer(stride, f"{where}.byteStride", 4, 252)
+        compressed = entry.get("extensions", {}).get(meshopt.EXTENSION) if isinstance(entry.get("extensions"), dict) else None
+        if compressed is not None:
+            if index not in self._decoded_views:
+                self._decoded_views[index] = meshopt.decode_view(
+                    compressed, length, self._range, self.integer, lambda name, detail: gltf_error(self.path, name, detail), where
+                )
+            return self._decoded_views[index], 0, length, stride
+        data = self.buffer(entry.get("buffer"), f"{where}.buffer")
+        start = self.integer(entry.get("byteOffset", 0), f"{where}.byteOffset")
+        if start + length > len(data):
+            raise gltf_error(self.path, where, f"bytes {start}..{start + length} lie beyond its buffer ({len(data)} bytes)")
         return data, start, length, stride
+
+    def _range(self, buffer: object, start: int, length: int, field: str) -> bytes:
+        """Bytes start..start + length of a buffer, the range checked."""
+        data = self.buffer(buffer, f"{field}.buffer")
+        if start + length > len(data):
+            raise gltf_error(self.path, field, f"bytes {start}..{start + length} lie beyond buffer {buffer} ({len(data)} bytes)")
+        return bytes(data[start : start + length])
 
     def view_bytes(self, index: object, field: str) -> bytes:
         data, start, length, _ = self.view(index, field)

@@ -22,7 +22,7 @@ from .materials import SPECULAR_GLOSSINESS as _SPECULAR_GLOSSINESS
 IMPLEMENTED_EXTENSIONS = frozenset({
     "KHR_draco_mesh_compression", "KHR_lights_punctual", "KHR_materials_emissive_strength",
     "KHR_materials_pbrSpecularGlossiness", "KHR_materials_specular", "KHR_materials_unlit",
-    "KHR_mesh_quantization", "KHR_texture_transform", "EXT_texture_webp",
+    "KHR_mesh_quantization", "KHR_texture_transform", "EXT_texture_webp", "EXT_meshopt_compression",
 })
 
 
