@@ -84,3 +84,16 @@ def test_the_runner_reports_and_draws_failures(renderer, tmp_path):
     assert len(records) == 1 and records[0]["labels"]["map size"] == "16"
     assert not records[0]["passed"] and records[0]["failures"]
     assert (tmp_path / "random-3.shadows.png").is_file() and (tmp_path / "report.json").is_file()
+
+
+def test_a_sliver_edge_on_to_the_camera_keeps_its_light(renderer, tmp_path):
+    """Random scene 74, minimised: a torus facet at N·V = 0.005 on the silhouette, a
+    fraction of a pixel wide, lit by a far light (N·L = 0.66). The rasterizer's
+    front_facing (from snapped corners) and the screen derivatives disagreed on which side
+    it shows, the closed-surface rule took it for the far side and one pixel went black. The
+    sliver depends on this exact pixel grid, so the scene is kept as drawn, not scaled
+    (wgsl/chunks/shadows/lookup.wgsl MIN_DERIVATIVE_SINE)."""
+    scene = random_shadow_scene(74, models=False).scene
+    scene = replace(scene, objects=scene.objects[:1], lights=scene.lights[1:])
+    trial = try_scene(renderer, scene, "sliver-on-silhouette")
+    check_shadows(trial.reference, trial.image, trial.shadowless, name="sliver-on-silhouette", picture_dir=tmp_path)

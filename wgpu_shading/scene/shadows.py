@@ -35,6 +35,13 @@ MAX_SHADOW_BIAS_TEXELS = 64.0
 # over every hard case (docs/accuracy.md#shadows; tests/test_shadow_study.py checks these
 # against the stored points).
 AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = 512, "nearest", 3.0
+# An "auto" map is AUTO_MAP_SIZE texels, doubled while its texels are wider than
+# 1/AUTO_TEXELS_PER_PIXEL of a pixel of the image on a receiver it may shadow, up to
+# AUTO_MAP_SIZE_LIMIT (render/passes/shadow_resolution.py; docs/shadows.md#auto): a caster
+# thinner than a texel as the light sees it (a quad nearly edge-on) casts a shadow whose
+# edges the map draws half a texel off, and 1/8 of a pixel still left specks (the hard case
+# sliver_shadow, random scenes 290, 270, 229).
+AUTO_TEXELS_PER_PIXEL, AUTO_MAP_SIZE_LIMIT = 16.0, 2048
 AUTO_IS_MEASURED = True
 
 ShadowFilter = Literal["auto", "nearest", "bilinear", "pcf3", "pcf5"]

@@ -20,6 +20,7 @@ import wgpu
 
 from ...scene import DirectionalLight, Scene, SceneObject
 from ...scene.geometry.solids import winding_number
+from ...scene.shadows import AUTO
 from ..features import casting_lights
 from ..gpu.device_cache import DeviceCache
 from ..gpu.pipelines import PassKind, PipelineDescriptor, PipelineKey
@@ -29,6 +30,7 @@ from ..shaders.bindings import shadow_map_plan
 from ..shaders.shadergen import generate_pass_wgsl, shadow_uniforms_dtype
 from .draws import Draw, encode_draws
 from .frame_context import FrameContext
+from .shadow_resolution import auto_map_size
 from .shadow_views import LightShadow, fit_shadow_views
 from .visible_regions import world_box
 
@@ -78,7 +80,13 @@ def encode_shadow_maps(cache: DeviceCache, encoder, frame: FrameContext) -> None
     scene = frame.scene
     settings = scene.shadows.resolved()
     size = int(settings.map_size)
-    shadows = slot_ordered(scene, fit_shadow_views(scene, size, FILTER_REACH[settings.filter] + 1.0))
+    margin = FILTER_REACH[settings.filter] + 1.0
+    shadows = slot_ordered(scene, fit_shadow_views(scene, size, margin))
+    if scene.shadows.map_size == AUTO:  # as many texels as the image's pixels need (shadow_resolution.py)
+        needed = auto_map_size(scene, shadows)
+        if needed != size:
+            size = needed
+            shadows = slot_ordered(scene, fit_shadow_views(scene, size, margin))
     views = [view for shadow in shadows for view in shadow.views if view is not None]
     maps = cache.shadow_maps(size, len(views))
     entry = cache.pipelines.get(SHADOW_MAP_KEY)

@@ -101,3 +101,22 @@ def visible_receivers(scene: Scene) -> dict[int, np.ndarray]:
             if len(points):
                 regions[index] = points
     return regions
+
+
+def common_points(*solids: np.ndarray) -> np.ndarray:
+    """(K, 3) points whose convex hull is the intersection of convex hexahedra (8 corners
+    each, indexed 4x + 2y + z): each solid's faces clipped by every other solid's planes.
+    A vertex of the intersection lies on a face of one solid and inside the others, so it
+    is a vertex of that face so clipped. Empty when they do not all meet."""
+    bounds = [planes(solid) for solid in solids]
+    extent = max(float(np.ptp(solid, axis=0).max()) for solid in solids)
+    points = []
+    for index, solid in enumerate(solids):
+        for face in _FACES:
+            polygon = solid[list(face)]
+            for other, (normals, offsets) in enumerate(bounds):
+                if other != index:
+                    for normal, offset in zip(normals, offsets + 1e-9 * extent):
+                        polygon = _clip_polygon(polygon, normal, offset)
+            points.append(polygon)
+    return np.concatenate(points) if points else np.zeros((0, 3))

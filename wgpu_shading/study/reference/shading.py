@@ -183,6 +183,17 @@ def _shade_pixels(
     return combine(ambient_diffuse, specular, material, texel, **combine_factors(scene, material, uv))
 
 
+def on_triangle(weights: np.ndarray) -> np.ndarray:
+    """(N, 3) barycentric weights moved onto their triangle (negative ones to 0, the rest
+    rescaled to sum to 1). A pixel the fixed-point rasterizer gives to a triangle may have
+    its centre's float64 ray meet the triangle's plane a hair beyond an edge (−0.002 of
+    the triangle); a shadow ray from there starts under the neighbouring facet of a fold
+    and is hidden by it (random scene 236). The exact answer's point is on its visible
+    triangle (docs/shadows.md#the-exact-answer)."""
+    kept = np.maximum(weights, 0.0)
+    return kept / kept.sum(axis=1, keepdims=True)
+
+
 class RasterizedScene:
     """The scene's meshes rasterized once in float64: which triangle (and object) covers each
     pixel, its perspective-correct barycentrics and its facing. Shading is a separate step
@@ -236,7 +247,7 @@ class RasterizedScene:
         width, height = scene.size
         result = np.ones((len(scene.lights), height * width))
         if has_shadows(scene) and len(self._pixels):
-            eye_points = np.einsum("nk,nkc->nc", self._weights, pixel_corners)
+            eye_points = np.einsum("nk,nkc->nc", on_triangle(self._weights), pixel_corners)
             world_points = transform_points(np.linalg.inv(eye_from_world(scene.camera)), eye_points)
             result[:, self._pixels] = ShadowRays(scene).visibility(world_points, self._object_index, self._local_triangle)
         return result.reshape(len(scene.lights), height, width)

@@ -23,6 +23,13 @@ Embree works in float32, so three things keep the answer to float64 semantics:
   entry point is dropped as too close (a sphere resting on the plane, near the contact
   point) still shadows through its exit point.
 
+- a point on a closed casting surface (trimesh: watertight and consistently wound once
+  coincident vertices are merged; its own test, not the renderer's), on a triangle turned
+  from the light, the light outside the solid, is shadowed: its segment enters the solid at
+  once and must leave through the surface. The exit is dropped as too close next to the
+  edge where the light grazes the surface, and on that edge the segment only touches it;
+  the point belongs to its triangle, shadowed up to its edges (random scenes 190, 258).
+
 What is left of float32 is where a ray passes within ~1e-7 of the scene's size of a
 triangle's edge: a set of measure zero, far below a pixel.
 Single-sided and zero-thickness casters occlude from both sides (no culling); casters
@@ -74,6 +81,20 @@ def _ray_engine(vertices: np.ndarray, faces: np.ndarray):
     return RayMeshIntersector(mesh, scale_to_box=True)
 
 
+def _closed_surface(vertices: np.ndarray, faces: np.ndarray):
+    """trimesh's own view of a caster's world triangles: (mesh, +1 or −1 for outward or
+    inward winding) when they close a volume (watertight, consistently wound once its
+    coincident vertices are merged), else None."""
+    import trimesh
+
+    if len(faces) == 0:
+        return None
+    mesh = trimesh.Trimesh(vertices=vertices, faces=faces, process=True)
+    if not (mesh.is_watertight and mesh.is_winding_consistent) or mesh.volume == 0.0:
+        return None
+    return mesh, float(np.sign(mesh.volume))
+
+
 class ShadowRays:
     """The scene's shadow-casting triangles in world space (float64), ready for shadow rays.
 
@@ -91,6 +112,8 @@ class ShadowRays:
             vertices.append(transform_points(world_from_model(obj), obj.mesh.positions.astype(np.float64)))
             faces.append(obj.mesh.indices.astype(np.int64) + count)
             count += len(vertices[-1])
+        self._solids = {index: _closed_surface(vertices[k], scene.objects[index].mesh.indices.astype(np.int64))
+                        for k, index in enumerate(self._first_face)}
         self._engine = None
         if faces:
             self._vertices = np.concatenate(vertices)
@@ -136,4 +159,26 @@ class ShadowRays:
             rays = receives & (lengths > 0.0)
             blocked = self.occluded(points[rays], np.ascontiguousarray(directions[rays]), lengths[rays], own[rays])
             result[index, np.flatnonzero(rays)[blocked]] = 0.0
+            result[index, rays & self._inside_first(light, directions, objects, own)] = 0.0
         return result
+
+    def _inside_first(self, light: Light, directions: np.ndarray, objects: np.ndarray, own: np.ndarray) -> np.ndarray:
+        """(N,) bool: points on a triangle of a closed casting surface that faces away from
+        the light, the light outside that solid: the segment enters the solid at once and
+        must leave it through the surface. The ray cast finds that exit unless it lies
+        nearer than min_distance — a point next to the edge where the light grazes the
+        surface — or the point lies on that edge itself, where the ray only touches the
+        surface; a pixel's point belongs to its triangle, whose state is this one up to the
+        edge (random scenes 190, 258)."""
+        hidden = np.zeros(len(own), dtype=bool)
+        for index, solid in self._solids.items():
+            mine = (objects == index) & (own >= 0)
+            if solid is None or not mine.any():
+                continue
+            mesh, outward = solid
+            if not isinstance(light, DirectionalLight) and mesh.contains(np.array([light.position], dtype=np.float64))[0]:
+                continue
+            corners = self._vertices[self._faces[own[mine]]]
+            normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]) * outward
+            hidden[mine] = np.einsum("ij,ij->i", normals, directions[mine]) < 0.0
+        return hidden

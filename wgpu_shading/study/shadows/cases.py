@@ -295,6 +295,29 @@ def _far_positional_light() -> ShadowCase:
     )
 
 
+def _sliver_shadow() -> ShadowCase:
+    # Found by the random scenes (seeds 290, 270, 229): a quad 0.23° from edge-on to the light
+    # casts a shadow a pixel wide, thinner than a 512-texel map's texel; the map draws its
+    # edges half a texel off, so pixels near them took the wrong state, specks and gaps along
+    # the line. "auto" now sizes the map from the image's pixels (render/passes/shadow_resolution.py).
+    travel = _travel(59.0)
+    across = np.cross(travel, (0.0, 1.0, 0.0))
+    across /= np.linalg.norm(across)
+    along = travel + 0.004 * np.cross(across, travel)
+    along /= np.linalg.norm(along)
+    centre = np.array([0.0, 1.0, 0.0])
+    corners = [centre + a * 1.6 * across + b * 0.6 * along for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    normal = np.cross(across, along)
+    quad = Mesh.from_arrays(np.array(corners), np.array([[0, 1, 2], [0, 2, 3]]), np.tile(normal, (4, 1)), name="sliver quad")
+    return ShadowCase(
+        "sliver_shadow",
+        Scene(objects=(SceneObject(quad, SHINY), _ground(12.0)), lights=(DirectionalLight(direction=tuple(travel), shadows=True),),
+              camera=Camera(eye=(2.0, 3.5, 3.0), target=(-0.6, 0.0, -0.2), fov_y=45.0, near=0.2, far=40.0)),
+        "a quad 0.23° from edge-on to a directional light at 59°: its shadow is a line about a pixel wide, "
+        "thinner than a texel of a 512-texel map",
+    )
+
+
 _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     **{f"sphere_over_plane_{e:g}": _sphere_over(e) for e in ELEVATIONS},
     "sphere_on_plane": _sphere_on_plane,
@@ -307,6 +330,7 @@ _BUILDERS: dict[str, Callable[[], ShadowCase]] = {
     "off_centre_mesh": _off_centre_mesh,
     "light_by_a_sphere": _light_by_a_sphere,
     "light_past_a_cube_corner": _light_past_a_cube_corner,
+    "sliver_shadow": _sliver_shadow,
 }
 SHADOW_CASE_NAMES: tuple[str, ...] = tuple(_BUILDERS)
 SCALES = (1e-3, 1.0, 1e3)

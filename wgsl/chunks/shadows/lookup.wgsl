@@ -48,6 +48,18 @@ fn light_position(slot: u32, eye_position: vec4<f32>) -> vec3<f32> {
 var<private> shadow_points: array<vec3<f32>, SHADOW_LIGHT_COUNT>;
 var<private> shadow_normals: array<vec3<f32>, SHADOW_LIGHT_COUNT>;
 
+// Below this sine of the angle between ∂q/∂x and ∂q/∂y the triangle is a sliver edge-on to
+// the camera, a fraction of a pixel wide: the rasterizer's front_facing comes from its
+// corners snapped to the subpixel grid, the derivatives from the unsnapped ones, and the two
+// may disagree on which side is seen (random scene 74: a torus facet at N·V = 0.005 on its
+// silhouette, lit by both lights, read as the far side of a closed surface).
+const MIN_DERIVATIVE_SINE: f32 = 0.02;
+
+// Whether the fragment's outward side is known (not such a sliver): the closed-surface
+// rule needs it; the comparison with the receiver's plane does not (a plane is the same
+// whichever way its normal points).
+var<private> outward_known: bool = true;
+
 // The outward normal of the fragment's triangle in a light's view, from the screen
 // derivatives of its point there (they lie in the triangle, at every shading frequency;
 // framebuffer y points down, so −(∂q/∂x × ∂q/∂y) points to the side the camera sees).
@@ -55,7 +67,10 @@ var<private> shadow_normals: array<vec3<f32>, SHADOW_LIGHT_COUNT>;
 fn outward_normal(q: vec3<f32>, front_facing: bool) -> vec3<f32> {
     let across = safe_normalize(dpdx(q), vec3<f32>(1.0, 0.0, 0.0));
     let down = safe_normalize(dpdy(q), vec3<f32>(0.0, 1.0, 0.0));
-    let seen_side = -safe_normalize(cross(across, down), vec3<f32>(0.0, 0.0, 1.0));
+    let perpendicular = cross(across, down);
+    // (The angle between the derivatives is the same in every light's view: rigid turns.)
+    outward_known = dot(perpendicular, perpendicular) >= MIN_DERIVATIVE_SINE * MIN_DERIVATIVE_SINE;
+    let seen_side = -safe_normalize(perpendicular, vec3<f32>(0.0, 0.0, 1.0));
     return select(-seen_side, seen_side, front_facing) * object_uniforms.outward_sign;
 }
 
@@ -201,7 +216,7 @@ fn shadow_visibility(slot: u32) -> f32 {
     // tells about a triangle nearly edge-on to the light (docs/shadows.md#closed-surfaces).
     let self_shadowing = slot < 32u && ((object_uniforms.self_shadowing_lights >> slot) & 1u) != 0u;
     let towards_light = select(dot(receiver.n, -receiver.q), receiver.n.z, orthographic);
-    if (self_shadowing && towards_light < 0.0) {
+    if (self_shadowing && outward_known && towards_light < 0.0) {
         return 0.0;
     }
     // The window holds every visible receiver a caster can shadow: outside it, lit.
