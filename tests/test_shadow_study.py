@@ -11,6 +11,7 @@ from wgpu_shading.study.accuracy import (
     ShadowBudget,
     ShadowPoint,
     ShadowSetting,
+    cases_over_budget,
     cheapest_shadow_setting,
     gpu_draws_shadows,
     run_shadow_study,
@@ -48,7 +49,14 @@ def test_auto_is_the_cheapest_setting_within_the_budget_on_every_case():
     tied = points + [point(2048, "nearest", 2.0, 3.1), point(2048, "nearest", 2.0, 3.1, case="b"),
                      point(2048, "nearest", 3.0, 3.1), point(2048, "nearest", 3.0, 3.1, case="b")]
     assert cheapest_shadow_setting(tied) == ShadowSetting(2048, "nearest", 2.0)
-    assert cheapest_shadow_setting([point(512, "nearest", 0.0, 1.0, wrong_far=1)]) is None
+    # Where no setting meets every case, the settings over budget on the fewest cases compete.
+    hard = [point(1024, "pcf3", 1.0, 3.0, case="c", displacement=2.0), point(512, "nearest", 0.0, 1.0, case="c", displacement=3.0),
+            point(512, "pcf3", 1.0, 2.0, case="c"), point(2048, "bilinear", 1.0, 3.0, case="c"), point(4096, "pcf5", 2.0, 8.0, case="c", color=2)]
+    over = cases_over_budget(points + hard)
+    assert over[ShadowSetting(1024, "pcf3", 1.0)] == ("c",) and over[ShadowSetting(512, "nearest", 0.0)] == ("a", "c")
+    # 512/pcf3 (over on a), 1024/pcf3 and 4096/pcf5 (on c), 2048/bilinear (on b): one case each; the cheapest wins
+    assert cheapest_shadow_setting(points + hard) == ShadowSetting(512, "pcf3", 1.0)
+    assert cheapest_shadow_setting([]) is None
 
 
 def test_the_table_has_a_row_per_setting():

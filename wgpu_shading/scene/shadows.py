@@ -34,7 +34,7 @@ MAX_SHADOW_BIAS_TEXELS = 64.0
 # (docs/shadows.md#auto, study/accuracy/shadow_choice.py), measured on the GPU's shadows
 # over every hard case (docs/accuracy.md#shadows; tests/test_shadow_study.py checks these
 # against the stored points).
-AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = 512, "nearest", 3.0
+AUTO_MAP_SIZE, AUTO_FILTER, AUTO_BIAS = 256, "nearest", 4.0
 # An "auto" map is AUTO_MAP_SIZE texels, doubled while its texels are wider than
 # 1/AUTO_TEXELS_PER_PIXEL of a pixel of the image on a receiver it may shadow, up to
 # AUTO_MAP_SIZE_LIMIT (render/passes/shadow_resolution.py; docs/shadows.md#auto): a caster

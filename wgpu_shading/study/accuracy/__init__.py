@@ -33,7 +33,7 @@ from ...render.auto_shading import Variant
 from .config import QUICK, STUDY_MATERIAL, StudyConfig, study_scene
 from .pictures import require_matplotlib
 from .results import Study
-from .shadow_choice import ShadowBudget, cheapest_shadow_setting, qualifying_settings
+from .shadow_choice import ShadowBudget, cases_over_budget, cheapest_shadow_setting, qualifying_settings
 from .shadow_sweep import (
     QUICK_SHADOW_CASES, ShadowPoint, ShadowSetting, gpu_draws_shadows, quick_shadow_grid, run_shadow_study, shadow_grid,
     shadow_table,
@@ -44,7 +44,7 @@ from .tables import headline
 from .write import update_markdown, write_study
 
 __all__ = [
-    "ShadowBudget", "ShadowPoint", "ShadowSetting", "cheapest_shadow_setting", "gpu_draws_shadows", "qualifying_settings",
+    "ShadowBudget", "ShadowPoint", "ShadowSetting", "cases_over_budget", "cheapest_shadow_setting", "gpu_draws_shadows", "qualifying_settings",
     "run_shadow_study", "shadow_grid", "shadow_table", "QUICK_SHADOW_CASES", "quick_shadow_grid", "load_shadow_points",
     "write_shadow_study", "environment",
     "AccuracyError",

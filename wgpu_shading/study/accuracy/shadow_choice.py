@@ -1,7 +1,7 @@
 """What `auto` means for shadows (docs/shadows.md#auto): the cheapest setting within the
 budget — no acne or leak (no wrong pixel beyond 2 px of the exact boundary), the boundary
 within 1 px (p99), the colour within 1/255 away from the boundary — on every case the
-study measured. The renderer resolves "auto" with the constant the study's run wrote into
+study measured (where no setting meets them all: on every case but the fewest). The renderer resolves "auto" with the constant the study's run wrote into
 scene/shadows.py (`AUTO_SHADOW_SETTING`); this is the rule that chooses it, and the check
 that the constant is still the rule's answer (tests/test_shadow_study.py)."""
 
@@ -33,18 +33,35 @@ class ShadowBudget:
                 and point.color_error <= self.color_error)
 
 
+def cases_over_budget(points: Iterable[ShadowPoint], budget: ShadowBudget = ShadowBudget()) -> dict[ShadowSetting, tuple[str, ...]]:
+    """Each setting → the cases it draws outside the budget."""
+    over: dict[ShadowSetting, list[str]] = {}
+    for point in points:
+        over.setdefault(point.setting, [])
+        if not budget.allows(point):
+            over[point.setting].append(point.case)
+    return {setting: tuple(sorted(cases)) for setting, cases in over.items()}
+
+
 def qualifying_settings(points: Iterable[ShadowPoint], budget: ShadowBudget = ShadowBudget()) -> dict[ShadowSetting, float]:
     """Settings within the budget on every case they were measured on → their median frame
-    cost (ms: CPU time where measured, ShadowPoint.cost_ms)."""
-    by_setting: dict[ShadowSetting, list[ShadowPoint]] = {}
+    cost (ms: CPU time where measured, ShadowPoint.cost_ms). Where no setting manages every
+    case, those with the fewest cases over the budget (`cases_over_budget` names them): a
+    case no setting meets is open work in the renderer (docs/shadows.md), and the choice
+    goes to the settings that fail nothing else."""
+    points = tuple(points)
+    over = cases_over_budget(points, budget)
+    if not over:
+        return {}
+    fewest = min(len(cases) for cases in over.values())
+    costs: dict[ShadowSetting, list[float]] = {}
     for point in points:
-        by_setting.setdefault(point.setting, []).append(point)
-    return {setting: statistics.median(p.cost_ms for p in rows)
-            for setting, rows in by_setting.items() if all(budget.allows(p) for p in rows)}
+        costs.setdefault(point.setting, []).append(point.cost_ms)
+    return {setting: statistics.median(costs[setting]) for setting, cases in over.items() if len(cases) == fewest}
 
 
 def cheapest_shadow_setting(points: Iterable[ShadowPoint], budget: ShadowBudget = ShadowBudget()) -> ShadowSetting | None:
-    """The cheapest qualifying setting (None if none qualifies): least median frame cost;
+    """The cheapest qualifying setting (None without points): least median frame cost;
     within 5 % of it (TIE), the larger map, then the filter earlier in SHADOW_FILTERS, then
     the smaller bias (the least a receiver is moved)."""
     qualifying = qualifying_settings(points, budget)
