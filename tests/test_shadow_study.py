@@ -42,8 +42,12 @@ def test_auto_is_the_cheapest_setting_within_the_budget_on_every_case():
         point(4096, "pcf5", 2.0, 8.0),
     ]
     assert cheapest_shadow_setting(points) == ShadowSetting(1024, "pcf3", 1.0)
-    # Within 5 % of the fastest, the smaller map wins; a looser budget lets the fast ones in.
+    # A looser budget lets the fast ones in.
     assert cheapest_shadow_setting(points, ShadowBudget(wrong_far=50, displacement_p99=2.0)) == ShadowSetting(512, "nearest", 0.0)
+    # Within 5 % of the fastest, the larger map wins, then the cheaper filter, then the smaller bias.
+    tied = points + [point(2048, "nearest", 2.0, 3.1), point(2048, "nearest", 2.0, 3.1, case="b"),
+                     point(2048, "nearest", 3.0, 3.1), point(2048, "nearest", 3.0, 3.1, case="b")]
+    assert cheapest_shadow_setting(tied) == ShadowSetting(2048, "nearest", 2.0)
     assert cheapest_shadow_setting([point(512, "nearest", 0.0, 1.0, wrong_far=1)]) is None
 
 
