@@ -203,9 +203,7 @@ class GltfData:
         compressed = entry.get("extensions", {}).get(meshopt.EXTENSION) if isinstance(entry.get("extensions"), dict) else None
         if compressed is not None:
             if index not in self._decoded_views:
-                self._decoded_views[index] = meshopt.decode_view(
-                    compressed, length, self._range, self.integer, lambda name, detail: gltf_error(self.path, name, detail), where
-                )
+                self._decoded_views[index] = meshopt.decode_view(self, compressed, length, where)
             return self._decoded_views[index], 0, length, stride
         data = self.buffer(entry.get("buffer"), f"{where}.buffer")
         start = self.integer(entry.get("byteOffset", 0), f"{where}.byteOffset")
@@ -213,7 +211,10 @@ class GltfData:
             raise gltf_error(self.path, where, f"bytes {start}..{start + length} lie beyond its buffer ({len(data)} bytes)")
         return data, start, length, stride
 
-    def _range(self, buffer: object, start: int, length: int, field: str) -> bytes:
+    def error(self, field: str, detail: str) -> MeshError:
+        return gltf_error(self.path, field, detail)
+
+    def buffer_range(self, buffer: object, start: int, length: int, field: str) -> bytes:
         """Bytes start..start + length of a buffer, the range checked."""
         data = self.buffer(buffer, f"{field}.buffer")
         if start + length > len(data):

@@ -11,8 +11,6 @@ before anything is allocated. The view's own buffer may be a fallback without da
 
 from __future__ import annotations
 
-from typing import Callable
-
 import numpy as np
 
 EXTENSION = "EXT_meshopt_compression"
@@ -21,46 +19,39 @@ _FILTER_STRIDES = {"OCTAHEDRAL": "4 or 8", "QUATERNION": "8", "EXPONENTIAL": "a 
 _FILTERS = {"NONE": None, "OCTAHEDRAL": "decode_filter_oct", "QUATERNION": "decode_filter_quat", "EXPONENTIAL": "decode_filter_exp"}
 
 
-def decode_view(
-    extension: object,
-    view_length: int,
-    source: Callable[[object, int, int, str], bytes],
-    integer: Callable[..., int],
-    fail: Callable[[str, str], Exception],
-    where: str,
-) -> bytes:
+def decode_view(document, extension: object, view_length: int, where: str) -> bytes:
     """The decoded bytes of a compressed view (`view_length` of them, as the view declares).
 
-    `source(buffer, start, length, field)` gives the compressed bytes (ranges checked),
-    `integer(value, field, low[, high])` reads a checked integer, `fail(field, detail)` makes
-    the error that names the file and field."""
+    `document` (document.py's GltfData) reads the compressed bytes (`buffer_range`, ranges
+    checked) and checked integers (`integer`), and makes the error naming the file and field
+    (`error`)."""
     import meshoptimizer
 
     field = f"{where}.extensions.{EXTENSION}"
     if not isinstance(extension, dict):
-        raise fail(field, "expected an object with buffer, byteLength, byteStride, count and mode")
-    count = integer(extension.get("count"), f"{field}.count", 1)
-    stride = integer(extension.get("byteStride"), f"{field}.byteStride", 1, 256)
+        raise document.error(field, "expected an object with buffer, byteLength, byteStride, count and mode")
+    count = document.integer(extension.get("count"), f"{field}.count", 1)
+    stride = document.integer(extension.get("byteStride"), f"{field}.byteStride", 1, 256)
     mode, name = extension.get("mode"), extension.get("filter", "NONE")
     if mode not in _MODES:
-        raise fail(f"{field}.mode", f"{mode!r}: expected one of {', '.join(_MODES)}")
+        raise document.error(f"{field}.mode", f"{mode!r}: expected one of {', '.join(_MODES)}")
     if name not in _FILTERS:
-        raise fail(f"{field}.filter", f"{name!r}: expected one of {', '.join(_FILTERS)}")
+        raise document.error(f"{field}.filter", f"{name!r}: expected one of {', '.join(_FILTERS)}")
     if mode == "ATTRIBUTES" and stride % 4:
-        raise fail(f"{field}.byteStride", f"{stride}: ATTRIBUTES need a multiple of 4")
+        raise document.error(f"{field}.byteStride", f"{stride}: ATTRIBUTES need a multiple of 4")
     if mode != "ATTRIBUTES" and (stride not in (2, 4) or name != "NONE"):
-        raise fail(field, f"{mode} need a byteStride of 2 or 4 and no filter")
+        raise document.error(field, f"{mode} need a byteStride of 2 or 4 and no filter")
     # meshoptimizer's C filters assert these strides: checked here, never reached wrong.
     if (name == "EXPONENTIAL" and stride % 4) or (name == "QUATERNION" and stride != 8) or (name == "OCTAHEDRAL" and stride not in (4, 8)):
-        raise fail(f"{field}.byteStride", f"{stride}: the {name} filter needs {_FILTER_STRIDES[name]}")
+        raise document.error(f"{field}.byteStride", f"{stride}: the {name} filter needs {_FILTER_STRIDES[name]}")
     if mode == "TRIANGLES" and count % 3:
-        raise fail(f"{field}.count", f"{count} indices are not whole triangles")
+        raise document.error(f"{field}.count", f"{count} indices are not whole triangles")
     if count * stride != view_length:
-        raise fail(field, f"{count} elements of {stride} bytes decode to {count * stride} bytes; the bufferView declares {view_length}")
-    compressed = source(
+        raise document.error(field, f"{count} elements of {stride} bytes decode to {count * stride} bytes; the bufferView declares {view_length}")
+    compressed = document.buffer_range(
         extension.get("buffer"),
-        integer(extension.get("byteOffset", 0), f"{field}.byteOffset"),
-        integer(extension.get("byteLength"), f"{field}.byteLength", 1),
+        document.integer(extension.get("byteOffset", 0), f"{field}.byteOffset"),
+        document.integer(extension.get("byteLength"), f"{field}.byteLength", 1),
         field,
     )
     try:
@@ -74,8 +65,8 @@ def decode_view(
             # are its first count × stride bytes.
             decoded = decode(count, stride, compressed).view(np.uint8)[: count * stride]
     except (RuntimeError, ValueError) as error:
-        raise fail(field, f"cannot be decoded ({error})") from None
+        raise document.error(field, f"cannot be decoded ({error})") from None
     data = np.ascontiguousarray(decoded).tobytes()
     if len(data) != view_length:
-        raise fail(field, f"decoded to {len(data)} bytes, not the {view_length} declared")
+        raise document.error(field, f"decoded to {len(data)} bytes, not the {view_length} declared")
     return data
