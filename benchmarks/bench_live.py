@@ -5,11 +5,18 @@ present of the bitmap to a rendercanvas canvas.
     python benchmarks/bench_live.py                 # the bunny (/work/shared/models or --mesh), 800×600
     python benchmarks/bench_live.py --smoke         # builtin torus, 64×48, 3 frames: does it still run?
     xvfb-run -a python benchmarks/bench_live.py --window   # also through a real glfw window
+    python benchmarks/bench_live.py --pause-only    # only the closed sphere's first frames (below)
 
 The offscreen canvas measures what the viewer itself costs per frame; --window adds
 rendercanvas's upload of the bitmap into a glfw window's swap chain (a second wgpu device on
 lavapipe). Also timed: the frame after a key that changes the shading frequency (its
 pipeline compiled once, then cached). Results: docs/viewer.md.
+
+Then the first frames of a big closed mesh (the 1.3M-triangle sphere at 512², --sphere),
+the same drag in a view of its own: the frames during which its clusters turned away are
+built (render/gpu/cluster_builds.py) are the ones a user would feel, so the worst frame
+is reported beside the median, with the CPU time (every thread of the process) of each.
+Results: docs/performance.md, "the vertex-bound sphere".
 """
 
 from __future__ import annotations
@@ -26,21 +33,45 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 BUNNY = Path(os.environ.get("WGPU_SHADING_MODELS", "/work/shared/models")) / "stanford-bunny.obj"
 
 
-def drag_frames(view, canvas, frames: int, draw) -> tuple[list[float], float]:
+def drag_frames(view, canvas, frames: int, draw) -> tuple[list[float], list[float]]:
     """Seconds per frame of a left drag across the window, one pointer move per frame, and
-    the CPU seconds (this process, every thread) of all of them."""
+    the CPU seconds (this process, every thread) of each frame."""
     width, height = view.size()
     view.handle_event({"event_type": "pointer_down", "x": width / 4, "y": height / 2, "button": 1})
-    times = []
-    cpu = time.process_time()
+    times, cpu = [], []
     for index in range(frames):
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         view.handle_event({"event_type": "pointer_move", "x": width / 4 + 3 * (index + 1), "y": height / 2 + (index % 5)})
         draw()
         times.append(time.perf_counter() - start)
-    cpu = time.process_time() - cpu
+        cpu.append(time.process_time() - start_cpu)
     view.handle_event({"event_type": "pointer_up", "x": 0, "y": 0, "button": 1})
     return times, cpu
+
+
+def sphere_first_frames(offscreen, renderer, triangles: int, size: tuple[int, int], frames: int) -> None:
+    """The first `frames` frames of a drag over a closed UV sphere of about `triangles`
+    triangles, opened in a view of its own: print the median and the worst frame (wall and
+    CPU) and the frame numbers of the slowest."""
+    from wgpu_shading.live.canvas import attach
+    from wgpu_shading.live.session import LiveView
+    from wgpu_shading.scene.geometry.builtins import sphere_for_triangles
+    from wgpu_shading.scene.view.options import ViewOptions
+
+    mesh = sphere_for_triangles(triangles)
+    name = mesh.name.removeprefix("builtin:sphere(").rstrip(")")
+    source = "builtin:sphere?slices={}&stacks={}".format(*name.split("x"))
+    view = LiveView(source, ViewOptions(size=size), renderer=renderer, out=lambda text: None)
+    canvas = offscreen.RenderCanvas(size=view.size())
+    attach(view, canvas)
+    canvas.draw()  # the upload and the pipeline: not a frame of the drag
+    times, cpu = drag_frames(view, canvas, frames, canvas.draw)
+    slowest = sorted(range(frames), key=lambda k: -times[k])[:3]
+    print(f"\n{view.scenes()[0].objects[0].mesh.triangle_count:,}-triangle sphere ({source}) at {size[0]}×{size[1]}, "
+          f"its first {frames} frames of a drag, load average {os.getloadavg()[0]:.1f}:")
+    print(f"  wall ms: median {statistics.median(times) * 1e3:.0f}, worst {max(times) * 1e3:.0f} "
+          f"(frames {', '.join(str(k + 1) for k in slowest)}: {', '.join(f'{times[k] * 1e3:.0f}' for k in slowest)})")
+    print(f"  CPU ms (every thread): median {statistics.median(cpu) * 1e3:.0f}, worst {max(cpu) * 1e3:.0f}")
 
 
 def main() -> int:
@@ -50,10 +81,15 @@ def main() -> int:
     parser.add_argument("--frames", type=int, default=60)
     parser.add_argument("--window", action="store_true", help="also time a real glfw window (needs a display)")
     parser.add_argument("--smoke", action="store_true", help="builtin torus, 64×48, 3 frames")
+    parser.add_argument("--sphere", type=int, default=1_300_000, help="triangles of the closed sphere whose first frames are timed (0: none)")
+    parser.add_argument("--sphere-size", default="512x512")
+    parser.add_argument("--sphere-frames", type=int, default=60)
+    parser.add_argument("--pause-only", action="store_true", help="only the closed sphere's first frames")
     args = parser.parse_args()
     if args.smoke:
         args.mesh, args.size, args.frames = "builtin:torus", "64x48", 3
-    elif not Path(args.mesh).exists():
+        args.sphere, args.sphere_size, args.sphere_frames = 20_000, "64x48", 20  # (clusters from 16K triangles)
+    elif not args.pause_only and not Path(args.mesh).exists():
         print(f"skipped: {args.mesh} not found (pass --mesh)")
         return 0
 
@@ -68,8 +104,11 @@ def main() -> int:
     from wgpu_shading.live.session import LiveView
     from wgpu_shading.scene.view.options import ViewOptions
 
-    width, height = (int(v) for v in args.size.split("x"))
     renderer = Renderer()
+    if args.pause_only:
+        sphere_first_frames(offscreen, renderer, args.sphere, _size(args.sphere_size), args.sphere_frames)
+        return 0
+    width, height = _size(args.size)
     started = time.perf_counter()
     view = LiveView(args.mesh, ViewOptions(size=(width, height)), renderer=renderer, out=lambda text: None)
     canvas = offscreen.RenderCanvas(size=view.size())
@@ -91,7 +130,7 @@ def main() -> int:
         start = time.perf_counter()
         renderer.render_frame(scene)
         floor.append(time.perf_counter() - start)
-    rows.append(("Renderer.render_frame alone (the floor)", floor, time.process_time() - floor_cpu))
+    rows.append(("Renderer.render_frame alone (the floor)", floor, [time.process_time() - floor_cpu]))
     start = time.perf_counter()
     view.press("f")  # flat: a pipeline not compiled yet
     canvas.draw()
@@ -118,15 +157,23 @@ def main() -> int:
         window_draw()
         rows.append(("orbit drag, glfw window", *drag_frames(view, window, args.frames, window_draw)))
         window.close()
-    print("| frames | median ms | p90 ms | frames/s (median) | CPU ms a frame (mean) |")
-    print("|---|---:|---:|---:|---:|")
+    print("| frames | median ms | p90 ms | worst ms | frames/s (median) | CPU ms a frame (mean) |")
+    print("|---|---:|---:|---:|---:|---:|")
     for label, values, cpu in rows:
         median = statistics.median(values)
         p90 = sorted(values)[int(0.9 * (len(values) - 1))]
-        print(f"| {label} ({len(values)}) | {median * 1e3:.1f} | {p90 * 1e3:.1f} | {1 / median:.1f} | {cpu / len(values) * 1e3:.1f} |")
+        print(f"| {label} ({len(values)}) | {median * 1e3:.1f} | {p90 * 1e3:.1f} | {max(values) * 1e3:.1f} | {1 / median:.1f} "
+              f"| {sum(cpu) / len(values) * 1e3:.1f} |")
     print(f"\nkey F to a new frequency: {first_flat * 1e3:.0f} ms the first time (pipeline compiled), "
           f"{cached_flat * 1e3:.0f} ms later (cached); pipelines: {renderer.pipeline_count}")
+    if args.sphere:
+        sphere_first_frames(offscreen, renderer, args.sphere, _size(args.sphere_size), args.sphere_frames)
     return 0
+
+
+def _size(text: str) -> tuple[int, int]:
+    width, height = (int(v) for v in text.split("x"))
+    return width, height
 
 
 if __name__ == "__main__":
