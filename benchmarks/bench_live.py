@@ -16,6 +16,8 @@ Then the first frames of a big closed mesh (the 1.3M-triangle sphere at 512², -
 the same drag in a view of its own: the frames during which its clusters turned away are
 built (render/gpu/cluster_builds.py) are the ones a user would feel, so the worst frame
 is reported beside the median, with the CPU time (every thread of the process) of each.
+And how much of such a build holds the GIL: how long a thread waking every millisecond
+waits for it while the sphere's clusters are built on the worker, against without a build.
 Results: docs/performance.md, "the vertex-bound sphere".
 """
 
@@ -69,9 +71,37 @@ def sphere_first_frames(offscreen, renderer, triangles: int, size: tuple[int, in
     slowest = sorted(range(frames), key=lambda k: -times[k])[:3]
     print(f"\n{view.scenes()[0].objects[0].mesh.triangle_count:,}-triangle sphere ({source}) at {size[0]}×{size[1]}, "
           f"its first {frames} frames of a drag, load average {os.getloadavg()[0]:.1f}:")
-    print(f"  wall ms: median {statistics.median(times) * 1e3:.0f}, worst {max(times) * 1e3:.0f} "
+    print(f"  wall ms: median {statistics.median(times) * 1e3:.0f}, worst {max(times) * 1e3:.0f}, all {sum(times):.1f} s "
           f"(frames {', '.join(str(k + 1) for k in slowest)}: {', '.join(f'{times[k] * 1e3:.0f}' for k in slowest)})")
     print(f"  CPU ms (every thread): median {statistics.median(cpu) * 1e3:.0f}, worst {max(cpu) * 1e3:.0f}")
+    gil_waits_during_a_build(sphere_for_triangles(triangles))
+
+
+def gil_waits_during_a_build(mesh) -> None:
+    """Print how long a thread that sleeps 1 ms at a time waits beyond it (for the GIL, and
+    for a core) while the clusters of `mesh` (a new object: nothing cached) are built on a
+    renderer's worker, and for as long without a build."""
+    from wgpu_shading.render.gpu.cluster_builds import ClusterBuilds
+
+    def waits(until) -> list[float]:
+        found = []
+        while not until():
+            start = time.perf_counter()
+            time.sleep(0.001)
+            found.append(time.perf_counter() - start - 0.001)
+        return found
+
+    start, cpu = time.perf_counter(), time.process_time()
+    build = ClusterBuilds(workers=1).start(mesh, frozenset(), None)
+    during = waits(build.done)
+    wall, cpu = time.perf_counter() - start, time.process_time() - cpu
+    assert build.result() is not None, "the sphere got no clusters"
+    until = time.perf_counter() + wall
+    alone = waits(lambda: time.perf_counter() > until)
+    print(f"  its clusters built on the worker alone: {wall:.2f} s wall, {cpu:.2f} s CPU; a thread waking every ms waited")
+    for label, found in (("during the build", during), ("without it", alone)):
+        print(f"    {label}: median {statistics.median(found) * 1e3:.2f} ms, worst {max(found) * 1e3:.1f} ms, "
+              f"{sum(found):.2f} s in all over {len(found)} wakes")
 
 
 def main() -> int:

@@ -175,12 +175,15 @@ def _sphere(triangles: int):
 
 def settle(renderer, scene: Scene) -> None:
     """Draw the scene until its upload is the steady one of a mesh drawn many times: a closed
-    mesh's with clusters (render/gpu/clusters.py, built at the CLUSTERS_AFTER_FRAMES-th frame),
-    so that the build is not one of the frames timed."""
+    mesh's with clusters (render/gpu/clusters.py, whose build starts at the
+    CLUSTERS_AFTER_FRAMES-th frame on the renderer's worker: render/gpu/cluster_builds.py),
+    waiting for that build, so that no frame timed is one before or during it."""
     from wgpu_shading.render.gpu.clusters import CLUSTERS_AFTER_FRAMES
 
     for _ in range(CLUSTERS_AFTER_FRAMES + 1):
         renderer.render(scene)
+    renderer.device_cache.cluster_builds.wait()
+    renderer.render(scene)  # the frame that swaps to the clustered upload
 
 
 def benchmark_scenes(sizes: tuple[int, ...], *, tiny: bool = False) -> list[tuple[str, int, Scene]]:

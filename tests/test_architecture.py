@@ -186,6 +186,9 @@ def test_no_import_cycles():
 # (benchmarks/, tests/) only what a test is about, or a library keeps nowhere else.
 FOREIGN_PRIVATE_ACCESS = {
     ("wgpu_shading.assets.mesh_formats.trimesh_reader", "_cache"): "trimesh keeps the normals a file gave only in its cache",
+    ("wgpu_shading.render.gpu.cluster_builds", "_register_atexit"): (
+        "the standard library's only hook that runs before exit joins worker threads (concurrent.futures uses it too)"
+    ),
     ("tests.test_dataset_dask", "_exit"): "os._exit is the standard library's way to die without clean-up",
     ("tests.test_doc_code", "_actions"): "argparse keeps a parser's subcommands only there",
     ("tests.test_memory", "_first_level"): "the test is about this helper: its strips equal the whole image",

@@ -267,6 +267,10 @@ def test_smoke_runs_the_standalone_benchmarks(smoke):
     assert len(defects) == 6 and all(row["gold_torus_phong"] for row in defects)
     assert all(row["gold_torus_phong"].startswith("caught") for row in whole)  # shift, swap, no highlight
 
+    live = _section(smoke, "live")  # a closed sphere's first frames, its clusters built on the worker meanwhile
+    assert re.search(r"first 20 frames of a drag.*\n  wall ms: median \d+, worst \d+", live)
+    assert re.search(r"during the build: median \d+\.\d+ ms", live)
+
     (gif,) = _tables(_section(smoke, "gif_palette"))
     assert len(gif) == 7 and gif[-1]["method"].startswith("**chosen")
     assert all(_positive(row["KiB/frame"]) and len(row["error mean R/G/B"].split(" / ")) == 3 for row in gif)

@@ -8,12 +8,17 @@ views of closed meshes (a sphere, a torus, a subdivided cube, real closed meshes
 must really leave triangles out (else the comparison proves nothing). Frames that cannot
 leave any out (open or inside-out meshes, a camera inside or a near plane cutting the mesh,
 blended or double-sided materials, --edges) draw every triangle. The bound each cluster's
-cone and sphere give is checked against the triangles' own normals in float64.
+cone and sphere give is checked against the triangles' own normals in float64. Builds run
+on the renderer's worker thread (render/gpu/cluster_builds.py): frames before, during and
+after one are the same, and one whose upload or renderer goes meanwhile is dropped unused.
 """
 
 from __future__ import annotations
 
+import gc
+import logging
 import threading
+import weakref
 from dataclasses import replace
 from pathlib import Path
 
@@ -23,10 +28,11 @@ import trimesh
 from pyglm import glm
 
 from wgpu_shading import Camera, Renderer, Scene, SceneObject, load_mesh
-from wgpu_shading.render.gpu import clusters, mesh_uploads
+from wgpu_shading.render.gpu import cluster_builds, clusters, mesh_uploads
 from wgpu_shading.render.gpu.vertex_order import cache_order
 from wgpu_shading.render.passes.color import prepare_draws
 from wgpu_shading.scene import DirectionalLight, Material, Mesh, PositionalLight, Shading
+from wgpu_shading.scene.geometry.builtins import sphere_for_triangles
 
 SHARED_MODELS = next(
     (p / "shared" / "models" for p in Path(__file__).resolve().parents if (p / "shared" / "models").is_dir()), Path("missing")
@@ -38,10 +44,12 @@ SIZE = (96, 80)
 @pytest.fixture
 def soon(monkeypatch):
     """Clusters from the second frame of any closed mesh (instead of the 16th frame of a mesh
-    of 8K triangles), so small meshes and few frames test them; and harder than in use:
+    of 16K triangles), built inside that frame (no worker thread: the frame that asks draws
+    with them), so small meshes and few frames test them; and harder than in use:
     clusters of 32 triangles, every one turned away left out (no gap bridged), so that many
     more lie next to a silhouette."""
     monkeypatch.setattr(mesh_uploads, "CLUSTERS_AFTER_FRAMES", 1)
+    monkeypatch.setattr(cluster_builds, "BUILD_WORKERS", 0)
     monkeypatch.setattr(mesh_uploads, "CLUSTER_MIN_TRIANGLES", 0)
     monkeypatch.setattr(clusters, "CLUSTER_TRIANGLES", 32)
     monkeypatch.setattr(clusters, "BRIDGED_TRIANGLES", 0)
@@ -230,13 +238,15 @@ def test_frames_where_a_face_turned_away_could_show_draw_every_triangle(renderer
     assert_same(every_triangle(reference, scene, monkeypatch), outputs(ours, scene), case)
 
 
-def test_threads_drawing_the_same_closed_mesh_get_the_same_images(renderer, soon):
-    """One renderer, four threads, views of one sphere while its upload is replaced by the
-    one with clusters: every image is the one a single thread draws."""
+def test_threads_drawing_the_same_closed_mesh_get_the_same_images(renderer, soon, monkeypatch):
+    """One renderer, four threads, views of one sphere while its clusters are built on the
+    renderer's worker and its upload is replaced by the one with them: every image is the
+    one a single thread draws."""
     rng = np.random.default_rng(3)
     scenes = [scene_of(SPHERE, random_view(SPHERE, rng)) for _ in range(8)]
     alone = Renderer(renderer.device)
     expected = [alone.render(scene) for scene in scenes + scenes]  # (the second round with clusters)
+    monkeypatch.setattr(cluster_builds, "BUILD_WORKERS", 1)
     shared, results, failures = Renderer(renderer.device), {}, []
 
     def draw(worker: int) -> None:
@@ -254,3 +264,170 @@ def test_threads_drawing_the_same_closed_mesh_get_the_same_images(renderer, soon
     assert not failures
     for k, image in results.items():
         assert np.array_equal(image, expected[k]), f"view {k}"
+
+
+# ---------------------------------------------------------------- builds on the worker thread
+
+JUST_ABOVE = sphere_for_triangles(clusters.CLUSTER_MIN_TRIANGLES + 4000)  # clustered as in use (128-triangle clusters)
+
+
+@pytest.fixture
+def gate(monkeypatch):
+    """Cluster builds on the renderer's worker (as in use), started at a mesh's third frame,
+    each held before its vertex-cache step until the test opens the gate: frames drawn
+    meanwhile are frames during a build. Yields (a build is held, open the gate)."""
+    monkeypatch.setattr(mesh_uploads, "CLUSTERS_AFTER_FRAMES", 2)
+    monkeypatch.setattr(cluster_builds, "BUILD_WORKERS", 1)
+    monkeypatch.delenv("WGPU_SHADING_CLUSTERS", raising=False)
+    held, opened = threading.Event(), threading.Event()
+    cache_order_itself = cluster_builds.cache_order
+
+    def held_cache_order(*args):
+        held.set()
+        assert opened.wait(60), "the test never opened the gate"
+        return cache_order_itself(*args)
+
+    monkeypatch.setattr(cluster_builds, "cache_order", held_cache_order)
+    yield held, opened
+    opened.set()
+
+
+def test_frames_before_during_and_after_a_build_on_the_worker_are_those_drawing_every_triangle(renderer, gate, monkeypatch):
+    held, opened = gate
+    rng = np.random.default_rng(11)
+    views = [scene_of(JUST_ABOVE, random_view(JUST_ABOVE, rng, orthographic=k == 7)) for k in range(9)]
+    ours, reference = Renderer(renderer.device), Renderer(renderer.device)
+    expected = [every_triangle(reference, scene, monkeypatch) for scene in views]
+    for k in range(3):  # the upload, then the frames that ask: the third starts the build
+        assert_same(expected[k], outputs(ours, views[k]), f"before the build, view {k}")
+    assert held.wait(30), "no build started at the third frame"
+    for k in range(3, 6):
+        assert_same(expected[k], outputs(ours, views[k]), f"during the build, view {k}")
+        assert drawn_share(ours, views[k]) == 1.0  # the upload without clusters, drawn meanwhile
+    build = ours.device_cache.meshes.get(JUST_ABOVE).cluster_build
+    assert build is not None and not build.done()
+    opened.set()
+    ours.device_cache.cluster_builds.wait(60)
+    for k in range(6, 9):  # the first of these swaps to the clustered upload
+        assert_same(expected[k], outputs(ours, views[k]), f"after the build, view {k}")
+    assert ours.device_cache.meshes.get(JUST_ABOVE).order.clusters is not None
+    assert drawn_share(ours, views[8]) < 0.85
+
+
+def test_a_build_whose_upload_is_replaced_meanwhile_is_never_applied(renderer, gate, monkeypatch):
+    """The same mesh drawn with a blended part while its build runs: that upload (in
+    triangle order) replaces the one the build was for, whose result is then dropped."""
+    held, opened = gate
+    ours, reference = Renderer(renderer.device), Renderer(renderer.device)
+    opaque = scene_of(JUST_ABOVE, OUTSIDE)
+    for _ in range(3):
+        outputs(ours, opaque)
+    assert held.wait(30)
+    future = ours.device_cache.meshes.get(JUST_ABOVE).cluster_build.future
+    blended = replace(opaque, objects=(SceneObject(JUST_ABOVE, material=replace(GOLD, diffuse=(0.8, 0.6, 0.2, 0.5), alpha_mode="blend")),))
+    assert_same(every_triangle(reference, blended, monkeypatch), outputs(ours, blended), "blended, during the build")
+    opened.set()
+    assert future.result(timeout=60) is None  # it saw its upload gone and stopped
+    assert_same(every_triangle(reference, opaque, monkeypatch), outputs(ours, opaque), "opaque again")
+    upload = ours.device_cache.meshes.get(JUST_ABOVE)
+    assert upload.order.in_order == {0} and upload.order.clusters is None
+
+
+def test_a_renderer_dropped_during_a_build_is_collected_and_its_worker_ends(renderer, gate):
+    held, opened = gate
+    before = set(threading.enumerate())
+    ours = Renderer(renderer.device)
+    mesh = sphere_for_triangles(clusters.CLUSTER_MIN_TRIANGLES + 4000)
+    for _ in range(3):
+        ours.render(scene_of(mesh, OUTSIDE))
+    assert held.wait(30)
+    future = ours.device_cache.meshes.get(mesh).cluster_build.future
+    (worker,) = [thread for thread in set(threading.enumerate()) - before if thread.name.startswith("wgpu-shading-clusters")]
+    cache = weakref.ref(ours.device_cache)
+    del ours, mesh
+    gc.collect()  # (returns at once: nothing waits for the worker)
+    assert cache() is None, "the renderer's caches outlive it"
+    opened.set()
+    assert future.result(timeout=60) is None  # its upload and mesh gone: nothing made, nothing kept
+    worker.join(timeout=60)
+    assert not worker.is_alive(), "the worker thread outlives its renderer"
+
+
+def test_a_build_that_fails_is_logged_and_the_mesh_drawn_without_clusters(renderer, gate, monkeypatch, caplog):
+    held, opened = gate
+    opened.set()
+
+    def failing(*args):
+        raise MemoryError("no room for the clusters")
+
+    monkeypatch.setattr(cluster_builds, "cache_order", failing)
+    ours, reference = Renderer(renderer.device), Renderer(renderer.device)
+    scene = scene_of(JUST_ABOVE, OUTSIDE)
+    with caplog.at_level(logging.ERROR):
+        for _ in range(3):
+            outputs(ours, scene)
+        ours.device_cache.cluster_builds.wait(60)
+        assert_same(every_triangle(reference, scene, monkeypatch), outputs(ours, scene), "after a failed build")
+    assert any(record.exc_info and "no room for the clusters" in str(record.exc_info[1]) for record in caplog.records)
+    upload = ours.device_cache.meshes.get(JUST_ABOVE)
+    assert upload.cluster_build is None and upload.cluster_asks == -1 and drawn_share(ours, scene) == 1.0
+
+
+def test_a_batch_on_two_devices_shares_one_worker_and_draws_every_frame_as_one_device_does(renderer, gate, monkeypatch):
+    """render_many's helper device builds on the renderer's worker (one big build at a time):
+    frames of a turntable before, during and after the builds are the reference's."""
+    from wgpu_shading.scene.view.turntable import turntable
+
+    held, opened = gate
+    opened.set()
+    mesh = sphere_for_triangles(clusters.CLUSTER_MIN_TRIANGLES + 4000)
+    views = list(turntable(scene_of(mesh, OUTSIDE), 12))
+    reference = Renderer(renderer.device)
+    expected = [every_triangle(reference, scene, monkeypatch) for scene in views]
+    frames = list(renderer.render_many(views + views, depth=True, normals="eye", ids=True, parallel=2))
+    renderer.device_cache.cluster_builds.wait(60)
+    frames += list(renderer.render_many(views, depth=True, normals="eye", ids=True, parallel=2))
+    for number, frame in enumerate(frames):
+        actual = {"color": frame.color, "depth": frame.depth, "normals": frame.normals, "ids": frame.ids}
+        assert_same(expected[number % len(views)], actual, f"turntable frame {number}")
+    devices = renderer.parallel_renderers(2)
+    assert devices[1].device_cache.cluster_builds is renderer.device_cache.cluster_builds
+    assert all(d.device_cache.meshes.get(mesh).order.clusters is not None for d in devices)  # both swapped
+
+
+EXIT_DURING_A_BUILD = """
+import time
+from wgpu_shading.render.gpu import cluster_builds
+from wgpu_shading.scene.geometry.builtins import sphere_for_triangles
+
+
+class SlowFirstStep:  # (a sibling device's orders, looked up in the build's first step)
+    def take(self, *args, **kwargs):
+        print("in the first step", flush=True)
+        time.sleep(1.0)
+
+
+def next_step(*args):
+    time.sleep(60)
+    print("the build went on after exit began", flush=True)
+
+
+cluster_builds.cache_order = next_step
+mesh = sphere_for_triangles(20000)
+builds = cluster_builds.ClusterBuilds(workers=1)
+build = builds.start(mesh, frozenset(), SlowFirstStep())
+time.sleep(0.3)
+"""
+
+
+def test_the_interpreter_exits_during_a_build_after_its_current_step(tmp_path):
+    """Exit joins the worker thread: it stops after the step it is in, not a whole build later."""
+    import subprocess
+    import sys
+    import time
+
+    start = time.perf_counter()
+    result = subprocess.run([sys.executable, "-c", EXIT_DURING_A_BUILD], capture_output=True, text=True, timeout=50)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "in the first step"
+    assert time.perf_counter() - start < 30  # (the next step alone would take 60 s)

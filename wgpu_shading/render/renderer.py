@@ -225,6 +225,9 @@ class Renderer:
                 shared = SharedOrders(len(helpers) + 1)
                 for renderer in (self, *helpers):
                     renderer.device_cache.shared_orders = shared
+                    # and one worker building clusters for all of them: one big build at a
+                    # time (render/gpu/cluster_builds.py)
+                    renderer.device_cache.cluster_builds = self._cache.cluster_builds
             return [self, *helpers[: count - 1]]
 
     def features(self, scene: Scene) -> list[FeatureSet]:

@@ -36,6 +36,7 @@ from ..device import uses_direct_upload
 from .pipelines import PipelineCache
 from ..shaders.uniforms import finite_uniform_bytes
 from .bind_groups import cached_bind_group
+from .cluster_builds import ClusterBuilds
 from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, asks_for_clusters, upload_attribute, upload_mesh
 from .samplers import create_sampler
 from .stroke_uploads import GpuPoints, GpuSegments, upload_points, upload_segments
@@ -49,10 +50,12 @@ from .vertex_order import SharedOrders
 class DeviceCache:
     """Pipelines, uploads, uniform buffers, bind groups and targets of one wgpu device."""
 
-    def __init__(self, device, shared_orders: SharedOrders | None = None):
+    def __init__(self, device, shared_orders: SharedOrders | None = None, cluster_builds: ClusterBuilds | None = None):
         self.device = device
         # vertex-cache orders shared with the other devices of one renderer (render_many)
         self.shared_orders = shared_orders
+        # the worker that builds clusters off the render thread (shared with those devices too)
+        self.cluster_builds = cluster_builds if cluster_builds is not None else ClusterBuilds()
         self.pipelines = PipelineCache(device)
         # MAP_WRITE on mesh buffers lets create_buffer_with_data write them in place (no
         # staging copy) where the device allows it: see device.DIRECT_UPLOAD_FEATURE.
@@ -77,23 +80,44 @@ class DeviceCache:
         """The mesh's upload, with the optional attributes `plan` binds (uvs, colors).
         `in_order`: parts whose triangles must keep their order (blended ones); an upload
         that reordered one of them is replaced (the same mesh drawn with other materials).
-        `clusters`: the frame could leave out clusters turned away; an upload without them is
-        replaced by one with them when mesh_uploads.asks_for_clusters says so."""
+        `clusters`: the frame could leave out clusters turned away: an upload without them
+        starts their build when mesh_uploads.asks_for_clusters says so, and is replaced by
+        one with them at the first such frame after the build is done (cluster_builds.py).
+        An upload replaced for `in_order` starts without clusters and counts its frames anew."""
         gpu_mesh = self.meshes.get(mesh)
-        with_clusters = gpu_mesh is not None and gpu_mesh.order is not None and gpu_mesh.order.clusters is not None
         if gpu_mesh is not None and gpu_mesh.order is not None and not in_order <= gpu_mesh.order.in_order:
             in_order = in_order | gpu_mesh.order.in_order
             gpu_mesh = None
-        elif gpu_mesh is not None and clusters and asks_for_clusters(gpu_mesh, mesh):
-            with_clusters, gpu_mesh = True, None
+        elif gpu_mesh is not None and clusters:
+            gpu_mesh = self._with_built_clusters(mesh, gpu_mesh)
         if gpu_mesh is None:
             self.meshes.pop(mesh)  # the old upload (if any) goes before the new one is made
-            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order, self.shared_orders, with_clusters))
+            gpu_mesh = self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, in_order, self.shared_orders))
         if plan is not None:
             for name in OPTIONAL_ATTRIBUTES:
                 if name in plan:
                     upload_attribute(self.device, gpu_mesh, mesh, name, self._mesh_usage)
         return gpu_mesh
+
+    def _with_built_clusters(self, mesh: Mesh, gpu_mesh: GpuMesh) -> GpuMesh:
+        """The upload this frame draws: `gpu_mesh`, its build of clusters started when it
+        asks for them, or the clustered upload that replaces it once that build is done
+        (a build that made nothing leaves it as it is, asking no more)."""
+        if asks_for_clusters(gpu_mesh, mesh):
+            gpu_mesh.cluster_build = self.cluster_builds.start(mesh, gpu_mesh.order.in_order, self.shared_orders)
+        build = gpu_mesh.cluster_build
+        if build is None or not build.done():
+            return gpu_mesh
+        gpu_mesh.cluster_build = None
+        built = build.result()
+        if built is None:
+            gpu_mesh.cluster_asks = -1
+            return gpu_mesh
+        try:
+            self.meshes.pop(mesh)  # the old upload goes before the new one is made
+            return self.meshes.put(mesh, upload_mesh(self.device, mesh, self._mesh_usage, built.order.in_order, built=built))
+        finally:
+            built.release()
 
     def gpu_points(self, mesh: Mesh) -> GpuPoints:
         """The mesh's points (stroke_uploads.py), an entry of the mesh cache beside its triangles."""

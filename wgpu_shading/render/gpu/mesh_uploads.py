@@ -11,6 +11,7 @@ import wgpu
 
 from ...scene import Mesh
 from .caches import BIND_GROUP_CACHE_ENTRIES, LruCache
+from .cluster_builds import BuiltOrder, ClusterBuild
 from .clusters import CLUSTER_MAX_TRIANGLES, CLUSTER_MIN_TRIANGLES, CLUSTERS_AFTER_FRAMES
 from .vertex_order import SharedOrders, VertexOrder, cache_order
 
@@ -35,6 +36,8 @@ class GpuMesh:
     # frames since the upload that could have left out clusters it does not have
     # (asks_for_clusters); -1: the mesh does not qualify, not counted again
     cluster_asks: int = 0
+    # the build of its clusters, once asked for and until a frame applies it (cluster_builds.py)
+    cluster_build: ClusterBuild | None = None
 
     @property
     def nbytes(self) -> int:
@@ -55,26 +58,27 @@ def clusters_enabled() -> bool:
 
 def asks_for_clusters(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
     """A frame that could leave out the triangles turned away (passes/turned_away.py) asks
-    the upload for its clusters (clusters.py). True when the upload should be made again
-    with them: at the CLUSTERS_AFTER_FRAMES-th such frame after the one that uploaded it,
-    for a closed surface wound counter-clockwise from outside and big enough to pay
-    (WGPU_SHADING_CLUSTERS=0 turns them off). The frame that builds them (the closed-surface
-    check, the clusters, the upload again) costs the 1.3M-triangle sphere ~2.2 s CPU instead
-    of ~0.15 s, what ~28 of its frames then save (docs/performance.md): waiting 16 frames
-    first keeps a mesh drawn a few times (a dataset's views) from paying for them."""
-    if gpu_mesh.order is None or gpu_mesh.order.clusters is not None or gpu_mesh.cluster_asks < 0:
+    the upload for its clusters (clusters.py). True when their build should start (on the
+    renderer's worker: cluster_builds.py, which checks that the mesh is a closed surface
+    wound counter-clockwise from outside): at the CLUSTERS_AFTER_FRAMES-th such frame after
+    the one that uploaded it, for a mesh big enough to pay (WGPU_SHADING_CLUSTERS=0 turns
+    them off). The build (the closed-surface check, the clusters, the upload again) costs
+    the 1.3M-triangle sphere ~1.7 s CPU, what ~25 of its frames then save
+    (docs/performance.md): waiting 16 frames first keeps a mesh drawn a few times (a
+    dataset's views) from paying for them."""
+    if gpu_mesh.order is None or gpu_mesh.order.clusters is not None or gpu_mesh.cluster_asks < 0 or gpu_mesh.cluster_build is not None:
         return False
     gpu_mesh.cluster_asks += 1
     if gpu_mesh.cluster_asks < CLUSTERS_AFTER_FRAMES:
         return False
-    wanted = CLUSTER_MIN_TRIANGLES <= mesh.triangle_count <= CLUSTER_MAX_TRIANGLES and clusters_enabled() and mesh.exact_solid == 1
+    wanted = CLUSTER_MIN_TRIANGLES <= mesh.triangle_count <= CLUSTER_MAX_TRIANGLES and clusters_enabled()
     gpu_mesh.cluster_asks = gpu_mesh.cluster_asks if wanted else -1
     return wanted
 
 
 def upload_mesh(
     device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] = frozenset(), shared: SharedOrders | None = None,
-    clusters: bool = False,
+    built: BuiltOrder | None = None,
 ) -> GpuMesh:
     """Positions, normals and indices of `mesh` in GPU buffers. One upload serves every
     frequency: vertex buffers for Gouraud/Phong, storage buffers for flat shading's vertex
@@ -87,7 +91,8 @@ def upload_mesh(
     right after their upload: the upload still leaves one copy of the mesh (the driver's).
     `shared`: the order another device of the same renderer computed for this mesh is used
     as it is, and the one computed here is offered to the others (vertex_order.SharedOrders).
-    `clusters`: the triangles of those parts are grouped in clusters (clusters.py) as well."""
+    `built`: the order (with the triangles of those parts grouped in clusters: clusters.py)
+    a cluster build made (cluster_builds.py), uploaded as it is; the caller releases it."""
     usage = wgpu.BufferUsage.VERTEX | wgpu.BufferUsage.STORAGE | extra_usage
     index_usage = wgpu.BufferUsage.INDEX | wgpu.BufferUsage.STORAGE | extra_usage
     if not vertex_order_enabled():
@@ -98,12 +103,12 @@ def upload_mesh(
             uvs=None,
             triangle_count=mesh.triangle_count,
         )
-    taken = shared.take(mesh, in_order, clusters) if shared is not None else None
+    taken = (built.indices, built.order) if built is not None else shared.take(mesh, in_order) if shared is not None else None
     if taken is not None:
         reordered, order = taken
         indices = device.create_buffer_with_data(data=reordered, usage=index_usage)
     else:
-        scratch, order = cache_order(mesh.indices, mesh.vertex_count, mesh.parts, in_order, mesh.positions if clusters else None)
+        scratch, order = cache_order(mesh.indices, mesh.vertex_count, mesh.parts, in_order)
         try:
             indices = device.create_buffer_with_data(data=scratch.array, usage=index_usage)
             if shared is not None:
