@@ -49,7 +49,8 @@ CLUSTER_TRIANGLES = 128
 # "Peak memory of a large mesh load").
 CLUSTER_MIN_TRIANGLES = 1 << 14
 CLUSTER_MAX_TRIANGLES = 1 << 22
-# An upload is clustered at the frame that many frames after it (mesh_uploads.asks_for_clusters).
+# An upload's clusters start building (on a worker: cluster_builds.py) that many frames after it
+# (mesh_uploads.asks_for_clusters).
 CLUSTERS_AFTER_FRAMES = 16
 RANGES_PER_PART = 32  # draws per part at most: gaps between kept clusters are closed, smallest first
 # A draw costs lavapipe and wgpu-py about what the vertex work of a few hundred triangles does
