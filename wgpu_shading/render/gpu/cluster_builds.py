@@ -105,10 +105,10 @@ class ClusterBuilds:
     def start(self, mesh, in_order: frozenset[int], shared: SharedOrders | None) -> ClusterBuild:
         """Start building the clustered order of `mesh` (the parts not in `in_order`);
         keep the returned build with the upload that waits for it."""
-        build = ClusterBuild()
-        job = partial(_build, weakref.ref(build), weakref.ref(mesh), frozenset(in_order), shared)
         from concurrent.futures import Future, ThreadPoolExecutor
 
+        build = ClusterBuild()
+        job = partial(_build, weakref.ref(build), weakref.ref(mesh), frozenset(in_order), shared)
         if self.workers <= 0:
             build.future = Future()
             build.future.set_result(job())
