@@ -201,10 +201,11 @@ def console_main() -> NoReturn:
     """The `wgpu-shading` program (pyproject's [project.scripts]): one command, then the
     end of the process (process_end.py). main() is the same command for callers in-process."""
     # Before numpy's first import, which starts OpenBLAS's threads: our matrix products are
-    # skinny (N×3 by 3×3 or 4×4), where one thread is 2–3× faster than two on a 2-core
-    # machine, and the threads' start-up spin costs every command ~0.1 s of CPU. Dask sets
-    # the same for its workers (distributed's nanny pre-spawn-environ); a value the user set
-    # is kept. docs/performance.md, "Cold start".
+    # skinny (N×3 by 3×3 or 4×4, 10M rows), where one thread was as fast as two on a 2-core
+    # machine at half the CPU, and 4–9× faster when the other core was busy; the threads'
+    # start-up spin also cost every command ~0.1 s of CPU. Dask sets the same for its
+    # workers (distributed's nanny pre-spawn-environ); a value the user set is kept.
+    # docs/performance.md, "Cold start".
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     end_process(main())
 
