@@ -2,9 +2,14 @@
 
 Variants, interleaved round by round:
     wgpu-shading CLI            `wgpu-shading render builtin:torus -o OUT.png`
+    CLI with Python's own exit  the same command through cli.main() in `python -c`, which
+                                ends with Python's teardown (the program skips it once its
+                                files are closed: cli/process_end.py)
     CLI, prebuilt FFI off       the same with WGPU_SHADING_PREBUILT_FFI=0: wgpu-py's own
                                 cffi start-up, i.e. the cold start before this work
     moderngl script             scripts/moderngl_torus.py: the same image with moderngl
+    ..., one BLAS thread        the script with OPENBLAS_NUM_THREADS=1, which the CLI sets
+                                for itself before numpy loads
     wgpu floor (+ prebuilt FFI) scripts/wgpu_floor.py: device + trivial pipeline + one
                                 triangle + readback, the least any wgpu-py program does
     python + numpy              the interpreter starting and importing numpy
@@ -39,6 +44,11 @@ from pathlib import Path
 from .measure import progress
 
 SCRIPTS = Path(__file__).resolve().parent / "scripts"
+
+
+# The same command through main(), ending with Python's usual exit (the program ends its
+# process at once: cli/process_end.py).
+IN_PROCESS_MAIN = "import sys; from wgpu_shading.cli import main; sys.exit(main())"
 
 
 def _cli() -> str:
@@ -95,18 +105,25 @@ def run_cold(
     env["PYTHONPYCACHEPREFIX"] = str(folder / "pycache")  # bytecode for every variant, as installed packages have it
     no_bytecode = {**env, "PYTHONDONTWRITEBYTECODE": "1", "PYTHONPYCACHEPREFIX": str(folder / "no-pycache")}
     no_ffi = {**env, "WGPU_SHADING_PREBUILT_FFI": "0"}
-    render = [_cli(), "render", "builtin:torus", "-o", out, "-q"] + (["--size", str(size)] if size else [])
+    # What the program sets for itself before numpy loads (cli/main.py console_main), given
+    # to a peer and to the in-process variant, so that each difference is shown on its own.
+    one_blas_thread = {**env, "OPENBLAS_NUM_THREADS": "1"}
+    arguments = ["render", "builtin:torus", "-o", out, "-q"] + (["--size", str(size)] if size else [])
+    render = [_cli(), *arguments]
+    moderngl_script = [sys.executable, str(SCRIPTS / "moderngl_torus.py"), out] + ([str(size)] if size else [])
     variants = {
         "wgpu-shading CLI": (render, env),
+        "CLI with Python's own exit (main(); one BLAS thread)": ([sys.executable, "-c", IN_PROCESS_MAIN, *arguments], one_blas_thread),
         "CLI, no bytecode cache (a source tree with PYTHONDONTWRITEBYTECODE)": (render, no_bytecode),
-        "CLI, prebuilt FFI off (before)": (render, no_ffi),
-        "moderngl script": ([sys.executable, str(SCRIPTS / "moderngl_torus.py"), out] + ([str(size)] if size else []), env),
+        "CLI, prebuilt FFI off (wgpu-py's own cffi start-up)": (render, no_ffi),
+        "moderngl script": (moderngl_script, env),
+        "moderngl script, one BLAS thread (OPENBLAS_NUM_THREADS=1, as the CLI)": (moderngl_script, one_blas_thread),
         "wgpu floor + prebuilt FFI": ([sys.executable, str(SCRIPTS / "wgpu_floor.py"), "--prebuilt-ffi"], env),
         "wgpu floor (plain wgpu-py)": ([sys.executable, str(SCRIPTS / "wgpu_floor.py")], env),
         "python + import numpy": ([sys.executable, "-c", "import numpy"], env),
     }
     if not moderngl:
-        del variants["moderngl script"]
+        variants = {name: variant for name, variant in variants.items() if not name.startswith("moderngl")}
     if fill_caches:
         for command, variant_env in variants.values():  # fill disk caches (and the bytecode); not timed
             _timed(command, variant_env)
@@ -131,8 +148,8 @@ def run_cold(
             wall, seconds = _timed(render, {**env, "XDG_CACHE_HOME": cache, "PYTHONPYCACHEPREFIX": str(Path(cache) / "pycache")})
             runs[fresh].append(wall)
             cpu[fresh].append(seconds)
-    phases, phases_cpu = _phases(out, env, rounds, size)
-    phases_without_ffi, _ = _phases(out, no_ffi, phase_rounds or max(2, rounds // 2), size)
+    phases, phases_cpu = _phases(out, one_blas_thread, rounds, size)
+    phases_without_ffi, _ = _phases(out, {**no_ffi, "OPENBLAS_NUM_THREADS": "1"}, phase_rounds or max(2, rounds // 2), size)
     shutil.rmtree(folder, ignore_errors=True)
     return ColdResult(runs, phases, phases_without_ffi, cpu, phases_cpu)
 

@@ -190,6 +190,7 @@ FOREIGN_PRIVATE_ACCESS = {
         "the standard library's only hook that runs before exit joins worker threads (concurrent.futures uses it too)"
     ),
     ("tests.test_dataset_dask", "_exit"): "os._exit is the standard library's way to die without clean-up",
+    ("wgpu_shading.cli.process_end", "_exit"): "os._exit: the standard library's end of a process without Python's teardown",
     ("tests.test_doc_code", "_actions"): "argparse keeps a parser's subcommands only there",
     ("tests.test_memory", "_first_level"): "the test is about this helper: its strips equal the whole image",
 }

@@ -216,7 +216,8 @@ def test_smoke_cold_start_times_every_variant_and_phase(smoke):
     variants, phases = _tables(_section(smoke, "cold"))
     names = {row["variant"] for row in variants}
     assert names >= {
-        "wgpu-shading CLI", "CLI, prebuilt FFI off (before)", "wgpu floor + prebuilt FFI",
+        "wgpu-shading CLI", "CLI, prebuilt FFI off (wgpu-py's own cffi start-up)", "wgpu floor + prebuilt FFI",
+        "CLI with Python's own exit (main(); one BLAS thread)",
         "wgpu floor (plain wgpu-py)", "python + import numpy", "CLI, fresh caches (first run ever)",
         "CLI, no bytecode cache (a source tree with PYTHONDONTWRITEBYTECODE)",
     }

@@ -8,6 +8,7 @@ and that every way it can fail falls back to a working render.
 
 from __future__ import annotations
 
+import marshal
 import os
 import subprocess
 import sys
@@ -42,7 +43,7 @@ def render_in_new_process(tmp_path: Path, name: str, **environment: str) -> tupl
 def test_prebuilt_table_is_used_cached_and_draws_the_same_image(tmp_path):
     first_kind, first = render_in_new_process(tmp_path, "first")  # builds and caches the table
     assert first_kind == "PrebuiltFFI"
-    assert len(list((tmp_path / "cache" / "wgpu-shading").glob("wgpu-ffi-*.txt"))) == 1
+    assert len(list((tmp_path / "cache" / "wgpu-shading").glob("wgpu-ffi-*.marshal"))) == 1
     cached_kind, cached = render_in_new_process(tmp_path, "cached")  # reads the cached table
     assert cached_kind == "PrebuiltFFI"
     plain_kind, plain = render_in_new_process(tmp_path, "plain", WGPU_SHADING_PREBUILT_FFI="0")
@@ -54,11 +55,13 @@ def test_prebuilt_table_is_used_cached_and_draws_the_same_image(tmp_path):
 
 def test_a_damaged_cache_file_is_rebuilt(tmp_path):
     render_in_new_process(tmp_path, "build")
-    (table,) = (tmp_path / "cache" / "wgpu-shading").glob("wgpu-ffi-*.txt")
-    table.write_text("('truncated', {'_types': b'\\x00")
-    kind, image = render_in_new_process(tmp_path, "rebuilt")
-    assert kind == "PrebuiltFFI" and (image[:, :, :3] > 0).any()
-    assert table.read_text().startswith("(")
+    (table,) = (tmp_path / "cache" / "wgpu-shading").glob("wgpu-ffi-*.marshal")
+    whole = table.read_bytes()
+    for damage in (whole[: len(whole) // 2], marshal.dumps(("a name", {"_types": 3.5})), marshal.dumps([1, 2])):
+        table.write_bytes(damage)
+        kind, image = render_in_new_process(tmp_path, "rebuilt")
+        assert kind == "PrebuiltFFI" and (image[:, :, :3] > 0).any()
+        assert marshal.loads(table.read_bytes()) == marshal.loads(whole)
 
 
 @pytest.mark.skipif(hasattr(os, "geteuid") and os.geteuid() == 0, reason="root can write anywhere")
@@ -156,3 +159,69 @@ def test_render_of_a_builtin_imports_no_reader_pass_or_tool_it_does_not_use(tmp_
     unused = {"wgpu_shading.assets.gltf.reader", "wgpu_shading.assets.mesh_formats.obj", "wgpu_shading.testing.golden",
               "wgpu_shading.testing.comparison", "wgpu_shading.render.passes.extra_outputs", "wgpu_shading.dataset"}
     assert not unused & imported, unused & imported
+
+
+# The installed program ends its process without Python's teardown (cli/process_end.py)
+# and starts numpy with one OpenBLAS thread unless the user chose (cli/main.py console_main).
+
+CONSOLE_WITH_REPORTED_END = """
+import importlib, os, sys
+sys.argv = ["wgpu-shading", "materials"]
+program = importlib.import_module("wgpu_shading.cli.main")  # the module (the package's `main` is the function)
+program.end_process = lambda code: print("END", os.environ.get("OPENBLAS_NUM_THREADS"), code)
+program.console_main()
+"""
+
+
+@pytest.mark.parametrize("chosen, expected", [(None, "1"), ("3", "3")])
+def test_the_program_runs_numpy_with_one_blas_thread_unless_the_user_chose(chosen, expected):
+    env = {key: value for key, value in os.environ.items() if key != "OPENBLAS_NUM_THREADS"}
+    if chosen:
+        env["OPENBLAS_NUM_THREADS"] = chosen
+    result = subprocess.run([sys.executable, "-c", CONSOLE_WITH_REPORTED_END], capture_output=True, text=True, env=env, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.splitlines()[-1] == f"END {expected} 0"
+
+
+END_AFTER = """
+import sys, threading, time
+from pathlib import Path
+from wgpu_shading.cli.process_end import end_process
+mark = Path(sys.argv[1])
+def later():
+    time.sleep(0.3)
+    mark.write_text("done")
+threading.Thread(target=later, daemon=sys.argv[2] == "daemon").start()
+sys.stdout.write("unflushed text")  # no newline: still in the buffer when the process ends
+end_process(int(sys.argv[3]))
+"""
+
+
+@pytest.mark.parametrize("code", [0, 2])
+def test_the_end_of_the_process_flushes_output_and_keeps_the_exit_status(tmp_path, code):
+    mark = tmp_path / "mark"
+    result = subprocess.run([sys.executable, "-c", END_AFTER, str(mark), "daemon", str(code)], capture_output=True, text=True, timeout=60)
+    assert (result.returncode, result.stdout) == (code, "unflushed text")
+    assert not mark.exists()  # a daemon thread does not hold the process: it ended at once
+
+
+def test_the_process_waits_for_a_thread_that_is_not_a_daemon(tmp_path):
+    mark = tmp_path / "mark"
+    result = subprocess.run([sys.executable, "-c", END_AFTER, str(mark), "worker", "0"], capture_output=True, text=True, timeout=60)
+    assert (result.returncode, result.stdout) == (0, "unflushed text")
+    assert mark.read_text() == "done"  # Python's orderly exit waited for it, as without end_process
+
+
+def test_a_reader_that_went_away_ends_the_program_quietly(tmp_path):
+    # `wgpu-shading materials | head -1`: the rest of the table has nowhere to go.
+    program = subprocess.Popen([_program(), "materials"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    program.stdout.readline()
+    program.stdout.close()
+    _, err = program.communicate(timeout=60)
+    assert program.returncode in (0, 141) and b"Traceback" not in err and b"Exception ignored" not in err
+
+
+def _program() -> str:
+    import shutil
+
+    return shutil.which("wgpu-shading", path=str(Path(sys.executable).parent)) or "wgpu-shading"

@@ -28,7 +28,6 @@ from __future__ import annotations
 import errno
 import itertools
 import os
-import secrets
 import stat
 from contextlib import contextmanager
 from pathlib import Path
@@ -48,7 +47,9 @@ def process_token() -> str:
     runs that reuse a pid, never pick the same temporary name."""
     global _token
     if _token is None or _token[0] != os.getpid():
-        _token = (os.getpid(), secrets.token_hex(4))
+        # os.urandom is what secrets.token_hex uses; importing secrets (hmac, OpenSSL) costs
+        # every cold start ~5 ms (docs/performance.md, cold start).
+        _token = (os.getpid(), os.urandom(4).hex())
     return f"{_token[0]}-{_token[1]}"
 
 

@@ -9,7 +9,6 @@ textures, the sample meshes) resolve next to the installed file.
 from __future__ import annotations
 
 import difflib
-from importlib.resources import files
 from pathlib import Path
 
 from ..errors import SceneError
@@ -26,6 +25,10 @@ MODELS_HINT = (
 
 def examples_folder() -> Path:
     """The installed examples folder (the repository's examples/ in an editable install)."""
+    # Imported here: importlib.resources brings tempfile and random, ~6 ms of a cold start
+    # that names no example.
+    from importlib.resources import files
+
     return Path(str(files("wgpu_shading.examples")))
 
 

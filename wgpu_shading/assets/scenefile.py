@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import difflib
 import os
-import tomllib
 from dataclasses import fields as dataclass_fields
 from pathlib import Path
 from typing import Any, Mapping
@@ -286,6 +285,8 @@ def load_scene(path: str | os.PathLike[str], *, crease_angle: float | None = Non
         raise SceneError(f"scene file {str(path)!r} not found") from None
     except (OSError, UnicodeDecodeError, ValueError) as error:  # ValueError: a NUL in the path
         raise SceneError(f"scene file {str(path)!r} cannot be read: {error}") from None
+    import tomllib  # here: a cold start that reads no scene file skips its ~2 ms import
+
     try:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:

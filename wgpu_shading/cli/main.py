@@ -29,15 +29,14 @@ import signal
 import sys
 import threading
 import warnings
-from typing import Sequence
+from typing import NoReturn, Sequence
 
 from .. import __version__
 from ..errors import WgpuShadingError, shorten
-from . import batch, bench, check, info, render, view
+from .process_end import EXIT_BROKEN_PIPE, end_process
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
-EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a text tool whose reader went away
 
 
 _INNERMOST = "wgpu_shading_parser"  # the (sub)command parser that read the arguments
@@ -103,7 +102,39 @@ def _did_you_mean(word: str, candidates) -> str:
     return f": did you mean {close[0]}?" if close else ""
 
 
-def build_parser() -> argparse.ArgumentParser:
+class _Ignored:
+    """Stands for the parser of a command this command line does not run: every method
+    call (add_argument, groups, set_defaults, nested subcommands) is accepted and dropped."""
+
+    def __getattr__(self, name: str):
+        return lambda *args, **kwargs: self
+
+
+class _OnlyCommand:
+    """The subcommands as the add_* functions below see them when the command line names
+    one: that command's parser is built in full; every other command is registered by
+    name and help only (enough for `--help` and for suggesting a mistyped command), and
+    its arguments are not added. Adding the ~470 arguments of every command cost each
+    start ~10 ms (docs/performance.md, "Cold start")."""
+
+    def __init__(self, commands, wanted: str):
+        self.commands, self.wanted = commands, wanted
+
+    def add_parser(self, name: str, **kwargs):
+        if name == self.wanted:
+            return self.commands.add_parser(name, **kwargs)
+        self.commands.add_parser(name, help=kwargs.get("help"), description=kwargs.get("description"))
+        return _Ignored()
+
+
+def _named_command(argv: Sequence[str] | None) -> str | None:
+    """The command a command line names: its first word that is not an option."""
+    words = sys.argv[1:] if argv is None else argv
+    return next((word for word in words if not word.startswith("-")), None)
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line's parser; with `command`, only that command's arguments."""
     parser = _Parser(
         prog="wgpu-shading",
         description="Classic local lighting (Phong/Blinn-Phong; flat, Gouraud, Phong shading) rendered offscreen with wgpu.",
@@ -114,8 +145,13 @@ def build_parser() -> argparse.ArgumentParser:
     gpu.add_argument(
         "--adapter", help="lavapipe (default), gpu, or part of an adapter's name; also WGPU_SHADING_ADAPTER"
     )
+    # Imported here, not at the top: console_main sets the environment before numpy loads.
+    from . import batch, bench, check, info, render, view
+
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands.required = True
+    if command is not None:
+        commands = _OnlyCommand(commands, command)
 
     render.add_render(commands, gpu)
     check.add_check(commands, gpu)
@@ -161,6 +197,19 @@ def _redeliver_interrupts(unraisable) -> None:
         sys.__unraisablehook__(unraisable)
 
 
+def console_main() -> NoReturn:
+    """The `wgpu-shading` program (pyproject's [project.scripts]): one command, then the
+    end of the process (process_end.py). main() is the same command for callers in-process."""
+    # Before numpy's first import, which starts OpenBLAS's threads: our matrix products are
+    # skinny (N×3 by 3×3 or 4×4, 10M rows), where one thread was as fast as two on a 2-core
+    # machine at half the CPU, and 4–9× faster when the other core was busy; the threads'
+    # start-up spin also cost every command ~0.1 s of CPU. Dask sets the same for its
+    # workers (distributed's nanny pre-spawn-environ); a value the user set is kept.
+    # docs/performance.md, "Cold start".
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    end_process(main())
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     if threading.current_thread() is not threading.main_thread():
         return _main(argv)
@@ -177,7 +226,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
+    parser = build_parser(_named_command(argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exit_:  # a usage error, printed already (--help and --version exit 0)

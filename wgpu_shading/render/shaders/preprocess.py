@@ -33,10 +33,11 @@ not a silently false branch).
 from __future__ import annotations
 
 import ast
+import importlib.util
 import re
 from dataclasses import dataclass, field
 from functools import lru_cache
-from importlib.resources import files
+from pathlib import Path
 from typing import Callable, Mapping
 
 _DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif|hook|at|end)\b(.*)$")
@@ -54,14 +55,32 @@ class ShaderSourceError(Exception):
 @lru_cache(maxsize=None)
 def read_source(name: str) -> str:
     """A file from the installed `wgsl/` folder, by its path there (files never change while running)."""
-    return files("wgpu_shading.wgsl").joinpath(*name.split("/")).read_text(encoding="utf-8")
+    return (wgsl_folder() / name).read_text(encoding="utf-8")
+
+
+@lru_cache(maxsize=1)
+def wgsl_folder() -> Path:
+    """The installed `wgsl/` folder (a plain folder: wgpu's native library rules out zipped
+    installs). Found once through the import system, which knows where an editable install
+    keeps it; importlib.resources asked for each of a shader's ~30 files cost a cold start ~4 ms."""
+    spec = importlib.util.find_spec("wgpu_shading.wgsl")
+    if spec is None or not spec.submodule_search_locations:
+        raise ShaderSourceError("the wgsl/ folder of wgpu_shading is not installed")
+    return Path(next(iter(spec.submodule_search_locations)))
+
+
+@lru_cache(maxsize=1024)  # the #if lines of the wgsl/ files: a fixed set, parsed once a process
+def _parsed_condition(expression: str) -> ast.Expression | None:
+    try:
+        return ast.parse(expression.strip(), mode="eval")
+    except SyntaxError:
+        return None
 
 
 def _evaluate(expression: str, defines: Mapping[str, int | bool], where: str) -> bool:
-    try:
-        tree = ast.parse(expression.strip(), mode="eval")
-    except SyntaxError:
-        raise ShaderSourceError(f"{where}: cannot parse #if expression {expression.strip()!r}") from None
+    tree = _parsed_condition(expression)
+    if tree is None:
+        raise ShaderSourceError(f"{where}: cannot parse #if expression {expression.strip()!r}")
 
     def value(node: ast.AST) -> int | bool:
         if isinstance(node, ast.Expression):
