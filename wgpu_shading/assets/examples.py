@@ -12,6 +12,7 @@ import difflib
 from pathlib import Path
 
 from ..errors import SceneError
+from .files import installed_folder
 
 EXAMPLE_PREFIX = "example:"
 
@@ -25,11 +26,7 @@ MODELS_HINT = (
 
 def examples_folder() -> Path:
     """The installed examples folder (the repository's examples/ in an editable install)."""
-    # Imported here: importlib.resources brings tempfile and random, ~6 ms of a cold start
-    # that names no example.
-    from importlib.resources import files
-
-    return Path(str(files("wgpu_shading.examples")))
+    return installed_folder("wgpu_shading.examples")
 
 
 def example_names() -> list[str]:

@@ -9,8 +9,10 @@ opened, so a FIFO cannot block the check itself.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import stat
+from functools import lru_cache
 from pathlib import Path
 
 from ..errors import WgpuShadingError
@@ -79,3 +81,16 @@ def read_text_bytes(path: str | os.PathLike[str], where: str, error: type[WgpuSh
             chunks.append(chunk)
             offset += len(chunk)
     return b"".join(chunks)
+
+
+@lru_cache(maxsize=8)
+def installed_folder(package: str) -> Path:
+    """The folder of one of the package's data folders (`wgpu_shading.wgsl`,
+    `wgpu_shading.examples`): a plain folder, as wgpu's native library rules out zipped
+    installs. Found once through the import system, which knows where an editable install
+    keeps it; importlib.resources, asked for each of a shader's ~30 files, cost a cold start
+    ~4 ms, and its import brings tempfile and random (docs/performance.md, "Cold start")."""
+    spec = importlib.util.find_spec(package)
+    if spec is None or not spec.submodule_search_locations:
+        raise WgpuShadingError(f"the {package} folder is not installed; reinstall wgpu-shading")
+    return Path(next(iter(spec.submodule_search_locations)))

@@ -33,12 +33,12 @@ not a silently false branch).
 from __future__ import annotations
 
 import ast
-import importlib.util
 import re
 from dataclasses import dataclass, field
 from functools import lru_cache
-from pathlib import Path
 from typing import Callable, Mapping
+
+from ...assets.files import installed_folder
 
 _DIRECTIVE = re.compile(r"^\s*#(include|if|elif|else|endif|hook|at|end)\b(.*)$")
 _FOR = re.compile(r"^\s*#for\s+([A-Z_][A-Z0-9_]*)\s*<\s*([A-Z_][A-Z0-9_]*)\s*$")
@@ -55,18 +55,7 @@ class ShaderSourceError(Exception):
 @lru_cache(maxsize=None)
 def read_source(name: str) -> str:
     """A file from the installed `wgsl/` folder, by its path there (files never change while running)."""
-    return (wgsl_folder() / name).read_text(encoding="utf-8")
-
-
-@lru_cache(maxsize=1)
-def wgsl_folder() -> Path:
-    """The installed `wgsl/` folder (a plain folder: wgpu's native library rules out zipped
-    installs). Found once through the import system, which knows where an editable install
-    keeps it; importlib.resources asked for each of a shader's ~30 files cost a cold start ~4 ms."""
-    spec = importlib.util.find_spec("wgpu_shading.wgsl")
-    if spec is None or not spec.submodule_search_locations:
-        raise ShaderSourceError("the wgsl/ folder of wgpu_shading is not installed")
-    return Path(next(iter(spec.submodule_search_locations)))
+    return (installed_folder("wgpu_shading.wgsl") / name).read_text(encoding="utf-8")
 
 
 @lru_cache(maxsize=1024)  # the #if lines of the wgsl/ files: a fixed set, parsed once a process
