@@ -3,6 +3,8 @@ lavapipe gets an error that says how to install it."""
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -69,3 +71,54 @@ def test_renderer_uses_the_callers_device(renderer):
 def test_default_device_is_created_once():
     assert device_module.default_device() is device_module.default_device("lavapipe")
     assert Renderer().device is Renderer().device
+
+
+# The installed program lets the Vulkan loader load lavapipe's driver only (cli/process_start.py).
+
+def _driver_folder(tmp_path, monkeypatch, *names: str):
+    """A driver manifest folder holding `names`, the only one searched."""
+    folder = tmp_path / "vulkan" / "icd.d"
+    folder.mkdir(parents=True)
+    for name in names:
+        (folder / name).write_text("{}")
+    monkeypatch.setattr(device_module, "driver_manifest_folders", lambda: [str(folder)])
+    for variable in ("VK_DRIVER_FILES", "VK_ICD_FILENAMES", "WGPU_SHADING_ADAPTER"):
+        monkeypatch.delenv(variable, raising=False)
+    return folder
+
+
+def test_driver_manifests_are_searched_where_the_loader_searches(monkeypatch):
+    monkeypatch.setenv("XDG_DATA_DIRS", "/opt/a:/opt/b")
+    monkeypatch.setenv("XDG_CONFIG_HOME", "/home/me/config")
+    folders = device_module.driver_manifest_folders()
+    assert folders.index("/home/me/config/vulkan/icd.d") < folders.index("/opt/a/vulkan/icd.d") < folders.index("/opt/b/vulkan/icd.d")
+    assert "/etc/vulkan/icd.d" in folders
+
+
+def test_a_lavapipe_process_loads_lavapipe_s_driver_only(tmp_path, monkeypatch):
+    folder = _driver_folder(tmp_path, monkeypatch, "lvp_icd.x86_64.json", "radeon_icd.x86_64.json", "intel_icd.x86_64.json")
+    assert device_module.load_only_lavapipe_driver(None)
+    for variable in ("VK_DRIVER_FILES", "VK_ICD_FILENAMES"):  # the loader's name, and its older one
+        assert os.environ[variable] == str(folder / "lvp_icd.x86_64.json")
+
+
+@pytest.mark.parametrize("adapter, environment", [
+    ("gpu", {}),  # another adapter: every driver, as usual
+    ("nvidia", {}),
+    (None, {"WGPU_SHADING_ADAPTER": "gpu"}),
+    (None, {"VK_DRIVER_FILES": "/mine/driver.json"}),  # the user chose drivers: theirs are kept
+    (None, {"VK_ICD_FILENAMES": "/mine/driver.json"}),
+])
+def test_drivers_are_left_alone_for_other_adapters_and_the_user_s_choice(tmp_path, monkeypatch, adapter, environment):
+    _driver_folder(tmp_path, monkeypatch, "lvp_icd.x86_64.json", "radeon_icd.x86_64.json")
+    for variable, value in environment.items():
+        monkeypatch.setenv(variable, value)
+    assert not device_module.load_only_lavapipe_driver(adapter)
+    for variable in ("VK_DRIVER_FILES", "VK_ICD_FILENAMES"):
+        assert os.environ.get(variable) == environment.get(variable)
+
+
+def test_without_lavapipe_s_manifest_the_usual_search_reports_what_there_is(tmp_path, monkeypatch):
+    _driver_folder(tmp_path, monkeypatch, "radeon_icd.x86_64.json")
+    assert not device_module.load_only_lavapipe_driver("lavapipe")
+    assert "VK_DRIVER_FILES" not in os.environ and "VK_ICD_FILENAMES" not in os.environ

@@ -165,10 +165,13 @@ def test_render_of_a_builtin_imports_no_reader_pass_or_tool_it_does_not_use(tmp_
 # and starts numpy with one OpenBLAS thread unless the user chose (cli/main.py console_main).
 
 CONSOLE_WITH_REPORTED_END = """
-import importlib, os, sys
-sys.argv = ["wgpu-shading", "materials"]
+import gc, importlib, os, sys
+sys.argv = ["wgpu-shading", *(sys.argv[1:] or ["materials"])]
 program = importlib.import_module("wgpu_shading.cli.main")  # the module (the package's `main` is the function)
-program.end_process = lambda code: print("END", os.environ.get("OPENBLAS_NUM_THREADS"), code)
+program.end_process = lambda code: print(
+    "END", os.environ.get("OPENBLAS_NUM_THREADS"), code, gc.isenabled(), gc.get_freeze_count() > 1000,
+    "lvp_icd." in os.environ.get("VK_DRIVER_FILES", ""),
+)
 program.console_main()
 """
 
@@ -180,7 +183,32 @@ def test_the_program_runs_numpy_with_one_blas_thread_unless_the_user_chose(chose
         env["OPENBLAS_NUM_THREADS"] = chosen
     result = subprocess.run([sys.executable, "-c", CONSOLE_WITH_REPORTED_END], capture_output=True, text=True, env=env, timeout=120)
     assert result.returncode == 0, result.stderr
-    assert result.stdout.splitlines()[-1] == f"END {expected} 0"
+    assert result.stdout.splitlines()[-1].split()[:3] == ["END", expected, "0"]
+
+
+def _reported_end(*arguments: str, **environment: str) -> list[str]:
+    env = {key: value for key, value in os.environ.items() if not key.startswith(("VK_DRIVER_FILES", "VK_ICD_FILENAMES", "WGPU_SHADING_ADAPTER"))}
+    result = subprocess.run([sys.executable, "-c", CONSOLE_WITH_REPORTED_END, *arguments], capture_output=True, text=True,
+                            env={**env, **environment}, timeout=120)
+    assert result.returncode == 0, result.stderr
+    return result.stdout.splitlines()[-1].split()
+
+
+def test_the_command_runs_with_the_garbage_collector_on_and_the_start_up_objects_frozen(tmp_path):
+    # Off while the program imports (cli/process_start.py); a long command must collect.
+    assert _reported_end("render", "builtin:torus?segments=8", "--size", "16", "-o", str(tmp_path / "t.png"), "-q")[3:5] == ["True", "True"]
+
+
+def test_a_lavapipe_command_loads_only_lavapipe_s_driver_and_info_lists_every_adapter(tmp_path):
+    from wgpu_shading.render.device import driver_manifest_folders
+
+    if not any(Path(folder, "lvp_icd.x86_64.json").is_file() for folder in driver_manifest_folders()):
+        pytest.skip("lavapipe's driver manifest is not at a standard place (x86-64) on this machine")
+    render = ["render", "builtin:torus?segments=8", "--size", "16", "-o", str(tmp_path / "t.png"), "-q"]
+    assert _reported_end(*render)[5] == "True"
+    assert (tmp_path / "t.png").is_file()
+    assert _reported_end("info")[5] == "False"  # `info` shows every adapter there is
+    assert _reported_end(*render, WGPU_SHADING_ADAPTER="llvmpipe")[5] == "True"
 
 
 END_AFTER = """

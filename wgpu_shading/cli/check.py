@@ -72,12 +72,6 @@ def write_check_report(args: argparse.Namespace, result) -> None:
 
 
 def add_check(commands, gpu: argparse.ArgumentParser) -> None:
-    # The defaults only: every command builds this parser, and the comparison code (numpy
-    # image metrics, diagnosis) is imported by `check` alone, when it runs.
-    from ..testing.images import DEFAULT_AMPLIFICATION
-    from ..testing.tolerance import Tolerance
-
-    defaults = Tolerance()
     check = commands.add_parser(
         "check",
         parents=[gpu],
@@ -95,6 +89,14 @@ def add_check(commands, gpu: argparse.ArgumentParser) -> None:
             "(`pytest --update-golden` writes references)."
         ),
     )
+    if not isinstance(check, argparse.ArgumentParser):
+        return  # another command runs: `check` is registered by name only (main.build_parser)
+    # The defaults only; the comparison code (numpy image metrics, diagnosis) is imported
+    # by `check` alone, when it runs.
+    from ..testing.images import DEFAULT_AMPLIFICATION
+    from ..testing.tolerance import Tolerance
+
+    defaults = Tolerance()
     add_scene_arguments(check)
     check.add_argument("--ref", required=True, metavar="REFERENCE.png", help="the reference image")
     check.add_argument("--update", action="store_true", help="write the reference when it is missing or differs")

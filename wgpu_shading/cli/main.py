@@ -34,6 +34,7 @@ from typing import NoReturn, Sequence
 from .. import __version__
 from ..errors import WgpuShadingError, shorten
 from .process_end import EXIT_BROKEN_PIPE, end_process
+from .process_start import command_starts, start_process
 
 EXIT_USAGE = 2
 EXIT_INTERNAL = 3
@@ -145,7 +146,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     gpu.add_argument(
         "--adapter", help="lavapipe (default), gpu, or part of an adapter's name; also WGPU_SHADING_ADAPTER"
     )
-    # Imported here, not at the top: console_main sets the environment before numpy loads.
+    # Imported here, not at the top: start_process sets the environment before numpy loads.
     from . import batch, bench, check, info, render, view
 
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
@@ -198,25 +199,22 @@ def _redeliver_interrupts(unraisable) -> None:
 
 
 def console_main() -> NoReturn:
-    """The `wgpu-shading` program (pyproject's [project.scripts]): one command, then the
-    end of the process (process_end.py). main() is the same command for callers in-process."""
-    # Before numpy's first import, which starts OpenBLAS's threads: our matrix products are
-    # skinny (N×3 by 3×3 or 4×4, 10M rows), where one thread was as fast as two on a 2-core
-    # machine at half the CPU, and 4–9× faster when the other core was busy; the threads'
-    # start-up spin also cost every command ~0.1 s of CPU. Dask sets the same for its
-    # workers (distributed's nanny pre-spawn-environ); a value the user set is kept.
-    # docs/performance.md, "Cold start".
-    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-    end_process(main())
+    """The `wgpu-shading` program (pyproject's [project.scripts]): what the process sets for
+    itself (process_start.py), one command, then the end of the process (process_end.py).
+    main() is the same command for callers in-process."""
+    start_process()
+    end_process(main(owns_process=True))
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None, *, owns_process: bool = False) -> int:
+    """Run one command line; its exit status. `owns_process`: the caller is the installed
+    program, whose process runs this command only (process_start.py)."""
     if threading.current_thread() is not threading.main_thread():
-        return _main(argv)
+        return _main(argv, owns_process)
     previous = signal.signal(signal.SIGTERM, _terminate)
     previous_hook, sys.unraisablehook = sys.unraisablehook, _redeliver_interrupts
     try:
-        return _main(argv)
+        return _main(argv, owns_process)
     except Terminated:  # arrived after _main's own handlers
         print("wgpu-shading: terminated", file=sys.stderr)
         return 143
@@ -225,7 +223,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.unraisablehook = previous_hook
 
 
-def _main(argv: Sequence[str] | None = None) -> int:
+def _main(argv: Sequence[str] | None, owns_process: bool) -> int:
     parser = build_parser(_named_command(argv))
     try:
         args = parser.parse_args(argv)
@@ -251,6 +249,8 @@ def _main(argv: Sequence[str] | None = None) -> int:
             # one line each, like errors, instead of Python's two lines with source code.
             warnings.simplefilter("always", UserWarning)
             warnings.showwarning = _one_line_warning
+            if owns_process:
+                command_starts(args.command, getattr(args, "adapter", None))
             return args.handler(args)
     except WgpuShadingError as error:
         print(f"wgpu-shading: error: {error}", file=sys.stderr)

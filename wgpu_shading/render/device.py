@@ -56,6 +56,47 @@ def _prepare_instance(selector: str) -> None:
         pass  # the process already created the wgpu instance (e.g. the caller used wgpu first)
 
 
+# The Vulkan loader's own variables for the drivers it loads (VK_ICD_FILENAMES is the older
+# name), and where it looks for driver manifests on Linux; lavapipe's is lvp_icd.<arch>.json.
+# https://vulkan.lunarg.com/doc/sdk/latest/linux/LoaderDriverInterface.html#driver-discovery-on-linux
+_DRIVER_VARIABLES = ("VK_DRIVER_FILES", "VK_ICD_FILENAMES")
+
+
+def driver_manifest_folders() -> list[str]:
+    """Where the Vulkan loader looks for driver manifests on Linux, in its order."""
+    home = os.path.expanduser("~")
+    config = [os.environ.get("XDG_CONFIG_HOME") or os.path.join(home, ".config")]
+    config += (os.environ.get("XDG_CONFIG_DIRS") or "/etc/xdg").split(":") + ["/usr/local/etc", "/etc"]
+    data = [os.environ.get("XDG_DATA_HOME") or os.path.join(home, ".local", "share")]
+    data += (os.environ.get("XDG_DATA_DIRS") or "/usr/local/share:/usr/share").split(":")
+    return [os.path.join(folder, "vulkan", "icd.d") for folder in config + data if folder]
+
+
+def load_only_lavapipe_driver(adapter: str | None = None) -> bool:
+    """For a process that renders with one selector only (the CLI): when that selector is
+    lavapipe, tell the Vulkan loader to load lavapipe's driver and no other, instead of
+    every installed driver (Intel's, AMD's, ...) that adapter enumeration otherwise loads:
+    ~5 ms of every start (docs/performance.md, "Cold start"). Call it before the wgpu
+    instance exists. Nothing changes when the user chose drivers already (the loader's
+    variables are set), when lavapipe's manifest is not found (the usual search then
+    reports what there is), or for another selector. Not for a library: a process may ask
+    for another adapter later, which this would hide. True when it was applied."""
+    if requested_adapter(adapter).lower() not in _SOFTWARE_NAMES or any(os.environ.get(v) for v in _DRIVER_VARIABLES):
+        return False
+    manifests = []
+    for folder in driver_manifest_folders():
+        try:
+            names = sorted(os.listdir(folder))
+        except OSError:
+            continue
+        manifests += [os.path.join(folder, name) for name in names if name.startswith("lvp_icd.") and name.endswith(".json")]
+    if not manifests:
+        return False
+    for variable in _DRIVER_VARIABLES:
+        os.environ[variable] = os.pathsep.join(manifests)
+    return True
+
+
 def _matches(adapter: object, selector: str) -> bool:
     info = adapter.info  # type: ignore[attr-defined]
     key = selector.lower()

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from itertools import count
+from typing import TYPE_CHECKING
 
 import numpy as np
 import wgpu
@@ -39,12 +40,14 @@ from .bind_groups import cached_bind_group
 from .cluster_builds import ClusterBuilds
 from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, asks_for_clusters, upload_attribute, upload_mesh
 from .samplers import create_sampler
-from .stroke_uploads import GpuPoints, GpuSegments, upload_points, upload_segments
-from .shadow_maps import MAX_SHADOW_MAP_BYTES, ShadowMaps, create_comparison_sampler, new_shadow_maps
 from .targets import Target, check_target_size, new_target
 from .texture_uploads import GpuTexture, upload_texture
 from .uniform_buffers import uniform_buffer
 from .vertex_order import SharedOrders
+
+if TYPE_CHECKING:  # imported where used: scenes without shadows or strokes never load them
+    from .shadow_maps import ShadowMaps
+    from .stroke_uploads import GpuPoints, GpuSegments
 
 
 class DeviceCache:
@@ -66,7 +69,8 @@ class DeviceCache:
         self.textures: ObjectCache[GpuTexture] = ObjectCache(TEXTURE_CACHE_ENTRIES, TEXTURE_CACHE_BYTES, lambda t: t.nbytes)
         self.uniform_buffers: LruCache[list] = LruCache(UNIFORM_CACHE_ENTRIES)  # [buffer, bytes last written]
         self.bind_groups: LruCache[object] = LruCache(BIND_GROUP_CACHE_ENTRIES)
-        self._shadow_maps: LruCache[ShadowMaps] = LruCache(SHADOW_MAP_CACHE_ENTRIES, MAX_SHADOW_MAP_BYTES, lambda m: m.nbytes)
+        # Made by the first frame with shadows: a scene without them never imports their modules (cold start).
+        self._shadow_maps: LruCache[ShadowMaps] | None = None
         self._comparison_sampler = None
         self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
         self._free_targets: OrderedDict[int, tuple[tuple, Target]] = OrderedDict()  # serial → (key, target)
@@ -121,6 +125,8 @@ class DeviceCache:
 
     def gpu_points(self, mesh: Mesh) -> GpuPoints:
         """The mesh's points (stroke_uploads.py), an entry of the mesh cache beside its triangles."""
+        from .stroke_uploads import upload_points  # imported by the scenes that have points (cold start)
+
         gpu_points = self.meshes.get(mesh, "points")
         if gpu_points is None:
             gpu_points = self.meshes.put(mesh, upload_points(self.device, mesh, self._mesh_usage), "points")
@@ -129,6 +135,8 @@ class DeviceCache:
     def gpu_segments(self, mesh: Mesh, kind: str) -> GpuSegments:
         """The mesh's line segments (kind "lines") or its triangles' edges ("edges", without
         vertex colours: they are drawn in the edge colour), as stroke_uploads.py uploads them."""
+        from .stroke_uploads import upload_segments  # imported by the scenes that have lines or edges
+
         gpu_segments = self.meshes.get(mesh, kind)
         if gpu_segments is None:
             segments = mesh.line_indices if kind == "lines" else mesh.edge_indices
@@ -156,6 +164,10 @@ class DeviceCache:
 
     def shadow_maps(self, size: int, layers: int) -> ShadowMaps:
         """A depth texture of `layers` shadow maps of size × size texels (gpu/shadow_maps.py)."""
+        from .shadow_maps import MAX_SHADOW_MAP_BYTES, new_shadow_maps
+
+        if self._shadow_maps is None:
+            self._shadow_maps = LruCache(SHADOW_MAP_CACHE_ENTRIES, MAX_SHADOW_MAP_BYTES, lambda m: m.nbytes)
         maps = self._shadow_maps.get((size, layers))
         if maps is None:
             maps = self._shadow_maps.put((size, layers), new_shadow_maps(self.device, size, layers))
@@ -163,6 +175,8 @@ class DeviceCache:
 
     def comparison_sampler(self) -> object:
         if self._comparison_sampler is None:
+            from .shadow_maps import create_comparison_sampler
+
             self._comparison_sampler = create_comparison_sampler(self.device)
         return self._comparison_sampler
 

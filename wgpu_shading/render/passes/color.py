@@ -28,9 +28,7 @@ from ..shaders.material_maps import decodes_srgb
 from ..shaders.shadergen import generate_wgsl
 from ..shaders.uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
 from .draws import Draw, encode_draws
-from .strokes import edge_draw, stroke_draw
 from .frame_context import FrameContext
-from .shadow import receiver_uniforms
 from .turned_away import eye_outside, turned_away
 
 
@@ -111,6 +109,8 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
             if part.count == 0:
                 continue
             if part.primitive != "triangles":  # points and lines (passes/strokes.py)
+                from .strokes import stroke_draw  # imported by the scenes that have them (cold start)
+
                 draw = stroke_draw(cache, scene, obj, part, material, model_view, color_format, samples,
                                    len(opaque) + len(blended) + len(edges))
                 if draw.entry.key.features.alpha_mode == "blend":
@@ -130,6 +130,8 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
                 textures[f"{sampled.name}_sampler"] = cache.sampler(texture)
             object_data = object_uniforms(model_view, material, entry.uniform_dtypes["object"], scene)
             if features.shadow_lights:
+                from .shadow import receiver_uniforms  # imported by the scenes that have shadows (cold start)
+
                 receiver_uniforms(object_data, scene, obj)
             gpu_mesh = cache.gpu_mesh(obj.mesh, entry.plan, blended_parts)
             draw = Draw(
@@ -150,6 +152,8 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
             else:
                 opaque.append(draw)
         if scene.shading.edges and obj.mesh.triangle_count:
+            from .strokes import edge_draw
+
             edges.append(edge_draw(cache, scene, obj, model_view, color_format, samples, len(opaque) + len(blended) + len(edges)))
     blended.sort(key=lambda item: item[0])
     return opaque + edges + [draw for _, draw in blended]

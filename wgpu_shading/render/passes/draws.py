@@ -10,6 +10,7 @@ its textures, else the mesh upload's buffer of that name.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import wgpu
@@ -18,9 +19,11 @@ from ..gpu.caches import LruCache
 from ..gpu.device_cache import DeviceCache
 from ..gpu.mesh_uploads import GpuMesh
 from ..gpu.pipelines import PipelineEntry
-from ..gpu.stroke_uploads import GpuPoints, GpuSegments
 from ..gpu.texture_uploads import GpuTexture
 from ..shaders.bindings import Binding
+
+if TYPE_CHECKING:  # a scene without points or lines never loads their uploads (cold start)
+    from ..gpu.stroke_uploads import GpuPoints, GpuSegments
 
 
 @dataclass

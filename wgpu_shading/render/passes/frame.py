@@ -11,7 +11,6 @@ from __future__ import annotations
 from ...scene import Scene, has_shadows
 from .color import ColorPass
 from .frame_context import FramePass
-from .shadow import ShadowPass
 
 
 def frame_passes(
@@ -21,6 +20,8 @@ def frame_passes(
     """The passes of one frame of `scene`, in the order they run."""
     passes: list[FramePass] = []
     if (color or depth) and has_shadows(scene):
+        from .shadow import ShadowPass  # imported by the scenes that have shadows (cold start)
+
         passes.append(ShadowPass())  # the maps the colour pass reads
     if color or depth:
         passes.append(ColorPass(color_format, read_depth=depth))
