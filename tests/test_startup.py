@@ -157,7 +157,10 @@ def test_render_of_a_builtin_imports_no_reader_pass_or_tool_it_does_not_use(tmp_
     imported = set(result.stdout.split())
     assert "wgpu_shading.render.renderer" in imported and (tmp_path / "t.png").is_file()
     unused = {"wgpu_shading.assets.gltf.reader", "wgpu_shading.assets.mesh_formats.obj", "wgpu_shading.testing.golden",
-              "wgpu_shading.testing.comparison", "wgpu_shading.render.passes.extra_outputs", "wgpu_shading.dataset"}
+              "wgpu_shading.testing.comparison", "wgpu_shading.render.passes.extra_outputs", "wgpu_shading.dataset",
+              "wgpu_shading.render.passes.shadow", "wgpu_shading.render.passes.shadow_views", "wgpu_shading.render.gpu.shadow_maps",
+              "wgpu_shading.render.passes.strokes", "wgpu_shading.render.gpu.stroke_uploads", "wgpu_shading.testing.images",
+              "wgpu_shading.testing.tolerance"}
     assert not unused & imported, unused & imported
 
 
