@@ -256,3 +256,29 @@ def _program() -> str:
     import shutil
 
     return shutil.which("wgpu-shading", path=str(Path(sys.executable).parent)) or "wgpu-shading"
+
+
+DEFERRED_STUBS = """
+import sys
+from wgpu_shading.cli.process_start import defer_module
+assert defer_module("pyglm.glm_typing", "pyglm", "glm_typing.py")
+from pyglm import glm
+import pyglm
+print("Number" in vars(sys.modules["pyglm.glm_typing"]))  # not executed by pyglm's import
+print(pyglm.typing.Number, pyglm.glm_typing.F32Vec3)  # executed on the first read
+from pyglm.glm_typing import F32Vector3
+print(F32Vector3, defer_module("pyglm.glm_typing", "pyglm", "glm_typing.py"))
+"""
+
+
+def test_pyglm_s_typing_aliases_load_when_first_read():
+    # The program defers them (cli/process_start.py): they must read the same as pyglm's own.
+    deferred = subprocess.run([sys.executable, "-c", DEFERRED_STUBS], capture_output=True, text=True, timeout=60)
+    assert deferred.returncode == 0, deferred.stderr
+    plain = subprocess.run(
+        [sys.executable, "-c", "import pyglm; print(pyglm.typing.Number, pyglm.glm_typing.F32Vec3); print(pyglm.glm_typing.F32Vector3)"],
+        capture_output=True, text=True, timeout=60,
+    )
+    lines = deferred.stdout.splitlines()
+    assert lines[0] == "False"
+    assert lines[1:] == [plain.stdout.splitlines()[0], plain.stdout.splitlines()[1] + " False"]
