@@ -83,7 +83,10 @@ def _driver_folder(tmp_path, monkeypatch, *names: str):
         (folder / name).write_text("{}")
     monkeypatch.setattr(device_module, "driver_manifest_folders", lambda: [str(folder)])
     for variable in ("VK_DRIVER_FILES", "VK_ICD_FILENAMES", "WGPU_SHADING_ADAPTER"):
-        monkeypatch.delenv(variable, raising=False)
+        # set, then removed: monkeypatch then restores the variable as it was (absent or
+        # not) after the test, including what load_only_lavapipe_driver set
+        monkeypatch.setenv(variable, "")
+        monkeypatch.delenv(variable)
     return folder
 
 
