@@ -2,9 +2,9 @@
 
 Variants, interleaved round by round:
     wgpu-shading CLI            `wgpu-shading render builtin:torus -o OUT.png`
-    CLI with Python's own exit  the same command through cli.main() in `python -c`, which
-                                ends with Python's teardown (the program skips it once its
-                                files are closed: cli/process_end.py)
+    CLI with Python's own exit  the same command through start_process() and cli.main() in
+                                `python -c`, which ends with Python's teardown (the program
+                                skips it once its files are closed: cli/process_end.py)
     CLI, prebuilt FFI off       the same with WGPU_SHADING_PREBUILT_FFI=0: wgpu-py's own
                                 cffi start-up, i.e. the cold start before this work
     moderngl script             scripts/moderngl_torus.py: the same image with moderngl
@@ -48,7 +48,10 @@ SCRIPTS = Path(__file__).resolve().parent / "scripts"
 
 # The same command through main(), ending with Python's usual exit (the program ends its
 # process at once: cli/process_end.py).
-IN_PROCESS_MAIN = "import sys; from wgpu_shading.cli import main; sys.exit(main())"
+IN_PROCESS_MAIN = (
+    "import sys; from wgpu_shading.cli.process_start import start_process; start_process(); "
+    "from wgpu_shading.cli.main import main; sys.exit(main(owns_process=True))"
+)
 
 
 def _cli() -> str:
@@ -113,7 +116,7 @@ def run_cold(
     moderngl_script = [sys.executable, str(SCRIPTS / "moderngl_torus.py"), out] + ([str(size)] if size else [])
     variants = {
         "wgpu-shading CLI": (render, env),
-        "CLI with Python's own exit (main(); one BLAS thread)": ([sys.executable, "-c", IN_PROCESS_MAIN, *arguments], one_blas_thread),
+        "CLI with Python's own exit (main() after start_process())": ([sys.executable, "-c", IN_PROCESS_MAIN, *arguments], env),
         "CLI, no bytecode cache (a source tree with PYTHONDONTWRITEBYTECODE)": (render, no_bytecode),
         "CLI, prebuilt FFI off (wgpu-py's own cffi start-up)": (render, no_ffi),
         "moderngl script": (moderngl_script, env),

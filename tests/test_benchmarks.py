@@ -217,7 +217,7 @@ def test_smoke_cold_start_times_every_variant_and_phase(smoke):
     names = {row["variant"] for row in variants}
     assert names >= {
         "wgpu-shading CLI", "CLI, prebuilt FFI off (wgpu-py's own cffi start-up)", "wgpu floor + prebuilt FFI",
-        "CLI with Python's own exit (main(); one BLAS thread)",
+        "CLI with Python's own exit (main() after start_process())",
         "wgpu floor (plain wgpu-py)", "python + import numpy", "CLI, fresh caches (first run ever)",
         "CLI, no bytecode cache (a source tree with PYTHONDONTWRITEBYTECODE)",
     }
