@@ -9,12 +9,12 @@ leave to its caller. Each is measured in docs/performance.md, "Cold start":
   busy; the second thread's start-up spin also cost every command ~0.1 s of CPU. Dask
   sets the same for its workers (distributed's nanny pre-spawn-environ).
 - Python's cyclic garbage collector is off while the program imports its modules, and on,
-  with the start-up objects frozen, from the moment the command runs. Importing creates
-  some 200,000 objects (modules, classes, functions) that live as long as the process and
-  hold no garbage; the collector scanned them over and over (~80 collections, one of them
-  full) for ~10 ms of a 0.28 s render. Frozen, they are left out of every later
-  collection, so a long command (a turntable, a batch, the live view) also scans less
-  (https://docs.python.org/3/library/gc.html#gc.freeze).
+  with the start-up objects frozen, from the moment the command runs. The imports leave
+  ~43,000 objects the collector tracks (modules, classes, functions, their dicts) that
+  live as long as the process and hold no garbage; it scanned them over and over (~80
+  collections, one of them full), ~10 ms of a 0.28 s render. Frozen, they are left out of
+  every later collection, so a long command (a turntable, a batch, the live view) also
+  scans less (https://docs.python.org/3/library/gc.html#gc.freeze).
 - pyglm's typing aliases (`pyglm.glm_typing`, ~1,900 `typing` constructions, ~8 ms) are
   loaded when something first reads one, not when pyglm's package imports them: nothing
   in a command does (they exist for type checkers). pyglm has no switch for it
