@@ -51,6 +51,7 @@ SMOKE_SCRIPTS = {
     "live": ("bench_live.py", "--smoke"),
     "callgrind": ("scripts/callgrind_frames.py", "ours", "--smoke"),
     "ab_issue21": ("scripts/ab_issue21.py", "both", "--smoke"),
+    "ab_issue29": ("scripts/ab_issue29.py", "frame-memory", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
 # with their own default sizes, so that one command gives every figure of that page
@@ -61,6 +62,7 @@ REAL_SCRIPTS = {
     "antialiasing": ("bench_antialiasing.py",),
     "live": ("bench_live.py",),
     "ab_issue21": ("scripts/ab_issue21.py", "both"),
+    "ab_issue29": ("scripts/ab_issue29.py", "frame-memory"),
 }
 
 

@@ -91,7 +91,7 @@ def test_imports_point_only_downward():
 # outlive a frame (gpu/), the passes that draw a frame (passes/), and the Renderer's frame
 # API on top. A module imports its own floor or a lower one.
 RENDER_FLOORS = {
-    "features": 0, "stroke_features": 0, "device": 0, "_prebuilt_ffi": 0, "image_error": 0,
+    "features": 0, "stroke_features": 0, "device": 0, "_prebuilt_ffi": 0, "image_error": 0, "frame_memory": 0,
     "shaders": 1,
     "gpu": 2,
     "passes": 3,
