@@ -24,9 +24,12 @@ import ctypes
 import os
 import sys
 
-# Up to 16 MiB allocations then come from the heaps and up to 32 MiB free at a heap's top
-# stays mapped (glibc's ceiling for the dynamic threshold is 32 MiB on 64-bit systems).
-PRIMED_BYTES = 16 << 20
+# Allocations up to 4 MiB then come from the heaps and up to 8 MiB free at a heap's top
+# stays mapped: above a small frame's scratch (2.4 MB at 512²), and small enough that the
+# memory a process keeps is bounded by a few MiB per thread heap. Bigger frames raise the
+# thresholds by themselves (their images are bigger blocks); 16 MiB made freed mesh-sized
+# arrays stay in the heaps, so that a new upload reused them (tests/test_memory.py).
+PRIMED_BYTES = 4 << 20
 SWITCH_ENVIRONMENT_VARIABLE = "WGPU_SHADING_FRAME_MEMORY"
 
 
