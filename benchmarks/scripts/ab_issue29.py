@@ -2,6 +2,7 @@
 frame and its hand-offs"), as they were run.
 
     python benchmarks/scripts/ab_issue29.py frame-memory --size 512 --frames 300 --runs 3
+    python benchmarks/scripts/ab_issue29.py poll --size 512 --rounds 30
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
 frame-memory: warm frames of the 10K torus in fresh processes, alternately with the
@@ -10,6 +11,12 @@ driver's scratch memory kept mapped (render/frame_memory.py) and given back
 before, so each variant gets a fresh process that renders nothing else. Per variant and
 run: minor page faults, CPU ms of each thread and of the process, and the median wall ms
 per frame, with the load average.
+
+poll: in one process, interleaved rounds of 5 frames each: the map waited for on our own
+thread (`map_async`, then wgpu-py's `device._poll_wait()`, i.e. wgpuDevicePoll(wait)) and
+through wgpu-py's poll thread (map_sync, what the Renderer does), with moderngl beside them
+when it is installed; median wall and process CPU ms per frame. The images are compared
+first.
 """
 
 from __future__ import annotations
@@ -74,19 +81,63 @@ def frame_memory(size: int, frames: int, runs: int, segments: int) -> None:
                   f"({threads}), wall median {measured['wall_ms']:.2f} ms; load {os.getloadavg()[0]:.2f}")
 
 
+def poll(size: int, rounds: int, segments: int) -> None:
+    import importlib.util
+
+    import wgpu_shading.render.gpu.readback as readback
+    from benchmarks.measure import interleaved
+    from benchmarks.scenes import geometry_draw, torus_scene
+    from wgpu_shading import Renderer
+
+    scene = torus_scene(size, segments)
+    renderer = Renderer()
+    device = renderer.device
+    through_poll_thread = readback.map_for_reading
+
+    def on_our_thread(buffer) -> None:
+        promise = buffer.map_async("READ_NOSYNC")
+        device._poll_wait()  # wgpuDevicePoll(wait): the map's callback runs here
+        promise.sync_wait()
+
+    def ours_polling() -> object:
+        readback.map_for_reading = on_our_thread
+        return renderer.render(scene)
+
+    def ours_plain() -> object:
+        readback.map_for_reading = through_poll_thread
+        return renderer.render(scene)
+
+    if not (ours_polling() == ours_plain()).all():
+        raise SystemExit("the two waits gave different images")
+    contenders = {"map waited for on our thread": ours_polling, "through wgpu-py's poll thread": ours_plain}
+    if importlib.util.find_spec("moderngl") is not None:
+        from benchmarks.peers import ModernGLPeer
+
+        contenders["moderngl"] = ModernGLPeer(geometry_draw(scene, "torus")).render
+    start_load = os.getloadavg()[0]
+    timings = interleaved(contenders, rounds=rounds, frames=5)
+    readback.map_for_reading = through_poll_thread
+    print(f"torus at {size}², {rounds} interleaved rounds of 5 frames; load average {start_load:.2f} → {os.getloadavg()[0]:.2f}")
+    for name, timing in timings.items():
+        print(f"  {name:32s} wall {timing.median_ms:.2f} ms, CPU {timing.cpu_median_ms:.2f} ms")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("what", choices=("frame-memory", "child"))
+    parser.add_argument("what", choices=("frame-memory", "poll", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--rounds", type=int, default=30)
     parser.add_argument("--segments", type=int, default=72)
     parser.add_argument("--smoke", action="store_true", help="a tiny torus at 32², a few frames, one run")
     args = parser.parse_args(argv)
     if args.smoke:
-        args.size, args.frames, args.runs, args.segments = 32, 3, 1, 8
+        args.size, args.frames, args.runs, args.segments, args.rounds = 32, 3, 1, 8, 1
     if args.what == "child":
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
+    elif args.what == "poll":
+        poll(args.size, args.rounds, args.segments)
     else:
         frame_memory(args.size, args.frames, args.runs, args.segments)
     return 0
