@@ -51,16 +51,20 @@ SMOKE_SCRIPTS = {
     "live": ("bench_live.py", "--smoke"),
     "callgrind": ("scripts/callgrind_frames.py", "ours", "--smoke"),
     "ab_issue21": ("scripts/ab_issue21.py", "both", "--smoke"),
+    "ab_issue29": ("scripts/ab_issue29.py", "frame-memory", "--smoke"),
+    "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
 # with their own default sizes, so that one command gives every figure of that page
 # (specialization, reference and golden_noise feed other pages: run them by hand).
 # "callgrind" is a section of its own in a real run (valgrind around the frames: callgrind.py).
+# frame_timeline.py runs under `perf record -a` (root or perf_event_paranoid <= -1): by hand.
 REAL_SCRIPTS = {
     "loading": ("bench_loading.py",),
     "antialiasing": ("bench_antialiasing.py",),
     "live": ("bench_live.py",),
     "ab_issue21": ("scripts/ab_issue21.py", "both"),
+    "ab_issue29": ("scripts/ab_issue29.py", "frame-memory"),
 }
 
 

@@ -37,6 +37,7 @@ from ..scene.objects import check_scene_argument
 from .device import default_device, lost_device_errors
 from .features import FeatureSet
 from .stroke_features import part_features
+from .frame_memory import keep_frame_memory_mapped
 from .frames_in_flight import render_many
 from .gpu.device_cache import DeviceCache
 from .gpu.vertex_order import SharedOrders
@@ -93,6 +94,8 @@ class Renderer:
         if device is not None and not isinstance(device, wgpu.GPUDevice):
             raise DeviceError(f"device: expected a wgpu.GPUDevice, got {type(device).__name__}")
         self._device = device if device is not None else default_device(adapter)
+        # The driver's per-frame scratch stays mapped between frames (frame_memory.py).
+        keep_frame_memory_mapped()
         # One frame at a time per renderer (reentrant: the accuracy study renders from
         # inside its own loops over frames).
         self._lock = threading.RLock()
