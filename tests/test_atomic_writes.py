@@ -358,7 +358,7 @@ _SWALLOWED = textwrap.dedent(
             signal.raise_signal(signal.SIGTERM)  # the handler raises here, inside __del__
             time.sleep(0.01)
 
-    def command(argv):
+    def command(argv, owns_process=False):
         Garbage()  # collected at once: its __del__ swallows the Terminated raised in it
         for _ in range(500):  # a long command; the signal must still stop it
             time.sleep(0.01)
