@@ -52,6 +52,7 @@ SMOKE_SCRIPTS = {
     "callgrind": ("scripts/callgrind_frames.py", "ours", "--smoke"),
     "ab_issue21": ("scripts/ab_issue21.py", "both", "--smoke"),
     "ab_issue29": ("scripts/ab_issue29.py", "frame-memory", "--smoke"),
+    "ab_issue29_start_up": ("scripts/ab_issue29.py", "start-up", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -65,6 +66,7 @@ REAL_SCRIPTS = {
     "live": ("bench_live.py",),
     "ab_issue21": ("scripts/ab_issue21.py", "both"),
     "ab_issue29": ("scripts/ab_issue29.py", "frame-memory"),
+    "ab_issue29_start_up": ("scripts/ab_issue29.py", "start-up"),
 }
 
 

@@ -3,6 +3,7 @@ frame and its hand-offs"), as they were run.
 
     python benchmarks/scripts/ab_issue29.py frame-memory --size 512 --frames 300 --runs 3
     python benchmarks/scripts/ab_issue29.py poll --size 512 --rounds 30
+    python benchmarks/scripts/ab_issue29.py start-up --rounds 20
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
 frame-memory: warm frames of the 10K torus in fresh processes, alternately with the
@@ -11,6 +12,14 @@ driver's scratch memory kept mapped (render/frame_memory.py) and given back
 before, so each variant gets a fresh process that renders nothing else. Per variant and
 run: minor page faults, CPU ms of each thread and of the process, and the median wall ms
 per frame, with the load average.
+
+start-up: `wgpu-shading render builtin:torus -o OUT.png` in fresh processes, interleaved
+round by round (the order rotating), as the program starts (cli/process_start.py) and with
+one of its start-up settings undone at a time: the garbage collector as Python has it (on
+during the imports, nothing frozen), pyglm's typing aliases imported with pyglm, every
+installed Vulkan driver loaded;
+then all three undone. Median wall and CPU (user + system) ms of each, and each ÷ the
+program as shipped.
 
 poll: in one process, interleaved rounds of 5 frames each: the map waited for on our own
 thread (`map_async`, then wgpu-py's `device._poll_wait()`, i.e. wgpuDevicePoll(wait)) and
@@ -122,9 +131,55 @@ def poll(size: int, rounds: int, segments: int) -> None:
         print(f"  {name:32s} wall {timing.median_ms:.2f} ms, CPU {timing.cpu_median_ms:.2f} ms")
 
 
+# The program with one start-up setting undone (cli/process_start.py), patched where the
+# program (cli/main.py, `program`) or process_start reads it when it runs.
+_UNDO = {
+    "garbage collector as by default (on, nothing frozen)": (
+        "import gc; _start, _command = program.start_process, program.command_starts; "
+        "program.start_process = lambda: (_start(), gc.enable()); "
+        "program.command_starts = lambda command, adapter: (_command(command, adapter), gc.unfreeze())"
+    ),
+    "pyglm's typing aliases imported": "process_start.DEFERRED_MODULES.clear()",
+    "every Vulkan driver loaded": "device.load_only_lavapipe_driver = lambda adapter=None: False",
+}
+_PROGRAM = (
+    "import sys; sys.argv = ['wgpu-shading', 'render', 'builtin:torus', '-o', sys.argv[1], '-q']; "
+    "import importlib; program = importlib.import_module('wgpu_shading.cli.main'); "
+    "import wgpu_shading.cli.process_start as process_start; import wgpu_shading.render.device as device; "
+    "{undo}; program.console_main()"
+)
+
+
+def start_up(rounds: int, out: Path) -> None:
+    variants = {"as shipped": "pass", **_UNDO, "all three undone": "; ".join(_UNDO.values())}
+    environment = {key: value for key, value in os.environ.items() if key not in ("PYTHONDONTWRITEBYTECODE", "OPENBLAS_NUM_THREADS")}
+    environment["PYTHONPYCACHEPREFIX"] = str(out.parent / "pycache")  # bytecode cached, as installed packages have it
+    walls: dict[str, list[float]] = {name: [] for name in variants}
+    cpus: dict[str, list[float]] = {name: [] for name in variants}
+    start_load = os.getloadavg()[0]
+    names = list(variants)
+    for round_ in range(rounds + 1):  # the first round fills the bytecode and shader caches, untimed
+        for name in names[round_ % len(names):] + names[: round_ % len(names)]:
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            start = time.perf_counter()
+            subprocess.run([sys.executable, "-c", _PROGRAM.format(undo=variants[name]), str(out)],
+                           env=environment, cwd=REPO, check=True, capture_output=True)
+            wall = time.perf_counter() - start
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            if round_:
+                walls[name].append(wall)
+                cpus[name].append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+    print(f"`wgpu-shading render builtin:torus`, {rounds} interleaved rounds of fresh processes; "
+          f"load average {start_load:.2f} → {os.getloadavg()[0]:.2f}")
+    shipped_wall, shipped_cpu = statistics.median(walls["as shipped"]), statistics.median(cpus["as shipped"])
+    for name in variants:
+        wall, cpu = statistics.median(walls[name]), statistics.median(cpus[name])
+        print(f"  {name:52s} wall {wall * 1e3:6.1f} ms ({wall / shipped_wall:.3f}×), CPU {cpu * 1e3:6.1f} ms ({cpu / shipped_cpu:.3f}×)")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("what", choices=("frame-memory", "poll", "child"))
+    parser.add_argument("what", choices=("frame-memory", "poll", "start-up", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--runs", type=int, default=3)
@@ -138,6 +193,11 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
     elif args.what == "poll":
         poll(args.size, args.rounds, args.segments)
+    elif args.what == "start-up":
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as folder:
+            start_up(args.rounds, Path(folder) / "torus.png")
     else:
         frame_memory(args.size, args.frames, args.runs, args.segments)
     return 0
