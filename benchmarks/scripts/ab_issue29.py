@@ -4,6 +4,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py frame-memory --size 512 --frames 300 --runs 3
     python benchmarks/scripts/ab_issue29.py poll --size 512 --rounds 30
     python benchmarks/scripts/ab_issue29.py start-up --rounds 20
+    python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
 frame-memory: warm frames of the 10K torus in fresh processes, alternately with the
@@ -150,10 +151,13 @@ _PROGRAM = (
 )
 
 
-def start_up(rounds: int, out: Path) -> None:
+def start_up(rounds: int, out: Path, callgrind: bool = False) -> None:
     variants = {"as shipped": "pass", **_UNDO, "all three undone": "; ".join(_UNDO.values())}
     environment = {key: value for key, value in os.environ.items() if key not in ("PYTHONDONTWRITEBYTECODE", "OPENBLAS_NUM_THREADS")}
     environment["PYTHONPYCACHEPREFIX"] = str(out.parent / "pycache")  # bytecode cached, as installed packages have it
+    if callgrind:
+        _start_up_instructions(variants, environment, out)
+        return
     walls: dict[str, list[float]] = {name: [] for name in variants}
     cpus: dict[str, list[float]] = {name: [] for name in variants}
     start_load = os.getloadavg()[0]
@@ -177,6 +181,24 @@ def start_up(rounds: int, out: Path) -> None:
         print(f"  {name:52s} wall {wall * 1e3:6.1f} ms ({wall / shipped_wall:.3f}×), CPU {cpu * 1e3:6.1f} ms ({cpu / shipped_cpu:.3f}×)")
 
 
+def _start_up_instructions(variants: dict[str, str], environment: dict[str, str], out: Path) -> None:
+    """Each variant once under callgrind (after an untimed run that fills the caches): the
+    instructions of the whole process, which the machine's load does not change."""
+    import re
+
+    print("`wgpu-shading render builtin:torus`, instructions of the whole process (valgrind --tool=callgrind)")
+    counts = {}
+    for name, undo in variants.items():
+        command = [sys.executable, "-c", _PROGRAM.format(undo=undo), str(out)]
+        subprocess.run(command, env=environment, cwd=REPO, check=True, capture_output=True)
+        result = subprocess.run(
+            ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out.parent / 'callgrind.out'}", *command],
+            env=environment, cwd=REPO, check=True, capture_output=True, text=True,
+        )
+        counts[name] = int(re.search(r"Collected : (\d+)", result.stderr).group(1))
+        print(f"  {name:52s} {counts[name] / 1e6:8.1f} M ({counts[name] / counts['as shipped']:.3f}×)")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("what", choices=("frame-memory", "poll", "start-up", "child"))
@@ -186,6 +208,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rounds", type=int, default=30)
     parser.add_argument("--segments", type=int, default=72)
     parser.add_argument("--smoke", action="store_true", help="a tiny torus at 32², a few frames, one run")
+    parser.add_argument("--callgrind", action="store_true", help="start-up: instruction counts under valgrind instead of times")
     args = parser.parse_args(argv)
     if args.smoke:
         args.size, args.frames, args.runs, args.segments, args.rounds = 32, 3, 1, 8, 1
@@ -197,7 +220,7 @@ def main(argv: list[str] | None = None) -> int:
         import tempfile
 
         with tempfile.TemporaryDirectory() as folder:
-            start_up(args.rounds, Path(folder) / "torus.png")
+            start_up(args.rounds, Path(folder) / "torus.png", callgrind=args.callgrind)
     else:
         frame_memory(args.size, args.frames, args.runs, args.segments)
     return 0

@@ -1,7 +1,8 @@
 """The start of a `wgpu-shading` process: what the installed program sets for itself.
 
 The program runs one command and ends (process_end.py), so it may set what a library must
-leave to its caller. Each is measured in docs/performance.md, "Cold start":
+leave to its caller. Each is measured in docs/performance.md, "Cold start" (the shares
+below: callgrind's instructions of `render builtin:torus`, the whole process):
 
 - numpy gets one OpenBLAS thread, unless the user set `OPENBLAS_NUM_THREADS`: our matrix
   products are skinny (N×3 by 3×3 or 4×4, up to 10M rows), where one thread was as fast
@@ -12,16 +13,16 @@ leave to its caller. Each is measured in docs/performance.md, "Cold start":
   with the start-up objects frozen, from the moment the command runs. The imports leave
   ~43,000 objects the collector tracks (modules, classes, functions, their dicts) that
   live as long as the process and hold no garbage; it scanned them over and over (~80
-  collections, one of them full), ~10 ms of a 0.28 s render. Frozen, they are left out of
-  every later collection, so a long command (a turntable, a batch, the live view) also
-  scans less (https://docs.python.org/3/library/gc.html#gc.freeze).
-- pyglm's typing aliases (`pyglm.glm_typing`, ~1,900 `typing` constructions, ~8 ms) are
+  collections), 1.3 % of a render's instructions. Frozen, they are left out of every
+  later collection, so a long command (a turntable, a batch, the live view) also scans
+  less (https://docs.python.org/3/library/gc.html#gc.freeze).
+- pyglm's typing aliases (`pyglm.glm_typing`, ~1,900 `typing` constructions, 6.6 %) are
   loaded when something first reads one, not when pyglm's package imports them: nothing
   in a command does (they exist for type checkers). pyglm has no switch for it
   (https://github.com/Zuzu-Typ/PyGLM/blob/master/pyglm/__init__.py).
 - A command that renders on lavapipe only lets the Vulkan loader load lavapipe's driver:
   the loader otherwise loads every installed driver (Intel's, AMD's, ...) to enumerate
-  adapters, ~5 ms of every start. Only where the whole process uses one selector: a
+  adapters, 3.0 %. Only where the whole process uses one selector: a
   library process may ask for another adapter later (render/device.py).
 """
 
