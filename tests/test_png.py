@@ -59,3 +59,50 @@ def test_unsupported_images_are_refused():
         encode_png(np.zeros((2, 2, 5), np.uint8))
     with pytest.raises(ValueError, match="shape"):
         encode_png(np.zeros((0, 2), np.uint8))
+
+
+def _shaded_sphere(size: int = 256) -> np.ndarray:
+    """An image like a render: a lit sphere (Lambert, a highlight) on black, alpha 255."""
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size * 2 - 1
+    inside = x * x + y * y < 0.8
+    z = np.sqrt(np.clip(0.8 - x * x - y * y, 0, None))
+    light = np.clip((x * -0.4 + y * -0.5 + z * 0.77) / np.sqrt(0.8), 0, 1)
+    rgb = np.stack([0.8 * light + 0.2 * light**30, 0.6 * light + 0.2 * light**30, 0.2 * light + 0.2 * light**30], -1)
+    image = np.zeros((size, size, 4), np.uint8)
+    image[..., :3] = np.where(inside[..., None], np.round(np.clip(rgb, 0, 1) * 255), 0)
+    image[..., 3] = 255
+    return image
+
+
+def _idat(data: bytes) -> bytes:
+    """The concatenated IDAT payloads of a PNG file."""
+    position, payload = 8, b""
+    while position < len(data):
+        length = int.from_bytes(data[position : position + 4], "big")
+        if data[position + 4 : position + 8] == b"IDAT":
+            payload += data[position + 8 : position + 8 + length]
+        position += 12 + length
+    return payload
+
+
+@pytest.mark.parametrize("level", [1, 2])
+def test_the_fast_levels_use_isal_and_make_files_no_larger_than_zlib(level):
+    pixels = _shaded_sphere()
+    data = encode_png(pixels, level)
+    assert np.array_equal(np.asarray(Image.open(io.BytesIO(data))), pixels)
+    assert np.array_equal(pypng_decode(data, pixels.shape, np.uint8), pixels)
+    filtered = zlib.decompress(_idat(data))  # the rows as the encoder filtered them
+    compressor = zlib.compressobj(level, zlib.DEFLATED, 15, 9)
+    zlib_stream = compressor.compress(filtered) + compressor.flush()
+    if png.isal_zlib is None:
+        pytest.skip("isal is not installed here: zlib serves every level")
+    assert _idat(data) != zlib_stream  # isal's stream, not zlib's
+    assert len(_idat(data)) <= len(zlib_stream)
+
+
+def test_the_smaller_levels_stay_with_zlib():
+    pixels = _shaded_sphere(64)
+    data = encode_png(pixels, 6)
+    filtered = zlib.decompress(_idat(data))
+    compressor = zlib.compressobj(6, zlib.DEFLATED, 15, 9)
+    assert _idat(data) == compressor.compress(filtered) + compressor.flush()

@@ -12,6 +12,13 @@ which releases the GIL, so encoding overlaps with rendering on other threads. On
 dataset benchmark's renders this takes 0.46× Pillow's CPU time at the same compression
 level, and the files come out the same size within 1 % (docs/performance.md). Decoders
 see the same pixels (tests/test_png.py decodes with Pillow and pypng).
+
+Levels 1 and 2 (a dataset's default) are deflated by Intel's ISA-L (python-isal's
+`isal_zlib`, the same zlib stream format, the GIL released too) at its own levels 1 and
+2: on rendered images it is 8–11× zlib's speed at those levels and its files are no
+larger (a 512² torus: 0.4 against 4.6 ms, 50.8 against 55.0 KB). From level 3 on zlib
+makes the smaller files, so it keeps them; and it serves every level where isal cannot
+be imported.
 """
 
 from __future__ import annotations
@@ -19,6 +26,13 @@ from __future__ import annotations
 import zlib
 
 import numpy as np
+
+try:
+    from isal import isal_zlib
+except ImportError:  # pragma: no cover - a platform without isal's wheels: zlib at every level
+    isal_zlib = None
+
+ISAL_LEVELS = (1, 2)  # zlib levels whose streams isal makes faster and no larger (module docstring)
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
 UP = 2  # the PNG filter type "Up": each byte minus the byte above it (the first row: minus 0)
@@ -47,7 +61,7 @@ def encode_png(pixels: np.ndarray, level: int = 6, text: dict[str, str] | None =
     parts = [SIGNATURE, _chunk(b"IHDR", header)]
     for keyword, value in (text or {}).items():
         parts.append(_chunk(b"tEXt", keyword.encode("latin-1") + b"\0" + value.encode("latin-1")))
-    compressor = zlib.compressobj(level, zlib.DEFLATED, 15, 9)
+    compressor = compressor_for(level)
     data = []
     block = max(1, _BLOCK_BYTES // rows.shape[1])
     filtered = np.empty((min(block, height), rows.shape[1] + 1), np.uint8)
@@ -64,6 +78,13 @@ def encode_png(pixels: np.ndarray, level: int = 6, text: dict[str, str] | None =
     parts.append(_chunk(b"IDAT", b"".join(data)))
     parts.append(_chunk(b"IEND", b""))
     return b"".join(parts)
+
+
+def compressor_for(level: int):
+    """A zlib-format compressor for zlib's `level` 0..9: isal's at ISAL_LEVELS, else zlib's."""
+    if isal_zlib is not None and level in ISAL_LEVELS:
+        return isal_zlib.compressobj(level, isal_zlib.DEFLATED, 15, 9)
+    return zlib.compressobj(level, zlib.DEFLATED, 15, 9)
 
 
 def write_png(file, pixels: np.ndarray, level: int = 6, text: dict[str, str] | None = None) -> None:
