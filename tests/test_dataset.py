@@ -364,3 +364,33 @@ def test_orthographic_cameras_unproject_with_pixels_per_unit(tmp_path, renderer)
     world = (camera @ np.linalg.inv(np.array(view["world_to_camera_opencv"])).T)[..., :3]
     radius = np.linalg.norm(world[big] - [0.5, 0.0, 0.0], axis=1)
     assert big.sum() > 300 and np.abs(radius - 1.0).max() < 2e-3
+
+
+def test_the_next_chunk_renders_while_the_last_one_s_writes_end(tmp_path, renderer, monkeypatch):
+    """ChunkRenderer.start returns once its frames are rendered and their writes queued (the
+    in-process run starts the next chunk before it finishes this one); finish() waits for
+    the writes, and only then are there records, each for complete files."""
+    import threading
+
+    from wgpu_shading.dataset import chunk as chunk_module
+
+    release = threading.Event()
+    real_write = chunk_module.write_view
+
+    def held_write(*args):
+        assert release.wait(60), "the writes were never released"
+        return real_write(*args)
+
+    monkeypatch.setattr(chunk_module, "write_view", held_write)
+    jobs = mesh_jobs([TORUS], turntable_views(3), Outputs(depth="npy"), {"size": 32})
+    chunks = chunk_module.ChunkRenderer(renderer)
+    try:
+        pending = chunks.start(jobs, tmp_path)  # returns although no write could run yet
+        assert not any((tmp_path / file).exists() for job in jobs for file in job.files())
+        release.set()
+        records = pending.finish()
+    finally:
+        release.set()
+        chunks.close()
+    assert [record["id"] for record in records] == [job.id for job in jobs] and all(record["ok"] for record in records)
+    assert all((tmp_path / file).is_file() for job in jobs for file in job.files())

@@ -103,10 +103,18 @@ class ChunkRenderer:
     def render(self, jobs: list[Job], out_dir: str | Path) -> list[dict]:
         """Render and write `jobs`; one record per job, in order. Each record's `seconds` is
         its share of the chunk's time (loading, rendering, writing)."""
+        return self.start(jobs, out_dir).finish()
+
+    def start(self, jobs: list[Job], out_dir: str | Path) -> "PendingChunk":
+        """Render `jobs` and queue their writes; `finish()` of the result waits for the writes
+        and gives the records. A process that renders chunk after chunk starts the next one
+        before it finishes this one, so that this chunk's last writes run while the next
+        chunk renders, instead of leaving the device idle at every chunk's end (up to
+        MAX_PENDING_WRITES frames each; docs/performance.md, "Where a dataset frame goes")."""
         with self._lock:
             return self._render(jobs, out_dir)
 
-    def _render(self, jobs: list[Job], out_dir: str | Path) -> list[dict]:
+    def _render(self, jobs: list[Job], out_dir: str | Path) -> "PendingChunk":
         start = time.perf_counter()
         out_dir = Path(out_dir)
         records: dict[str, dict] = {}
@@ -134,10 +142,7 @@ class ChunkRenderer:
             streams.setdefault((job.outputs.color, job.outputs.depth, job.outputs.normals, job.outputs.ids), []).append((job, scene))
         for (color, depth, normals, ids), items in streams.items():
             self._render_stream(items, out_dir, color, depth, normals, ids, writes, records)
-        while writes:
-            self._collect(writes.popleft(), records)
-        share = (time.perf_counter() - start) / max(len(jobs), 1)
-        return [{**records[job.id], "seconds": share} for job in jobs]
+        return PendingChunk(jobs, records, writes, time.perf_counter() - start)
 
     def _render_stream(self, items, out_dir, color, depth, normals, ids, writes, records) -> None:
         scenes = [scene for _, scene in items]
@@ -161,17 +166,34 @@ class ChunkRenderer:
                 writes.append((job, self._encoders.submit(write_view, out_dir, job, frame, extra, camera)))
                 done += 1
                 while len(writes) > MAX_PENDING_WRITES:
-                    self._collect(writes.popleft(), records)
+                    _collect(writes.popleft(), records)
         except Exception as error:  # noqa: BLE001 - the device failed: the rest of this stream fails
             for job, _ in items[done:]:
                 records[job.id] = failed(job, error)
 
-    @staticmethod
-    def _collect(entry: tuple[Job, Future], records: dict) -> None:
-        job, future = entry
-        try:
-            files = future.result()
-        except Exception as error:  # noqa: BLE001
-            records[job.id] = failed(job, error)
-            return
-        records[job.id] = {"id": job.id, "ok": True, "error": None, "files": files, "pid": os.getpid()}
+
+def _collect(entry: tuple[Job, Future], records: dict) -> None:
+    """The record of one job whose files were being written: its files, or its error."""
+    job, future = entry
+    try:
+        files = future.result()
+    except Exception as error:  # noqa: BLE001
+        records[job.id] = failed(job, error)
+        return
+    records[job.id] = {"id": job.id, "ok": True, "error": None, "files": files, "pid": os.getpid()}
+
+
+class PendingChunk:
+    """A rendered chunk whose last writes may still run (ChunkRenderer.start)."""
+
+    def __init__(self, jobs: list[Job], records: dict[str, dict], writes: deque, seconds: float):
+        self.jobs, self._records, self._writes, self._seconds = jobs, records, writes, seconds
+
+    def finish(self) -> list[dict]:
+        """Wait for the chunk's writes; one record per job, in order, each with its share of
+        the chunk's time (rendering, then the wait for its last writes)."""
+        start = time.perf_counter()
+        while self._writes:
+            _collect(self._writes.popleft(), self._records)
+        share = (self._seconds + time.perf_counter() - start) / max(len(self.jobs), 1)
+        return [{**self._records[job.id], "seconds": share} for job in self.jobs]

@@ -136,13 +136,19 @@ def _in_process(work: list[list[Job]], out_dir: Path, adapter, renderer, paralle
     from .chunk import ChunkRenderer
 
     chunk_renderer = ChunkRenderer(renderer, adapter=adapter, parallel=parallel)
+    pending = None
     try:
         for index, chunk in enumerate(work):
             if index + 1 < len(work):
                 chunk_renderer.prefetch(work[index + 1])  # loads while this chunk renders
-            yield chunk_renderer.render(chunk, out_dir)
+            started = chunk_renderer.start(chunk, out_dir)  # renders while the last chunk's writes end
+            if pending is not None:
+                yield pending.finish()
+            pending = started
+        if pending is not None:
+            yield pending.finish()
     finally:
-        chunk_renderer.close()
+        chunk_renderer.close()  # waits for every write queued: its file is complete or absent
 
 
 def _write_cameras(out_dir: Path, jobs: list[Job]) -> None:
