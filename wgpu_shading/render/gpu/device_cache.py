@@ -125,20 +125,20 @@ class DeviceCache:
 
     def gpu_points(self, mesh: Mesh) -> GpuPoints:
         """The mesh's points (stroke_uploads.py), an entry of the mesh cache beside its triangles."""
-        from .stroke_uploads import upload_points  # imported by the scenes that have points (cold start)
-
         gpu_points = self.meshes.get(mesh, "points")
         if gpu_points is None:
+            from .stroke_uploads import upload_points  # imported by the scenes that have points (cold start)
+
             gpu_points = self.meshes.put(mesh, upload_points(self.device, mesh, self._mesh_usage), "points")
         return gpu_points
 
     def gpu_segments(self, mesh: Mesh, kind: str) -> GpuSegments:
         """The mesh's line segments (kind "lines") or its triangles' edges ("edges", without
         vertex colours: they are drawn in the edge colour), as stroke_uploads.py uploads them."""
-        from .stroke_uploads import upload_segments  # imported by the scenes that have lines or edges
-
         gpu_segments = self.meshes.get(mesh, kind)
         if gpu_segments is None:
+            from .stroke_uploads import upload_segments  # imported by the scenes that have lines or edges
+
             segments = mesh.line_indices if kind == "lines" else mesh.edge_indices
             upload = upload_segments(self.device, mesh, segments, self._mesh_usage, colors=kind == "lines")
             gpu_segments = self.meshes.put(mesh, upload, kind)
@@ -164,12 +164,14 @@ class DeviceCache:
 
     def shadow_maps(self, size: int, layers: int) -> ShadowMaps:
         """A depth texture of `layers` shadow maps of size × size texels (gpu/shadow_maps.py)."""
-        from .shadow_maps import MAX_SHADOW_MAP_BYTES, new_shadow_maps
+        if self._shadow_maps is None:  # the first frame with shadows (their modules load then: cold start)
+            from .shadow_maps import MAX_SHADOW_MAP_BYTES
 
-        if self._shadow_maps is None:
             self._shadow_maps = LruCache(SHADOW_MAP_CACHE_ENTRIES, MAX_SHADOW_MAP_BYTES, lambda m: m.nbytes)
         maps = self._shadow_maps.get((size, layers))
         if maps is None:
+            from .shadow_maps import new_shadow_maps
+
             maps = self._shadow_maps.put((size, layers), new_shadow_maps(self.device, size, layers))
         return maps
 
