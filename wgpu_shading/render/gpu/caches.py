@@ -13,6 +13,8 @@ must level off in memory. The limits (docs/reliability.md states them):
     bind groups      BIND_GROUP_CACHE_ENTRIES per owner
     shadow maps      SHADOW_MAP_CACHE_ENTRIES textures (map size × layer count; docs/shadows.md)
                      and at most MAX_SHADOW_MAP_BYTES (shadow_maps.py) besides the newest
+    frame plans      FRAME_PLAN_ENTRIES scenes' prepared draws (frame_plans.py), only while
+                     the caches above that they use are unchanged
 
 Eviction only drops the cache's reference; wgpu releases the GPU object when the last
 reference goes (a frame still in flight keeps its own). The caches are not thread-safe
@@ -34,6 +36,7 @@ TEXTURE_CACHE_BYTES = 512 << 20  # 512 MiB
 UNIFORM_CACHE_ENTRIES = 1024
 BIND_GROUP_CACHE_ENTRIES = 256
 SHADOW_MAP_CACHE_ENTRIES = 2  # a 2048² map is 16 MiB a layer
+FRAME_PLAN_ENTRIES = 8
 
 V = TypeVar("V")
 
@@ -53,6 +56,7 @@ class LruCache(Generic[V]):
         self._sizes: dict[Hashable, int] = {}  # as measured when stored
         self._bytes = 0
         self.evictions = 0
+        self.changes = 0  # entries put, replaced or dropped so far (frame_plans.py watches it)
 
     def __len__(self) -> int:
         return len(self._entries)
@@ -80,6 +84,7 @@ class LruCache(Generic[V]):
     def put(self, key: Hashable, value: V) -> V:
         self.pop(key)
         self._entries[key] = value
+        self.changes += 1
         if self._size_of is not None:
             self._sizes[key] = self._size_of(value)
             self._bytes += self._sizes[key]
@@ -94,9 +99,13 @@ class LruCache(Generic[V]):
     def pop(self, key: Hashable) -> V | None:
         value = self._entries.pop(key, None)
         self._bytes -= self._sizes.pop(key, 0)
+        if value is not None:
+            self.changes += 1
         return value
 
     def clear(self) -> None:
+        if self._entries:
+            self.changes += 1
         self._entries.clear()
         self._sizes.clear()
         self._bytes = 0
@@ -126,6 +135,16 @@ class ObjectCache(Generic[V]):
     @property
     def evictions(self) -> int:
         return self._cache.evictions
+
+    @property
+    def changes(self) -> int:
+        """Entries put, replaced or dropped so far (evicted, or their object collected)."""
+        self._purge()
+        return self._cache.changes
+
+    def clear(self) -> None:
+        self._dead.clear()
+        self._cache.clear()
 
     def _purge(self) -> None:
         while self._dead:

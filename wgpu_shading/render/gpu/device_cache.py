@@ -38,6 +38,7 @@ from .pipelines import PipelineCache
 from ..shaders.uniforms import finite_uniform_bytes
 from .bind_groups import cached_bind_group
 from .cluster_builds import ClusterBuilds
+from .frame_plans import FramePlans
 from .mesh_uploads import OPTIONAL_ATTRIBUTES, GpuMesh, asks_for_clusters, upload_attribute, upload_mesh
 from .samplers import create_sampler
 from .targets import Target, check_target_size, new_target
@@ -75,6 +76,12 @@ class DeviceCache:
         self._samplers: dict[tuple[bool, tuple[str, str]], object] = {}  # (nearest, wrap): at most 18
         self._free_targets: OrderedDict[int, tuple[tuple, Target]] = OrderedDict()  # serial → (key, target)
         self._serial = count()
+        # What passes prepared for a scene object, while the caches its draws use are unchanged.
+        self.frame_plans: FramePlans = FramePlans(self._upload_changes)
+
+    def _upload_changes(self) -> int:
+        """How often the caches a frame plan's draws name have changed (frame_plans.py)."""
+        return self.meshes.changes + self.textures.changes + self.pipelines.changes
 
     # ------------------------------------------------------------------ uploads
 

@@ -76,6 +76,18 @@ def asks_for_clusters(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
     return wanted
 
 
+def clusters_settled(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
+    """True when no later frame's ask (asks_for_clusters) can change this upload: its
+    clusters are built, or will never be, and no build is running. A frame plan
+    (frame_plans.py) is kept only for frames whose uploads are settled, since a frame drawn
+    from a plan asks nothing."""
+    if gpu_mesh.cluster_build is not None:
+        return False
+    if gpu_mesh.order is None or gpu_mesh.order.clusters is not None or gpu_mesh.cluster_asks < 0:
+        return True
+    return not (CLUSTER_MIN_TRIANGLES <= mesh.triangle_count <= CLUSTER_MAX_TRIANGLES and clusters_enabled())
+
+
 def upload_mesh(
     device, mesh: Mesh, extra_usage: int, in_order: frozenset[int] = frozenset(), shared: SharedOrders | None = None,
     built: BuiltOrder | None = None,

@@ -149,6 +149,11 @@ class PipelineCache:
     def __len__(self) -> int:
         return len(self._pipelines)
 
+    @property
+    def changes(self) -> int:
+        """Pipelines made or evicted so far (frame_plans.py watches it)."""
+        return self._pipelines.changes
+
     def entries(self) -> list[PipelineEntry]:
         """The cached pipelines, least recently used first."""
         return self._pipelines.values()

@@ -20,6 +20,7 @@ from ...errors import SceneError
 from ...scene import Camera, Scene
 from ..features import FeatureSet, object_features
 from ..gpu.device_cache import DeviceCache
+from ..gpu.mesh_uploads import clusters_enabled, clusters_settled
 from ..gpu.pipelines import BLEND_OVER, PassKind, PipelineDescriptor, PipelineKey
 from ..gpu.readback import read_buffer, read_mapped_rows
 from ..gpu.targets import Target
@@ -87,10 +88,48 @@ class ColorPass:
         return {"color": color, "depth": depth}
 
 
+@dataclass(frozen=True)
+class ColorPlan:
+    """What the colour pass draws for one scene: its draws, in order, and the frame's
+    uniform block (None without draws). Kept for the next frame of the same Scene object
+    (gpu/frame_plans.py)."""
+
+    draws: list[Draw]
+    frame_data: np.ndarray | None
+
+
+def color_plan(cache: DeviceCache, scene: Scene, color_format: str, eye_from_world: glm.dmat4, samples: int = 1) -> ColorPlan:
+    """The colour pass's plan for `scene`: the one made for this scene object by an earlier
+    frame when the caches its draws use are unchanged, else a new one."""
+    variant = ("colour", color_format, samples, clusters_enabled())
+    plan = cache.frame_plans.get(scene, variant)
+    if plan is None:
+        draws, settled = _prepare_draws(cache, scene, color_format, eye_from_world, samples)
+        frame_data = None
+        if draws:
+            # Every object shares the frame uniforms; their layout depends only on scene-level features.
+            frame_dtype = draws[0].entry.uniform_dtypes["frame"]
+            assert all(draw.entry.uniform_dtypes["frame"] == frame_dtype for draw in draws)
+            frame_data = frame_uniforms(scene, frame_dtype, eye_from_world)
+        plan = ColorPlan(draws, frame_data)
+        if settled:
+            cache.frame_plans.put(scene, variant, plan)
+    return plan
+
+
 def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_world: glm.dmat4, samples: int = 1) -> list[Draw]:
     """One draw per (object, part): opaque and masked parts first, in scene order, then
     blended parts back to front (by the eye-space depth of each part's centre), so
     that what lies behind a translucent part is already drawn (docs/conventions.md)."""
+    return _prepare_draws(cache, scene, color_format, eye_from_world, samples)[0]
+
+
+def _prepare_draws(
+    cache: DeviceCache, scene: Scene, color_format: str, eye_from_world: glm.dmat4, samples: int = 1,
+) -> tuple[list[Draw], bool]:
+    """prepare_draws, and whether later frames of the scene may reuse the draws: False while
+    a mesh's clusters may still start or finish building (each frame asks for them)."""
+    settled = True
     opaque: list[Draw] = []
     blended: list[tuple[float, Draw]] = []
     edges: list[Draw] = []  # --edges: over every opaque surface, under the blended ones
@@ -104,7 +143,9 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
         away = None
         if obj.mesh.triangle_count:
             view = eye_outside(scene, obj, materials, model_view)
-            away = turned_away(view, cache.gpu_mesh(obj.mesh, None, blended_parts, clusters=view is not None))
+            upload = cache.gpu_mesh(obj.mesh, None, blended_parts, clusters=view is not None)
+            settled = settled and (view is None or clusters_settled(upload, obj.mesh))
+            away = turned_away(view, upload)
         for number, (part, material) in enumerate(zip(obj.mesh.parts, materials)):
             if part.count == 0:
                 continue
@@ -156,21 +197,21 @@ def prepare_draws(cache: DeviceCache, scene: Scene, color_format: str, eye_from_
 
             edges.append(edge_draw(cache, scene, obj, model_view, color_format, samples, len(opaque) + len(blended) + len(edges)))
     blended.sort(key=lambda item: item[0])
-    return opaque + edges + [draw for _, draw in blended]
+    return opaque + edges + [draw for _, draw in blended], settled
 
 
 def encode_color_frame(cache: DeviceCache, encoder, frame: FrameContext, target: Target, *, read_depth: bool) -> None:
     """The colour pass of the frame's scene into `target`, and the copies into its readback buffers."""
     scene, eye_from_world = frame.scene, frame.eye_from_world
     if target.samples > 1 and read_depth:
-        single = prepare_draws(cache, scene, target.color_format, eye_from_world, 1)
+        single = color_plan(cache, scene, target.color_format, eye_from_world, 1)
         encode_pass(cache, encoder, frame, single, target.color_view, None, target.depth_view, store_depth=True)
     if target.samples > 1:
-        draws = prepare_draws(cache, scene, target.color_format, eye_from_world, target.samples)
-        encode_pass(cache, encoder, frame, draws, target.msaa_color_view, target.color_view, target.msaa_depth_view)
+        plan = color_plan(cache, scene, target.color_format, eye_from_world, target.samples)
+        encode_pass(cache, encoder, frame, plan, target.msaa_color_view, target.color_view, target.msaa_depth_view)
     else:
-        draws = prepare_draws(cache, scene, target.color_format, eye_from_world)
-        encode_pass(cache, encoder, frame, draws, target.color_view, None, target.depth_view, store_depth=read_depth)
+        plan = color_plan(cache, scene, target.color_format, eye_from_world)
+        encode_pass(cache, encoder, frame, plan, target.color_view, None, target.depth_view, store_depth=read_depth)
     size = (target.width, target.height, 1)
     encoder.copy_texture_to_buffer(
         {"texture": target.color},
@@ -186,10 +227,10 @@ def encode_color_frame(cache: DeviceCache, encoder, frame: FrameContext, target:
 
 
 def encode_pass(
-    cache: DeviceCache, encoder, frame: FrameContext, draws: list[Draw], color_view, resolve_view, depth_view,
+    cache: DeviceCache, encoder, frame: FrameContext, plan: ColorPlan, color_view, resolve_view, depth_view,
     *, store_depth: bool = False,
 ) -> None:
-    """One render pass drawing `draws`; with `resolve_view`, the multisampled color is
+    """One render pass drawing the plan's draws; with `resolve_view`, the multisampled color is
     averaged into it at the end of the pass. The depth attachment is kept after the
     pass only with `store_depth` (a frame whose depth is read back): otherwise it is
     scratch, and StoreOp.discard tells the driver it need not write it out."""
@@ -212,10 +253,8 @@ def encode_pass(
         },
     )
     shared = frame.bound
-    if draws:
-        # Every object shares the frame uniforms; their layout depends only on scene-level features.
-        frame_dtype = draws[0].entry.uniform_dtypes["frame"]
-        frame_data = frame_uniforms(scene, frame_dtype, frame.eye_from_world)
+    frame_data = plan.frame_data
+    if frame_data is not None:
         uniform_limit = cache.device.limits["max-uniform-buffer-binding-size"]
         if frame_data.nbytes > uniform_limit:
             render_pass.end()
@@ -223,9 +262,8 @@ def encode_pass(
                 f"lights: the {len(scene.lights)} lights need {frame_data.nbytes} bytes of uniforms; this adapter "
                 f"binds at most {uniform_limit} (use fewer lights)"
             )
-        assert all(draw.entry.uniform_dtypes["frame"] == frame_dtype for draw in draws)
         shared = {**shared, "frame": cache.uniform_buffer("frame", 0, frame_data, "camera and lights")}
-    encode_draws(cache, render_pass, draws, shared, "object", "objects[{}]")
+    encode_draws(cache, render_pass, plan.draws, shared, "object", "objects[{}]")
     render_pass.end()
 
 
