@@ -7,7 +7,7 @@ by name, so they live in an importable module, never in __main__.
 
 from __future__ import annotations
 
-from distributed import WorkerPlugin, get_worker
+from distributed import WorkerPlugin, get_worker, secede
 
 from .chunk import ChunkRenderer, failed
 from .jobs import Job
@@ -49,8 +49,19 @@ def chunk_renderers(worker) -> dict[str, ChunkRenderer]:
 
 
 def render_chunk_task(jobs: list[Job], out_dir: str, plugin_name: str) -> list[dict]:
-    """The Dask task: render a chunk on this worker's warm renderer."""
+    """The Dask task: render a chunk on this worker's warm renderer; its result is the
+    chunk's records once all its files are complete.
+
+    Once its frames are rendered, the task leaves the worker's thread pool (Dask's
+    `secede`) to wait for its last writes, so that the worker starts its next chunk
+    meanwhile, as the in-process loop does (ChunkRenderer.start): the device does not sit
+    idle at every task's end while up to MAX_PENDING_WRITES frames are encoded and written.
+    A seceded task "opens up a new scheduling slot and a new thread for a new task"
+    (distributed.secede's docstring): the scheduler counts it as long-running, not
+    against the worker's threads (`_task_slots_available` in distributed/scheduler.py)."""
     chunk_renderer = chunk_renderers(get_worker()).get(plugin_name)
     if chunk_renderer is None:  # the plugin's setup failed on this worker (logged there)
         return [failed(job, "this Dask worker has no renderer: its set-up failed (see the worker's log)") for job in jobs]
-    return chunk_renderer.render(jobs, out_dir)
+    pending = chunk_renderer.start(jobs, out_dir)
+    secede()
+    return pending.finish()
