@@ -53,6 +53,7 @@ SMOKE_SCRIPTS = {
     "ab_issue21": ("scripts/ab_issue21.py", "both", "--smoke"),
     "ab_issue29": ("scripts/ab_issue29.py", "frame-memory", "--smoke"),
     "ab_issue29_start_up": ("scripts/ab_issue29.py", "start-up", "--smoke"),
+    "ab_issue29_frame_plans": ("scripts/ab_issue29.py", "frame-plans", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -67,6 +68,7 @@ REAL_SCRIPTS = {
     "ab_issue21": ("scripts/ab_issue21.py", "both"),
     "ab_issue29": ("scripts/ab_issue29.py", "frame-memory"),
     "ab_issue29_start_up": ("scripts/ab_issue29.py", "start-up"),
+    "ab_issue29_frame_plans": ("scripts/ab_issue29.py", "frame-plans"),
 }
 
 

@@ -3,6 +3,7 @@ frame and its hand-offs"), as they were run.
 
     python benchmarks/scripts/ab_issue29.py frame-memory --size 512 --frames 300 --runs 3
     python benchmarks/scripts/ab_issue29.py poll --size 512 --rounds 30
+    python benchmarks/scripts/ab_issue29.py frame-plans --size 512 --rounds 30
     python benchmarks/scripts/ab_issue29.py start-up --rounds 20
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
@@ -27,6 +28,11 @@ thread (`map_async`, then wgpu-py's `device._poll_wait()`, i.e. wgpuDevicePoll(w
 through wgpu-py's poll thread (map_sync, what the Renderer does), with moderngl beside them
 when it is installed; median wall and process CPU ms per frame. The images are compared
 first.
+
+frame-plans: in one process, interleaved rounds of 5 frames each of the same Scene object:
+drawn from its frame plan (render/gpu/frame_plans.py, what the Renderer does) and
+prepared anew every frame (the plan cache made to miss), with moderngl beside them when
+it is installed; median wall and process CPU ms per frame. The images are compared first.
 """
 
 from __future__ import annotations
@@ -132,6 +138,44 @@ def poll(size: int, rounds: int, segments: int) -> None:
         print(f"  {name:32s} wall {timing.median_ms:.2f} ms, CPU {timing.cpu_median_ms:.2f} ms")
 
 
+def frame_plans(size: int, rounds: int, segments: int) -> None:
+    import importlib.util
+
+    from benchmarks.measure import interleaved
+    from benchmarks.scenes import geometry_draw, torus_scene
+    from wgpu_shading import Renderer
+    from wgpu_shading.render.gpu.frame_plans import FramePlans
+
+    scene = torus_scene(size, segments)
+    renderer = Renderer()
+    cache = renderer.device_cache
+    kept = cache.frame_plans
+    changes = iter(range(1 << 62))
+    never_kept = FramePlans(lambda: next(changes))  # the caches "change" at every look-up: no plan is used
+
+    def from_plan() -> object:
+        cache.frame_plans = kept
+        return renderer.render(scene)
+
+    def prepared_anew() -> object:
+        cache.frame_plans = never_kept
+        return renderer.render(scene)
+
+    if not (from_plan() == prepared_anew()).all():
+        raise SystemExit("the two paths gave different images")
+    contenders = {"drawn from its frame plan": from_plan, "prepared anew every frame": prepared_anew}
+    if importlib.util.find_spec("moderngl") is not None:
+        from benchmarks.peers import ModernGLPeer
+
+        contenders["moderngl"] = ModernGLPeer(geometry_draw(scene, "torus")).render
+    start_load = os.getloadavg()[0]
+    timings = interleaved(contenders, rounds=rounds, frames=5)
+    cache.frame_plans = kept
+    print(f"torus at {size}², {rounds} interleaved rounds of 5 frames; load average {start_load:.2f} → {os.getloadavg()[0]:.2f}")
+    for name, timing in timings.items():
+        print(f"  {name:32s} wall {timing.median_ms:.2f} ms, CPU {timing.cpu_median_ms:.2f} ms")
+
+
 # The program with one start-up setting undone (cli/process_start.py), patched where the
 # program (cli/main.py, `program`) or process_start reads it when it runs.
 _UNDO = {
@@ -201,7 +245,7 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("what", choices=("frame-memory", "poll", "start-up", "child"))
+    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "start-up", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--runs", type=int, default=3)
@@ -216,6 +260,8 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
     elif args.what == "poll":
         poll(args.size, args.rounds, args.segments)
+    elif args.what == "frame-plans":
+        frame_plans(args.size, args.rounds, args.segments)
     elif args.what == "start-up":
         import tempfile
 
