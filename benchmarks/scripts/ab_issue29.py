@@ -98,11 +98,8 @@ def frame_memory(size: int, frames: int, runs: int, segments: int) -> None:
 
 
 def poll(size: int, rounds: int, segments: int) -> None:
-    import importlib.util
-
     import wgpu_shading.render.gpu.readback as readback
-    from benchmarks.measure import interleaved
-    from benchmarks.scenes import geometry_draw, torus_scene
+    from benchmarks.scenes import torus_scene
     from wgpu_shading import Renderer
 
     scene = torus_scene(size, segments)
@@ -123,26 +120,40 @@ def poll(size: int, rounds: int, segments: int) -> None:
         readback.map_for_reading = through_poll_thread
         return renderer.render(scene)
 
-    if not (ours_polling() == ours_plain()).all():
-        raise SystemExit("the two waits gave different images")
-    contenders = {"map waited for on our thread": ours_polling, "through wgpu-py's poll thread": ours_plain}
+    try:
+        _interleaved_with_moderngl(
+            scene, {"map waited for on our thread": ours_polling, "through wgpu-py's poll thread": ours_plain}, rounds, "waits",
+        )
+    finally:
+        readback.map_for_reading = through_poll_thread
+
+
+def _interleaved_with_moderngl(scene, contenders: dict, rounds: int, what: str) -> None:
+    """Compare the two variants' images, then time them interleaved (5 frames a round) with
+    moderngl beside them when it is installed; print median wall and process CPU ms."""
+    import importlib.util
+
+    from benchmarks.measure import interleaved
+    from benchmarks.scenes import geometry_draw
+
+    first, second = (call() for call in contenders.values())
+    if not (first == second).all():
+        raise SystemExit(f"the two {what} gave different images")
+    contenders = dict(contenders)
     if importlib.util.find_spec("moderngl") is not None:
         from benchmarks.peers import ModernGLPeer
 
         contenders["moderngl"] = ModernGLPeer(geometry_draw(scene, "torus")).render
+    size = scene.size[0]
     start_load = os.getloadavg()[0]
     timings = interleaved(contenders, rounds=rounds, frames=5)
-    readback.map_for_reading = through_poll_thread
     print(f"torus at {size}², {rounds} interleaved rounds of 5 frames; load average {start_load:.2f} → {os.getloadavg()[0]:.2f}")
     for name, timing in timings.items():
         print(f"  {name:32s} wall {timing.median_ms:.2f} ms, CPU {timing.cpu_median_ms:.2f} ms")
 
 
 def frame_plans(size: int, rounds: int, segments: int) -> None:
-    import importlib.util
-
-    from benchmarks.measure import interleaved
-    from benchmarks.scenes import geometry_draw, torus_scene
+    from benchmarks.scenes import torus_scene
     from wgpu_shading import Renderer
     from wgpu_shading.render.gpu.frame_plans import FramePlans
 
@@ -161,19 +172,12 @@ def frame_plans(size: int, rounds: int, segments: int) -> None:
         cache.frame_plans = never_kept
         return renderer.render(scene)
 
-    if not (from_plan() == prepared_anew()).all():
-        raise SystemExit("the two paths gave different images")
-    contenders = {"drawn from its frame plan": from_plan, "prepared anew every frame": prepared_anew}
-    if importlib.util.find_spec("moderngl") is not None:
-        from benchmarks.peers import ModernGLPeer
-
-        contenders["moderngl"] = ModernGLPeer(geometry_draw(scene, "torus")).render
-    start_load = os.getloadavg()[0]
-    timings = interleaved(contenders, rounds=rounds, frames=5)
-    cache.frame_plans = kept
-    print(f"torus at {size}², {rounds} interleaved rounds of 5 frames; load average {start_load:.2f} → {os.getloadavg()[0]:.2f}")
-    for name, timing in timings.items():
-        print(f"  {name:32s} wall {timing.median_ms:.2f} ms, CPU {timing.cpu_median_ms:.2f} ms")
+    try:
+        _interleaved_with_moderngl(
+            scene, {"drawn from its frame plan": from_plan, "prepared anew every frame": prepared_anew}, rounds, "paths",
+        )
+    finally:
+        cache.frame_plans = kept
 
 
 # The program with one start-up setting undone (cli/process_start.py), patched where the
