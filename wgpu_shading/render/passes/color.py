@@ -113,6 +113,9 @@ def color_plan(cache: DeviceCache, scene: Scene, color_format: str, eye_from_wor
             frame_data = frame_uniforms(scene, frame_dtype, eye_from_world)
         plan = ColorPlan(draws, frame_data)
         if settled:
+            for block in [frame_data] + [draw.object_data for draw in draws]:
+                if block is not None:
+                    block.flags.writeable = False  # a kept plan's uniform values are read, never changed
             cache.frame_plans.put(scene, variant, plan)
     return plan
 
