@@ -17,6 +17,9 @@ from ..scene import DirectionalLight, Material, Mesh, PositionalLight, Scene, Sc
 
 @dataclass(frozen=True)
 class FeatureSet:
+    """What one draw's shader must do (shading frequency, reflection, how many lights of
+    each kind, maps, culling, ...): the key of its generated WGSL and of its pipeline."""
+
     frequency: str = "phong"  # flat | gouraud | phong
     reflection: str = "phong"  # phong | blinn-phong
     directional_lights: int = 0

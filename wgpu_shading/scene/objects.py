@@ -219,6 +219,11 @@ class BareMesh:
 
 @dataclass(frozen=True)
 class Scene:
+    """Everything one frame draws: objects, lights, camera, shading settings, the global
+    ambient, the output size and background, antialiasing samples and shadow settings.
+    Frozen, like all it holds: a renderer may keep what it prepared for one Scene object
+    (render/gpu/frame_plans.py); a changed scene is a new object (dataclasses.replace)."""
+
     objects: tuple[SceneObject, ...] = ()
     lights: tuple[Light, ...] = ()
     camera: Camera = field(default_factory=Camera)

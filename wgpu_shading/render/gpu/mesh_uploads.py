@@ -18,6 +18,9 @@ from .vertex_order import SharedOrders, VertexOrder, cache_order
 
 @dataclass
 class GpuMesh:
+    """A mesh's GPU buffers (positions, normals, indices; uvs and colours when a plan binds
+    them), in its vertex-cache order, with its clusters once they are built."""
+
     positions: object
     normals: object
     indices: object

@@ -83,6 +83,9 @@ class PipelineDescriptor:
 
 @dataclass(frozen=True)
 class PipelineEntry:
+    """A compiled pipeline with what drawing with it needs: its key and descriptor, its bind
+    group layouts and the dtypes of its uniform buffers."""
+
     key: PipelineKey
     descriptor: PipelineDescriptor
     pipeline: object  # wgpu.GPURenderPipeline

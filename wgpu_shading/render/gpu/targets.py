@@ -19,6 +19,9 @@ _ROW_ALIGNMENT = 256  # WebGPU's required bytes_per_row multiple for texture cop
 
 @dataclass
 class Target:
+    """What one frame renders into: colour and depth attachments (and their multisampled
+    twins with MSAA) and the readback buffers their rows are copied to."""
+
     width: int
     height: int
     color_format: str

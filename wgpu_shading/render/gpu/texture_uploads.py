@@ -16,6 +16,8 @@ from .mips import mip_chain, srgb_mip_chain
 
 @dataclass
 class GpuTexture:
+    """A texture's upload (with its mip chain) and its view, and the bind groups that bind it."""
+
     texture: object
     view: object
     nbytes: int = 0

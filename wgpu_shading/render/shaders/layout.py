@@ -36,6 +36,8 @@ class LayoutError(Exception):
 
 @dataclass(frozen=True)
 class TypeLayout:
+    """A WGSL type's host layout: its numpy dtype (with padding), alignment and size in bytes."""
+
     dtype: np.dtype
     align: int
     size: int

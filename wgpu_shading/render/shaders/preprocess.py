@@ -166,6 +166,9 @@ class _Hook:
 
 @dataclass
 class _Expansion:
+    """The state of one preprocess() run: its defines, its reader, what it has included and
+    the lines put #at each point so far."""
+
     defines: Mapping[str, int | bool]
     reader: Callable[[str], str]
     included: set[str] = field(default_factory=set)

@@ -316,7 +316,13 @@ def _loading(self) -> "ViewOptions":
 ViewOptions = make_dataclass(
     "ViewOptions",
     [(option.name, f"{type(option.example).__name__} | None", field(default=None)) for option in VIEW_OPTIONS],
-    namespace={"__post_init__": _post_init, "given": _given, "mesh_reading": _reading, "loading": _loading},
+    namespace={
+        "__doc__": (
+            "One value (or None: not given) per view option of VIEW_OPTIONS: the CLI's flags, "
+            "a scene file's keys and the live view's settings, read into one record."
+        ),
+        "__post_init__": _post_init, "given": _given, "mesh_reading": _reading, "loading": _loading,
+    },
     frozen=True,
 )
 ViewOptions.__module__ = __name__  # pickled by jobs and workers: found here by name
