@@ -194,8 +194,21 @@ def _redeliver_interrupts(unraisable) -> None:
         resend = threading.Timer(0.01, os.kill, (os.getpid(), signum))
         resend.daemon = True
         resend.start()
-    else:
+    elif not _interrupted_wgpu_constructor(unraisable.exc_value):
         sys.__unraisablehook__(unraisable)
+
+
+def _interrupted_wgpu_constructor(error: BaseException | None) -> bool:
+    """The destructor of a wgpu object whose __init__ a signal interrupted: it has no
+    `_internal` yet, and wgpu-py 0.32's GPUObjectBase.__del__ reads it (wgpu/_classes.py,
+    `_release`), so collecting the object printed "Exception ignored ... AttributeError"
+    under `wgpu-shading: interrupted`. Nothing was made for it to release that the ending
+    process does not free: not worth a traceback."""
+    return (
+        isinstance(error, AttributeError)
+        and error.name == "_internal"
+        and type(error.obj).__module__.startswith("wgpu.")
+    )
 
 
 def console_main() -> NoReturn:
