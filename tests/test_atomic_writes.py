@@ -277,21 +277,23 @@ _INTERRUPTIBLE_CLI = textwrap.dedent(
 )
 
 
-def test_a_wgpu_object_whose_constructor_ctrl_c_interrupted_is_collected_quietly(capsys, monkeypatch):
+@pytest.mark.parametrize("kind", ["GPUCommandBuffer", "GPUBuffer"])
+def test_a_wgpu_object_whose_constructor_ctrl_c_interrupted_is_collected_quietly(capsys, monkeypatch, kind):
     """Ctrl-C can land inside a wgpu object's __init__ (GPUCommandEncoder.finish making its
-    GPUCommandBuffer): the half-made object has no `_internal`, and wgpu-py's __del__ raised
-    AttributeError when it was collected, printing "Exception ignored ..." under
-    `wgpu-shading: interrupted` (seen once in ~20 runs of the Ctrl-C test below). Under the
-    CLI's hook that is quiet; any other error in a destructor is still printed."""
+    GPUCommandBuffer, a readback GPUBuffer): the half-made object lacks what __init__ had
+    not set yet, and wgpu-py's __del__ raised AttributeError when it was collected (a
+    command buffer's handle, a buffer's mapped views), printing "Exception ignored ..."
+    under `wgpu-shading: interrupted` (a few runs in ten of the Ctrl-C test below). Under
+    the CLI's hook that is quiet; any other error in a destructor is still printed."""
     import gc
-
-    from wgpu.backends.wgpu_native import GPUCommandBuffer
-
     import importlib
 
+    import wgpu.backends.wgpu_native as native
+
     cli_main = importlib.import_module("wgpu_shading.cli.main")  # the module (the package exports main())
-    monkeypatch.setattr(sys, "unraisablehook", cli_main._redeliver_interrupts)
-    half_made = GPUCommandBuffer.__new__(GPUCommandBuffer)  # as if interrupted before __init__ set anything
+    monkeypatch.setattr(sys, "unraisablehook", cli_main.unraisable_hook)
+    cls = getattr(native, kind)
+    half_made = cls.__new__(cls)  # as if interrupted before its __init__ set anything
     del half_made
     gc.collect()
     assert capsys.readouterr().err == ""

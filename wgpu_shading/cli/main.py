@@ -182,31 +182,38 @@ def _terminate(signum, frame) -> None:
     raise Terminated()
 
 
-def _redeliver_interrupts(unraisable) -> None:
-    """sys.unraisablehook while the CLI runs. A signal's exception raised while a destructor
-    runs (a wgpu object's __del__, called by the garbage collector between any two lines) is
-    swallowed there ("Exception ignored in ..."), and the command went on: a turntable of
-    1,000,000 frames kept rendering after SIGTERM. The signal is raised again, so its handler
-    runs again: from a helper thread, a moment later, so that it lands in ordinary code and
-    not in this hook (should it land in a destructor again, this hook sends it again)."""
-    if isinstance(unraisable.exc_value, KeyboardInterrupt):  # Terminated too
-        signum = signal.SIGTERM if isinstance(unraisable.exc_value, Terminated) else signal.SIGINT
+def unraisable_hook(unraisable) -> None:
+    """sys.unraisablehook while the CLI runs.
+
+    A signal's exception raised while a destructor runs (a wgpu object's __del__, called by
+    the garbage collector between any two lines) is swallowed there ("Exception ignored in
+    ..."), and the command went on: a turntable of 1,000,000 frames kept rendering after
+    SIGTERM. The signal is raised again, so its handler runs again: from a helper thread, a
+    moment later, so that it lands in ordinary code and not in this hook (should it land in
+    a destructor again, this hook sends it again).
+
+    A wgpu object whose __init__ the signal interrupted is half made, and wgpu-py 0.32's
+    GPUObjectBase.__del__ reads what __init__ had not set yet (`_internal`, a buffer's
+    `_mapped_memoryviews`: wgpu/_classes.py, wgpu/backends/wgpu_native/_api.py `_release`),
+    which printed "Exception ignored ... AttributeError" under `wgpu-shading: interrupted`.
+    That one is not printed: the process is ending, and it frees what the object held.
+    Any other error in a destructor is printed as Python does."""
+    error = unraisable.exc_value
+    if isinstance(error, KeyboardInterrupt):  # Terminated too
+        signum = signal.SIGTERM if isinstance(error, Terminated) else signal.SIGINT
         resend = threading.Timer(0.01, os.kill, (os.getpid(), signum))
         resend.daemon = True
         resend.start()
-    elif not _interrupted_wgpu_constructor(unraisable.exc_value):
+    elif not _half_made_wgpu_object(unraisable):
         sys.__unraisablehook__(unraisable)
 
 
-def _interrupted_wgpu_constructor(error: BaseException | None) -> bool:
-    """The destructor of a wgpu object whose __init__ a signal interrupted: it has no
-    `_internal` yet, and wgpu-py 0.32's GPUObjectBase.__del__ reads it (wgpu/_classes.py,
-    `_release`), so collecting the object printed "Exception ignored ... AttributeError"
-    under `wgpu-shading: interrupted`. Nothing was made for it to release that the ending
-    process does not free: not worth a traceback."""
+def _half_made_wgpu_object(unraisable) -> bool:
+    error, where = unraisable.exc_value, unraisable.object
     return (
         isinstance(error, AttributeError)
-        and error.name == "_internal"
+        and getattr(where, "__name__", "") == "__del__"
+        and getattr(where, "__module__", "").startswith("wgpu.")
         and type(error.obj).__module__.startswith("wgpu.")
     )
 
@@ -225,7 +232,7 @@ def main(argv: Sequence[str] | None = None, *, owns_process: bool = False) -> in
     if threading.current_thread() is not threading.main_thread():
         return _main(argv, owns_process)
     previous = signal.signal(signal.SIGTERM, _terminate)
-    previous_hook, sys.unraisablehook = sys.unraisablehook, _redeliver_interrupts
+    previous_hook, sys.unraisablehook = sys.unraisablehook, unraisable_hook
     try:
         return _main(argv, owns_process)
     except Terminated:  # arrived after _main's own handlers
