@@ -101,7 +101,7 @@ class ColorPlan:
 def color_plan(cache: DeviceCache, scene: Scene, color_format: str, eye_from_world: glm.dmat4, samples: int = 1) -> ColorPlan:
     """The colour pass's plan for `scene`: the one made for this scene object by an earlier
     frame when the caches its draws use are unchanged, else a new one."""
-    variant = ("colour", color_format, samples, clusters_enabled())
+    variant = (COLOR.name, color_format, samples, clusters_enabled())
     plan = cache.frame_plans.get(scene, variant)
     if plan is None:
         draws, settled = _prepare_draws(cache, scene, color_format, eye_from_world, samples)
