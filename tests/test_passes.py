@@ -35,7 +35,8 @@ def test_a_frame_is_the_list_of_passes_it_asks_for(request_, expected):
 
 
 def test_each_pipeline_is_cached_under_one_named_key(renderer):
-    """The colour and the extra-outputs pipelines of one frame: two keys naming their pass."""
+    """The colour and the extra-outputs pipelines of one frame: two keys naming their pass
+    (a closed sphere seen from outside: both cull its back faces, turned_away.py)."""
     from wgpu_shading import Renderer
 
     fresh = Renderer(device=renderer.device)
@@ -44,8 +45,8 @@ def test_each_pipeline_is_cached_under_one_named_key(renderer):
     keys = [entry.key for entry in fresh.device_cache.pipelines.entries()]
     assert [key.render_pass for key in keys] == [COLOR, EXTRA_OUTPUTS]
     features = fresh.features(scene)[0]
-    assert keys[0] == color_key(features) == PipelineKey(COLOR, features, "rgba8", 1, False, False)
-    assert keys[1] == PipelineKey(EXTRA_OUTPUTS, None, "float32", 1, False, False)
+    assert keys[0] == color_key(features, cull_back=True) == PipelineKey(COLOR, features, "rgba8", 1, False, True)
+    assert keys[1] == PipelineKey(EXTRA_OUTPUTS, None, "float32", 1, False, True)
 
 
 # A triangle covering the target at clip depth 0.5, a point at each of the four pixel

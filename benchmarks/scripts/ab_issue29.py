@@ -4,6 +4,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py frame-memory --size 512 --frames 300 --runs 3
     python benchmarks/scripts/ab_issue29.py poll --size 512 --rounds 30
     python benchmarks/scripts/ab_issue29.py frame-plans --size 512 --rounds 30
+    python benchmarks/scripts/ab_issue29.py turned-away --size 512 --rounds 30
     python benchmarks/scripts/ab_issue29.py start-up --rounds 20
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
@@ -33,6 +34,15 @@ frame-plans: in one process, interleaved rounds of 5 frames each of the same Sce
 drawn from its frame plan (render/gpu/frame_plans.py, what the Renderer does) and
 prepared anew every frame (the plan cache made to miss), with moderngl beside them when
 it is installed; median wall and process CPU ms per frame. The images are compared first.
+
+turned-away: in one process, interleaved rounds of 5 frames each: the closed torus seen
+from outside with its triangles turned away culled by the rasterizer (render/passes/
+turned_away.py, what the Renderer does) and with every triangle drawn (no mesh small
+enough to be culled: CULLED_MAX_TRIANGLES = -1), each variant its own Scene object (its
+own frame plan), with moderngl beside them when it is installed (which draws every
+triangle, as OpenGL does by default); median wall and process CPU ms per frame. The
+images are compared first: this view of the torus has no silhouette pixel that drawing
+every triangle gives to a triangle turned away.
 """
 
 from __future__ import annotations
@@ -180,6 +190,33 @@ def frame_plans(size: int, rounds: int, segments: int) -> None:
         cache.frame_plans = kept
 
 
+def turned_away(size: int, rounds: int, segments: int) -> None:
+    from dataclasses import replace
+
+    from benchmarks.scenes import torus_scene
+    from wgpu_shading import Renderer
+    from wgpu_shading.render.passes import turned_away as module
+
+    culled_scene = torus_scene(size, segments)
+    every_triangle_scene = replace(culled_scene)
+    renderer = Renderer()
+    shipped = module.CULLED_MAX_TRIANGLES
+
+    def culled() -> object:
+        return renderer.render(culled_scene)
+
+    def every_triangle() -> object:
+        module.CULLED_MAX_TRIANGLES = -1
+        try:
+            return renderer.render(every_triangle_scene)
+        finally:
+            module.CULLED_MAX_TRIANGLES = shipped
+
+    _interleaved_with_moderngl(
+        culled_scene, {"triangles turned away culled": culled, "every triangle drawn": every_triangle}, rounds, "variants",
+    )
+
+
 # The program with one start-up setting undone (cli/process_start.py), patched where the
 # program (cli/main.py, `program`) or process_start reads it when it runs.
 _UNDO = {
@@ -249,7 +286,7 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "start-up", "child"))
+    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--runs", type=int, default=3)
@@ -266,6 +303,8 @@ def main(argv: list[str] | None = None) -> int:
         poll(args.size, args.rounds, args.segments)
     elif args.what == "frame-plans":
         frame_plans(args.size, args.rounds, args.segments)
+    elif args.what == "turned-away":
+        turned_away(args.size, args.rounds, args.segments)
     elif args.what == "start-up":
         import tempfile
 

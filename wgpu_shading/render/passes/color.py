@@ -30,7 +30,7 @@ from ..shaders.shadergen import generate_wgsl
 from ..shaders.uniforms import frame_uniforms, is_mirrored, linear_depth, object_uniforms
 from .draws import Draw, encode_draws
 from .frame_context import FrameContext
-from .turned_away import eye_outside, turned_away
+from .turned_away import culls_turned_away, eye_outside, turned_away
 
 
 def color_pipeline(key: PipelineKey) -> PipelineDescriptor:
@@ -46,8 +46,9 @@ def color_pipeline(key: PipelineKey) -> PipelineDescriptor:
         # so `front_facing` still means "the outward side faces the viewer".
         front_face_cw=key.mirrored,
         # No culling, like OpenGL's default: open meshes show their inside; a glTF material
-        # with doubleSided false culls its back faces (glTF 2.0 §3.9.6).
-        cull_mode=wgpu.CullMode.back if features.cull_back else wgpu.CullMode.none,
+        # with doubleSided false culls its back faces (glTF 2.0 §3.9.6), and so does a closed
+        # surface seen from outside (turned_away.culls_turned_away).
+        cull_mode=wgpu.CullMode.back if key.cull_back else wgpu.CullMode.none,
         # Blended parts are drawn after the opaque ones, back to front, and do not hide each
         # other (they still hide behind opaque parts).
         depth_write=features.alpha_mode != "blend",
@@ -65,9 +66,12 @@ def color_pipeline(key: PipelineKey) -> PipelineDescriptor:
 COLOR = PassKind("colour", color_pipeline)
 
 
-def color_key(features: FeatureSet, target_format: str = "rgba8", samples: int = 1, mirrored: bool = False) -> PipelineKey:
-    """The key of the colour pipeline that draws `features` (culling comes with the features)."""
-    return PipelineKey(COLOR, features, target_format, samples, mirrored, features.cull_back)
+def color_key(
+    features: FeatureSet, target_format: str = "rgba8", samples: int = 1, mirrored: bool = False, cull_back: bool = False,
+) -> PipelineKey:
+    """The key of the colour pipeline that draws `features`; its back faces are culled when
+    the features ask (a glTF material) or `cull_back` (a closed surface seen from outside)."""
+    return PipelineKey(COLOR, features, target_format, samples, mirrored, features.cull_back or cull_back)
 
 
 @dataclass(frozen=True)
@@ -143,12 +147,13 @@ def _prepare_draws(
         # Blended parts keep their triangle order in the upload (they blend in index order).
         blended_parts = frozenset(k for k, m in enumerate(materials) if m.alpha_mode == "blend")
         # The clusters of the upload this frame leaves out (turned_away.py; None: none).
-        away = None
+        away, cull = None, False
         if obj.mesh.triangle_count:
             view = eye_outside(scene, obj, materials, model_view)
             upload = cache.gpu_mesh(obj.mesh, None, blended_parts, clusters=view is not None)
             settled = settled and (view is None or clusters_settled(upload, obj.mesh))
             away = turned_away(view, upload)
+            cull = culls_turned_away(view, obj.mesh)
         for number, (part, material) in enumerate(zip(obj.mesh.parts, materials)):
             if part.count == 0:
                 continue
@@ -163,7 +168,7 @@ def _prepare_draws(
                     opaque.append(draw)
                 continue
             features = object_features(scene, obj, index, material)
-            entry = cache.pipelines.get(PipelineKey(COLOR, features, color_format, samples, mirrored, features.cull_back))
+            entry = cache.pipelines.get(color_key(features, color_format, samples, mirrored, cull))
             textures: dict[str, object] = {}
             owner = None
             for sampled in entry.plan.textures:

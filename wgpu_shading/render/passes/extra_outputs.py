@@ -32,6 +32,7 @@ from ..shaders.shadergen import generate_pass_wgsl
 from ..shaders.uniforms import clip_from_eye, is_mirrored, stroke_uniforms
 from .draws import Draw, encode_draws
 from .frame_context import FrameContext
+from .turned_away import culls_turned_away, eye_outside
 
 NORMAL_SPACES = ("eye", "world")
 # Its entry shader by primitive: triangles, and the colour pass's quads of points and lines.
@@ -109,11 +110,18 @@ def prepare_draws(cache: DeviceCache, frame: FrameContext, space: str, aspect: f
     clip = clip_from_eye(scene.camera, aspect).T
     materials = {id(obj): dict(zip(map(id, obj.mesh.parts), obj.part_materials())) for obj in scene.objects}
     draws = []
+    closed_and_outside: dict[int, bool] = {}  # by object: culls_turned_away, asked once
     for segment, (obj, part) in enumerate(segments(scene), 1):
         model = glm.dmat4(obj.world_from_model())
         model_view = frame.eye_from_world * model
-        # the back faces the lit pass culls (glTF doubleSided false) are culled here too
+        # the back faces the lit pass culls (glTF doubleSided false; a closed surface seen
+        # from outside: turned_away.py) are culled here too
         cull = materials[id(obj)][id(part)].double_sided is False and not scene.shading.two_sided
+        if part.primitive == "triangles" and not cull:
+            if id(obj) not in closed_and_outside:
+                view = eye_outside(scene, obj, obj.part_materials(), model_view)
+                closed_and_outside[id(obj)] = culls_turned_away(view, obj.mesh)
+            cull = closed_and_outside[id(obj)]
         if part.primitive == "triangles":
             entry = cache.pipelines.get(extra_outputs_key(cull, is_mirrored(model_view)))
         else:

@@ -1,6 +1,14 @@
-"""Which clusters of an object's triangles a colour frame leaves out: those turned away from
-the camera (gpu/clusters.py says why that keeps every pixel), when the frame is one where
-no triangle turned away can show.
+"""Which of an object's triangles a frame leaves out: those turned away from the camera, when
+the frame is one where no triangle turned away can show. Two ways, for a closed surface:
+
+- the rasterizer culls every triangle turned away (back-face culling) when the mesh is small
+  enough to be checked before its first frame (`culls_turned_away`). That is the same
+  picture as drawing them, except at the silhouette pixels where drawing them let one win
+  the depth test by float32 rounding (a speckle in the colour of the far side;
+  docs/conventions.md, "Closed surfaces"), and it spares their vertices, binning and
+  fragments: a frame's overdraw from behind.
+- the colour pass leaves out whole clusters wholly turned away (gpu/clusters.py, bigger
+  meshes, built on a worker), the same pixels as drawing them.
 
 That needs, besides a closed surface (the upload made clusters only for one):
 - every triangle part opaque: a masked part's holes or a blended part would show the
@@ -18,7 +26,15 @@ import numpy as np
 from pyglm import glm
 
 from ...scene import Scene, SceneObject
+from ...scene.geometry.mesh import Mesh
 from ..gpu.mesh_uploads import GpuMesh, clusters_enabled
+
+# Meshes up to this many triangles are checked for a closed surface (Mesh.exact_solid: ~0.4
+# µs a triangle, 25 ms at 64K, once per mesh) when first drawn, and culled where they may
+# be. A bigger mesh is never culled, even once the check has run for its clusters on the
+# worker: a frame's pixels must not depend on whether a check has finished (a dataset's
+# frames are those of single renders: docs/datasets.md).
+CULLED_MAX_TRIANGLES = 1 << 16
 
 
 def eye_outside(scene: Scene, obj: SceneObject, materials, model_view: glm.dmat4) -> tuple[np.ndarray, bool] | None:
@@ -44,6 +60,14 @@ def eye_outside(scene: Scene, obj: SceneObject, materials, model_view: glm.dmat4
     # The eye point, or (orthographic) the direction towards the camera: eye space's +z.
     eye = glm.inverse(model_view) * (glm.dvec4(0.0, 0.0, 1.0, 0.0) if orthographic else glm.dvec4(0.0, 0.0, 0.0, 1.0))
     return np.array([eye.x, eye.y, eye.z]), orthographic
+
+
+def culls_turned_away(view: tuple[np.ndarray, bool] | None, mesh: Mesh) -> bool:
+    """Whether the frame culls the mesh's triangles turned away from `view` (eye_outside) in
+    the rasterizer: a closed surface, wound counter-clockwise seen from outside, with no
+    crack even where corners are repeated (their positions identical: the rasterizer's
+    coverage is watertight there), of at most CULLED_MAX_TRIANGLES triangles."""
+    return view is not None and mesh.triangle_count <= CULLED_MAX_TRIANGLES and mesh.exact_solid == 1
 
 
 def turned_away(view: tuple[np.ndarray, bool] | None, gpu_mesh: GpuMesh) -> np.ndarray | None:
