@@ -37,6 +37,10 @@ def warm_table(rows) -> str:
     lines = [
         "## Warm frame (render + readback to numpy), median ms per frame",
         "",
+        "limit = the same geometry with trivial shaders, every triangle drawn (as moderngl and pygfx draw them); "
+        "wgpu-shading culls the triangles a closed surface seen from outside turns away (the torus; "
+        "docs/conventions.md, \"Closed surfaces\") and leaves out the clusters the 1.3M sphere turns away.",
+        "",
         "| scene | size | " + " | ".join(names) + " | ours ÷ moderngl (≤ 1.0) | ours ÷ pygfx (≤ 0.1) | ours ÷ pygfx lean | ours ÷ limit | CPU: ours ÷ moderngl |",
         "|---|---|" + "---:|" * len(names) + "---:|---:|---:|---:|---:|",
     ]
@@ -68,7 +72,8 @@ def breakdown_table(rows) -> str:
     lines = [
         f"## Where our frame goes ({rows[0].size}², median ms per frame)",
         "",
-        "floor = clear + copy + readback without any draw; limit = same geometry with trivial shaders; "
+        "floor = clear + copy + readback without any draw; limit = same geometry with trivial shaders, every "
+        "triangle drawn (gouraud and phong cull the triangles the torus turns away, and leave out the sphere's clusters turned away); "
         "gouraud / phong = wgpu-shading's per-vertex / per-fragment lighting; seed WGSL = the seed's GLSL "
         "Phong shader ported literally to WGSL on our device (moderngl runs the GLSL itself).",
         "",
