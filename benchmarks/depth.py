@@ -4,8 +4,9 @@ Every contender returns the colour image and the eye-space depth as numpy arrays
 
     wgpu-shading          colour only (`render`), for the cost of depth
     wgpu-shading + depth  `render_frame(scene, depth=True)`: colour + float64 eye depth
-    every triangle        the same with WGPU_SHADING_CLUSTERS=0: no cluster of triangles
-                          turned away left out (render/gpu/clusters.py), the A/B of that
+    every triangle        the same with WGPU_SHADING_CLUSTERS=0 and no back-face culling: no
+                          cluster of triangles turned away left out (render/gpu/clusters.py),
+                          none culled (render/passes/turned_away.py), the A/B of those
     pyrender              `OffscreenRenderer.render(scene)`: colour + float32 eye depth
 
 interleaved in one process like the warm table (benchmarks/measure.py), after
@@ -20,8 +21,10 @@ from __future__ import annotations
 
 import gc
 import os
+from dataclasses import replace
 
 from wgpu_shading import Renderer
+from wgpu_shading.render.passes import turned_away
 
 from .measure import SceneTimings, interleaved, progress
 from .peers import WgpuShadingPeer
@@ -30,16 +33,24 @@ from .scenes import benchmark_scenes, geometry_draw, settle
 
 
 class EveryTrianglePeer(WgpuShadingDepthPeer):
-    """Colour + depth with every triangle drawn: WGPU_SHADING_CLUSTERS=0 for its frames only."""
+    """Colour + depth with every triangle drawn, for its frames only: WGPU_SHADING_CLUSTERS=0
+    (no cluster left out) and no mesh small enough to be culled by the rasterizer
+    (turned_away.CULLED_MAX_TRIANGLES), on a Scene object of its own (its own frame plan)."""
 
     name = "every triangle"
 
+    def __init__(self, scene, renderer):
+        super().__init__(replace(scene), renderer)
+
     def render(self):
         os.environ["WGPU_SHADING_CLUSTERS"] = "0"
+        shipped = turned_away.CULLED_MAX_TRIANGLES
+        turned_away.CULLED_MAX_TRIANGLES = -1
         try:
             return super().render()
         finally:
             os.environ.pop("WGPU_SHADING_CLUSTERS")
+            turned_away.CULLED_MAX_TRIANGLES = shipped
 
 
 def run_depth(
