@@ -204,9 +204,13 @@ def run_dataset_benchmark(
                         result.busy.setdefault(mode, []).append(outcome.busy_seconds)
                     if outcome is not None and outcome.failed:
                         raise RuntimeError(f"{mode}: {len(outcome.failed)} jobs failed: {next(iter(outcome.failed.values()))}")
-                    shutil.rmtree(out)
+                    # Kept until the end (the scratch folder goes then): removing each mode's
+                    # files made the next mode's file creations 10-40x slower on this machine's
+                    # ext4 without a journal, which skips the inodes freed in the last seconds
+                    # one by one (docs/performance.md, "And the files' creation"): the cost
+                    # of the benchmark's own clean-up, not of writing a dataset.
                     print(f"  … {size}² {mode}: {result.seconds[mode][-1]:.2f} s", file=sys.stderr, flush=True)
-                time_stages(renderer, depth_jobs, 1, result.stages)
+                time_stages(renderer, depth_jobs, 1, result.stages, scratch / f"{size}-{index}-stages")
                 result.load_average.append(os.getloadavg()[0])
             results.append(result)
     finally:

@@ -6,7 +6,8 @@ alone, in one process, on the same jobs as benchmarks/dataset.py, beside the bat
     render     render + readback: render_many(scenes, depth=True) on meshes already uploaded
                (the pipelined path a chunk uses); "one at a time" is render_frame in a loop
     encode     the PNG (assets/png.py at the batch's level), the .npy bytes and the record
-    write      those bytes written atomically into a fresh folder (temporary, rename)
+    write      those bytes written atomically into a fresh folder (temporary, rename), removed
+               only at the end of the benchmark (as the batch modes' folders are)
 
 Every stage is wall and CPU time (this process, every thread), per frame; load is spread over
 the frames of its mesh. The batch's own time inside its chunks, per frame, is then compared
@@ -17,8 +18,6 @@ from __future__ import annotations
 
 import io
 import json
-import shutil
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -52,8 +51,9 @@ class _Clock:
         self.wall, self.cpu = time.perf_counter() - self.wall, time.process_time() - self.cpu
 
 
-def time_stages(renderer, jobs, level: int, times: StageTimes) -> None:
-    """One pass over every stage of `jobs` (all with colour and depth)."""
+def time_stages(renderer, jobs, level: int, times: StageTimes, folder: Path) -> None:
+    """One pass over every stage of `jobs` (all with colour and depth), writing into `folder`
+    (new; left there for the caller to remove with the rest of its scratch files)."""
     frames = len(jobs)
     with _Clock() as clock:
         bases = {}
@@ -82,14 +82,11 @@ def time_stages(renderer, jobs, level: int, times: StageTimes) -> None:
             record = {"id": job.id, "digest": job.digest(), "source": job.source, "files": job.files(), "camera": camera_record(scene)}
             encoded.append((job, encode_png(color, level), buffer.getvalue(), json.dumps(record, indent=1).encode()))
     times.add("encode", clock.wall, clock.cpu, frames)
-    folder = Path(tempfile.mkdtemp(prefix="wgpu-shading-stages-"))
-    try:
-        with _Clock() as clock:
-            for job, png, npy, record in encoded:
-                (folder / job.folder).mkdir(exist_ok=True)
-                atomic_write(folder / job.folder / f"{job.name}.png", lambda file, data=png: file.write(data))
-                atomic_write(folder / job.folder / f"{job.name}_depth.npy", lambda file, data=npy: file.write(data))
-                atomic_write(folder / job.record_path(), lambda file, data=record: file.write(data))
-        times.add("write", clock.wall, clock.cpu, frames)
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True)
+    with _Clock() as clock:
+        for job, png, npy, record in encoded:
+            (folder / job.folder).mkdir(exist_ok=True)
+            atomic_write(folder / job.folder / f"{job.name}.png", lambda file, data=png: file.write(data))
+            atomic_write(folder / job.folder / f"{job.name}_depth.npy", lambda file, data=npy: file.write(data))
+            atomic_write(folder / job.record_path(), lambda file, data=record: file.write(data))
+    times.add("write", clock.wall, clock.cpu, frames)
