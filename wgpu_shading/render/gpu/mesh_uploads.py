@@ -69,12 +69,12 @@ def asks_for_clusters(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
     the 1.3M-triangle sphere ~1.7 s CPU, what ~25 of its frames then save
     (docs/performance.md): waiting 16 frames first keeps a mesh drawn a few times (a
     dataset's views) from paying for them."""
-    if gpu_mesh.order is None or gpu_mesh.order.clusters is not None or gpu_mesh.cluster_asks < 0 or gpu_mesh.cluster_build is not None:
+    if _never_asked_again(gpu_mesh) or gpu_mesh.cluster_build is not None:
         return False
     gpu_mesh.cluster_asks += 1
     if gpu_mesh.cluster_asks < CLUSTERS_AFTER_FRAMES:
         return False
-    wanted = CLUSTER_MIN_TRIANGLES <= mesh.triangle_count <= CLUSTER_MAX_TRIANGLES and clusters_enabled()
+    wanted = _clusters_pay(mesh)
     gpu_mesh.cluster_asks = gpu_mesh.cluster_asks if wanted else -1
     return wanted
 
@@ -86,9 +86,17 @@ def clusters_settled(gpu_mesh: GpuMesh, mesh: Mesh) -> bool:
     from a plan asks nothing."""
     if gpu_mesh.cluster_build is not None:
         return False
-    if gpu_mesh.order is None or gpu_mesh.order.clusters is not None or gpu_mesh.cluster_asks < 0:
-        return True
-    return not (CLUSTER_MIN_TRIANGLES <= mesh.triangle_count <= CLUSTER_MAX_TRIANGLES and clusters_enabled())
+    return _never_asked_again(gpu_mesh) or not _clusters_pay(mesh)
+
+
+def _never_asked_again(gpu_mesh: GpuMesh) -> bool:
+    """The upload has no order to cluster, has its clusters, or was found not to want them."""
+    return gpu_mesh.order is None or gpu_mesh.order.clusters is not None or gpu_mesh.cluster_asks < 0
+
+
+def _clusters_pay(mesh: Mesh) -> bool:
+    """A mesh big enough to repay its clusters and small enough to build them, clusters switched on."""
+    return CLUSTER_MIN_TRIANGLES <= mesh.triangle_count <= CLUSTER_MAX_TRIANGLES and clusters_enabled()
 
 
 def upload_mesh(
