@@ -6,6 +6,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py frame-plans --size 512 --rounds 30
     python benchmarks/scripts/ab_issue29.py turned-away --size 512 --rounds 30
     python benchmarks/scripts/ab_issue29.py start-up --rounds 20
+    python benchmarks/scripts/ab_issue29.py chunks --size 512 --rounds 5
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -43,6 +44,12 @@ own frame plan), with moderngl beside them when it is installed (which draws eve
 triangle, as OpenGL does by default); median wall and process CPU ms per frame. The
 images are compared first: this view of the torus has no silhouette pixel that drawing
 every triangle gives to a triangle turned away.
+
+chunks: the dataset benchmark's colour + depth scenes (its 4 meshes × 48 views) through
+render_many as one stream and in chunks of 16 and of 48 (each chunk a render_many of its
+own, so the frames in flight drain at its end, as `batch` does between chunks),
+interleaved round by round in one process; median wall and process CPU ms per frame.
+What a chunk boundary costs the frames themselves, without any writing.
 """
 
 from __future__ import annotations
@@ -217,6 +224,44 @@ def turned_away(size: int, rounds: int, segments: int) -> None:
     )
 
 
+def chunks(size: int, rounds: int, smoke: bool) -> None:
+    from benchmarks.dataset import SMOKE_MESHES, default_meshes
+    from wgpu_shading import Renderer
+    from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
+    from wgpu_shading.dataset.views import base_scene, job_scene
+
+    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
+    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy"), {"size": size})
+    bases: dict = {}
+    for job in jobs:
+        bases.setdefault(job.load_key(), base_scene(job))
+    scenes = [job_scene(bases[job.load_key()], job) for job in jobs]
+    renderer = Renderer()
+
+    def in_chunks(length: int):
+        def run() -> None:
+            for start in range(0, len(scenes), length):
+                for _ in renderer.render_many(scenes[start:start + length], depth=True):
+                    pass
+        return run
+
+    variants = {"one stream": in_chunks(len(scenes)), "chunks of 16": in_chunks(16), "chunks of 48": in_chunks(48)}
+    in_chunks(len(scenes))()  # uploads and pipelines on every device first
+    walls: dict[str, list[float]] = {name: [] for name in variants}
+    cpus: dict[str, list[float]] = {name: [] for name in variants}
+    print(f"{len(meshes)} meshes × {views} views at {size}², colour + depth; load average {os.getloadavg()[0]:.2f} at the start")
+    for _ in range(rounds):
+        for name, run in variants.items():
+            wall, cpu = time.perf_counter(), time.process_time()
+            run()
+            walls[name].append((time.perf_counter() - wall) * 1e3 / len(scenes))
+            cpus[name].append((time.process_time() - cpu) * 1e3 / len(scenes))
+    for name in variants:
+        print(f"{name:13s}: wall {statistics.median(walls[name]):.2f} ms a frame ({min(walls[name]):.2f}–"
+              f"{max(walls[name]):.2f}), CPU {statistics.median(cpus[name]):.2f} ms")
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
 # The program with one start-up setting undone (cli/process_start.py), patched where the
 # program (cli/main.py, `program`) or process_start reads it when it runs.
 _UNDO = {
@@ -286,7 +331,7 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "child"))
+    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "chunks", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--runs", type=int, default=3)
@@ -299,6 +344,8 @@ def main(argv: list[str] | None = None) -> int:
         args.size, args.frames, args.runs, args.segments, args.rounds = 32, 3, 1, 8, 1
     if args.what == "child":
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
+    elif args.what == "chunks":
+        chunks(args.size, args.rounds, args.smoke)
     elif args.what == "poll":
         poll(args.size, args.rounds, args.segments)
     elif args.what == "frame-plans":
