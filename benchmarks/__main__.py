@@ -56,6 +56,7 @@ SMOKE_SCRIPTS = {
     "ab_issue29_frame_plans": ("scripts/ab_issue29.py", "frame-plans", "--smoke"),
     "ab_issue29_turned_away": ("scripts/ab_issue29.py", "turned-away", "--smoke"),
     "ab_issue29_chunks": ("scripts/ab_issue29.py", "chunks", "--smoke"),
+    "ab_issue29_batch_parts": ("scripts/ab_issue29.py", "batch-parts", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -73,6 +74,7 @@ REAL_SCRIPTS = {
     "ab_issue29_frame_plans": ("scripts/ab_issue29.py", "frame-plans"),
     "ab_issue29_turned_away": ("scripts/ab_issue29.py", "turned-away"),
     "ab_issue29_chunks": ("scripts/ab_issue29.py", "chunks", "--rounds", "5"),
+    "ab_issue29_batch_parts": ("scripts/ab_issue29.py", "batch-parts", "--rounds", "5"),
 }
 
 

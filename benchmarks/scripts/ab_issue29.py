@@ -7,6 +7,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py turned-away --size 512 --rounds 30
     python benchmarks/scripts/ab_issue29.py start-up --rounds 20
     python benchmarks/scripts/ab_issue29.py chunks --size 512 --rounds 5
+    python benchmarks/scripts/ab_issue29.py batch-parts --size 512 --rounds 5
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -50,6 +51,14 @@ render_many as one stream and in chunks of 16 and of 48 (each chunk a render_man
 own, so the frames in flight drain at its end, as `batch` does between chunks),
 interleaved round by round in one process; median wall and process CPU ms per frame.
 What a chunk boundary costs the frames themselves, without any writing.
+
+batch-parts: where a colour + depth batch frame goes beyond its render + readback, as an
+A/B in one process on the dataset benchmark's 192 jobs, round by round: `render_many` of
+their scenes alone (built beforehand), then `render_dataset` with each job's files neither
+encoded nor written (its write_view replaced by one that only names the files: what is
+left is loading the meshes, building the scenes, the chunks' bookkeeping), encoded but not
+written (the PNG, the .npy bytes and the record, into memory), and as it is. Median wall
+and process CPU (every thread) ms per frame, and each ÷ render_many's wall.
 """
 
 from __future__ import annotations
@@ -262,6 +271,81 @@ def chunks(size: int, rounds: int, smoke: bool) -> None:
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
+def batch_parts(size: int, rounds: int, smoke: bool) -> None:
+    import io
+    import shutil
+    import tempfile
+
+    import numpy as np
+
+    from benchmarks.dataset import SMOKE_MESHES, default_meshes
+    from wgpu_shading import Renderer
+    from wgpu_shading.assets.png import write_png
+    from wgpu_shading.dataset import Outputs, chunk, mesh_jobs, render_dataset, turntable_views
+    from wgpu_shading.dataset.views import base_scene, job_scene
+
+    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
+    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy"), {"size": size})
+    bases: dict = {}
+    for job in jobs:
+        bases.setdefault(job.load_key(), base_scene(job))
+    scenes = [job_scene(bases[job.load_key()], job) for job in jobs]
+    renderer = Renderer()
+    as_shipped = chunk.write_view
+
+    def named_only(out_dir, job, frame, extra, camera) -> list[str]:
+        return [f"{job.folder}/{name}" for name in job.outputs.file_names(job.name)]
+
+    def encoded_only(out_dir, job, frame, extra, camera) -> list[str]:
+        write_png(io.BytesIO(), frame.color, 1)
+        np.save(io.BytesIO(), frame.depth.astype(np.float32))
+        json.dumps(camera, indent=1)
+        return named_only(out_dir, job, frame, extra, camera)
+
+    def frames_alone() -> None:
+        for _ in renderer.render_many(scenes, depth=True):
+            pass
+
+    folder = Path(tempfile.mkdtemp(prefix="ab-batch-parts-"))
+    runs = iter(range(1 << 30))
+
+    def batch(write_view):
+        def run() -> None:
+            chunk.write_view = write_view
+            try:
+                render_dataset(jobs, folder / str(next(runs)), progress=False, renderer=renderer)
+            finally:
+                chunk.write_view = as_shipped
+        return run
+
+    variants = {
+        "render + readback alone": frames_alone,
+        "batch, files neither encoded nor written": batch(named_only),
+        "batch, files encoded, not written": batch(encoded_only),
+        "batch": batch(as_shipped),
+    }
+    print(f"{len(meshes)} meshes × {views} views at {size}², colour + depth; load average {os.getloadavg()[0]:.2f} at the start")
+    walls: dict[str, list[float]] = {name: [] for name in variants}
+    cpus: dict[str, list[float]] = {name: [] for name in variants}
+    try:
+        for run in variants.values():  # pipelines, uploads, thread pools
+            run()
+        for _ in range(rounds):
+            for name, run in variants.items():
+                wall, cpu = time.perf_counter(), time.process_time()
+                run()
+                walls[name].append((time.perf_counter() - wall) * 1e3 / len(jobs))
+                cpus[name].append((time.process_time() - cpu) * 1e3 / len(jobs))
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    alone = statistics.median(walls["render + readback alone"])
+    for name in variants:
+        wall = statistics.median(walls[name])
+        print(f"{name:42s}: wall {wall:6.2f} ms a frame ({min(walls[name]):.2f}–{max(walls[name]):.2f}), "
+              f"CPU {statistics.median(cpus[name]):6.2f} ms; {wall / alone:.2f}× the frames alone")
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
 # The program with one start-up setting undone (cli/process_start.py), patched where the
 # program (cli/main.py, `program`) or process_start reads it when it runs.
 _UNDO = {
@@ -331,7 +415,7 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "chunks", "child"))
+    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "chunks", "batch-parts", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--runs", type=int, default=3)
@@ -344,6 +428,8 @@ def main(argv: list[str] | None = None) -> int:
         args.size, args.frames, args.runs, args.segments, args.rounds = 32, 3, 1, 8, 1
     if args.what == "child":
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
+    elif args.what == "batch-parts":
+        batch_parts(args.size, args.rounds, args.smoke)
     elif args.what == "chunks":
         chunks(args.size, args.rounds, args.smoke)
     elif args.what == "poll":
