@@ -233,9 +233,10 @@ def turned_away(size: int, rounds: int, segments: int) -> None:
     )
 
 
-def chunks(size: int, rounds: int, smoke: bool) -> None:
+def _dataset_scenes(size: int, smoke: bool) -> tuple[str, list, list]:
+    """The dataset benchmark's colour + depth jobs (its 4 meshes × 48 views; tiny when smoke)
+    and their scenes, built beforehand; and a line saying what they are."""
     from benchmarks.dataset import SMOKE_MESHES, default_meshes
-    from wgpu_shading import Renderer
     from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
     from wgpu_shading.dataset.views import base_scene, job_scene
 
@@ -245,6 +246,26 @@ def chunks(size: int, rounds: int, smoke: bool) -> None:
     for job in jobs:
         bases.setdefault(job.load_key(), base_scene(job))
     scenes = [job_scene(bases[job.load_key()], job) for job in jobs]
+    return f"{len(meshes)} meshes × {views} views at {size}², colour + depth", jobs, scenes
+
+
+def _interleaved_per_frame(variants: dict, rounds: int, frames: int) -> tuple[dict, dict]:
+    """Each variant run once per round, in turn: wall and process CPU ms per frame, per round."""
+    walls: dict[str, list[float]] = {name: [] for name in variants}
+    cpus: dict[str, list[float]] = {name: [] for name in variants}
+    for _ in range(rounds):
+        for name, run in variants.items():
+            wall, cpu = time.perf_counter(), time.process_time()
+            run()
+            walls[name].append((time.perf_counter() - wall) * 1e3 / frames)
+            cpus[name].append((time.process_time() - cpu) * 1e3 / frames)
+    return walls, cpus
+
+
+def chunks(size: int, rounds: int, smoke: bool) -> None:
+    from wgpu_shading import Renderer
+
+    what, _, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
 
     def in_chunks(length: int):
@@ -256,15 +277,8 @@ def chunks(size: int, rounds: int, smoke: bool) -> None:
 
     variants = {"one stream": in_chunks(len(scenes)), "chunks of 16": in_chunks(16), "chunks of 48": in_chunks(48)}
     in_chunks(len(scenes))()  # uploads and pipelines on every device first
-    walls: dict[str, list[float]] = {name: [] for name in variants}
-    cpus: dict[str, list[float]] = {name: [] for name in variants}
-    print(f"{len(meshes)} meshes × {views} views at {size}², colour + depth; load average {os.getloadavg()[0]:.2f} at the start")
-    for _ in range(rounds):
-        for name, run in variants.items():
-            wall, cpu = time.perf_counter(), time.process_time()
-            run()
-            walls[name].append((time.perf_counter() - wall) * 1e3 / len(scenes))
-            cpus[name].append((time.process_time() - cpu) * 1e3 / len(scenes))
+    print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start")
+    walls, cpus = _interleaved_per_frame(variants, rounds, len(scenes))
     for name in variants:
         print(f"{name:13s}: wall {statistics.median(walls[name]):.2f} ms a frame ({min(walls[name]):.2f}–"
               f"{max(walls[name]):.2f}), CPU {statistics.median(cpus[name]):.2f} ms")
@@ -278,18 +292,11 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
 
     import numpy as np
 
-    from benchmarks.dataset import SMOKE_MESHES, default_meshes
     from wgpu_shading import Renderer
     from wgpu_shading.assets.png import write_png
-    from wgpu_shading.dataset import Outputs, chunk, mesh_jobs, render_dataset, turntable_views
-    from wgpu_shading.dataset.views import base_scene, job_scene
+    from wgpu_shading.dataset import chunk, render_dataset
 
-    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
-    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy"), {"size": size})
-    bases: dict = {}
-    for job in jobs:
-        bases.setdefault(job.load_key(), base_scene(job))
-    scenes = [job_scene(bases[job.load_key()], job) for job in jobs]
+    what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
     as_shipped = chunk.write_view
 
@@ -324,18 +331,11 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
         "batch, files encoded, not written": batch(encoded_only),
         "batch": batch(as_shipped),
     }
-    print(f"{len(meshes)} meshes × {views} views at {size}², colour + depth; load average {os.getloadavg()[0]:.2f} at the start")
-    walls: dict[str, list[float]] = {name: [] for name in variants}
-    cpus: dict[str, list[float]] = {name: [] for name in variants}
+    print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start")
     try:
         for run in variants.values():  # pipelines, uploads, thread pools
             run()
-        for _ in range(rounds):
-            for name, run in variants.items():
-                wall, cpu = time.perf_counter(), time.process_time()
-                run()
-                walls[name].append((time.perf_counter() - wall) * 1e3 / len(jobs))
-                cpus[name].append((time.process_time() - cpu) * 1e3 / len(jobs))
+        walls, cpus = _interleaved_per_frame(variants, rounds, len(jobs))
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     alone = statistics.median(walls["render + readback alone"])
