@@ -138,20 +138,27 @@ def poll(size: int, rounds: int, segments: int) -> None:
         device._poll_wait()  # wgpuDevicePoll(wait): the map's callback runs here
         promise.sync_wait()
 
-    def ours_polling() -> object:
-        readback.map_for_reading = on_our_thread
-        return renderer.render(scene)
+    _switched_with_moderngl(
+        scene, lambda: renderer.render(scene), readback, "map_for_reading",
+        {"map waited for on our thread": on_our_thread, "through wgpu-py's poll thread": through_poll_thread}, rounds, "waits",
+    )
 
-    def ours_plain() -> object:
-        readback.map_for_reading = through_poll_thread
-        return renderer.render(scene)
+
+def _switched_with_moderngl(scene, render, owner, name: str, values: dict, rounds: int, what: str) -> None:
+    """_interleaved_with_moderngl of `render()` with `owner.name` set to each of `values`
+    (label → value) in turn; `owner.name` is put back as it was afterwards."""
+    shipped = getattr(owner, name)
+
+    def with_value(value):
+        def run() -> object:
+            setattr(owner, name, value)
+            return render()
+        return run
 
     try:
-        _interleaved_with_moderngl(
-            scene, {"map waited for on our thread": ours_polling, "through wgpu-py's poll thread": ours_plain}, rounds, "waits",
-        )
+        _interleaved_with_moderngl(scene, {label: with_value(value) for label, value in values.items()}, rounds, what)
     finally:
-        readback.map_for_reading = through_poll_thread
+        setattr(owner, name, shipped)
 
 
 def _interleaved_with_moderngl(scene, contenders: dict, rounds: int, what: str) -> None:
@@ -190,20 +197,10 @@ def frame_plans(size: int, rounds: int, segments: int) -> None:
     changes = iter(range(1 << 62))
     never_kept = FramePlans(lambda: next(changes))  # the caches "change" at every look-up: no plan is used
 
-    def from_plan() -> object:
-        cache.frame_plans = kept
-        return renderer.render(scene)
-
-    def prepared_anew() -> object:
-        cache.frame_plans = never_kept
-        return renderer.render(scene)
-
-    try:
-        _interleaved_with_moderngl(
-            scene, {"drawn from its frame plan": from_plan, "prepared anew every frame": prepared_anew}, rounds, "paths",
-        )
-    finally:
-        cache.frame_plans = kept
+    _switched_with_moderngl(
+        scene, lambda: renderer.render(scene), cache, "frame_plans",
+        {"drawn from its frame plan": kept, "prepared anew every frame": never_kept}, rounds, "paths",
+    )
 
 
 def turned_away(size: int, rounds: int, segments: int) -> None:
