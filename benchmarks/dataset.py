@@ -186,8 +186,13 @@ def run_dataset_benchmark(
                 runs[f"dask {workers} worker{'s' if workers > 1 else ''}"] = lambda out, c=cluster: render_dataset(
                     jobs, out, scheduler=c.scheduler_address, progress=False, chunk_size=chunk
                 )
+            modes = list(runs)
             for index in range(passes):
-                for mode, run in runs.items():  # alternating, so load changes hit every mode alike
+                # Alternating, so load changes hit every mode alike, in an order rotated from
+                # pass to pass: a run's place in the sequence moved one configuration's batch
+                # by up to 7 % on this machine (docs/performance.md, "Where a dataset frame goes").
+                for mode in modes[index % len(modes):] + modes[: index % len(modes)]:
+                    run = runs[mode]
                     out = scratch / f"{size}-{index}-{mode.replace(' ', '_').replace(',', '')}"
                     # Frames per CPU-second is throughput per busy core, which the load other
                     # processes put on a shared machine changes much less than frames/s.

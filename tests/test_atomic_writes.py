@@ -19,6 +19,7 @@ import pytest
 from PIL import Image
 
 from wgpu_shading.assets.animation import write_animation
+from wgpu_shading.assets import atomic
 from wgpu_shading.assets import image_writers as images
 from wgpu_shading.assets.image_writers import check_writable, write_depth, write_image
 from wgpu_shading.cli.main import main
@@ -156,6 +157,44 @@ def test_a_new_file_keeps_the_umask_mode_and_a_replaced_one_its_mode(tmp_path):
     kept.chmod(0o640)
     write_image(kept, noise(4, 4))
     assert kept.stat().st_mode & 0o777 == 0o640
+
+
+@pytest.mark.parametrize("how", ["bytes", "opened file", "encoder's own file"])
+def test_every_way_of_writing_keeps_the_umask_mode_or_the_replaced_files(tmp_path, how):
+    """atomic_write and atomic_open create the temporary themselves (with the umask's mode, and
+    change it only to match a file they replace); atomic_path's encoders may create it 0600."""
+
+    def write(path: Path) -> None:
+        if how == "bytes":
+            atomic.atomic_write(path, b"new")
+        elif how == "opened file":
+            atomic.atomic_write(path, lambda file: file.write(b"new"))
+        else:
+            with atomic.atomic_path(path) as temporary:
+                descriptor = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+                os.write(descriptor, b"new")
+                os.close(descriptor)
+
+    umask = os.umask(0)
+    os.umask(umask)
+    fresh = tmp_path / "fresh.tar.gz"
+    write(fresh)
+    assert fresh.read_bytes() == b"new" and fresh.stat().st_mode & 0o777 == 0o666 & ~umask
+    kept = tmp_path / "kept.bin"
+    kept.write_bytes(OLD)
+    kept.chmod(0o640)
+    write(kept)
+    assert kept.read_bytes() == b"new" and kept.stat().st_mode & 0o777 == 0o640
+    assert leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize("name, suffix", [("a.png", ".png"), ("a.tar.gz", ".gz"), (".hidden", ""), ("a.", ""),
+                                          ("noext", ""), ("a." + "x" * 20, "")])
+def test_a_temporary_keeps_a_short_suffix_last_and_says_what_it_is(tmp_path, name, suffix):
+    temporary = atomic.temporary_path(tmp_path / name, "batch-")
+    counter_and_suffix = temporary.name.rsplit("-", 1)[1]
+    assert temporary.parent == tmp_path and counter_and_suffix.lstrip("0123456789") == suffix
+    assert atomic.is_temporary(temporary.name, "batch-") and temporary.name.startswith(f".{name}")
 
 
 # --------------------------------------------------------------------------- links

@@ -3,9 +3,11 @@ pixels as `wgpu-shading render`, outputs checked against geometry, resumability,
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
+import pickle
 from pathlib import Path
 
 import numpy as np
@@ -394,3 +396,28 @@ def test_the_next_chunk_renders_while_the_last_one_s_writes_end(tmp_path, render
         chunks.close()
     assert [record["id"] for record in records] == [job.id for job in jobs] and all(record["ok"] for record in records)
     assert all((tmp_path / file).is_file() for job in jobs for file in job.files())
+
+
+def test_view_records_are_json_a_key_per_line_with_each_matrix_on_one(sphere_dataset):
+    """name.json (and cameras.json) read back as written, a key per line and a list per line
+    (dataset/writer.py json_text); the record names the job's digest and files."""
+    for path in (sphere_dataset / "out" / "spheres" / "view_000.json", sphere_dataset / "out" / "spheres" / "cameras.json"):
+        text = path.read_text()
+        data = json.loads(text)
+        assert json.loads(json.dumps(data)) == data
+        lines = text.splitlines()
+        assert lines[0] == "{" and lines[-1] == "}"
+        matrices = [line for line in lines if '"world_to_camera_opencv": [[' in line]
+        assert matrices and all(line.rstrip(",").endswith("]]") for line in matrices)
+    record = json.loads((sphere_dataset / "out" / "spheres" / "view_000.json").read_text())
+    assert record["files"][0] == "spheres/view_000.png" and len(record["digest"]) == 32
+    assert len(record["camera"]["world_to_camera_opencv"]) == 4
+
+
+def test_a_job_s_digest_is_its_fields_hash_computed_once(tmp_path):
+    job = mesh_jobs([TORUS], turntable_views(2), Outputs(depth="npy"), {"size": 40})[1]
+    same = type(job)(**{name: getattr(job, name) for name in job.__dataclass_fields__})
+    assert job.digest() == same.digest() and job.digest() is job.digest()
+    other = dataclasses.replace(job, outputs=Outputs())
+    assert other.digest() != job.digest()
+    assert pickle.loads(pickle.dumps(job)).digest() == job.digest()

@@ -247,11 +247,16 @@ def _dataset_scenes(size: int, smoke: bool) -> tuple[str, list, list]:
 
 
 def _interleaved_per_frame(variants: dict, rounds: int, frames: int) -> tuple[dict, dict]:
-    """Each variant run once per round, in turn: wall and process CPU ms per frame, per round."""
+    """Each variant run once per round, in turn, the order rotated from round to round (on
+    this machine a variant's place in the round moved batch runs of one configuration by
+    ±0.6 ms a frame, 7 %: docs/performance.md): wall and process CPU ms per frame, per round."""
     walls: dict[str, list[float]] = {name: [] for name in variants}
     cpus: dict[str, list[float]] = {name: [] for name in variants}
-    for _ in range(rounds):
-        for name, run in variants.items():
+    names = list(variants)
+    for round_index in range(rounds):
+        shift = round_index % len(names)
+        for name in names[shift:] + names[:shift]:
+            run = variants[name]
             wall, cpu = time.perf_counter(), time.process_time()
             run()
             walls[name].append((time.perf_counter() - wall) * 1e3 / frames)

@@ -147,11 +147,16 @@ class Job:
 
     def digest(self) -> str:
         """A hash of everything that decides this job's files: a rerun skips the job only
-        when the stored digest matches (a changed manifest row renders again)."""
-        data = asdict(self)
-        data.pop("id")
-        text = json.dumps(data, sort_keys=True, default=list)
-        return hashlib.sha256(text.encode()).hexdigest()[:32]
+        when the stored digest matches (a changed manifest row renders again). Computed
+        once (the skip check and the writer each ask; a job is frozen)."""
+        cached = self.__dict__.get("_digest")
+        if cached is None:
+            data = asdict(self)
+            data.pop("id")
+            text = json.dumps(data, sort_keys=True, default=list)
+            cached = hashlib.sha256(text.encode()).hexdigest()[:32]
+            object.__setattr__(self, "_digest", cached)  # not a field, like _view_options
+        return cached
 
     def files(self) -> list[str]:
         return [f"{self.folder}/{file}" for file in self.outputs.file_names(self.name)]

@@ -4,7 +4,6 @@ folder and report.json for the run."""
 
 from __future__ import annotations
 
-import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,7 +14,7 @@ from .cameras import CONVENTION
 from .jobs import Job, chunks
 from .lock import folder_lock
 from .names import CAMERAS_FILE, REPORT_FILE, check_output_names
-from .writer import atomic_write, finished, remove_stale_temporaries
+from .writer import atomic_write, finished, json_text, remove_stale_temporaries
 
 DEFAULT_CHUNK = 16  # views of one mesh per task: spreads Dask's 2-5 ms a task over many frames
 
@@ -162,7 +161,7 @@ def _write_cameras(out_dir: Path, jobs: list[Job]) -> None:
     for folder, views in folders.items():
         if views:
             data = {"convention": CONVENTION, "views": views}
-            atomic_write(out_dir / folder / CAMERAS_FILE, lambda file, data=data: file.write(json.dumps(data, indent=1).encode()))
+            atomic_write(out_dir / folder / CAMERAS_FILE, lambda file, data=data: file.write(json_text(data)))
 
 
 def _write_report(out_dir: Path, result: BatchResult) -> None:
@@ -174,5 +173,5 @@ def _write_report(out_dir: Path, result: BatchResult) -> None:
         "seconds": round(result.seconds, 3),
         "frames_per_second": round(result.frames_per_second, 2),
     }
-    atomic_write(out_dir / REPORT_FILE, lambda file: file.write(json.dumps(report, indent=1).encode()))
+    atomic_write(out_dir / REPORT_FILE, lambda file: file.write(json_text(report)))
 

@@ -47,6 +47,10 @@ MIN_STROKE_PIXELS, MAX_STROKE_PIXELS = 1.0, 256.0
 
 def finite_numbers(value: object, name: str, lengths: Sequence[int]) -> tuple[float, ...]:
     """A tuple of finite floats of one of the allowed lengths, or a SceneError naming `name`."""
+    if type(value) is tuple and len(value) in lengths and all(type(item) is float for item in value) and math.isfinite(sum(value)):
+        # Already normalized (a scene derived from another: every view of a dataset). A
+        # finite sum proves every item finite; an overflowing one takes the checks below.
+        return value
     expected = " or ".join(str(n) for n in lengths)
     if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__"):
         raise SceneError(f"{name}: expected a list of {expected} numbers, got {shown(value)}")

@@ -52,11 +52,20 @@ def unappliable(option: ViewOption) -> str | None:
     return f"{option.name}: key {option.key!r} names no field of what it applies to"
 
 
+# The options each section applies, in table order (mesh-reader ones acted when the file was
+# read): derived once from the table, since every view of a dataset applies them anew.
+_SECTION_OPTIONS: dict[str | None, tuple[ViewOption, ...]] = {}
+for _option in VIEW_OPTIONS:
+    if _option.load != "mesh":
+        _SECTION_OPTIONS.setdefault(_option.section, ())
+        _SECTION_OPTIONS[_option.section] += (_option,)
+del _option
+
+
 def _of(options: ViewOptions, section: str) -> list[tuple[ViewOption, Any]]:
-    """(option, value) of the options given in `section`, in table order (mesh-reader ones
-    acted when the file was read)."""
-    return [(option, getattr(options, option.name)) for option in VIEW_OPTIONS
-            if option.section == section and option.load != "mesh" and getattr(options, option.name) is not None]
+    """(option, value) of the options given in `section`, in table order."""
+    given = ((option, getattr(options, option.name)) for option in _SECTION_OPTIONS.get(section, ()))
+    return [(option, value) for option, value in given if value is not None]
 
 
 def with_background(background: tuple, color: tuple | None = None, transparent: bool | None = None) -> tuple:
