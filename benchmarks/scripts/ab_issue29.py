@@ -296,7 +296,9 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
 
     from wgpu_shading import Renderer
     from wgpu_shading.assets.png import write_png
-    from wgpu_shading.dataset import chunk, render_dataset
+    from wgpu_shading.dataset import chunk, direct_writes, render_dataset
+    from wgpu_shading.dataset.direct_writes import write_npy
+    from wgpu_shading.dataset.writer import json_text
 
     what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
@@ -307,8 +309,8 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
 
     def encoded_only(out_dir, job, frame, extra, camera) -> list[str]:
         write_png(io.BytesIO(), frame.color, 1)
-        np.save(io.BytesIO(), frame.depth.astype(np.float32))
-        json.dumps(camera, indent=1)
+        write_npy(io.BytesIO(), frame.depth, np.float32)
+        json_text({"id": job.id, "digest": job.digest(), "source": job.source, "files": job.files(), "camera": camera})
         return named_only(out_dir, job, frame, extra, camera)
 
     def frames_alone() -> None:
@@ -318,19 +320,23 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
     folder = Path(tempfile.mkdtemp(prefix="ab-batch-parts-"))
     runs = iter(range(1 << 30))
 
-    def batch(write_view):
+    def batch(write_view, smallest_direct: int = direct_writes.MIN_BYTES):
         def run() -> None:
             chunk.write_view = write_view
+            direct_writes.MIN_BYTES = smallest_direct
             try:
                 render_dataset(jobs, folder / str(next(runs)), progress=False, renderer=renderer)
             finally:
                 chunk.write_view = as_shipped
+                direct_writes.MIN_BYTES = as_shipped_min
         return run
 
+    as_shipped_min = direct_writes.MIN_BYTES
     variants = {
         "render + readback alone": frames_alone,
         "batch, files neither encoded nor written": batch(named_only),
         "batch, files encoded, not written": batch(encoded_only),
+        "batch, every file through the page cache": batch(as_shipped, 1 << 62),
         "batch": batch(as_shipped),
     }
     print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start")

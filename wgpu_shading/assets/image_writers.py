@@ -112,11 +112,16 @@ def depth_png_levels(depth: np.ndarray, near: float, far: float) -> np.ndarray:
     return np.where(covered, levels, 0).astype(np.uint16)
 
 
-def save_depth_png(file, depth: np.ndarray, near: float, far: float, compress_level: int = PNG_LEVEL) -> None:
-    """Write depth as a 16-bit grey PNG to a binary file, with near, far and the convention
-    in its text chunks (tEXt `near`, `far`: repr of the floats; `depth_encoding`)."""
+def depth_png(depth: np.ndarray, near: float, far: float, compress_level: int = PNG_LEVEL) -> bytes:
+    """Depth as a 16-bit grey PNG file's contents, with near, far and the convention in its
+    text chunks (tEXt `near`, `far`: repr of the floats; `depth_encoding`)."""
     text = {"near": repr(float(near)), "far": repr(float(far)), "depth_encoding": DEPTH_PNG_CONVENTION}
-    write_png(file, depth_png_levels(depth, near, far), compress_level, text)
+    return encode_png(depth_png_levels(depth, near, far), compress_level, text)
+
+
+def save_depth_png(file, depth: np.ndarray, near: float, far: float, compress_level: int = PNG_LEVEL) -> None:
+    """depth_png() written to a binary file."""
+    file.write(depth_png(depth, near, far, compress_level))
 
 
 def read_depth_png(path: os.PathLike[str] | str) -> np.ndarray:

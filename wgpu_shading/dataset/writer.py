@@ -13,10 +13,11 @@ from typing import Callable
 import numpy as np
 
 from ..assets import atomic
-from ..assets.image_writers import save_depth_png
-from ..assets.png import write_png
+from ..assets.image_writers import depth_png
+from ..assets.png import encode_png
 from ..render.passes.extra_outputs import ExtraFrame
 from ..render.renderer import Frame
+from .direct_writes import write_bytes, write_npy
 from .jobs import Job
 
 BATCH_TAG = "batch-"  # marks the temporaries of dataset runs (removed by the next run only)
@@ -48,12 +49,14 @@ def remove_stale_temporaries(folder: Path) -> int:
 
 def _png(image: np.ndarray, level: int) -> Callable[[object], None]:
     # 8-bit RGBA, 16-bit RGBA (png16 colour) and 16-bit grey (ids): assets/png.py, at half
-    # Pillow's CPU time; it writes 16-bit colour too, which Pillow cannot.
-    return lambda file: write_png(file, image, level)
+    # Pillow's CPU time; it writes 16-bit colour too, which Pillow cannot. Big files go
+    # around the page cache (direct_writes.py), as the arrays below do.
+    return lambda file: write_bytes(file, encode_png(image, level))
 
 
 def _npy(array: np.ndarray) -> Callable[[object], None]:
-    return lambda file: np.save(file, array)
+    """float32 .npy (what np.save writes for array.astype(np.float32))."""
+    return lambda file: write_npy(file, array, np.float32)
 
 
 def color16(color: np.ndarray) -> np.ndarray:
@@ -63,7 +66,7 @@ def color16(color: np.ndarray) -> np.ndarray:
 
 def _depth_png(depth: np.ndarray, near: float, far: float, level: int) -> Callable[[object], None]:
     # The encoding of `render --depth d.png` (assets/image_writers.py), near and far in its text chunks.
-    return lambda file: save_depth_png(file, depth, near, far, level)
+    return lambda file: write_bytes(file, depth_png(depth, near, far, level))
 
 
 def write_view(
@@ -82,7 +85,7 @@ def write_view(
         elif "_depth." in file_name:
             assert frame is not None and frame.depth is not None
             if outputs.depth == "npy":
-                write = _npy(frame.depth.astype(np.float32))
+                write = _npy(frame.depth)
             else:
                 write = _depth_png(frame.depth, camera["near"], camera["far"], level)
         elif "_normals_" in file_name:
