@@ -18,7 +18,7 @@ import pytest
 from wgpu_shading.assets.atomic import atomic_write
 from wgpu_shading.dataset import direct_writes
 
-needs_direct = pytest.mark.skipif(not direct_writes._O_DIRECT, reason="no O_DIRECT on this platform")
+needs_direct = pytest.mark.skipif(not direct_writes.DIRECT_FLAG, reason="no O_DIRECT on this platform")
 
 
 def npy_bytes(array: np.ndarray) -> bytes:
@@ -58,40 +58,36 @@ def test_a_file_system_that_refuses_o_direct_gets_the_same_bytes(tmp_path, monke
     real = direct_writes.fcntl.fcntl
 
     def refuse(descriptor, command, argument=0):
-        if command == direct_writes.fcntl.F_SETFL and argument & direct_writes._O_DIRECT:
+        if command == direct_writes.fcntl.F_SETFL and argument & direct_writes.DIRECT_FLAG:
             raise OSError(22, "Invalid argument")
         return real(descriptor, command, argument)
 
     monkeypatch.setattr(direct_writes.fcntl, "fcntl", refuse)
-    monkeypatch.setattr(direct_writes, "_refused", set())
     array = np.random.default_rng(2).normal(size=(600, 601))
     for name in ("a.npy", "b.npy"):
         atomic_write(tmp_path / name, lambda file: direct_writes.write_npy(file, array, np.float32))
         assert (tmp_path / name).read_bytes() == npy_bytes(array)
-    assert direct_writes._refused == {os.stat(tmp_path).st_dev}  # asked once, then remembered
 
 
-def test_a_refused_first_write_falls_back_and_is_remembered(tmp_path, monkeypatch):
+def test_a_refused_first_write_falls_back(tmp_path, monkeypatch):
     """A file system that takes the flag but refuses the aligned write (EINVAL) still gets the file."""
     real_write = os.write
     calls = []
 
     def write(descriptor, data):
         flags = direct_writes.fcntl.fcntl(descriptor, direct_writes.fcntl.F_GETFL)
-        calls.append(bool(flags & direct_writes._O_DIRECT))
-        if flags & direct_writes._O_DIRECT:
+        calls.append(bool(flags & direct_writes.DIRECT_FLAG))
+        if flags & direct_writes.DIRECT_FLAG:
             raise OSError(22, "Invalid argument")
         return real_write(descriptor, data)
 
     monkeypatch.setattr(direct_writes.os, "write", write)
-    monkeypatch.setattr(direct_writes, "_refused", set())
     data = bytes(range(256)) * 4001
-    if not direct_writes._O_DIRECT:
+    if not direct_writes.DIRECT_FLAG:
         pytest.skip("no O_DIRECT on this platform")
     atomic_write(tmp_path / "a.bin", lambda file: direct_writes.write_bytes(file, data))
-    atomic_write(tmp_path / "b.bin", lambda file: direct_writes.write_bytes(file, data))
-    assert (tmp_path / "a.bin").read_bytes() == data == (tmp_path / "b.bin").read_bytes()
-    assert calls[0] is True and not any(calls[1:])  # the second file never asked again
+    assert (tmp_path / "a.bin").read_bytes() == data
+    assert calls[0] is True and not any(calls[1:])  # refused once, then the usual way
 
 
 def test_a_full_disk_is_an_error_naming_the_file(tmp_path):
@@ -133,14 +129,14 @@ def resident_pages(path: Path) -> int:
 
 @needs_direct
 def test_a_big_file_leaves_no_pages_in_the_page_cache(tmp_path):
-    if direct_writes.os.stat(tmp_path).st_dev in direct_writes._refused:
+    try:
+        os.close(os.open(tmp_path / "probe", os.O_WRONLY | os.O_CREAT | direct_writes.DIRECT_FLAG, 0o600))
+    except OSError:
         pytest.skip("this file system refuses O_DIRECT")
     array = np.random.default_rng(3).normal(size=(512, 512))
     direct, cached = tmp_path / "direct.npy", tmp_path / "cached.npy"
     atomic_write(direct, lambda file: direct_writes.write_npy(file, array, np.float32))
     atomic_write(cached, lambda file: np.save(file, array.astype(np.float32)))
-    if direct_writes.os.stat(tmp_path).st_dev in direct_writes._refused:
-        pytest.skip("this file system refused O_DIRECT")
     with open(cached, "rb") as file:
         os.fsync(file.fileno())  # dirty pages stay until written back
         os.posix_fadvise(file.fileno(), 0, 0, os.POSIX_FADV_DONTNEED)

@@ -16,7 +16,7 @@ aligned buffer of this thread (kept from one file to the next: a new one would t
 pages too), its whole 4 KiB blocks are written direct and the last part block the usual
 way (one page cached; nothing padded to cut off again). A
 file system without direct I/O (tmpfs on older kernels, some FUSE mounts) refuses the flag
-with EINVAL: that file, and every later one on that file system, is written the usual way.
+with EINVAL (one system call a file, not worth remembering): that file is written the usual way.
 Elsewhere than Linux there is no O_DIRECT and every file is written the usual way.
 """
 
@@ -40,11 +40,9 @@ ALIGNMENT = 4096  # a multiple of every logical block size Linux supports
 # whatever its size (the block layer, the device's interrupt), a cached one ~0.1 ms per
 # 256 KiB here, and more once its pages are new to the VM (docs/performance.md).
 MIN_BYTES = 512 << 10
-_O_DIRECT = getattr(os, "O_DIRECT", 0) if fcntl is not None else 0
+DIRECT_FLAG = getattr(os, "O_DIRECT", 0) if fcntl is not None else 0  # 0: every file the usual way
 
 _buffers = threading.local()  # this thread's aligned buffer (encoder threads each have one)
-_refused: set[int] = set()  # st_dev of file systems that refused O_DIRECT
-_refused_lock = threading.Lock()
 
 
 def _aligned(size: int) -> np.ndarray:
@@ -60,7 +58,7 @@ def _aligned(size: int) -> np.ndarray:
 
 def write_bytes(file: BinaryIO, data: bytes) -> None:
     """Encoded contents (a PNG) into `file`, a new, empty file opened for binary writing."""
-    if len(data) < MIN_BYTES or not _O_DIRECT:
+    if len(data) < MIN_BYTES or not DIRECT_FLAG:
         file.write(data)
         return
 
@@ -79,7 +77,7 @@ def write_npy(file: BinaryIO, array: np.ndarray, dtype=np.float32) -> None:
     np.lib.format.write_array_header_1_0(header_file, header)  # np.save's format for any header below 64 KiB
     header_bytes = np.frombuffer(header_file.getvalue(), np.uint8)
     size = len(header_bytes) + array.size * dtype.itemsize
-    if size < MIN_BYTES or not _O_DIRECT:
+    if size < MIN_BYTES or not DIRECT_FLAG:
         np.save(file, array.astype(dtype, copy=False))
         return
 
@@ -102,11 +100,10 @@ def _write(file: BinaryIO, size: int, fill: Callable[[np.ndarray], None]) -> Non
     except (AttributeError, io.UnsupportedOperation):  # an in-memory file: nothing to go around
         file.write(buffer.data)
         return
-    device = os.fstat(descriptor).st_dev
     view = memoryview(buffer.data)
     blocks = size - size % ALIGNMENT
     done = 0
-    if device not in _refused and _set_direct(descriptor, True, device):
+    if _set_direct(descriptor, True):
         try:
             while done < blocks:
                 written = os.write(descriptor, view[done:blocks])
@@ -114,26 +111,21 @@ def _write(file: BinaryIO, size: int, fill: Callable[[np.ndarray], None]) -> Non
                 if written % ALIGNMENT:  # a short write off a block boundary: the rest the usual way
                     break
         except OSError as error:
-            if error.errno != errno.EINVAL or done:
+            if error.errno != errno.EINVAL or done:  # EINVAL at the first write: another alignment wanted
                 raise
-            with _refused_lock:  # refused at the first write: this file system wants another alignment
-                _refused.add(device)
         finally:
-            _set_direct(descriptor, False, device)
+            _set_direct(descriptor, False)
     while done < size:
         done += os.write(descriptor, view[done:size])
 
 
-def _set_direct(descriptor: int, direct: bool, device: int) -> bool:
-    """Switch O_DIRECT on or off for an open file; False (and the file system remembered)
-    where it is refused."""
+def _set_direct(descriptor: int, direct: bool) -> bool:
+    """Switch O_DIRECT on or off for an open file; False where the file system refuses it."""
     flags = fcntl.fcntl(descriptor, fcntl.F_GETFL)
     try:
-        fcntl.fcntl(descriptor, fcntl.F_SETFL, (flags | _O_DIRECT) if direct else (flags & ~_O_DIRECT))
+        fcntl.fcntl(descriptor, fcntl.F_SETFL, (flags | DIRECT_FLAG) if direct else (flags & ~DIRECT_FLAG))
     except OSError as error:
         if error.errno != errno.EINVAL:
             raise
-        with _refused_lock:
-            _refused.add(device)
         return False
     return True
