@@ -37,7 +37,7 @@ def test_an_array_file_is_what_np_save_writes(tmp_path, shape):
     np.testing.assert_array_equal(np.load(path), array.astype(np.float32))
 
 
-@pytest.mark.parametrize("size", [1, direct_writes.MIN_BYTES - 1, direct_writes.MIN_BYTES, direct_writes.MIN_BYTES + 1,
+@pytest.mark.parametrize("size", [1, direct_writes.SMALLEST_DIRECT_FILE - 1, direct_writes.SMALLEST_DIRECT_FILE, direct_writes.SMALLEST_DIRECT_FILE + 1,
                                   3 * direct_writes.ALIGNMENT * 100, 1_000_003])
 def test_encoded_bytes_are_written_whole_at_every_length(tmp_path, size):
     data = np.random.default_rng(size).integers(0, 256, size, dtype=np.uint8).tobytes()

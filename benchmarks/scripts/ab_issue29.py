@@ -320,18 +320,18 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
     folder = Path(tempfile.mkdtemp(prefix="ab-batch-parts-"))
     runs = iter(range(1 << 30))
 
-    def batch(write_view, smallest_direct: int = direct_writes.MIN_BYTES):
+    def batch(write_view, smallest_direct: int = direct_writes.SMALLEST_DIRECT_FILE):
         def run() -> None:
             chunk.write_view = write_view
-            direct_writes.MIN_BYTES = smallest_direct
+            direct_writes.SMALLEST_DIRECT_FILE = smallest_direct
             try:
                 render_dataset(jobs, folder / str(next(runs)), progress=False, renderer=renderer)
             finally:
                 chunk.write_view = as_shipped
-                direct_writes.MIN_BYTES = as_shipped_min
+                direct_writes.SMALLEST_DIRECT_FILE = as_shipped_min
         return run
 
-    as_shipped_min = direct_writes.MIN_BYTES
+    as_shipped_min = direct_writes.SMALLEST_DIRECT_FILE
     variants = {
         "render + readback alone": frames_alone,
         "batch, files neither encoded nor written": batch(named_only),

@@ -39,7 +39,7 @@ ALIGNMENT = 4096  # a multiple of every logical block size Linux supports
 # Smaller files are written through the page cache: a direct write costs ~150 µs of CPU
 # whatever its size (the block layer, the device's interrupt), a cached one ~0.1 ms per
 # 256 KiB here, and more once its pages are new to the VM (docs/performance.md).
-MIN_BYTES = 512 << 10
+SMALLEST_DIRECT_FILE = 512 << 10
 DIRECT_FLAG = getattr(os, "O_DIRECT", 0) if fcntl is not None else 0  # 0: every file the usual way
 
 _buffers = threading.local()  # this thread's aligned buffer (encoder threads each have one)
@@ -58,7 +58,7 @@ def _aligned(size: int) -> np.ndarray:
 
 def write_bytes(file: BinaryIO, data: bytes) -> None:
     """Encoded contents (a PNG) into `file`, a new, empty file opened for binary writing."""
-    if len(data) < MIN_BYTES or not DIRECT_FLAG:
+    if len(data) < SMALLEST_DIRECT_FILE or not DIRECT_FLAG:
         file.write(data)
         return
 
@@ -77,7 +77,7 @@ def write_npy(file: BinaryIO, array: np.ndarray, dtype=np.float32) -> None:
     np.lib.format.write_array_header_1_0(header_file, header)  # np.save's format for any header below 64 KiB
     header_bytes = np.frombuffer(header_file.getvalue(), np.uint8)
     size = len(header_bytes) + array.size * dtype.itemsize
-    if size < MIN_BYTES or not DIRECT_FLAG:
+    if size < SMALLEST_DIRECT_FILE or not DIRECT_FLAG:
         np.save(file, array.astype(dtype, copy=False))
         return
 
