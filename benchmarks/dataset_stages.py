@@ -6,8 +6,10 @@ alone, in one process, on the same jobs as benchmarks/dataset.py, beside the bat
     render     render + readback: render_many(scenes, depth=True) on meshes already uploaded
                (the pipelined path a chunk uses); "one at a time" is render_frame in a loop
     encode     the PNG (assets/png.py at the batch's level), the .npy bytes and the record
-    write      those bytes written atomically into a fresh folder (temporary, rename), removed
-               only at the end of the benchmark (as the batch modes' folders are)
+    write      those bytes written atomically into a fresh folder (temporary, rename) the way the
+               batch writes them (files of 512 KiB and more around the page cache:
+               dataset/direct_writes.py), removed only at the end of the benchmark (as the batch
+               modes' folders are)
 
 Every stage is wall and CPU time (this process, every thread), per frame; load is spread over
 the frames of its mesh. The batch's own time inside its chunks, per frame, is then compared
@@ -17,7 +19,6 @@ with render + readback: what the chunk adds to the frames themselves.
 from __future__ import annotations
 
 import io
-import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,7 +28,8 @@ import numpy as np
 from wgpu_shading.assets.png import encode_png
 from wgpu_shading.dataset.cameras import camera_record
 from wgpu_shading.dataset.views import base_scene, job_scene
-from wgpu_shading.dataset.writer import atomic_write
+from wgpu_shading.dataset.direct_writes import write_bytes
+from wgpu_shading.dataset.writer import atomic_write, json_text
 
 STAGES = ("load", "scenes", "render", "render, one at a time", "encode", "write")
 
@@ -80,13 +82,13 @@ def time_stages(renderer, jobs, level: int, times: StageTimes, folder: Path) -> 
             buffer = io.BytesIO()
             np.save(buffer, depth.astype(np.float32))
             record = {"id": job.id, "digest": job.digest(), "source": job.source, "files": job.files(), "camera": camera_record(scene)}
-            encoded.append((job, encode_png(color, level), buffer.getvalue(), json.dumps(record, indent=1).encode()))
+            encoded.append((job, encode_png(color, level), buffer.getvalue(), json_text(record)))
     times.add("encode", clock.wall, clock.cpu, frames)
     folder.mkdir(parents=True)
     with _Clock() as clock:
         for job, png, npy, record in encoded:
             (folder / job.folder).mkdir(exist_ok=True)
-            atomic_write(folder / job.folder / f"{job.name}.png", lambda file, data=png: file.write(data))
-            atomic_write(folder / job.folder / f"{job.name}_depth.npy", lambda file, data=npy: file.write(data))
-            atomic_write(folder / job.record_path(), lambda file, data=record: file.write(data))
+            atomic_write(folder / job.folder / f"{job.name}.png", lambda file, data=png: write_bytes(file, data))
+            atomic_write(folder / job.folder / f"{job.name}_depth.npy", lambda file, data=npy: write_bytes(file, data))
+            atomic_write(folder / job.record_path(), lambda file, data=record: write_bytes(file, data))
     times.add("write", clock.wall, clock.cpu, frames)
