@@ -45,6 +45,8 @@ def solid_orientation(
     welded = weld_by_position(np.round((positions - centre) / (weld_tolerance * size)) if weld_tolerance else positions)
     count = int(welded.max()) + 1
     indices = np.asarray(indices).reshape(-1, 3)
+    if not directed_edges_may_pair(welded, indices):
+        return 0
     # Each edge's code (its two vertices, lower first: int64, up to 2·count²) twice, with
     # the direction it is run along in the lowest bit; a block of triangles at a time (the
     # temporaries stay small). Triangles with a repeated vertex leave their codes at -1.
@@ -85,6 +87,39 @@ def solid_orientation(
         if not (orientation * sums > 0.0).all():
             return 0
     return orientation
+
+
+def directed_edges_may_pair(welded: np.ndarray, indices: np.ndarray) -> bool:
+    """False when the directed edges cannot pair up with their reverses, which proves the
+    surface open or inconsistently wound (solid_orientation's answer 0) without the sort of
+    every edge code: most open meshes (scans with holes, a dataset's models) stop here (the
+    69K-triangle Stanford bunny's Mesh.exact_solid: 28 → 13 ms, most of what is left the
+    weld; a closed mesh pays ~10 % more for the count).
+
+    A weighted count: each vertex gets two pseudo-random 64-bit weights f and g, and every
+    directed edge (a, b) adds f[a]·g[b] − f[b]·g[a]. When each directed edge occurs exactly
+    as often as its reverse the terms cancel, and modulo 2^64 (numpy's unsigned wrap) they
+    cancel exactly; a triangle with a repeated vertex adds 0 on its own, as the full test
+    drops it. So a non-zero sum means some edge's count differs from its reverse's, and
+    the full test would return 0 too. A zero sum proves nothing: the full test decides."""
+    f, g = (_mixed(np.arange(int(welded.max()) + 1, dtype=np.uint64) * np.uint64(2) + np.uint64(k)) for k in (0, 1))
+    total = 0  # (a Python int, reduced mod 2^64: numpy's scalars warn where its arrays wrap)
+    for start in range(0, len(indices), _BLOCK):
+        block = welded[indices[start : start + _BLOCK]]
+        for slot in range(3):
+            a, b = block[:, slot], block[:, (slot + 1) % 3]
+            total += int((f[a] * g[b]).sum(dtype=np.uint64)) - int((f[b] * g[a]).sum(dtype=np.uint64))
+    return total % (1 << 64) == 0
+
+
+def _mixed(values: np.ndarray) -> np.ndarray:
+    """SplitMix64's output function (Steele, Lea and Flood, "Fast splittable pseudorandom
+    number generators", OOPSLA 2014): well-spread 64-bit weights from consecutive integers,
+    without importing numpy.random (~8 ms of a cold start)."""
+    z = values + np.uint64(0x9E3779B97F4A7C15)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return z ^ (z >> np.uint64(31))
 
 
 def _pieces(triangles: np.ndarray, count: int) -> np.ndarray:
