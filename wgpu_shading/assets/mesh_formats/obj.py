@@ -229,11 +229,16 @@ def _without_byte_order_mark(data: bytes) -> bytes:
 
 
 def _without_indentation(data: bytes) -> bytes:
-    """Lines with their leading blanks removed, when any line has some: the OBJ spec allows
-    them, and the classification below looks at a line's first two bytes."""
-    if b"\n " in data or b"\n\t" in data or data[:1] in (b" ", b"\t"):
-        return b"\n".join(line.lstrip(b" \t") for line in data.split(b"\n"))
-    return data
+    """Lines with their leading blanks removed: the OBJ spec allows them, and the
+    classification in read_obj looks at a line's first two bytes."""
+    return b"\n".join(line.lstrip(b" \t") for line in data.split(b"\n"))
+
+
+def _line_starts(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each line's first byte offset and its first two bytes (0 past the end), in numpy."""
+    raw = np.frombuffer(data + b"\0\0", np.uint8)
+    starts = np.concatenate([[0], np.flatnonzero(raw[: len(data)] == 10) + 1])
+    return starts, raw[starts], raw[starts + 1]
 
 
 def _with_newlines(data: bytes) -> bytes:
@@ -247,13 +252,15 @@ def _with_newlines(data: bytes) -> bytes:
 def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     """An OBJ file with its MTL materials, as one piece (file_size: the readers' signature;
     the text's own counts are checked instead)."""
-    data = _without_indentation(_with_newlines(_without_byte_order_mark(read_text_bytes(path, f"mesh file {str(path)!r}", MeshError))))
+    data = _with_newlines(_without_byte_order_mark(read_text_bytes(path, f"mesh file {str(path)!r}", MeshError)))
     name = str(path)
     # Classify every line by its first two bytes, in numpy (a Python loop over millions of
-    # lines would cost more than the rest of the reading).
-    raw = np.frombuffer(data + b"\0\0", np.uint8)
-    starts = np.concatenate([[0], np.flatnonzero(raw[: len(data)] == 10) + 1])
-    first, second = raw[starts], raw[starts + 1]
+    # lines would cost more than the rest of the reading). Indented lines are found from
+    # the same first bytes (searching the text for "\n " cost 5 ms of a 2.3 MB file's 90).
+    starts, first, second = _line_starts(data)
+    if ((first == 32) | (first == 9)).any():
+        data = _without_indentation(data)
+        starts, first, second = _line_starts(data)
     blank = (second == 32) | (second == 9)
     is_v = (first == ord("v")) & blank
     is_vt = (first == ord("v")) & (second == ord("t"))
