@@ -147,3 +147,92 @@ def test_an_obj_with_classic_mac_line_endings_loads(tmp_path):
     path.write_bytes(b"v 0 0 0\rv 1 0 0\rv 0 1 0\rv 1 1 0\rf 1 2 3\rf 2 4 3\r")
     mesh = load_mesh(path)
     assert len(mesh.indices) == 2 and len(mesh.positions) >= 4
+
+
+def _reference_triangles(text: str) -> list[tuple]:
+    """Each face line fan-triangulated in file order, every corner as its (position, uv,
+    normal) values (None where the corner gives none): an independent reading, line by
+    line, of the subset of OBJ the generator below writes."""
+    v, vt, vn, triangles = [], [], [], []
+
+    def resolve(number: str, table: list):
+        if not number:
+            return None
+        index = int(number)
+        return table[index - 1] if index > 0 else table[len(table) + index]
+
+    for line in text.splitlines():
+        key, *rest = line.split()
+        if key in ("v", "vt", "vn"):
+            {"v": v, "vt": vt, "vn": vn}[key].append(tuple(float(x) for x in rest))
+        elif key == "f":
+            corners = []
+            for token in rest:
+                parts = (token.split("/") + ["", ""])[:3]
+                corners.append((resolve(parts[0], v), resolve(parts[1], vt), resolve(parts[2], vn)))
+            triangles += [(corners[0], corners[k], corners[k + 1]) for k in range(1, len(corners) - 1)]
+    return triangles
+
+
+def _generated_obj(rng: np.random.Generator) -> str:
+    """Runs of faces of 3 to 6 corners (convex: corners in angular order on a circle, so no
+    polygon is ear-clipped), in one corner format a run or `v//vn` and `v/vt/vn` mixed,
+    indices positive or relative, more vertices declared between runs."""
+    lines, count = [], 0
+    for _ in range(rng.integers(1, 4)):
+        added = int(rng.integers(6, 12))
+        angles = np.sort(rng.uniform(0, 2 * np.pi, added))
+        lines += [f"v {np.cos(a):.6f} {np.sin(a):.6f} 0" for a in angles]  # planar: no fan is re-cut
+        lines += [f"vt {rng.uniform():.4f} {rng.uniform():.4f}" for _ in range(2)]
+        lines += [f"vn 0 0 {1 if rng.uniform() < 0.5 else -1}" for _ in range(2)]
+        first, count = count, count + added
+        formats = [["v"], ["v/vt"], ["v/vt/vn"], ["v//vn"], ["v//vn", "v/vt/vn"]][rng.integers(5)]
+        for _ in range(rng.integers(1, 9)):
+            chosen = np.sort(rng.choice(added, size=int(rng.integers(3, 7)), replace=False)) + first
+            tokens = []
+            for index in chosen.tolist():
+                number = str(index + 1) if rng.uniform() < 0.7 else str(index - count)  # relative: from the end so far
+                uv, normal = str(int(rng.integers(1, 3))), str(int(rng.integers(-2, 0)))
+                tokens.append({"v": number, "v/vt": f"{number}/{uv}", "v/vt/vn": f"{number}/{uv}/{normal}",
+                               "v//vn": f"{number}//{normal}"}[rng.choice(formats)])
+            lines.append("f " + rng.choice([" ", "  ", "\t"]).join(tokens))
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_faces_are_read_as_a_line_by_line_reading_gives_them(tmp_path, seed):
+    """Polygons of several sizes in one run (Blender's quads among triangles), `v//vn`, tabs,
+    relative indices: the faces read at once in numpy are the fan triangles of each line in
+    order, with each corner's position, uv and normal. (Once, runs whose lines had different
+    corner counts but as many numbers in all as equal polygons would have were cut wrongly.)"""
+    from wgpu_shading.assets.mesh_formats.obj import read_obj
+
+    text = _generated_obj(np.random.default_rng(seed))
+    path = tmp_path / "faces.obj"
+    path.write_text(text)
+    (piece,) = read_obj(path).pieces
+    expected = _reference_triangles(text)
+    assert len(piece.faces) == len(expected)
+    np.testing.assert_array_equal(piece.positions[piece.faces], [[c[0] for c in t] for t in expected])
+    if all(c[1] is not None for t in expected for c in t):
+        np.testing.assert_array_equal(piece.uvs[piece.faces], [[c[1] for c in t] for t in expected])
+    else:
+        assert piece.uvs is None
+    if all(c[2] is not None for t in expected for c in t):
+        np.testing.assert_array_equal(piece.normals[piece.faces], [[c[2] for c in t] for t in expected])
+    else:
+        assert piece.normals is None
+
+
+def test_polygons_of_different_sizes_whose_numbers_add_up_like_equal_ones(tmp_path):
+    """A quad, a pentagon, a triangle and a quad: 16 corners, as many as four quads. Read as
+    four quads, the pentagon's last corner began the triangle."""
+    from wgpu_shading.assets.mesh_formats.obj import read_obj
+
+    circle = "".join(f"v {np.cos(a):.6f} {np.sin(a):.6f} 0\n" for a in np.linspace(0, 6, 8))
+    path = tmp_path / "sizes.obj"
+    path.write_text(circle + "f 1 2 3 4\nf 1 3 5 6 7\nf 2 4 6\nf 1 2 7 8\n")
+    (piece,) = read_obj(path).pieces
+    triangles = piece.positions[piece.faces]
+    reference = _reference_triangles(path.read_text())
+    np.testing.assert_array_equal(triangles, [[c[0] for c in t] for t in reference])

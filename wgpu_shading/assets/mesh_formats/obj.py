@@ -10,13 +10,12 @@ What trimesh 5.2 gets wrong, and why this module exists:
   naming the line, as in tinyobjloader.
 - `s off` / `s 0` smoothing groups are dropped; here those faces are flat.
 - Vertex colors (`v x y z r g b`) make it drop the `usemtl` materials.
-Materials come from mtl.py.
+Materials come from mtl.py, face lines are read by obj_faces.py, `l` and `p` by obj_elements.py.
 """
 
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -26,36 +25,14 @@ from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 from ..mesh_pieces import MeshFile, MeshPiece
 from .obj_elements import obj_elements, bare_points
+from .obj_faces import FaceRun, ear_clip_concave, parse_numbers, run_corners
 from .mtl import read_mtl_files
-
-
-@dataclass
-class _Run:
-    """Consecutive face lines with the same state (material, smoothing, vertex counts)."""
-
-    material: str | None
-    flat: bool
-    vertex_count: int
-    uv_count: int
-    normal_count: int
-    first_line: int
-    lines: list[str] = field(default_factory=list)
-
-
-def _numbers(text: str, dtype) -> np.ndarray | None:
-    """Whitespace-separated numbers parsed in C; None when some token is not a number."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", DeprecationWarning)  # "could not be read to its end"
-        try:
-            return np.fromstring(text, dtype=dtype, sep=" ")
-        except (ValueError, DeprecationWarning):
-            return None
 
 
 def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
     """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array; `numbers`
     are their 1-based line numbers (for errors)."""
-    values = _numbers(" ".join(lines).replace(prefix.strip(), " "), np.float64)
+    values = parse_numbers(" ".join(lines).replace(prefix.strip(), " "), np.float64)
     if values is not None and values.size == width * len(lines):
         array = values.reshape(-1, width)
     elif values is not None and prefix == "v " and values.size == 6 * len(lines):
@@ -81,128 +58,6 @@ def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.nd
     return array
 
 
-
-
-def _run_corners(run: _Run, path: str) -> tuple[np.ndarray, np.ndarray]:
-    """Triangle corners of a run: (T, 3, 3) int64 zero-based (v, vt, vn) with −1 for absent,
-    and the run-relative polygon index of each triangle."""
-    lines = run.lines
-    first_tokens = lines[0].split()[1:]
-    corners = len(first_tokens)
-    per_corner = first_tokens[0].count("/") + 1 if first_tokens else 1
-    text = " ".join(lines)
-    values = None
-    if corners >= 3 and "//" not in text:
-        values = _numbers(text.replace("f", " ").replace("/", " "), np.int64)
-        if values is not None and values.size != corners * per_corner * len(lines):
-            values = None
-    if values is not None:  # every line the same polygon and format: fan-triangulate at once
-        polygons = np.zeros((len(lines), corners, 3), np.int64)
-        polygons[:, :, :per_corner] = values.reshape(len(lines), corners, per_corner)
-        if corners == 3:
-            raw = polygons
-        else:
-            raw = np.stack([polygons[:, [0, k, k + 1]] for k in range(1, corners - 1)], axis=1).reshape(-1, 3, 3)
-        polygon = np.repeat(np.arange(len(lines)), corners - 2)
-    else:  # polygons, `a//c`, or mixed formats: line by line, fan-triangulated
-        triangles, polygon_of = [], []
-        for ordinal, line in enumerate(lines):
-            tokens = line.split()[1:]
-            try:
-                parsed = [[int(x) if x else 0 for x in (token.split("/") + ["", ""])[:3]] for token in tokens]
-            except ValueError:
-                raise MeshError(f"{path}:{_face_line(run, ordinal)}: cannot read face {line.strip()!r} (expected vertex indices)") from None
-            if len(parsed) < 3:
-                raise MeshError(f"{path}:{_face_line(run, ordinal)}: a face needs at least 3 vertices, got {line.strip()!r}")
-            for k in range(1, len(parsed) - 1):
-                triangles.append([parsed[0], parsed[k], parsed[k + 1]])
-                polygon_of.append(ordinal)
-        raw = np.array(triangles, np.int64).reshape(-1, 3, 3)
-        polygon = np.array(polygon_of, np.int64)
-    counts = np.array([run.vertex_count, run.uv_count, run.normal_count])
-    fast = _resolve_positive(raw, counts)
-    if fast is not None:
-        return fast, polygon
-    zero = raw[:, :, 0] == 0
-    if zero.any():
-        ordinal = int(polygon[np.flatnonzero(zero.any(axis=1))[0]])
-        raise MeshError(f"{path}:{_face_line(run, ordinal)}: face index 0 in {lines[ordinal].strip()!r} (OBJ indices start at 1)")
-    # Positive indices count from 1; negative ones back from the last v/vt/vn declared so far.
-    resolved = np.where(raw > 0, raw - 1, np.where(raw < 0, counts + raw, -1))
-    missing = (raw != 0) & ((resolved < 0) | (resolved >= counts))
-    for column, what, plural in ((1, "texture coordinate (vt)", "texture coordinates"), (2, "normal (vn)", "normals")):
-        # A vt/vn index past the declared ones (OpenSubdiv's catmark_torus_creases0.obj has no
-        # vn lines at all): the faces are still there, as f3d draws them; only the attribute goes.
-        if missing[:, :, column].any():
-            ordinal = int(polygon[np.flatnonzero(missing[:, :, column].any(axis=1))[0]])
-            warnings.warn(f"{path}:{_face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a {what} that does not exist "
-                          f"({run.uv_count} vt, {run.normal_count} vn declared before it); its {plural} are ignored", stacklevel=2)
-            resolved[:, :, column] = np.where(missing[:, :, column], -1, resolved[:, :, column])
-    out_of_range = missing[:, :, 0].any(axis=1)
-    if out_of_range.any():
-        ordinal = int(polygon[np.flatnonzero(out_of_range)[0]])
-        raise MeshError(
-            f"{path}:{_face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a vertex that does not exist "
-            f"({run.vertex_count} v, {run.uv_count} vt, {run.normal_count} vn declared before it)"
-        )
-    return resolved, polygon
-
-
-def _ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.ndarray) -> np.ndarray:
-    """Concave polygons triangulated again by ear clipping; the fan is kept for the rest.
-
-    A fan from the first corner is right only when every fan triangle faces the polygon's
-    own normal (its vector area, the sum of the fan's): then the corners lie in angular order
-    around the first one. Otherwise (an L, a ring cut open by a slit, letters) the fan covers
-    the concave notches, which f3d, Blender and assimp leave open."""
-    if len(corners) == 0 or len(polygon) == int(polygon[-1]) + 1:
-        return corners  # triangles only (polygon numbers run 0, 1, ... in order, one per triangle)
-    points = positions[corners[:, :, 0]]
-    areas = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
-    count = int(polygon.max()) + 1
-    normal_of = np.stack([np.bincount(polygon, areas[:, k], count) for k in range(3)], axis=1)
-    backwards = np.einsum("ij,ij->i", areas, normal_of[polygon]) < 0.0
-    if not backwards.any():
-        return corners
-    import mapbox_earcut
-
-    pieces, start = [], 0
-    for bad in np.unique(polygon[backwards]).tolist():
-        first, stop = np.searchsorted(polygon, [bad, bad + 1])
-        pieces.append(corners[start:first])
-        fan = corners[first:stop]
-        ring = np.concatenate([fan[:1, 0], fan[:, 1], fan[-1:, 2]])  # the polygon's corners in order
-        normal = normal_of[bad]
-        axes = [k for k in range(3) if k != int(np.argmax(np.abs(normal)))]
-        indices = mapbox_earcut.triangulate_float64(positions[ring[:, 0]][:, axes], np.array([len(ring)], np.uint32))
-        triangles = ring[np.asarray(indices, np.int64).reshape(-1, 3)]
-        tri_points = positions[triangles[:, :, 0]]
-        facing = np.cross(tri_points[:, 1] - tri_points[:, 0], tri_points[:, 2] - tri_points[:, 0]) @ normal
-        triangles[facing < 0] = triangles[facing < 0][:, ::-1]  # the file's winding, whatever the projection did
-        pieces.append(triangles)
-        start = stop
-    pieces.append(corners[start:])
-    return np.concatenate(pieces)
-
-
-def _resolve_positive(raw: np.ndarray, counts: np.ndarray) -> np.ndarray | None:
-    """The common case without full-size masks: every given index positive and in range
-    (an absent vt/vn column is all 0). None when anything else is there."""
-    resolved = np.empty_like(raw)
-    for column in range(3):
-        values = raw[:, :, column]
-        low, high = int(values.min()), int(values.max())
-        if column > 0 and low == high == 0:
-            resolved[:, :, column] = -1
-        elif low > 0 and high <= counts[column]:
-            np.subtract(values, 1, out=resolved[:, :, column])
-        else:
-            return None
-    return resolved
-
-
-def _face_line(run: _Run, ordinal: int) -> int:
-    return run.first_line + ordinal  # runs hold consecutive face lines only
 
 
 def _slices(lines: list[str], indices: np.ndarray) -> list[str]:
@@ -319,15 +174,15 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
         first_index = int(face_lines[a])
         state = int(np.searchsorted(change_at, first_index)) - 1
         run_material, run_flat = (changes[state][1], changes[state][2]) if state >= 0 else (None, False)
-        runs.append(_Run(run_material, run_flat, int(v_count[first_index]), int(vt_count[first_index]),
+        runs.append(FaceRun(run_material, run_flat, int(v_count[first_index]), int(vt_count[first_index]),
                          int(vn_count[first_index]), first_index + 1, lines[first_index : int(face_lines[b - 1]) + 1]))
     vt_lines, vn_lines = np.flatnonzero(is_vt), np.flatnonzero(is_vn)
     vt = _floats(_slices(lines, vt_lines), "vt", 2, name, vt_lines + 1) if len(vt_lines) else np.zeros((0, 2))
     vn = _floats(_slices(lines, vn_lines), "vn", 3, name, vn_lines + 1) if len(vn_lines) else np.zeros((0, 3))
     corner_list, flat_list, material_list = [], [], []
     for current in runs:
-        corners, polygon = _run_corners(current, name)
-        corners = _ear_clip_concave(corners, polygon, v[:, :3])
+        corners, polygon = run_corners(current, name)
+        corners = ear_clip_concave(corners, polygon, v[:, :3])
         corner_list.append(corners)
         flat_list.append(np.full(len(corners), current.flat))
         material_list.append([current.material] * len(corners))
