@@ -82,14 +82,17 @@ def time_stages(renderer, jobs, level: int, times: StageTimes, folder: Path) -> 
         for scene in scenes:
             renderer.render_frame(scene, depth=True)
     times.add("render, one at a time", clock.wall, clock.cpu, frames)
-    with _Clock() as clock:
-        encoded = []
+    def encode(job, scene, color, depth) -> tuple:
+        buffer = io.BytesIO()
+        np.save(buffer, depth.astype(np.float32))
+        record = {"id": job.id, "digest": job.digest(), "source": job.source, "files": job.files(), "camera": camera_record(scene)}
+        return job, encode_png(color, level), buffer.getvalue(), json_text(record)
+
+    with _Clock() as clock:  # each frame's bytes let go once made, as the batch's are once written
         for job, scene, (color, depth) in zip(jobs, scenes, rendered):
-            buffer = io.BytesIO()
-            np.save(buffer, depth.astype(np.float32))
-            record = {"id": job.id, "digest": job.digest(), "source": job.source, "files": job.files(), "camera": camera_record(scene)}
-            encoded.append((job, encode_png(color, level), buffer.getvalue(), json_text(record)))
+            encode(job, scene, color, depth)
     times.add("encode", clock.wall, clock.cpu, frames)
+    encoded = [encode(job, scene, *frame) for job, scene, frame in zip(jobs, scenes, rendered)]  # for write, untimed
     folder.mkdir(parents=True)
     with _Clock() as clock:
         for job, png, npy, record in encoded:
