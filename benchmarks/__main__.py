@@ -57,6 +57,8 @@ SMOKE_SCRIPTS = {
     "ab_issue29_turned_away": ("scripts/ab_issue29.py", "turned-away", "--smoke"),
     "ab_issue29_chunks": ("scripts/ab_issue29.py", "chunks", "--smoke"),
     "ab_issue29_batch_parts": ("scripts/ab_issue29.py", "batch-parts", "--smoke"),
+    "ab_issue29_kept_frames": ("scripts/ab_issue29.py", "kept-frames", "--smoke"),
+    "ab_issue29_fresh_meshes": ("scripts/ab_issue29.py", "fresh-meshes", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -75,6 +77,8 @@ REAL_SCRIPTS = {
     "ab_issue29_turned_away": ("scripts/ab_issue29.py", "turned-away"),
     "ab_issue29_chunks": ("scripts/ab_issue29.py", "chunks", "--rounds", "5"),
     "ab_issue29_batch_parts": ("scripts/ab_issue29.py", "batch-parts", "--rounds", "5"),
+    "ab_issue29_kept_frames": ("scripts/ab_issue29.py", "kept-frames", "--rounds", "6"),
+    "ab_issue29_fresh_meshes": ("scripts/ab_issue29.py", "fresh-meshes", "--size", "256", "--rounds", "10"),
 }
 
 

@@ -8,6 +8,8 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py start-up --rounds 20
     python benchmarks/scripts/ab_issue29.py chunks --size 512 --rounds 5
     python benchmarks/scripts/ab_issue29.py batch-parts --size 512 --rounds 5
+    python benchmarks/scripts/ab_issue29.py kept-frames --size 512 --rounds 6
+    python benchmarks/scripts/ab_issue29.py fresh-meshes --size 256 --rounds 10
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -59,6 +61,18 @@ encoded nor written (its write_view replaced by one that only names the files: w
 left is loading the meshes, building the scenes, the chunks' bookkeeping), encoded but not
 written (the PNG, the .npy bytes and the record, into memory), and as it is. Median wall
 and process CPU (every thread) ms per frame, and each ÷ render_many's wall.
+
+kept-frames: the dataset benchmark's 192 colour + depth scenes through render_many, every
+frame kept until the stream ends (what the dataset stage table's render column did until
+issue #29's eighth pass: 384 MB at 512²) and each let go once read back (what the batch
+does once a frame is written), interleaved round by round in one process: what keeping
+them costs on a VM that backs fresh pages on first touch.
+
+fresh-meshes: the same scenes through render_many, drawn again (their meshes uploaded,
+their clusters and closed-surface checks done) and with every mesh loaded anew before the
+round (untimed), as each batch run draws meshes no frame has drawn: what a new mesh's
+preparation costs its frames (vertex-cache order, uploads to both devices, the closed-
+surface test, a cluster build's check).
 """
 
 from __future__ import annotations
@@ -279,12 +293,7 @@ def chunks(size: int, rounds: int, smoke: bool) -> None:
 
     variants = {"one stream": in_chunks(len(scenes)), "chunks of 16": in_chunks(16), "chunks of 48": in_chunks(48)}
     in_chunks(len(scenes))()  # uploads and pipelines on every device first
-    print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start")
-    walls, cpus = _interleaved_per_frame(variants, rounds, len(scenes))
-    for name in variants:
-        print(f"{name:13s}: wall {statistics.median(walls[name]):.2f} ms a frame ({min(walls[name]):.2f}–"
-              f"{max(walls[name]):.2f}), CPU {statistics.median(cpus[name]):.2f} ms")
-    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+    _print_per_frame(what, variants, rounds, len(scenes))
 
 
 def batch_parts(size: int, rounds: int, smoke: bool) -> None:
@@ -351,6 +360,65 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
         wall = statistics.median(walls[name])
         print(f"{name:42s}: wall {wall:6.2f} ms a frame ({min(walls[name]):.2f}–{max(walls[name]):.2f}), "
               f"CPU {statistics.median(cpus[name]):6.2f} ms; {wall / alone:.2f}× the frames alone")
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
+def kept_frames(size: int, rounds: int, smoke: bool) -> None:
+    from wgpu_shading import Renderer
+
+    what, _, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+
+    def kept() -> None:
+        frames = [(frame.color, frame.depth) for frame in renderer.render_many(scenes, depth=True)]
+        del frames
+
+    def let_go() -> None:
+        for _ in renderer.render_many(scenes, depth=True):
+            pass
+
+    variants = {"every frame kept": kept, "each let go once read": let_go}
+    let_go()  # uploads and pipelines on every device first
+    _print_per_frame(what, variants, rounds, len(scenes))
+
+
+def fresh_meshes(size: int, rounds: int, smoke: bool) -> None:
+    from wgpu_shading import Renderer
+    from wgpu_shading.dataset.views import base_scene, job_scene
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    loaded: list[list] = []
+
+    def fresh_scenes() -> list:
+        bases: dict = {}
+        for job in jobs:
+            if job.load_key() not in bases:
+                bases[job.load_key()] = base_scene(job)
+        return [job_scene(bases[job.load_key()], job) for job in jobs]
+
+    def drawn_before() -> None:
+        for _ in renderer.render_many(scenes, depth=True):
+            pass
+
+    def never_drawn() -> None:
+        for _ in renderer.render_many(loaded.pop(), depth=True):
+            pass
+
+    loaded += [fresh_scenes() for _ in range(rounds + 1)]  # loaded before the timing: only the drawing is timed
+    variants = {"meshes drawn before": drawn_before, "meshes never drawn": never_drawn}
+    for run in variants.values():
+        run()
+    _print_per_frame(what, variants, rounds, len(jobs))
+
+
+def _print_per_frame(what: str, variants: dict, rounds: int, frames: int) -> None:
+    print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start")
+    walls, cpus = _interleaved_per_frame(variants, rounds, frames)
+    width = max(map(len, variants))
+    for name in variants:
+        print(f"{name:{width}s}: wall {statistics.median(walls[name]):.2f} ms a frame ({min(walls[name]):.2f}–"
+              f"{max(walls[name]):.2f}), CPU {statistics.median(cpus[name]):.2f} ms")
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
@@ -423,7 +491,8 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "chunks", "batch-parts", "child"))
+    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "chunks", "batch-parts",
+                                         "kept-frames", "fresh-meshes", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--runs", type=int, default=3)
@@ -438,6 +507,10 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
     elif args.what == "batch-parts":
         batch_parts(args.size, args.rounds, args.smoke)
+    elif args.what == "kept-frames":
+        kept_frames(args.size, args.rounds, args.smoke)
+    elif args.what == "fresh-meshes":
+        fresh_meshes(args.size, args.rounds, args.smoke)
     elif args.what == "chunks":
         chunks(args.size, args.rounds, args.smoke)
     elif args.what == "poll":
