@@ -236,3 +236,20 @@ def test_polygons_of_different_sizes_whose_numbers_add_up_like_equal_ones(tmp_pa
     triangles = piece.positions[piece.faces]
     reference = _reference_triangles(path.read_text())
     np.testing.assert_array_equal(triangles, [[c[0] for c in t] for t in reference])
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_faces_read_in_blocks_of_a_few_lines_are_the_same(tmp_path, seed, monkeypatch):
+    """Long runs are read FACE_LINES_AT_ONCE lines at a time: blocks of 2 lines give the
+    same triangles, in order (each block's polygon numbers continue the last one's)."""
+    from wgpu_shading.assets.mesh_formats import obj_faces
+    from wgpu_shading.assets.mesh_formats.obj import read_obj
+
+    text = _generated_obj(np.random.default_rng(100 + seed))
+    path = tmp_path / "blocks.obj"
+    path.write_text(text)
+    whole = read_obj(path).pieces[0]
+    monkeypatch.setattr(obj_faces, "FACE_LINES_AT_ONCE", 2)
+    blocks = read_obj(path).pieces[0]
+    np.testing.assert_array_equal(blocks.positions[blocks.faces], whole.positions[whole.faces])
+    np.testing.assert_array_equal(blocks.positions[blocks.faces], [[c[0] for c in t] for t in _reference_triangles(text)])
