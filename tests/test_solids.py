@@ -15,14 +15,24 @@ from wgpu_shading.scene import cube, torus, uv_sphere
 
 def _trimesh_orientation(positions: np.ndarray, indices: np.ndarray) -> int:
     """+1 / −1 / 0 as solid_orientation means them, from trimesh (exact welding: merge_tex
-    and merge_norm keep nothing apart here, digits_vertex=None merges only equal positions)."""
+    and merge_norm keep nothing apart here, digits_vertex=None merges only equal positions).
+    Every piece on its own: the variants below make a second piece of vertices of their own
+    (trimesh's split() would need a graph library the test environment does not have)."""
     mesh = trimesh.Trimesh(positions, indices, process=False)
     mesh.merge_vertices(merge_tex=True, merge_norm=True, digits_vertex=None)
     mesh.update_faces(mesh.nondegenerate_faces(height=0.0))
     if len(mesh.faces) == 0 or not (mesh.is_watertight and mesh.is_winding_consistent):
         return 0
-    signs = {int(np.sign(piece.volume)) for piece in mesh.split(only_watertight=False)}  # every piece on its own
+    second = np.asarray(indices).min(axis=1) >= _PIECE_SIZE
+    signs = set()
+    for faces in (np.asarray(indices)[~second], np.asarray(indices)[second]):
+        if len(faces):
+            piece = trimesh.Trimesh(positions, faces, process=False)
+            signs.add(int(np.sign(piece.volume)))
     return signs.pop() if len(signs) == 1 else 0
+
+
+_PIECE_SIZE = 1 << 10  # (more than any variant has) the second piece's vertices are numbered from here (padded positions)
 
 
 def _variants(rng: np.random.Generator):
@@ -39,9 +49,12 @@ def _variants(rng: np.random.Generator):
         yield f"{name}, a triangle and its reverse added", positions, np.vstack([indices, indices[:1], indices[:1, ::-1]])
         degenerate = np.array([[indices[0, 0], indices[0, 0], indices[0, 1]]])
         yield f"{name} with a degenerate triangle", positions, np.vstack([indices, degenerate])
-        shifted = positions + 3.0
-        yield f"two {name}s", np.vstack([positions, shifted]), np.vstack([indices, indices + len(positions)])
-        yield f"two {name}s, one inside out", np.vstack([positions, shifted]), np.vstack([indices, indices[:, ::-1] + len(positions)])
+        # A second copy beside the first, its vertices numbered from _PIECE_SIZE (the rows in
+        # between are unused copies of the first vertex: no face refers to them).
+        assert len(positions) <= _PIECE_SIZE
+        padded = np.vstack([positions, np.repeat(positions[:1], _PIECE_SIZE - len(positions), axis=0), positions + 3.0])
+        yield f"two {name}s", padded, np.vstack([indices, indices + _PIECE_SIZE])
+        yield f"two {name}s, one inside out", padded, np.vstack([indices, indices[:, ::-1] + _PIECE_SIZE])
 
 
 @pytest.mark.parametrize("seed", range(4))
