@@ -181,13 +181,9 @@ def run_dataset_benchmark(
                     depth_jobs, out, progress=False, renderer=renderer, chunk_size=chunk
                 ),
             }
-            bases: dict = {}
-            for job in depth_jobs:
-                bases.setdefault(job.load_key(), base_scene(job))
-            depth_scenes = [job_scene(bases[job.load_key()], job) for job in depth_jobs]
-            del bases
-            _frames_alone(renderer, depth_scenes)  # uploads every mesh on every device first
-            runs[FRAMES_ALONE] = lambda out: _frames_alone(renderer, depth_scenes)
+            depth_scenes = job_scenes(depth_jobs)
+            render_all(renderer, depth_scenes)  # uploads every mesh on every device first
+            runs[FRAMES_ALONE] = lambda out: render_all(renderer, depth_scenes)
             if pyrender:
                 from .pyrender_peer import PyrenderScenes
 
@@ -239,7 +235,17 @@ def run_dataset_benchmark(
     return results
 
 
-def _frames_alone(renderer: Renderer, scenes: list) -> None:
+def job_scenes(jobs) -> list:
+    """Each job's Scene, every mesh loaded once (the batch's load_key), as the batch builds them."""
+    bases: dict = {}
+    for job in jobs:
+        if job.load_key() not in bases:
+            bases[job.load_key()] = base_scene(job)
+    return [job_scene(bases[job.load_key()], job) for job in jobs]
+
+
+def render_all(renderer: Renderer, scenes: list) -> None:
+    """Render + readback of `scenes` with depth, pipelined, each frame let go once read."""
     for _ in renderer.render_many(scenes, depth=True):
         pass
 

@@ -247,17 +247,12 @@ def turned_away(size: int, rounds: int, segments: int) -> None:
 def _dataset_scenes(size: int, smoke: bool) -> tuple[str, list, list]:
     """The dataset benchmark's colour + depth jobs (its 4 meshes × 48 views; tiny when smoke)
     and their scenes, built beforehand; and a line saying what they are."""
-    from benchmarks.dataset import SMOKE_MESHES, default_meshes
+    from benchmarks.dataset import SMOKE_MESHES, default_meshes, job_scenes
     from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
-    from wgpu_shading.dataset.views import base_scene, job_scene
 
     meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
     jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy"), {"size": size})
-    bases: dict = {}
-    for job in jobs:
-        bases.setdefault(job.load_key(), base_scene(job))
-    scenes = [job_scene(bases[job.load_key()], job) for job in jobs]
-    return f"{len(meshes)} meshes × {views} views at {size}², colour + depth", jobs, scenes
+    return f"{len(meshes)} meshes × {views} views at {size}², colour + depth", jobs, job_scenes(jobs)
 
 
 def _interleaved_per_frame(variants: dict, rounds: int, frames: int) -> tuple[dict, dict]:
@@ -305,6 +300,7 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
 
     from wgpu_shading import Renderer
     from wgpu_shading.assets.png import write_png
+    from benchmarks.dataset import render_all
     from wgpu_shading.dataset import chunk, direct_writes, render_dataset
     from wgpu_shading.dataset.direct_writes import write_npy
     from wgpu_shading.dataset.writer import json_text
@@ -322,10 +318,6 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
         json_text({"id": job.id, "digest": job.digest(), "source": job.source, "files": job.files(), "camera": camera})
         return named_only(out_dir, job, frame, extra, camera)
 
-    def frames_alone() -> None:
-        for _ in renderer.render_many(scenes, depth=True):
-            pass
-
     folder = Path(tempfile.mkdtemp(prefix="ab-batch-parts-"))
     runs = iter(range(1 << 30))
 
@@ -342,7 +334,7 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
 
     as_shipped_min = direct_writes.SMALLEST_DIRECT_FILE
     variants = {
-        "render + readback alone": frames_alone,
+        "render + readback alone": lambda: render_all(renderer, scenes),
         "batch, files neither encoded nor written": batch(named_only),
         "batch, files encoded, not written": batch(encoded_only),
         "batch, every file through the page cache": batch(as_shipped, 1 << 62),
@@ -364,6 +356,7 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
 
 
 def kept_frames(size: int, rounds: int, smoke: bool) -> None:
+    from benchmarks.dataset import render_all
     from wgpu_shading import Renderer
 
     what, _, scenes = _dataset_scenes(size, smoke)
@@ -373,40 +366,20 @@ def kept_frames(size: int, rounds: int, smoke: bool) -> None:
         frames = [(frame.color, frame.depth) for frame in renderer.render_many(scenes, depth=True)]
         del frames
 
-    def let_go() -> None:
-        for _ in renderer.render_many(scenes, depth=True):
-            pass
-
-    variants = {"every frame kept": kept, "each let go once read": let_go}
-    let_go()  # uploads and pipelines on every device first
+    variants = {"every frame kept": kept, "each let go once read": lambda: render_all(renderer, scenes)}
+    render_all(renderer, scenes)  # uploads and pipelines on every device first
     _print_per_frame(what, variants, rounds, len(scenes))
 
 
 def fresh_meshes(size: int, rounds: int, smoke: bool) -> None:
+    from benchmarks.dataset import job_scenes, render_all
     from wgpu_shading import Renderer
-    from wgpu_shading.dataset.views import base_scene, job_scene
 
     what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
-    loaded: list[list] = []
-
-    def fresh_scenes() -> list:
-        bases: dict = {}
-        for job in jobs:
-            if job.load_key() not in bases:
-                bases[job.load_key()] = base_scene(job)
-        return [job_scene(bases[job.load_key()], job) for job in jobs]
-
-    def drawn_before() -> None:
-        for _ in renderer.render_many(scenes, depth=True):
-            pass
-
-    def never_drawn() -> None:
-        for _ in renderer.render_many(loaded.pop(), depth=True):
-            pass
-
-    loaded += [fresh_scenes() for _ in range(rounds + 1)]  # loaded before the timing: only the drawing is timed
-    variants = {"meshes drawn before": drawn_before, "meshes never drawn": never_drawn}
+    loaded = [job_scenes(jobs) for _ in range(rounds + 1)]  # loaded before the timing: only the drawing is timed
+    variants = {"meshes drawn before": lambda: render_all(renderer, scenes),
+                "meshes never drawn": lambda: render_all(renderer, loaded.pop())}
     for run in variants.values():
         run()
     _print_per_frame(what, variants, rounds, len(jobs))
