@@ -12,7 +12,7 @@ import pytest
 from wgpu_shading import MeshError, SceneError, load_mesh
 from wgpu_shading.assets.scenefile import load_scene
 from wgpu_shading.scene import Mesh, SceneObject
-from wgpu_shading.scene.geometry.crease_normals import crease_normals, weld_by_position
+from wgpu_shading.scene.geometry.crease_normals import crease_normals, split_vertices, weld_by_position
 
 REAL = Path(__file__).parent / "data" / "real"
 CUBE_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
@@ -203,3 +203,28 @@ def test_crease_angle_0_is_flat():
     face = np.cross(b - a, c - a)
     expected = np.repeat(face / np.linalg.norm(face, axis=1)[:, None], 3, axis=0)
     np.testing.assert_allclose(normals[new_faces].reshape(-1, 3), expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_split_vertices_gives_np_unique_of_vertex_and_fan(seed):
+    """The output vertices are those of np.unique over (given vertex, fan) keys, in its
+    order, with its inverse as the faces: the formulation split_vertices replaced (it sorts
+    only the corners of vertices in several fans). Random corners: unused vertices, vertices
+    in one fan, vertices in up to four."""
+    rng = np.random.default_rng(seed)
+    vertex_count, table_size = int(rng.integers(1, 60)), int(rng.integers(1, 90))
+    flat_corners = rng.integers(0, vertex_count, 3 * int(rng.integers(1, 80)))
+    fans_of = [rng.integers(0, table_size, int(rng.choice([1, 1, 1, 2, 4]))) for _ in range(vertex_count)]
+    label = np.array([rng.choice(fans_of[v]) for v in flat_corners], np.int64)
+    vertex_fan = np.full(vertex_count, -1, np.int64)
+    vertex_fan[flat_corners] = label
+    table = rng.normal(size=(table_size, 3))
+
+    source, faces, normals = split_vertices(flat_corners, label, vertex_fan, table)
+
+    keys = flat_corners * table_size + label
+    unique_keys, inverse = np.unique(keys, return_inverse=True)
+    np.testing.assert_array_equal(source, unique_keys // table_size)
+    np.testing.assert_array_equal(faces, inverse.reshape(-1, 3))
+    assert faces.dtype == np.uint32
+    np.testing.assert_array_equal(normals, table[unique_keys % table_size])

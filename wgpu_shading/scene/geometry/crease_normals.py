@@ -295,11 +295,35 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         used = vertex_fan >= 0
         normals[used] = table[vertex_fan[used]]
         return None, _uint32(faces), normals
-    key = flat_corners.astype(np.int64) * len(table) + label
-    unique_keys, inverse = np.unique(key, return_inverse=True)
-    source = unique_keys // len(table)
-    normals = table[unique_keys % len(table)]
-    return source, inverse.reshape(-1, 3).astype(np.uint32), normals
+    return split_vertices(flat_corners, label, vertex_fan, table)
+
+
+def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.ndarray, table: np.ndarray):
+    """One output vertex per (given vertex, fan label) of the corners, in the order of
+    np.unique over the keys vertex·len(table) + label (vertex first, then label), without
+    sorting every corner: only the corners of vertices that lie in more than one fan are
+    sorted (the few along creases: 63 of the 70K-triangle bunny's 35,947 vertices), and
+    every other used vertex gives one output vertex. np.unique over all 208K corners took
+    15.8 ms of the bunny's ~90 ms load, this 2.3 ms. `vertex_fan`: the label some corner
+    of each vertex has (−1: unused). Returns (source, faces, normals) as crease_normals does."""
+    split = vertex_fan[flat_corners] != label  # a corner whose vertex also lies in another fan
+    several = np.zeros(len(vertex_fan), bool)
+    several[flat_corners[split]] = True
+    in_several = np.flatnonzero(several[flat_corners])
+    keys = flat_corners[in_several].astype(np.int64) * len(table) + label[in_several]
+    unique_keys, inverse = np.unique(keys, return_inverse=True)
+    key_vertex = unique_keys // len(table)
+    count = (vertex_fan >= 0).astype(np.int64)
+    count[several] = 0
+    count += np.bincount(key_vertex, minlength=len(vertex_fan))
+    first = np.cumsum(count) - count  # each given vertex's first output vertex
+    output = first[flat_corners]
+    rank = np.arange(len(unique_keys)) - np.searchsorted(key_vertex, key_vertex)  # fan's place among its vertex's
+    output[in_several] += rank[inverse.reshape(-1)]
+    output_label = np.empty(int(count.sum()), np.int64)
+    output_label[output] = label
+    source = np.repeat(np.arange(len(vertex_fan)), count)
+    return source, output.reshape(-1, 3).astype(np.uint32), table[output_label]
 
 
 def _uint32(faces: np.ndarray) -> np.ndarray:
