@@ -169,6 +169,11 @@ def main(argv: list[str] | None = None) -> int:
         "--out", type=Path, default=None,
         help="output folder (default: benchmarks/results/; with --smoke a temporary folder, removed afterwards)",
     )
+    parser.add_argument(
+        "--scratch", type=Path, default=None,
+        help="folder the dataset section writes its datasets in (a new folder there, removed at the end; "
+        "default: the system's temporary folder). Its table states how long a new file took there",
+    )
     args = parser.parse_args(argv)
     begun = time.perf_counter()
     smoke = args.smoke
@@ -291,7 +296,7 @@ def main(argv: list[str] | None = None) -> int:
             meshes = list(SMOKE_MESHES) if s.tiny else default_meshes()
             dataset = run_dataset_benchmark(
                 renderer, meshes, s.dataset_views, s.dataset_sizes, s.dataset_passes, chunk=2 if s.tiny else 16,
-                pyrender=pyrender,
+                pyrender=pyrender, scratch_parent=args.scratch,
             )
             print("## Dataset rendering (benchmarks/dataset.py)\n\n" + table(dataset) + "\n", flush=True)
             results["dataset"] = dataset

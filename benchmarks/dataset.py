@@ -83,6 +83,7 @@ class DatasetResult:
     dask_startup: dict[str, float] = field(default_factory=dict)  # workers → seconds to a warm cluster
     stages: StageTimes = field(default_factory=StageTimes)  # the colour + depth batch's stages alone
     load_average: list[float] = field(default_factory=list)  # 1-minute load average after each pass
+    new_file_us: list[float] = field(default_factory=list)  # creating an empty file in the scratch folder, before each pass
 
     @property
     def frames(self) -> int:
@@ -143,15 +144,42 @@ def naive_loop(renderer: Renderer, jobs, out_dir: Path, level: int, *, depth: bo
             np.save(folder / f"{job.name}_depth.npy", np.asarray(distances, np.float32))
 
 
+PROBE_FILES = 100  # empty files created before each pass to time a file's creation
+
+
+def new_file_micros(folder: Path, count: int = PROBE_FILES) -> float:
+    """Median µs to create (and close) an empty file in a new subfolder of `folder`. The
+    files are left there: removing them would make the next creations slower (below).
+
+    Why it is measured: on ext4 without a journal (this VM's disk) the kernel avoids
+    reusing an inode freed in the last 60 s, or 6 minutes while its inode table block is
+    not yet written back, and checks each free inode it passes in the block group one by
+    one (fs/ext4/ialloc.c: recently_deleted, RECENTCY_MIN + RECENTCY_DIRTY; `perf record`
+    puts the time in recently_deleted and find_get_block_common). After another program
+    removed many files nearby (a test run, a benchmark's clean-up, the tools that keep
+    their job files in /tmp) one creation took 0.2–0.86 ms here, against 0.016–0.025 ms
+    in a quiet folder: each view creates 3 files, so up to 2.5 ms of kernel CPU a frame.
+    """
+    probe = Path(tempfile.mkdtemp(prefix="new-file-probe-", dir=folder))
+    times = []
+    for index in range(count):
+        start = time.perf_counter()
+        os.close(os.open(probe / f"{index}", os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644))
+        times.append(time.perf_counter() - start)
+    return 1e6 * statistics.median(times)
+
+
 def run_dataset_benchmark(
     renderer: Renderer, meshes: list[str], views: int, sizes: tuple[int, ...], passes: int, *, dask: bool = True, chunk: int = 16,
-    pyrender: bool = False,
+    pyrender: bool = False, scratch_parent: Path | None = None,
 ) -> list[DatasetResult]:
-    """pyrender: also time pyrender's colour + depth loop (benchmarks/pyrender_peer.py)."""
+    """pyrender: also time pyrender's colour + depth loop (benchmarks/pyrender_peer.py).
+    scratch_parent: the folder the datasets are written in (a new folder there, removed at
+    the end; None: the system's temporary folder)."""
     from wgpu_shading.dataset.cluster import local_cluster
 
     results = []
-    scratch = Path(tempfile.mkdtemp(prefix="wgpu-shading-dataset-bench-"))
+    scratch = Path(tempfile.mkdtemp(prefix="wgpu-shading-dataset-bench-", dir=scratch_parent))
     clusters = {}
     cluster_clients: list = []
     if dask:
@@ -196,6 +224,7 @@ def run_dataset_benchmark(
                 )
             modes = list(runs)
             for index in range(passes):
+                result.new_file_us.append(new_file_micros(scratch))
                 # Alternating, so load changes hit every mode alike, in an order rotated from
                 # pass to pass: a run's place in the sequence moved one configuration's batch
                 # by up to 7 % on this machine (docs/performance.md, "Where a dataset frame goes").
@@ -353,6 +382,12 @@ def stage_table(results: list[DatasetResult]) -> str:
         )
     loads = [f"{value:.1f}" for result in results for value in result.load_average]
     lines += ["", f"1-minute load average after each pass: {', '.join(loads)} ({os.cpu_count()} cores)."]
+    creations = [f"{value:.0f}" for result in results for value in result.new_file_us]
+    if creations:
+        lines += ["", f"A new empty file in the scratch folder, before each pass: {', '.join(creations)} µs (median of "
+                  f"{PROBE_FILES}; each view creates 3 files; 16–25 µs in a quiet folder here, up to 860 µs where many "
+                  "files were removed nearby in the minutes before, which ext4 without a journal skips one by one: "
+                  "benchmarks/dataset.py, new_file_micros)."]
     return "\n".join(lines)
 
 
@@ -361,15 +396,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--smoke", action="store_true", help="tiny: 2 builtin meshes × 4 views at 32², one pass")
     parser.add_argument("--views", type=int, default=48)
     parser.add_argument("--passes", type=int, default=3)
+    parser.add_argument("--scratch", type=Path, default=None,
+                        help="folder to write the datasets in (a new folder there, removed at the end; default: the system's temporary folder)")
     args = parser.parse_args(argv)
     renderer = Renderer()
     from .pyrender_peer import pyrender_unusable
 
     pyrender = pyrender_unusable() is None
     if args.smoke:
-        results = run_dataset_benchmark(renderer, list(SMOKE_MESHES), 4, (32,), 1, chunk=2, pyrender=pyrender)
+        results = run_dataset_benchmark(renderer, list(SMOKE_MESHES), 4, (32,), 1, chunk=2, pyrender=pyrender, scratch_parent=args.scratch)
     else:
-        results = run_dataset_benchmark(renderer, default_meshes(), args.views, (256, 512), args.passes, pyrender=pyrender)
+        results = run_dataset_benchmark(
+            renderer, default_meshes(), args.views, (256, 512), args.passes, pyrender=pyrender, scratch_parent=args.scratch
+        )
     print(table(results))
     return 0
 
