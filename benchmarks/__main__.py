@@ -59,6 +59,11 @@ SMOKE_SCRIPTS = {
     "ab_issue29_batch_parts": ("scripts/ab_issue29.py", "batch-parts", "--smoke"),
     "ab_issue29_kept_frames": ("scripts/ab_issue29.py", "kept-frames", "--smoke"),
     "ab_issue29_fresh_meshes": ("scripts/ab_issue29.py", "fresh-meshes", "--smoke"),
+    "ab_issue29_frames_in_flight": ("scripts/ab_issue29.py", "frames-in-flight", "--smoke"),
+    "ab_issue29_chunk_order": ("scripts/ab_issue29.py", "chunk-order", "--smoke"),
+    "ab_issue29_thread_cpu": ("scripts/ab_issue29.py", "thread-cpu", "--smoke"),
+    "ab_issue29_output_folders": ("scripts/ab_issue29.py", "output-folders", "--smoke"),
+    "ab_issue29_crease_split": ("scripts/ab_issue29.py", "crease-split", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -79,6 +84,10 @@ REAL_SCRIPTS = {
     "ab_issue29_batch_parts": ("scripts/ab_issue29.py", "batch-parts", "--rounds", "5"),
     "ab_issue29_kept_frames": ("scripts/ab_issue29.py", "kept-frames", "--rounds", "6"),
     "ab_issue29_fresh_meshes": ("scripts/ab_issue29.py", "fresh-meshes", "--size", "256", "--rounds", "10"),
+    "ab_issue29_frames_in_flight": ("scripts/ab_issue29.py", "frames-in-flight", "--size", "256", "--rounds", "8"),
+    "ab_issue29_chunk_order": ("scripts/ab_issue29.py", "chunk-order", "--size", "256", "--rounds", "10"),
+    "ab_issue29_thread_cpu": ("scripts/ab_issue29.py", "thread-cpu", "--size", "256", "--rounds", "3"),
+    "ab_issue29_crease_split": ("scripts/ab_issue29.py", "crease-split", "--rounds", "12"),
 }
 
 

@@ -10,6 +10,11 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py batch-parts --size 512 --rounds 5
     python benchmarks/scripts/ab_issue29.py kept-frames --size 512 --rounds 6
     python benchmarks/scripts/ab_issue29.py fresh-meshes --size 256 --rounds 10
+    python benchmarks/scripts/ab_issue29.py frames-in-flight --size 256 --rounds 8
+    python benchmarks/scripts/ab_issue29.py chunk-order --size 256 --rounds 10
+    python benchmarks/scripts/ab_issue29.py thread-cpu --size 256 --rounds 3
+    python benchmarks/scripts/ab_issue29.py output-folders --size 256 --rounds 8 --folders /tmp /var/tmp DIR
+    python benchmarks/scripts/ab_issue29.py crease-split --rounds 12
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -73,6 +78,30 @@ their clusters and closed-surface checks done) and with every mesh loaded anew b
 round (untimed), as each batch run draws meshes no frame has drawn: what a new mesh's
 preparation costs its frames (vertex-cache order, uploads to both devices, the closed-
 surface test, a cluster build's check).
+
+frames-in-flight: render + readback alone and the colour + depth batch, each with 2, 3 and
+4 frames in flight per device (render_many's in_flight; the batch's dataset/chunk.py
+IN_FLIGHT), interleaved round by round in one process; the batch's time inside its chunks ÷ render + readback at the default 2.
+
+chunk-order: the colour + depth batch with its jobs as listed (the bunny's chunks first,
+so its ~90 ms load precedes every frame) and with the bunny's chunks last (its load on the
+loader thread while other meshes' frames render), beside render + readback alone.
+
+thread-cpu: where the CPU of a frame goes, by thread: render + readback alone and the
+batch, each for --rounds passes, twice, alternating; the process's user and system time,
+the main thread's (time.thread_time), the encoder threads' write_view and the loads
+(thread_time around each call; a load counts in the thread that ran it too: the loader's,
+or the main thread's for a chunk's first mesh), and the rest (the driver's, wgpu's, the
+loader's and the cluster builder's threads), ms a frame.
+
+output-folders: the colour + depth batch writing in a new folder of each of --folders
+(default: the system's temporary folder), interleaved round by round beside render +
+readback alone, each folder's file creation time (benchmarks/dataset.py, new_file_micros)
+measured before the rounds and after them.
+
+crease-split: the 70K-triangle bunny's load_mesh with crease_normals.split_vertices and
+with the formulation it replaced (np.unique over every corner's (vertex, fan) key),
+alternating in one process; both give the same arrays (checked first).
 """
 
 from __future__ import annotations
@@ -385,7 +414,224 @@ def fresh_meshes(size: int, rounds: int, smoke: bool) -> None:
     _print_per_frame(what, variants, rounds, len(jobs))
 
 
-def _print_per_frame(what: str, variants: dict, rounds: int, frames: int) -> None:
+def _batch_runner(renderer, folder: Path, inside: dict):
+    """A function making a variant that runs `render_dataset(jobs)` into a new subfolder of
+    `folder` and keeps its time inside chunks, ms a frame, in inside[name]."""
+    from wgpu_shading.dataset import render_dataset
+
+    runs = iter(range(1 << 30))
+
+    def variant(name: str, jobs: list):
+        def run() -> None:
+            result = render_dataset(jobs, folder / f"{next(runs)}", progress=False, renderer=renderer)
+            inside.setdefault(name, []).append(1000 * result.busy_seconds / len(jobs))
+        return run
+    return variant
+
+
+def _print_inside(inside: dict, alone_name: str, walls: dict) -> None:
+    alone = statistics.median(walls[alone_name])
+    for name, values in inside.items():
+        print(f"{name}: inside its chunks {statistics.median(values):.2f} ms a frame, "
+              f"{statistics.median(values) / alone:.2f}× {alone_name}")
+
+
+def frames_in_flight(size: int, rounds: int, smoke: bool) -> None:
+    import shutil
+    import tempfile
+
+    from wgpu_shading import Renderer
+    from wgpu_shading.dataset import chunk
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    shipped = chunk.IN_FLIGHT
+    folder = Path(tempfile.mkdtemp(prefix="ab-in-flight-"))
+    inside: dict = {}
+    batch = _batch_runner(renderer, folder, inside)
+
+    def alone(count: int):
+        def run() -> None:
+            for _ in renderer.render_many(scenes, depth=True, in_flight=count):
+                pass
+        return run
+
+    def batch_with(count: int):
+        run = batch(f"batch, {count} in flight", jobs)
+
+        def variant() -> None:
+            chunk.IN_FLIGHT = count
+            try:
+                run()
+            finally:
+                chunk.IN_FLIGHT = shipped
+        return variant
+
+    variants = {}
+    for count in (2, 3, 4):
+        variants[f"render + readback, {count} in flight"] = alone(count)
+        variants[f"batch, {count} in flight"] = batch_with(count)
+    try:
+        for run in variants.values():
+            run()
+        inside.clear()
+        walls = _print_per_frame(what, variants, rounds, len(jobs))
+        _print_inside(inside, "render + readback, 2 in flight", walls)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def chunk_order(size: int, rounds: int, smoke: bool) -> None:
+    import shutil
+    import tempfile
+
+    from benchmarks.dataset import render_all
+    from wgpu_shading import Renderer
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    first = jobs[0].load_key()  # the bunny, when the real meshes are there
+    last = [job for job in jobs if job.load_key() != first] + [job for job in jobs if job.load_key() == first]
+    renderer = Renderer()
+    folder = Path(tempfile.mkdtemp(prefix="ab-chunk-order-"))
+    inside: dict = {}
+    batch = _batch_runner(renderer, folder, inside)
+    variants = {"render + readback alone": lambda: render_all(renderer, scenes),
+                "batch, first mesh's chunks first": batch("batch, first mesh's chunks first", jobs),
+                "batch, first mesh's chunks last": batch("batch, first mesh's chunks last", last)}
+    try:
+        for run in variants.values():
+            run()
+        inside.clear()
+        walls = _print_per_frame(what, variants, rounds, len(jobs))
+        _print_inside(inside, "render + readback alone", walls)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def output_folders(size: int, rounds: int, smoke: bool, folders: list[Path]) -> None:
+    import shutil
+    import tempfile
+
+    from benchmarks.dataset import new_file_micros, render_all
+    from wgpu_shading import Renderer
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    made = {str(parent): Path(tempfile.mkdtemp(prefix="ab-output-folders-", dir=parent)) for parent in folders}
+    inside: dict = {}
+    variants = {"render + readback alone": lambda: render_all(renderer, scenes)}
+    for parent, folder in made.items():
+        variants[f"batch in {parent}"] = _batch_runner(renderer, folder, inside)(f"batch in {parent}", jobs)
+    try:
+        before = {parent: new_file_micros(folder) for parent, folder in made.items()}
+        for run in variants.values():
+            run()
+        inside.clear()
+        walls = _print_per_frame(what, variants, rounds, len(jobs))
+        _print_inside(inside, "render + readback alone", walls)
+        for parent, folder in made.items():
+            print(f"a new file in {parent}: {before[parent]:.0f} µs before the rounds, {new_file_micros(folder):.0f} µs after")
+    finally:
+        for folder in made.values():
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+def thread_cpu(size: int, rounds: int, smoke: bool) -> None:
+    import shutil
+    import tempfile
+    import threading
+    from collections import Counter
+
+    from benchmarks.dataset import render_all
+    from wgpu_shading import Renderer
+    from wgpu_shading.dataset import chunk, render_dataset
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    spent: Counter = Counter()
+    lock = threading.Lock()
+
+    def timed(name: str, function):
+        def call(*args, **kwargs):
+            start = time.thread_time()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                with lock:
+                    spent[name] += time.thread_time() - start
+        return call
+
+    shipped_write, shipped_load = chunk.write_view, chunk._load
+    folder = Path(tempfile.mkdtemp(prefix="ab-thread-cpu-"))
+    runs = iter(range(1 << 30))
+    variants = {"render + readback alone": lambda: render_all(renderer, scenes),
+                "batch": lambda: render_dataset(jobs, folder / f"{next(runs)}", progress=False, renderer=renderer)}
+    print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start; ms of CPU a frame")
+    chunk.write_view, chunk._load = timed("encoder threads (write_view)", shipped_write), timed("loads", shipped_load)
+    try:
+        for run in variants.values():
+            run()
+        for name in list(variants) * 2:
+            spent.clear()
+            wall, times, main = time.perf_counter(), os.times(), time.thread_time()
+            for _ in range(rounds):
+                variants[name]()
+            frames = rounds * len(jobs)
+            after = os.times()
+            user, system = (after.user - times.user) * 1e3 / frames, (after.system - times.system) * 1e3 / frames
+            main = (time.thread_time() - main) * 1e3 / frames
+            parts = {part: seconds * 1e3 / frames for part, seconds in spent.items()}
+            encoders = parts.get("encoder threads (write_view)", 0.0)
+            print(f"{name}: wall {(time.perf_counter() - wall) * 1e3 / frames:.2f}, CPU {user + system:.2f} (user {user:.2f}, "
+                  f"system {system:.2f}); main thread {main:.2f}"
+                  + "".join(f", {part} {value:.2f}" for part, value in parts.items())
+                  + f"; the driver's, wgpu's and other threads {user + system - main - encoders:.2f}")
+    finally:
+        chunk.write_view, chunk._load = shipped_write, shipped_load
+        shutil.rmtree(folder, ignore_errors=True)
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
+def crease_split(rounds: int, smoke: bool) -> None:
+    import numpy as np
+
+    from benchmarks.dataset import MODELS
+    from wgpu_shading.assets.meshes import load_mesh
+    from wgpu_shading.scene.geometry import crease_normals
+
+    path = MODELS / "stanford-bunny.obj"
+    if smoke or not path.exists():
+        path = MODELS / "suzanne.obj" if (MODELS / "suzanne.obj").exists() else None
+    if path is None:
+        print("crease-split: no model file to load (../shared/models)")
+        return
+    shipped = crease_normals.split_vertices
+
+    def np_unique(flat_corners, label, vertex_fan, table, split=None):
+        """The formulation split_vertices replaced."""
+        key = flat_corners.astype(np.int64) * len(table) + label
+        unique_keys, inverse = np.unique(key, return_inverse=True)
+        return unique_keys // len(table), inverse.reshape(-1, 3).astype(np.uint32), table[unique_keys % len(table)]
+
+    def load_with(split):
+        def run():
+            crease_normals.split_vertices = split
+            try:
+                return load_mesh(path)
+            finally:
+                crease_normals.split_vertices = shipped
+        return run
+
+    variants = {"np.unique over every corner": load_with(np_unique), "split_vertices": load_with(shipped)}
+    meshes = [run() for run in variants.values()]
+    same = all(np.array_equal(getattr(meshes[0], name), getattr(meshes[1], name)) for name in ("positions", "normals", "indices"))
+    print(f"{path.name}: the same arrays: {same}; load average {os.getloadavg()[0]:.2f} at the start")
+    walls, _ = _interleaved_per_frame(variants, rounds, 1)
+    for name in variants:
+        print(f"{name:28s}: load_mesh {statistics.median(walls[name]):.1f} ms ({min(walls[name]):.1f}–{max(walls[name]):.1f})")
+
+
+def _print_per_frame(what: str, variants: dict, rounds: int, frames: int) -> dict:
     print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start")
     walls, cpus = _interleaved_per_frame(variants, rounds, frames)
     width = max(map(len, variants))
@@ -393,6 +639,7 @@ def _print_per_frame(what: str, variants: dict, rounds: int, frames: int) -> Non
         print(f"{name:{width}s}: wall {statistics.median(walls[name]):.2f} ms a frame ({min(walls[name]):.2f}–"
               f"{max(walls[name]):.2f}), CPU {statistics.median(cpus[name]):.2f} ms")
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
+    return walls
 
 
 # The program with one start-up setting undone (cli/process_start.py), patched where the
@@ -465,7 +712,8 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "chunks", "batch-parts",
-                                         "kept-frames", "fresh-meshes", "child"))
+                                         "kept-frames", "fresh-meshes", "frames-in-flight", "chunk-order", "thread-cpu",
+                                         "output-folders", "crease-split", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--runs", type=int, default=3)
@@ -473,6 +721,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--segments", type=int, default=72)
     parser.add_argument("--smoke", action="store_true", help="a tiny torus at 32², a few frames, one run")
     parser.add_argument("--callgrind", action="store_true", help="start-up: instruction counts under valgrind instead of times")
+    parser.add_argument("--folders", type=Path, nargs="+", default=None,
+                        help="output-folders: the folders to write in (default: the system's temporary folder)")
     args = parser.parse_args(argv)
     if args.smoke:
         args.size, args.frames, args.runs, args.segments, args.rounds = 32, 3, 1, 8, 1
@@ -484,6 +734,18 @@ def main(argv: list[str] | None = None) -> int:
         kept_frames(args.size, args.rounds, args.smoke)
     elif args.what == "fresh-meshes":
         fresh_meshes(args.size, args.rounds, args.smoke)
+    elif args.what == "frames-in-flight":
+        frames_in_flight(args.size, args.rounds, args.smoke)
+    elif args.what == "chunk-order":
+        chunk_order(args.size, args.rounds, args.smoke)
+    elif args.what == "thread-cpu":
+        thread_cpu(args.size, args.rounds, args.smoke)
+    elif args.what == "output-folders":
+        import tempfile
+
+        output_folders(args.size, args.rounds, args.smoke, args.folders or [Path(tempfile.gettempdir())])
+    elif args.what == "crease-split":
+        crease_split(args.rounds, args.smoke)
     elif args.what == "chunks":
         chunks(args.size, args.rounds, args.smoke)
     elif args.what == "poll":
