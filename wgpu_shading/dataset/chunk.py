@@ -26,13 +26,6 @@ from .views import base_scene, job_scene
 from .writer import write_view
 
 MAX_PENDING_WRITES = 8  # frames waiting for the encoder: bounds memory when encoding lags
-# Frames in flight per device in a chunk's stream, one more than render_many's default: the
-# encoder and loader threads delay the main thread's next submission now and then, and a
-# deeper queue keeps the devices fed meanwhile. `python benchmarks/scripts/ab_issue29.py
-# frames-in-flight` (docs/performance.md, the ninth pass): at 256² the batch's time inside
-# its chunks 1.62× → 1.44× render + readback (2 → 3), 1.53× → 1.38× and 1.48× → 1.45× in
-# earlier A/Bs; at 512² 1.45× → 1.44×. One more frame's targets per device (2 MB at 512²).
-IN_FLIGHT = 3
 # Base scenes kept between chunks: the next chunk is usually the same mesh's next views, and
 # loading a mesh file can cost more than rendering its chunk (the 70k-triangle bunny OBJ: 0.14 s).
 KEPT_SCENES = 2
@@ -159,7 +152,7 @@ class ChunkRenderer:
         frames = self.renderer.render_many(
             scenes, float32=color == "png16", depth=depth != "none",
             normals=(normals if normals != "none" else "eye") if extras else None, ids=ids,
-            color=color != "none" or depth != "none", in_flight=IN_FLIGHT, parallel=self.parallel,
+            color=color != "none" or depth != "none", parallel=self.parallel,
         )
         done = 0
         try:
