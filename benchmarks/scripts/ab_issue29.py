@@ -80,8 +80,8 @@ preparation costs its frames (vertex-cache order, uploads to both devices, the c
 surface test, a cluster build's check).
 
 frames-in-flight: render + readback alone and the colour + depth batch, each with 2, 3 and
-4 frames in flight per device (render_many's in_flight; the batch's dataset/chunk.py
-IN_FLIGHT), interleaved round by round in one process; the batch's time inside its chunks ÷ render + readback at the default 2.
+4 frames in flight per device (render_many's in_flight, which the batch's chunks leave at
+its default), interleaved round by round in one process; the batch's time inside its chunks ÷ render + readback at the default 2.
 
 chunk-order: the colour + depth batch with its jobs as listed (the bunny's chunks first,
 so its ~90 ms load precedes every frame) and with the bunny's chunks last (its load on the
@@ -437,40 +437,37 @@ def _print_inside(inside: dict, alone_name: str, walls: dict) -> None:
 
 
 def frames_in_flight(size: int, rounds: int, smoke: bool) -> None:
+    import functools
     import shutil
     import tempfile
 
     from wgpu_shading import Renderer
-    from wgpu_shading.dataset import chunk
 
     what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
-    shipped = chunk.IN_FLIGHT
+    shipped = type(renderer).render_many
     folder = Path(tempfile.mkdtemp(prefix="ab-in-flight-"))
     inside: dict = {}
     batch = _batch_runner(renderer, folder, inside)
 
-    def alone(count: int):
-        def run() -> None:
-            for _ in renderer.render_many(scenes, depth=True, in_flight=count):
-                pass
-        return run
-
-    def batch_with(count: int):
-        run = batch(f"batch, {count} in flight", jobs)
-
+    def with_in_flight(count: int, run):
         def variant() -> None:
-            chunk.IN_FLIGHT = count
+            # The batch's chunks call renderer.render_many without in_flight: this sets theirs too.
+            renderer.render_many = functools.partial(shipped, renderer, in_flight=count)
             try:
                 run()
             finally:
-                chunk.IN_FLIGHT = shipped
+                del renderer.render_many
         return variant
+
+    def alone() -> None:
+        for _ in renderer.render_many(scenes, depth=True):
+            pass
 
     variants = {}
     for count in (2, 3, 4):
-        variants[f"render + readback, {count} in flight"] = alone(count)
-        variants[f"batch, {count} in flight"] = batch_with(count)
+        variants[f"render + readback, {count} in flight"] = with_in_flight(count, alone)
+        variants[f"batch, {count} in flight"] = with_in_flight(count, batch(f"batch, {count} in flight", jobs))
     try:
         for run in variants.values():
             run()
