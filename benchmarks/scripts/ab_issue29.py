@@ -558,13 +558,13 @@ def thread_cpu(size: int, rounds: int, smoke: bool) -> None:
                     spent[name] += time.thread_time() - start
         return call
 
-    shipped_write, shipped_load = chunk.write_view, chunk._load
+    shipped_write, shipped_load = chunk.write_view, chunk.base_scene  # what ChunkRenderer writes and loads with
     folder = Path(tempfile.mkdtemp(prefix="ab-thread-cpu-"))
     runs = iter(range(1 << 30))
     variants = {"render + readback alone": lambda: render_all(renderer, scenes),
                 "batch": lambda: render_dataset(jobs, folder / f"{next(runs)}", progress=False, renderer=renderer)}
     print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start; ms of CPU a frame")
-    chunk.write_view, chunk._load = timed("encoder threads (write_view)", shipped_write), timed("loads", shipped_load)
+    chunk.write_view, chunk.base_scene = timed("encoder threads (write_view)", shipped_write), timed("loads", shipped_load)
     try:
         for run in variants.values():
             run()
@@ -584,7 +584,7 @@ def thread_cpu(size: int, rounds: int, smoke: bool) -> None:
                   + "".join(f", {part} {value:.2f}" for part, value in parts.items())
                   + f"; the driver's, wgpu's and other threads {user + system - main - encoders:.2f}")
     finally:
-        chunk.write_view, chunk._load = shipped_write, shipped_load
+        chunk.write_view, chunk.base_scene = shipped_write, shipped_load
         shutil.rmtree(folder, ignore_errors=True)
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
