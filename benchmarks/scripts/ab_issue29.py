@@ -429,7 +429,13 @@ def _batch_runner(renderer, folder: Path, inside: dict):
     return variant
 
 
-def _print_inside(inside: dict, alone_name: str, walls: dict) -> None:
+def _print_batches(what: str, variants: dict, rounds: int, frames: int, inside: dict, alone_name: str) -> None:
+    """Each variant once first (pipelines, uploads, thread pools), then the interleaved rounds:
+    wall and CPU a frame, and each batch's time inside its chunks ÷ `alone_name`'s wall."""
+    for run in variants.values():
+        run()
+    inside.clear()
+    walls = _print_per_frame(what, variants, rounds, frames)
     alone = statistics.median(walls[alone_name])
     for name, values in inside.items():
         print(f"{name}: inside its chunks {statistics.median(values):.2f} ms a frame, "
@@ -469,11 +475,7 @@ def frames_in_flight(size: int, rounds: int, smoke: bool) -> None:
         variants[f"render + readback, {count} in flight"] = with_in_flight(count, alone)
         variants[f"batch, {count} in flight"] = with_in_flight(count, batch(f"batch, {count} in flight", jobs))
     try:
-        for run in variants.values():
-            run()
-        inside.clear()
-        walls = _print_per_frame(what, variants, rounds, len(jobs))
-        _print_inside(inside, "render + readback, 2 in flight", walls)
+        _print_batches(what, variants, rounds, len(jobs), inside, "render + readback, 2 in flight")
     finally:
         shutil.rmtree(folder, ignore_errors=True)
 
@@ -496,11 +498,7 @@ def chunk_order(size: int, rounds: int, smoke: bool) -> None:
                 "batch, first mesh's chunks first": batch("batch, first mesh's chunks first", jobs),
                 "batch, first mesh's chunks last": batch("batch, first mesh's chunks last", last)}
     try:
-        for run in variants.values():
-            run()
-        inside.clear()
-        walls = _print_per_frame(what, variants, rounds, len(jobs))
-        _print_inside(inside, "render + readback alone", walls)
+        _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
     finally:
         shutil.rmtree(folder, ignore_errors=True)
 
@@ -521,11 +519,7 @@ def output_folders(size: int, rounds: int, smoke: bool, folders: list[Path]) -> 
         variants[f"batch in {parent}"] = _batch_runner(renderer, folder, inside)(f"batch in {parent}", jobs)
     try:
         before = {parent: new_file_micros(folder) for parent, folder in made.items()}
-        for run in variants.values():
-            run()
-        inside.clear()
-        walls = _print_per_frame(what, variants, rounds, len(jobs))
-        _print_inside(inside, "render + readback alone", walls)
+        _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
         for parent, folder in made.items():
             print(f"a new file in {parent}: {before[parent]:.0f} µs before the rounds, {new_file_micros(folder):.0f} µs after")
     finally:
@@ -706,10 +700,16 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
         print(f"  {name:52s} {counts[name] / 1e6:8.1f} M ({counts[name] / counts['as shipped']:.3f}×)")
 
 
+# The A/Bs on the dataset benchmark's scenes, each called as f(size, rounds, smoke).
+DATASET_SCENE_ABS = {
+    "chunks": chunks, "batch-parts": batch_parts, "kept-frames": kept_frames, "fresh-meshes": fresh_meshes,
+    "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
+}
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", "chunks", "batch-parts",
-                                         "kept-frames", "fresh-meshes", "frames-in-flight", "chunk-order", "thread-cpu",
+    parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", *DATASET_SCENE_ABS,
                                          "output-folders", "crease-split", "child"))
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--frames", type=int, default=300)
@@ -725,26 +725,14 @@ def main(argv: list[str] | None = None) -> int:
         args.size, args.frames, args.runs, args.segments, args.rounds = 32, 3, 1, 8, 1
     if args.what == "child":
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
-    elif args.what == "batch-parts":
-        batch_parts(args.size, args.rounds, args.smoke)
-    elif args.what == "kept-frames":
-        kept_frames(args.size, args.rounds, args.smoke)
-    elif args.what == "fresh-meshes":
-        fresh_meshes(args.size, args.rounds, args.smoke)
-    elif args.what == "frames-in-flight":
-        frames_in_flight(args.size, args.rounds, args.smoke)
-    elif args.what == "chunk-order":
-        chunk_order(args.size, args.rounds, args.smoke)
-    elif args.what == "thread-cpu":
-        thread_cpu(args.size, args.rounds, args.smoke)
+    elif args.what in DATASET_SCENE_ABS:
+        DATASET_SCENE_ABS[args.what](args.size, args.rounds, args.smoke)
     elif args.what == "output-folders":
         import tempfile
 
         output_folders(args.size, args.rounds, args.smoke, args.folders or [Path(tempfile.gettempdir())])
     elif args.what == "crease-split":
         crease_split(args.rounds, args.smoke)
-    elif args.what == "chunks":
-        chunks(args.size, args.rounds, args.smoke)
     elif args.what == "poll":
         poll(args.size, args.rounds, args.segments)
     elif args.what == "frame-plans":
