@@ -163,3 +163,25 @@ def test_a_job_that_kills_its_worker_fails_alone_and_is_named(tmp_path):
     assert list(report["failed"]) == ["cube/view_001"]
     assert not (tmp_path / "out" / "cube" / "view_001.png").exists()
     assert not [p for p in (tmp_path / "out").rglob("*") if p.name.endswith(".tmp")]
+
+
+def test_a_one_thread_worker_holds_the_next_chunk_while_one_runs():
+    """The local cluster gives each 1-thread worker two chunks at a time: the next one waits
+    on the worker, so it starts when the running one secedes, without a scheduler round trip
+    between chunks (cluster.py, worker-saturation). The others stay on the scheduler, so a
+    worker's death blames at most two chunks."""
+    cluster = local_cluster(1, lavapipe_threads=1)
+    try:
+        with distributed.Client(cluster) as client:
+            # One graph of 6 chunk-like tasks: the scheduler queues what the worker cannot take.
+            futures = client.map(time.sleep, [1.0] * 6, pure=False)
+            deadline = time.monotonic() + 20
+            held: list = []
+            counts = []
+            while time.monotonic() < deadline and not all(future.done() for future in futures):
+                counts.append(len(next(iter(client.processing().values()), [])))
+                time.sleep(0.05)
+            assert max(counts) == 2, counts
+            client.gather(futures)
+    finally:
+        cluster.close(timeout=10)

@@ -48,9 +48,14 @@ def local_cluster(workers: int, lavapipe_threads: int | None = None):
     with dask.config.set(
         {
             "distributed.worker.multiprocessing-method": "spawn",
-            # A worker's death blames every task it was processing: with one task in flight
-            # per 1-thread worker, only the chunk it was running.
-            "distributed.scheduler.worker-saturation": 1.0,
+            # Two chunks per 1-thread worker: the next one waits on the worker, so it starts
+            # as soon as the running chunk's task secedes to wait for its writes (worker.py),
+            # not one scheduler round trip later. With 1.0 that round trip left the worker
+            # idle between chunks: 0.45 against 0.26 ms a 256² frame outside the chunks,
+            # one worker, 12 chunks a run (docs/performance.md, "Scaling"). A worker's death
+            # blames both chunks it held; _stream retries a blamed chunk job by job, so the
+            # innocent one is still rendered (tests/test_dataset_dask.py).
+            "distributed.scheduler.worker-saturation": 2.0,
             "distributed.scheduler.allowed-failures": 1,
             # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's
             # adaptive mmap threshold: every frame-sized array is then mmapped and page-faulted
