@@ -421,3 +421,13 @@ def test_a_job_s_digest_is_its_fields_hash_computed_once(tmp_path):
     other = dataclasses.replace(job, outputs=Outputs())
     assert other.digest() != job.digest()
     assert pickle.loads(pickle.dumps(job)).digest() == job.digest()
+
+
+@pytest.mark.parametrize("cores, threads", [(None, 1), (1, 1), (2, 1), (3, 1), (6, 3), (8, 4), (64, 4)])
+def test_encoder_threads_are_half_the_cores_from_one_to_four(monkeypatch, cores, threads):
+    """On 2 cores one encoder thread (a second slowed the frames it competes with); more
+    where there are cores to keep up with faster frames."""
+    from wgpu_shading.dataset import chunk
+
+    monkeypatch.setattr(chunk.os, "cpu_count", lambda: cores)
+    assert chunk.default_encoder_threads() == threads

@@ -26,9 +26,20 @@ from .views import base_scene, job_scene
 from .writer import write_view
 
 MAX_PENDING_WRITES = 8  # frames waiting for the encoder: bounds memory when encoding lags
+MAX_ENCODER_THREADS = 4
 # Base scenes kept between chunks: the next chunk is usually the same mesh's next views, and
 # loading a mesh file can cost more than rendering its chunk (the 70k-triangle bunny OBJ: 0.14 s).
 KEPT_SCENES = 2
+
+
+def default_encoder_threads() -> int:
+    """Half the cores, 1 to MAX_ENCODER_THREADS. On lavapipe the frames themselves keep ~1.5
+    of 2 cores busy, and a second encoder thread there made every frame slower, not faster:
+    34 of 44 alternating rounds of the dataset benchmark read faster with one (2-4 % a
+    frame inside the chunks, 256² and 512²; docs/performance.md, "Where a dataset frame
+    goes", the tenth pass). With more cores, or frames drawn by a GPU in a fraction of
+    the ~1-2 ms of CPU a frame's files take, one thread could not keep up."""
+    return max(1, min(MAX_ENCODER_THREADS, (os.cpu_count() or 2) // 2))
 
 
 def describe(error: BaseException) -> str:
@@ -57,17 +68,19 @@ class ChunkRenderer:
     turns: a Renderer is used by one thread at a time.
 
     parallel: devices render_many spreads frames over (None: its default, 2 on lavapipe;
-    1 when several workers already share the cores)."""
+    1 when several workers already share the cores). encoder_threads: threads that encode
+    and write the files (None: default_encoder_threads())."""
 
     def __init__(self, renderer: Renderer | None = None, *, adapter: str | None = None,
-                 parallel: int | None = None, encoder_threads: int = 2):
+                 parallel: int | None = None, encoder_threads: int | None = None):
         self.renderer = renderer if renderer is not None else Renderer(adapter=adapter)
         self.parallel = parallel
         self._kept: OrderedDict[tuple, object] = OrderedDict()  # load_key → base scene, newest last
         self._loading: dict[tuple, Future] = {}  # load_key → its base scene being loaded by prefetch()
         self._loading_lock = threading.Lock()  # prefetch() may run while another thread renders
         self._lock = threading.Lock()
-        self._encoders = ThreadPoolExecutor(max_workers=encoder_threads, thread_name_prefix="wgpu-shading-encode")
+        threads = default_encoder_threads() if encoder_threads is None else encoder_threads
+        self._encoders = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="wgpu-shading-encode")
         self._loader = ThreadPoolExecutor(max_workers=1, thread_name_prefix="wgpu-shading-load")
 
     def close(self) -> None:
