@@ -44,6 +44,7 @@ REFUSED = (SceneError, MeshError, UsageError)
 # MAX_/MIN_ constants that bound no value a user gives, and why.
 NOT_USER_VALUES = {
     "MAX_PENDING_WRITES": "dataset/chunk.py: frames waiting for the PNG encoder, an internal queue",
+    "MAX_ENCODER_THREADS": "dataset/chunk.py: the cap of the encoder threads made from the core count, not a user value",
     "MIN_DISTANCE_FRACTION": "live/navigation.py: how close a dolly may bring the eye, not an input",
     "MAX_DOLLY_EXPONENT": "live/navigation.py: the zoom of one scroll event, not an input",
     "MIN_SHININESS": "live/state.py: where the viewer's shininess keys stop, not a validity range",
