@@ -64,6 +64,8 @@ SMOKE_SCRIPTS = {
     "ab_issue29_thread_cpu": ("scripts/ab_issue29.py", "thread-cpu", "--smoke"),
     "ab_issue29_output_folders": ("scripts/ab_issue29.py", "output-folders", "--smoke"),
     "ab_issue29_crease_split": ("scripts/ab_issue29.py", "crease-split", "--smoke"),
+    "ab_issue29_encoder_threads": ("scripts/ab_issue29.py", "encoder-threads", "--smoke"),
+    "ab_issue29_dask_saturation": ("scripts/ab_issue29.py", "dask-saturation", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -88,6 +90,8 @@ REAL_SCRIPTS = {
     "ab_issue29_chunk_order": ("scripts/ab_issue29.py", "chunk-order", "--size", "256", "--rounds", "10"),
     "ab_issue29_thread_cpu": ("scripts/ab_issue29.py", "thread-cpu", "--size", "256", "--rounds", "3"),
     "ab_issue29_crease_split": ("scripts/ab_issue29.py", "crease-split", "--rounds", "12"),
+    "ab_issue29_encoder_threads": ("scripts/ab_issue29.py", "encoder-threads", "--size", "256", "--rounds", "16"),
+    "ab_issue29_dask_saturation": ("scripts/ab_issue29.py", "dask-saturation", "--size", "256", "--rounds", "8"),
 }
 
 

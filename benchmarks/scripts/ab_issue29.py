@@ -15,6 +15,8 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py thread-cpu --size 256 --rounds 3
     python benchmarks/scripts/ab_issue29.py output-folders --size 256 --rounds 8 --folders /tmp /var/tmp DIR
     python benchmarks/scripts/ab_issue29.py crease-split --rounds 12
+    python benchmarks/scripts/ab_issue29.py encoder-threads --size 256 --rounds 16
+    python benchmarks/scripts/ab_issue29.py dask-saturation --size 256 --rounds 8
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -98,6 +100,17 @@ output-folders: the colour + depth batch writing in a new folder of each of --fo
 (default: the system's temporary folder), interleaved round by round beside render +
 readback alone, each folder's file creation time (benchmarks/dataset.py, new_file_micros)
 measured before the rounds and after them.
+
+encoder-threads: the colour + depth batch with 1, 2 and 3 encoder threads
+(dataset/chunk.py, default_encoder_threads), interleaved round by round beside render +
+readback alone; each batch's time inside its chunks, and paired with the default's run
+of the same round: the median of the per-round ratios and in how many rounds it was
+faster (a run's place in a slow or fast minute of the machine cancels out in the pair).
+
+dask-saturation: the colour batch on two warm one-worker local clusters, one with the
+shipped worker-saturation (dataset/cluster.py, LOCAL_CLUSTER_CONFIG: two chunks a 1-thread
+worker) and one with 1.0 (one chunk), alternating; the time per frame outside the chunks
+(the scheduler's round trips between chunks among it), inside them, and paired.
 
 crease-split: the 70K-triangle bunny's load_mesh with crease_normals.split_vertices and
 with the formulation it replaced (np.unique over every corner's (vertex, fan) key),
@@ -583,6 +596,97 @@ def thread_cpu(size: int, rounds: int, smoke: bool) -> None:
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
+
+def _print_paired(inside: dict, baseline: str) -> None:
+    """Each variant's runs against the baseline's run of the same round: the median ratio
+    and in how many rounds the variant was faster."""
+    for name, values in inside.items():
+        paired = [value / base for value, base in zip(values, inside[baseline])]
+        print(f"{name}: paired with {baseline}, median {statistics.median(paired):.3f}×, faster in "
+              f"{sum(ratio < 1.0 for ratio in paired)} of {len(paired)} rounds")
+
+
+def encoder_threads(size: int, rounds: int, smoke: bool) -> None:
+    import shutil
+    import tempfile
+
+    from benchmarks.dataset import render_all
+    from wgpu_shading import Renderer
+    from wgpu_shading.dataset import chunk
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    folder = Path(tempfile.mkdtemp(prefix="ab-encoder-threads-"))
+    inside: dict = {}
+    batch = _batch_runner(renderer, folder, inside)
+    shipped = chunk.default_encoder_threads
+    default = f"batch, {shipped()} encoder thread(s) (the default here)"
+
+    def with_threads(count: int):
+        run = batch(f"batch, {count} encoder thread(s)" + (" (the default here)" if count == shipped() else ""), jobs)
+
+        def variant() -> None:
+            chunk.default_encoder_threads = lambda: count  # what ChunkRenderer asks when made
+            try:
+                run()
+            finally:
+                chunk.default_encoder_threads = shipped
+        return variant
+
+    variants = {"render + readback alone": lambda: render_all(renderer, scenes)}
+    variants.update({f"{count} encoder thread(s)": with_threads(count) for count in (1, 2, 3)})
+    try:
+        _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
+        _print_paired(inside, default)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
+    import shutil
+    import tempfile
+
+    from benchmarks.dataset import SMOKE_MESHES, default_meshes
+    from wgpu_shading.dataset import Outputs, cluster, mesh_jobs, render_dataset, turntable_views
+
+    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
+    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
+    shipped = cluster.LOCAL_CLUSTER_CONFIG
+    key = "distributed.scheduler.worker-saturation"
+    clusters = {f"worker-saturation {shipped[key]} (shipped)": cluster.local_cluster(1)}
+    cluster.LOCAL_CLUSTER_CONFIG = {**shipped, key: 1.0}
+    try:
+        clusters["worker-saturation 1.0"] = cluster.local_cluster(1)
+    finally:
+        cluster.LOCAL_CLUSTER_CONFIG = shipped
+    folder = Path(tempfile.mkdtemp(prefix="ab-dask-saturation-"))
+    runs = iter(range(1 << 30))
+    outside: dict = {}
+    inside: dict = {}
+    print(f"{len(meshes)} meshes × {views} views at {size}², colour, one-worker local clusters; "
+          f"load average {os.getloadavg()[0]:.2f} at the start")
+    try:
+        for local in clusters.values():  # the workers' pipelines and uploads
+            render_dataset(jobs, folder / f"{next(runs)}", scheduler=local.scheduler_address, progress=False)
+        names = list(clusters)
+        for round_index in range(rounds):
+            for name in names[round_index % 2:] + names[: round_index % 2]:
+                start = time.perf_counter()
+                result = render_dataset(jobs, folder / f"{next(runs)}", scheduler=clusters[name].scheduler_address, progress=False)
+                wall = time.perf_counter() - start
+                outside.setdefault(name, []).append((wall - result.busy_seconds) * 1e3 / len(jobs))
+                inside.setdefault(name, []).append(result.busy_seconds * 1e3 / len(jobs))
+    finally:
+        for local in clusters.values():
+            local.close(timeout=10)
+        shutil.rmtree(folder, ignore_errors=True)
+    for name in clusters:
+        print(f"{name}: outside the chunks {statistics.median(outside[name]):.3f} ms a frame "
+              f"({min(outside[name]):.2f}–{max(outside[name]):.2f}), inside {statistics.median(inside[name]):.2f}")
+    _print_paired(outside, names[0])
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
 def crease_split(rounds: int, smoke: bool) -> None:
     import numpy as np
 
@@ -704,6 +808,7 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 DATASET_SCENE_ABS = {
     "chunks": chunks, "batch-parts": batch_parts, "kept-frames": kept_frames, "fresh-meshes": fresh_meshes,
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
+    "encoder-threads": encoder_threads, "dask-saturation": dask_saturation,
 }
 
 

@@ -38,6 +38,27 @@ def _distributed():
     return distributed
 
 
+# Dask's settings for the local cluster's scheduler and workers (local_cluster).
+LOCAL_CLUSTER_CONFIG = {
+    "distributed.worker.multiprocessing-method": "spawn",
+    # Two chunks per 1-thread worker: the next one waits on the worker, so it starts
+    # as soon as the running chunk's task secedes to wait for its writes (worker.py),
+    # not one scheduler round trip later. With 1.0 that round trip left the worker
+    # idle between chunks: 0.45 against 0.26 ms a 256² frame outside the chunks,
+    # one worker, 12 chunks a run (docs/performance.md, "Scaling"). A worker's death
+    # blames both chunks it held; _stream retries a blamed chunk job by job, so the
+    # innocent one is still rendered (tests/test_dataset_dask.py).
+    "distributed.scheduler.worker-saturation": 2.0,
+    "distributed.scheduler.allowed-failures": 1,
+    # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's
+    # adaptive mmap threshold: every frame-sized array is then mmapped and page-faulted
+    # afresh. Measured: 25 % more CPU per 256² frame (5.2 → 4.1 ms in a worker).
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+    # The statistical profiler samples the task thread every 10 ms; nobody reads it here.
+    "distributed.worker.profile.enabled": False,
+}
+
+
 def local_cluster(workers: int, lavapipe_threads: int | None = None):
     """A LocalCluster of `workers` spawned single-threaded processes; lavapipe's threads
     (LP_NUM_THREADS) split between them: cores // workers each unless given."""
@@ -45,26 +66,7 @@ def local_cluster(workers: int, lavapipe_threads: int | None = None):
     import dask
 
     threads = lavapipe_threads if lavapipe_threads is not None else max(1, (os.cpu_count() or 1) // workers)
-    with dask.config.set(
-        {
-            "distributed.worker.multiprocessing-method": "spawn",
-            # Two chunks per 1-thread worker: the next one waits on the worker, so it starts
-            # as soon as the running chunk's task secedes to wait for its writes (worker.py),
-            # not one scheduler round trip later. With 1.0 that round trip left the worker
-            # idle between chunks: 0.45 against 0.26 ms a 256² frame outside the chunks,
-            # one worker, 12 chunks a run (docs/performance.md, "Scaling"). A worker's death
-            # blames both chunks it held; _stream retries a blamed chunk job by job, so the
-            # innocent one is still rendered (tests/test_dataset_dask.py).
-            "distributed.scheduler.worker-saturation": 2.0,
-            "distributed.scheduler.allowed-failures": 1,
-            # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's
-            # adaptive mmap threshold: every frame-sized array is then mmapped and page-faulted
-            # afresh. Measured: 25 % more CPU per 256² frame (5.2 → 4.1 ms in a worker).
-            "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
-            # The statistical profiler samples the task thread every 10 ms; nobody reads it here.
-            "distributed.worker.profile.enabled": False,
-        }
-    ):
+    with dask.config.set(LOCAL_CLUSTER_CONFIG):
         return distributed.LocalCluster(
             n_workers=workers,
             threads_per_worker=1,
