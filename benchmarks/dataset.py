@@ -26,7 +26,10 @@ compilation) before timing; their start-up is reported separately.
 Dask's per-frame overhead is measured within each run, so the load other processes put on the
 machine cancels out: wall time minus the time the worker spent inside its chunks (loading,
 rendering, writing), per frame, for 1 worker, less the same quantity of the in-process run
-(skip checks, cameras.json, report), as a share of the worker's time per frame.
+(skip checks, cameras.json, report), as a share of the worker's time per frame. The time
+inside chunks is the union of each worker's spans of work (run.busy_time): a Dask worker
+renders its next chunk while the last one waits for its writes, and until issue #29's
+tenth pass those overlaps were counted twice, which made Dask's overhead read low.
 """
 
 from __future__ import annotations

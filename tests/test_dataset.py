@@ -431,3 +431,21 @@ def test_encoder_threads_are_half_the_cores_from_one_to_four(monkeypatch, cores,
 
     monkeypatch.setattr(chunk.os, "cpu_count", lambda: cores)
     assert chunk.default_encoder_threads() == threads
+
+
+def test_time_inside_chunks_counts_overlapping_spans_of_a_worker_once():
+    """On Dask a worker renders its next chunk while the last one waits for its writes:
+    the run's time inside chunks is the union of each worker's spans, summed over workers."""
+    from wgpu_shading.dataset.run import busy_time
+
+    assert busy_time([]) == 0.0
+    assert busy_time([(0.0, 1.0), (2.0, 3.0)]) == pytest.approx(2.0)
+    assert busy_time([(0.0, 2.0), (1.0, 3.0), (1.0, 3.0)]) == pytest.approx(3.0)  # a chunk's jobs share spans
+    assert busy_time([(1.0, 2.0), (0.0, 5.0), (4.0, 6.0)]) == pytest.approx(6.0)
+
+
+def test_time_inside_chunks_is_within_the_run(tmp_path, renderer):
+    jobs = mesh_jobs(["builtin:torus?segments=16", "builtin:cube"], turntable_views(3), Outputs(depth="npy"), {"size": 24})
+    result = render_dataset(jobs, tmp_path / "out", renderer=renderer, chunk_size=2, progress=False)
+    assert not result.failed
+    assert 0.0 < result.busy_seconds <= result.seconds

@@ -11,6 +11,7 @@ with ok=False and its error; the other jobs of the chunk go on.
 from __future__ import annotations
 
 import os
+import socket
 import threading
 import time
 from collections import OrderedDict, deque
@@ -30,15 +31,17 @@ MAX_ENCODER_THREADS = 4
 # Base scenes kept between chunks: the next chunk is usually the same mesh's next views, and
 # loading a mesh file can cost more than rendering its chunk (the 70k-triangle bunny OBJ: 0.14 s).
 KEPT_SCENES = 2
+HOST = socket.gethostname()  # with the pid, which worker a record's spans belong to
 
 
 def default_encoder_threads() -> int:
     """Half the cores, 1 to MAX_ENCODER_THREADS. On lavapipe the frames themselves keep ~1.5
-    of 2 cores busy, and a second encoder thread there made every frame slower, not faster:
-    34 of 44 alternating rounds of the dataset benchmark read faster with one (2-4 % a
-    frame inside the chunks, 256² and 512²; docs/performance.md, "Where a dataset frame
-    goes", the tenth pass). With more cores, or frames drawn by a GPU in a fraction of
-    the ~1-2 ms of CPU a frame's files take, one thread could not keep up."""
+    of 2 cores busy, and a second encoder thread there competes with them: over four runs
+    of alternating rounds of the dataset benchmark (256² and 512²) one thread was faster
+    inside the chunks in 42 of 60 rounds, by 2-4 % in three runs and even in the fourth
+    (`ab_issue29.py encoder-threads`; docs/performance.md, "Where a dataset frame goes").
+    With more cores, or frames drawn by a GPU in a fraction of the ~1-2 ms of CPU a
+    frame's files take, one thread could not keep up."""
     return max(1, min(MAX_ENCODER_THREADS, (os.cpu_count() or 2) // 2))
 
 
@@ -114,8 +117,8 @@ class ChunkRenderer:
         return scene
 
     def render(self, jobs: list[Job], out_dir: str | Path) -> list[dict]:
-        """Render and write `jobs`; one record per job, in order. Each record's `seconds` is
-        its share of the chunk's time (loading, rendering, writing)."""
+        """Render and write `jobs`; one record per job, in order, with the chunk's `spans`
+        of work (PendingChunk.finish)."""
         return self.start(jobs, out_dir).finish()
 
     def start(self, jobs: list[Job], out_dir: str | Path) -> "PendingChunk":
@@ -128,7 +131,7 @@ class ChunkRenderer:
             return self._render(jobs, out_dir)
 
     def _render(self, jobs: list[Job], out_dir: str | Path) -> "PendingChunk":
-        start = time.perf_counter()
+        start = time.monotonic()
         out_dir = Path(out_dir)
         records: dict[str, dict] = {}
         writes: deque[tuple[Job, Future]] = deque()
@@ -155,7 +158,7 @@ class ChunkRenderer:
             streams.setdefault((job.outputs.color, job.outputs.depth, job.outputs.normals, job.outputs.ids), []).append((job, scene))
         for (color, depth, normals, ids), items in streams.items():
             self._render_stream(items, out_dir, color, depth, normals, ids, writes, records)
-        return PendingChunk(jobs, records, writes, time.perf_counter() - start)
+        return PendingChunk(jobs, records, writes, (start, time.monotonic()))
 
     def _render_stream(self, items, out_dir, color, depth, normals, ids, writes, records) -> None:
         scenes = [scene for _, scene in items]
@@ -199,14 +202,18 @@ def _collect(entry: tuple[Job, Future], records: dict) -> None:
 class PendingChunk:
     """A rendered chunk whose last writes may still run (ChunkRenderer.start)."""
 
-    def __init__(self, jobs: list[Job], records: dict[str, dict], writes: deque, seconds: float):
-        self.jobs, self._records, self._writes, self._seconds = jobs, records, writes, seconds
+    def __init__(self, jobs: list[Job], records: dict[str, dict], writes: deque, rendering: tuple[float, float]):
+        self.jobs, self._records, self._writes, self._rendering = jobs, records, writes, rendering
 
     def finish(self) -> list[dict]:
-        """Wait for the chunk's writes; one record per job, in order, each with its share of
-        the chunk's time (rendering, then the wait for its last writes)."""
-        start = time.perf_counter()
+        """Wait for the chunk's writes; one record per job, in order. Each carries the
+        chunk's `spans`: when it rendered and when it waited for its last writes
+        (time.monotonic(), one clock for every process of a machine), and the worker's
+        `pid` and `host`: on Dask the wait of one chunk runs while the next one renders,
+        so a run's time inside chunks is the union of each worker's spans
+        (run.busy_seconds), not their sum."""
+        start = time.monotonic()
         while self._writes:
             _collect(self._writes.popleft(), self._records)
-        share = (self._seconds + time.perf_counter() - start) / max(len(self.jobs), 1)
-        return [{**self._records[job.id], "seconds": share} for job in self.jobs]
+        spans = [list(self._rendering), [start, time.monotonic()]]
+        return [{**self._records[job.id], "spans": spans, "host": HOST} for job in self.jobs]

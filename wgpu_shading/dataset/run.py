@@ -28,7 +28,7 @@ class BatchResult:
     skipped: list[str] = field(default_factory=list)
     failed: dict[str, str] = field(default_factory=dict)
     seconds: float = 0.0
-    busy_seconds: float = 0.0  # time spent inside chunks (loading, rendering, writing), all workers
+    busy_seconds: float = 0.0  # time inside chunks (loading, rendering, writing), summed over workers: busy_time()
 
     @property
     def frames_per_second(self) -> float:
@@ -90,10 +90,12 @@ def _run(jobs, out_dir: Path, workers, scheduler, chunk_size, progress, adapter,
             todo.append(job)
     work = chunks(todo, chunk_size) if todo else []
     bar = _progress_bar(len(todo), progress)
+    spans: dict[tuple, list] = {}  # worker (host, pid) → its chunks' spans of work
     try:
         for records in _execute(work, out_dir, workers, scheduler, adapter, lavapipe_threads, renderer, parallel):
             for record in records:
-                result.busy_seconds += record.get("seconds", 0.0)
+                if "spans" in record:
+                    spans.setdefault((record.get("host"), record["pid"]), []).extend(map(tuple, record["spans"]))
                 if record["ok"]:
                     result.rendered.append(record["id"])
                 else:
@@ -106,10 +108,23 @@ def _run(jobs, out_dir: Path, workers, scheduler, chunk_size, progress, adapter,
         if bar is not None:
             bar.close()
         result.seconds = time.perf_counter() - start
+        result.busy_seconds = sum(busy_time(worker_spans) for worker_spans in spans.values())
         remove_stale_temporaries(out_dir)
         _write_cameras(out_dir, jobs)
         _write_report(out_dir, result)
     return result
+
+
+def busy_time(spans: list[tuple[float, float]]) -> float:
+    """Seconds covered by a worker's spans of work (their union: a Dask worker renders its
+    next chunk while the last one waits for its writes; the spans of one chunk's jobs are
+    the same spans)."""
+    covered, reached = 0.0, float("-inf")
+    for start, end in sorted(set(spans)):
+        if end > reached:
+            covered += end - max(start, reached)
+            reached = end
+    return covered
 
 
 def _progress_bar(total: int, enabled: bool):
