@@ -165,23 +165,22 @@ def test_a_job_that_kills_its_worker_fails_alone_and_is_named(tmp_path):
     assert not [p for p in (tmp_path / "out").rglob("*") if p.name.endswith(".tmp")]
 
 
-def test_a_one_thread_worker_holds_the_next_chunk_while_one_runs():
-    """The local cluster gives each 1-thread worker two chunks at a time: the next one waits
-    on the worker, so it starts when the running one secedes, without a scheduler round trip
-    between chunks (cluster.py, worker-saturation). The others stay on the scheduler, so a
-    worker's death blames at most two chunks."""
+
+def test_a_one_thread_worker_holds_one_chunk_at_a_time():
+    """The local cluster gives each 1-thread worker one chunk at a time (cluster.py,
+    worker-saturation 1.0); the others wait on the scheduler, so a worker's death blames
+    only the chunk it was running."""
     cluster = local_cluster(1, lavapipe_threads=1)
     try:
         with distributed.Client(cluster) as client:
             # One graph of 6 chunk-like tasks: the scheduler queues what the worker cannot take.
-            futures = client.map(time.sleep, [1.0] * 6, pure=False)
-            deadline = time.monotonic() + 20
-            held: list = []
+            futures = client.map(time.sleep, [0.5] * 6, pure=False)
             counts = []
+            deadline = time.monotonic() + 20
             while time.monotonic() < deadline and not all(future.done() for future in futures):
                 counts.append(len(next(iter(client.processing().values()), [])))
                 time.sleep(0.05)
-            assert max(counts) == 2, counts
+            assert max(counts) == 1, counts
             client.gather(futures)
     finally:
         cluster.close(timeout=10)

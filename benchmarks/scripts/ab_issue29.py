@@ -108,8 +108,8 @@ of the same round: the median of the per-round ratios and in how many rounds it 
 faster (a run's place in a slow or fast minute of the machine cancels out in the pair).
 
 dask-saturation: the colour batch on two warm one-worker local clusters, one with the
-shipped worker-saturation (dataset/cluster.py, LOCAL_CLUSTER_CONFIG: two chunks a 1-thread
-worker) and one with 1.0 (one chunk), alternating; the time per frame end to end, outside
+shipped worker-saturation (dataset/cluster.py, LOCAL_CLUSTER_CONFIG: 1.0, one chunk a
+1-thread worker) and one with 2.0 (the next chunk waiting on the worker), alternating; the time per frame end to end, outside
 the chunks (the scheduler's round trips between chunks among it) and inside them, and the
 first two paired.
 
@@ -654,10 +654,11 @@ def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
     jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
     shipped = cluster.LOCAL_CLUSTER_CONFIG
     key = "distributed.scheduler.worker-saturation"
+    other = 2.0 if shipped[key] == 1.0 else 1.0
     clusters = {f"worker-saturation {shipped[key]} (shipped)": cluster.local_cluster(1)}
-    cluster.LOCAL_CLUSTER_CONFIG = {**shipped, key: 1.0}
+    cluster.LOCAL_CLUSTER_CONFIG = {**shipped, key: other}
     try:
-        clusters["worker-saturation 1.0"] = cluster.local_cluster(1)
+        clusters[f"worker-saturation {other}"] = cluster.local_cluster(1)
     finally:
         cluster.LOCAL_CLUSTER_CONFIG = shipped
     folder = Path(tempfile.mkdtemp(prefix="ab-dask-saturation-"))

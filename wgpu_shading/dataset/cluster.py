@@ -41,14 +41,13 @@ def _distributed():
 # Dask's settings for the local cluster's scheduler and workers (local_cluster).
 LOCAL_CLUSTER_CONFIG = {
     "distributed.worker.multiprocessing-method": "spawn",
-    # Two chunks per 1-thread worker: the next one waits on the worker, so it starts as
-    # soon as the running chunk's task secedes to wait for its writes (worker.py), not one
-    # scheduler round trip later. A small gain: 0.52-0.54 against 0.58-0.62 ms a 256²
-    # frame outside the chunks with 1.0 (16 of 20 alternating rounds; end to end within
-    # the noise; `ab_issue29.py dask-saturation`, docs/performance.md, "Scaling"). A
-    # worker's death blames both chunks it held; _stream retries a blamed chunk job by
-    # job, so the innocent one is still rendered (tests/test_dataset_dask.py).
-    "distributed.scheduler.worker-saturation": 2.0,
+    # A worker's death blames every task it was processing: with one task in flight per
+    # 1-thread worker, only the chunk it was running. Two a worker (2.0: the next chunk
+    # waiting on the worker, so no scheduler round trip between chunks) was tried and not
+    # kept: 0.52-0.58 against 0.58-0.63 ms a 256² frame outside the chunks, but end to end
+    # 1.0 was faster in 11 of 20 alternating rounds (`ab_issue29.py dask-saturation`;
+    # docs/performance.md, "Where a dataset frame goes", the tenth pass).
+    "distributed.scheduler.worker-saturation": 1.0,
     "distributed.scheduler.allowed-failures": 1,
     # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's
     # adaptive mmap threshold: every frame-sized array is then mmapped and page-faulted
