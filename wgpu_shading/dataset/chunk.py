@@ -36,10 +36,10 @@ HOST = socket.gethostname()  # with the pid, which worker a record's spans belon
 
 def default_encoder_threads() -> int:
     """Half the cores, 1 to MAX_ENCODER_THREADS. On lavapipe the frames themselves keep ~1.5
-    of 2 cores busy, and a second encoder thread there competes with them: over four runs
-    of alternating rounds of the dataset benchmark (256² and 512²) one thread was faster
-    inside the chunks in 42 of 60 rounds, by 2-4 % in three runs and even in the fourth
-    (`ab_issue29.py encoder-threads`; docs/performance.md, "Where a dataset frame goes").
+    of 2 cores busy, and a second encoder thread there competes with them: in six runs of
+    alternating rounds of the dataset benchmark (256² and 512²) one thread was faster
+    inside the chunks in 61 of 92 rounds, by 0-5 % (`ab_issue29.py encoder-threads`;
+    docs/performance.md, "Where a dataset frame goes", the tenth pass).
     With more cores, or frames drawn by a GPU in a fraction of the ~1-2 ms of CPU a
     frame's files take, one thread could not keep up."""
     return max(1, min(MAX_ENCODER_THREADS, (os.cpu_count() or 2) // 2))
@@ -211,7 +211,7 @@ class PendingChunk:
         (time.monotonic(), one clock for every process of a machine), and the worker's
         `pid` and `host`: on Dask the wait of one chunk runs while the next one renders,
         so a run's time inside chunks is the union of each worker's spans
-        (run.busy_seconds), not their sum."""
+        (run.busy_time), not their sum."""
         start = time.monotonic()
         while self._writes:
             _collect(self._writes.popleft(), self._records)

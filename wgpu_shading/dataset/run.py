@@ -7,7 +7,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterator
+from typing import Iterable, Iterator
 
 from ..errors import UsageError
 from .cameras import CONVENTION
@@ -90,12 +90,12 @@ def _run(jobs, out_dir: Path, workers, scheduler, chunk_size, progress, adapter,
             todo.append(job)
     work = chunks(todo, chunk_size) if todo else []
     bar = _progress_bar(len(todo), progress)
-    spans: dict[tuple, list] = {}  # worker (host, pid) → its chunks' spans of work
+    spans: dict[tuple, set] = {}  # worker (host, pid) → its chunks' spans of work (a chunk's jobs share them)
     try:
         for records in _execute(work, out_dir, workers, scheduler, adapter, lavapipe_threads, renderer, parallel):
             for record in records:
                 if "spans" in record:
-                    spans.setdefault((record.get("host"), record["pid"]), []).extend(map(tuple, record["spans"]))
+                    spans.setdefault((record.get("host"), record["pid"]), set()).update(map(tuple, record["spans"]))
                 if record["ok"]:
                     result.rendered.append(record["id"])
                 else:
@@ -115,7 +115,7 @@ def _run(jobs, out_dir: Path, workers, scheduler, chunk_size, progress, adapter,
     return result
 
 
-def busy_time(spans: list[tuple[float, float]]) -> float:
+def busy_time(spans: Iterable[tuple[float, float]]) -> float:
     """Seconds covered by a worker's spans of work (their union: a Dask worker renders its
     next chunk while the last one waits for its writes; the spans of one chunk's jobs are
     the same spans)."""
