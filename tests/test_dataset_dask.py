@@ -165,7 +165,6 @@ def test_a_job_that_kills_its_worker_fails_alone_and_is_named(tmp_path):
     assert not [p for p in (tmp_path / "out").rglob("*") if p.name.endswith(".tmp")]
 
 
-
 def test_a_one_thread_worker_holds_one_chunk_at_a_time():
     """The local cluster gives each 1-thread worker one chunk at a time (cluster.py,
     worker-saturation 1.0); the others wait on the scheduler, so a worker's death blames

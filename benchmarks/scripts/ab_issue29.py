@@ -458,17 +458,14 @@ def _print_batches(what: str, variants: dict, rounds: int, frames: int, inside: 
 
 def frames_in_flight(size: int, rounds: int, smoke: bool) -> None:
     import functools
-    import shutil
     import tempfile
 
+    from benchmarks.dataset import render_all
     from wgpu_shading import Renderer
 
     what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
     shipped = type(renderer).render_many
-    folder = Path(tempfile.mkdtemp(prefix="ab-in-flight-"))
-    inside: dict = {}
-    batch = _batch_runner(renderer, folder, inside)
 
     def with_in_flight(count: int, run):
         def variant() -> None:
@@ -480,22 +477,17 @@ def frames_in_flight(size: int, rounds: int, smoke: bool) -> None:
                 del renderer.render_many
         return variant
 
-    def alone() -> None:
-        for _ in renderer.render_many(scenes, depth=True):
-            pass
-
-    variants = {}
-    for count in (2, 3, 4):
-        variants[f"render + readback, {count} in flight"] = with_in_flight(count, alone)
-        variants[f"batch, {count} in flight"] = with_in_flight(count, batch(f"batch, {count} in flight", jobs))
-    try:
+    with tempfile.TemporaryDirectory(prefix="ab-in-flight-") as folder:
+        inside: dict = {}
+        batch = _batch_runner(renderer, Path(folder), inside)
+        variants = {}
+        for count in (2, 3, 4):
+            variants[f"render + readback, {count} in flight"] = with_in_flight(count, lambda: render_all(renderer, scenes))
+            variants[f"batch, {count} in flight"] = with_in_flight(count, batch(f"batch, {count} in flight", jobs))
         _print_batches(what, variants, rounds, len(jobs), inside, "render + readback, 2 in flight")
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
 
 
 def chunk_order(size: int, rounds: int, smoke: bool) -> None:
-    import shutil
     import tempfile
 
     from benchmarks.dataset import render_all
@@ -505,20 +497,17 @@ def chunk_order(size: int, rounds: int, smoke: bool) -> None:
     first = jobs[0].load_key()  # the bunny, when the real meshes are there
     last = [job for job in jobs if job.load_key() != first] + [job for job in jobs if job.load_key() == first]
     renderer = Renderer()
-    folder = Path(tempfile.mkdtemp(prefix="ab-chunk-order-"))
-    inside: dict = {}
-    batch = _batch_runner(renderer, folder, inside)
-    variants = {"render + readback alone": lambda: render_all(renderer, scenes),
-                "batch, first mesh's chunks first": batch("batch, first mesh's chunks first", jobs),
-                "batch, first mesh's chunks last": batch("batch, first mesh's chunks last", last)}
-    try:
+    with tempfile.TemporaryDirectory(prefix="ab-chunk-order-") as folder:
+        inside: dict = {}
+        batch = _batch_runner(renderer, Path(folder), inside)
+        variants = {"render + readback alone": lambda: render_all(renderer, scenes),
+                    "batch, first mesh's chunks first": batch("batch, first mesh's chunks first", jobs),
+                    "batch, first mesh's chunks last": batch("batch, first mesh's chunks last", last)}
         _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
 
 
 def output_folders(size: int, rounds: int, smoke: bool, folders: list[Path]) -> None:
-    import shutil
+    import contextlib
     import tempfile
 
     from benchmarks.dataset import new_file_micros, render_all
@@ -526,23 +515,20 @@ def output_folders(size: int, rounds: int, smoke: bool, folders: list[Path]) -> 
 
     what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
-    made = {str(parent): Path(tempfile.mkdtemp(prefix="ab-output-folders-", dir=parent)) for parent in folders}
-    inside: dict = {}
-    variants = {"render + readback alone": lambda: render_all(renderer, scenes)}
-    for parent, folder in made.items():
-        variants[f"batch in {parent}"] = _batch_runner(renderer, folder, inside)(f"batch in {parent}", jobs)
-    try:
+    with contextlib.ExitStack() as stack:
+        made = {str(parent): Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="ab-output-folders-", dir=parent)))
+                for parent in folders}
+        inside: dict = {}
+        variants = {"render + readback alone": lambda: render_all(renderer, scenes)}
+        for parent, folder in made.items():
+            variants[f"batch in {parent}"] = _batch_runner(renderer, folder, inside)(f"batch in {parent}", jobs)
         before = {parent: new_file_micros(folder) for parent, folder in made.items()}
         _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
         for parent, folder in made.items():
             print(f"a new file in {parent}: {before[parent]:.0f} µs before the rounds, {new_file_micros(folder):.0f} µs after")
-    finally:
-        for folder in made.values():
-            shutil.rmtree(folder, ignore_errors=True)
 
 
 def thread_cpu(size: int, rounds: int, smoke: bool) -> None:
-    import shutil
     import tempfile
     import threading
     from collections import Counter
@@ -567,7 +553,8 @@ def thread_cpu(size: int, rounds: int, smoke: bool) -> None:
         return call
 
     shipped_write, shipped_load = chunk.write_view, chunk.base_scene  # what ChunkRenderer writes and loads with
-    folder = Path(tempfile.mkdtemp(prefix="ab-thread-cpu-"))
+    scratch = tempfile.TemporaryDirectory(prefix="ab-thread-cpu-")
+    folder = Path(scratch.name)
     runs = iter(range(1 << 30))
     variants = {"render + readback alone": lambda: render_all(renderer, scenes),
                 "batch": lambda: render_dataset(jobs, folder / f"{next(runs)}", progress=False, renderer=renderer)}
@@ -593,9 +580,8 @@ def thread_cpu(size: int, rounds: int, smoke: bool) -> None:
                   + f"; the driver's, wgpu's and other threads {user + system - main - encoders:.2f}")
     finally:
         chunk.write_view, chunk.base_scene = shipped_write, shipped_load
-        shutil.rmtree(folder, ignore_errors=True)
+        scratch.cleanup()
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
-
 
 
 def _print_paired(inside: dict, baseline: str) -> None:
@@ -608,7 +594,6 @@ def _print_paired(inside: dict, baseline: str) -> None:
 
 
 def encoder_threads(size: int, rounds: int, smoke: bool) -> None:
-    import shutil
     import tempfile
 
     from benchmarks.dataset import render_all
@@ -617,34 +602,33 @@ def encoder_threads(size: int, rounds: int, smoke: bool) -> None:
 
     what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
-    folder = Path(tempfile.mkdtemp(prefix="ab-encoder-threads-"))
-    inside: dict = {}
-    batch = _batch_runner(renderer, folder, inside)
     shipped = chunk.default_encoder_threads
-    default = f"batch, {shipped()} encoder thread(s) (the default here)"
 
-    def with_threads(count: int):
-        run = batch(f"batch, {count} encoder thread(s)" + (" (the default here)" if count == shipped() else ""), jobs)
+    def label(count: int) -> str:
+        return f"batch, {count} encoder thread(s)" + (" (the default here)" if count == shipped() else "")
 
-        def variant() -> None:
-            chunk.default_encoder_threads = lambda: count  # what ChunkRenderer asks when made
-            try:
-                run()
-            finally:
-                chunk.default_encoder_threads = shipped
-        return variant
+    with tempfile.TemporaryDirectory(prefix="ab-encoder-threads-") as folder:
+        inside: dict = {}
+        batch = _batch_runner(renderer, Path(folder), inside)
 
-    variants = {"render + readback alone": lambda: render_all(renderer, scenes)}
-    variants.update({f"{count} encoder thread(s)": with_threads(count) for count in (1, 2, 3)})
-    try:
+        def with_threads(count: int):
+            run = batch(label(count), jobs)
+
+            def variant() -> None:
+                chunk.default_encoder_threads = lambda: count  # what ChunkRenderer asks when made
+                try:
+                    run()
+                finally:
+                    chunk.default_encoder_threads = shipped
+            return variant
+
+        variants = {"render + readback alone": lambda: render_all(renderer, scenes)}
+        variants.update({f"{count} encoder thread(s)": with_threads(count) for count in (1, 2, 3)})
         _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
-        _print_paired(inside, default)
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
+        _print_paired(inside, label(shipped()))
 
 
 def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
-    import shutil
     import tempfile
 
     from benchmarks.dataset import SMOKE_MESHES, default_meshes
@@ -661,7 +645,8 @@ def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
         clusters[f"worker-saturation {other}"] = cluster.local_cluster(1)
     finally:
         cluster.LOCAL_CLUSTER_CONFIG = shipped
-    folder = Path(tempfile.mkdtemp(prefix="ab-dask-saturation-"))
+    scratch = tempfile.TemporaryDirectory(prefix="ab-dask-saturation-")
+    folder = Path(scratch.name)
     runs = iter(range(1 << 30))
     outside: dict = {}
     inside: dict = {}
@@ -683,7 +668,7 @@ def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
     finally:
         for local in clusters.values():
             local.close(timeout=10)
-        shutil.rmtree(folder, ignore_errors=True)
+        scratch.cleanup()
     for name in clusters:
         print(f"{name}: end to end {statistics.median(walls[name]):.2f} ms a frame, outside the chunks "
               f"{statistics.median(outside[name]):.3f} ({min(outside[name]):.2f}–{max(outside[name]):.2f}), "
