@@ -17,6 +17,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py crease-split --rounds 12
     python benchmarks/scripts/ab_issue29.py encoder-threads --size 256 --rounds 16
     python benchmarks/scripts/ab_issue29.py dask-saturation --size 256 --rounds 8
+    python benchmarks/scripts/ab_issue29.py per-mesh --size 256 --rounds 6
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -112,6 +113,10 @@ shipped worker-saturation (dataset/cluster.py, LOCAL_CLUSTER_CONFIG: 1.0, one ch
 1-thread worker) and one with 2.0 (the next chunk waiting on the worker), alternating; the time per frame end to end, outside
 the chunks (the scheduler's round trips between chunks among it) and inside them, and the
 first two paired.
+
+per-mesh: each mesh of the dataset benchmark alone, its views' render + readback and then
+its colour + depth batch (its load included, as each run loads anew), round by round: the
+ratio of the two for each mesh, which shows which meshes set the benchmark's ratio.
 
 crease-split: the 70K-triangle bunny's load_mesh with crease_normals.split_vertices and
 with the formulation it replaced (np.unique over every corner's (vertex, fan) key),
@@ -584,6 +589,41 @@ def thread_cpu(size: int, rounds: int, smoke: bool) -> None:
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
+def per_mesh(size: int, rounds: int, smoke: bool) -> None:
+    import tempfile
+
+    from benchmarks.dataset import render_all
+    from wgpu_shading import Renderer
+    from wgpu_shading.dataset import render_dataset
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    meshes: dict[str, tuple[list, list]] = {}
+    for job, scene in zip(jobs, scenes):
+        their_jobs, their_scenes = meshes.setdefault(Path(job.source).name, ([], []))
+        their_jobs.append(job)
+        their_scenes.append(scene)
+    alone: dict[str, list[float]] = {}
+    inside: dict[str, list[float]] = {}
+    print(f"{what}, each mesh's views alone; load average {os.getloadavg()[0]:.2f} at the start")
+    with tempfile.TemporaryDirectory(prefix="ab-per-mesh-") as folder:
+        runs = iter(range(1 << 30))
+        for round_index in range(rounds + 1):  # the first round warms pipelines and uploads, untimed
+            for name, (their_jobs, their_scenes) in meshes.items():
+                start = time.perf_counter()
+                render_all(renderer, their_scenes)
+                wall = time.perf_counter() - start
+                result = render_dataset(their_jobs, Path(folder) / f"{next(runs)}", progress=False, renderer=renderer)
+                if round_index:
+                    alone.setdefault(name, []).append(wall * 1e3 / len(their_scenes))
+                    inside.setdefault(name, []).append(result.busy_seconds * 1e3 / len(their_jobs))
+    for name in meshes:
+        frames, batch = statistics.median(alone[name]), statistics.median(inside[name])
+        print(f"{name}: render + readback {frames:.2f} ms a frame, the batch inside its chunks {batch:.2f} "
+              f"(its load included), {batch / frames:.2f}×")
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
 def _print_paired(inside: dict, baseline: str) -> None:
     """Each variant's runs against the baseline's run of the same round: the median ratio
     and in how many rounds the variant was faster."""
@@ -801,7 +841,7 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 DATASET_SCENE_ABS = {
     "chunks": chunks, "batch-parts": batch_parts, "kept-frames": kept_frames, "fresh-meshes": fresh_meshes,
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
-    "encoder-threads": encoder_threads, "dask-saturation": dask_saturation,
+    "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "per-mesh": per_mesh,
 }
 
 
