@@ -66,6 +66,7 @@ SMOKE_SCRIPTS = {
     "ab_issue29_crease_split": ("scripts/ab_issue29.py", "crease-split", "--smoke"),
     "ab_issue29_encoder_threads": ("scripts/ab_issue29.py", "encoder-threads", "--smoke"),
     "ab_issue29_dask_saturation": ("scripts/ab_issue29.py", "dask-saturation", "--smoke"),
+    "ab_issue29_dask_client": ("scripts/ab_issue29.py", "dask-client", "--smoke"),
     "ab_issue29_per_mesh": ("scripts/ab_issue29.py", "per-mesh", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
@@ -93,6 +94,7 @@ REAL_SCRIPTS = {
     "ab_issue29_crease_split": ("scripts/ab_issue29.py", "crease-split", "--rounds", "12"),
     "ab_issue29_encoder_threads": ("scripts/ab_issue29.py", "encoder-threads", "--size", "256", "--rounds", "16"),
     "ab_issue29_dask_saturation": ("scripts/ab_issue29.py", "dask-saturation", "--size", "256", "--rounds", "8"),
+    "ab_issue29_dask_client": ("scripts/ab_issue29.py", "dask-client", "--size", "256", "--rounds", "12"),
     "ab_issue29_per_mesh": ("scripts/ab_issue29.py", "per-mesh", "--size", "256", "--rounds", "6"),
 }
 

@@ -8,8 +8,11 @@ Modes, every one writing the same colour PNGs (zlib level 1) of the same 192 job
     in-process       render_dataset(workers=1): chunks, pipelined frames on 2 lavapipe devices,
                      PNG encoding on 2 threads
     in-process, 1 device   the same with render_many(parallel=1): what one Dask worker runs
-    dask 1 worker    render_dataset on a warm LocalCluster of 1 process (LP_NUM_THREADS = cores)
-    dask 2 workers   a warm LocalCluster of 2 processes (LP_NUM_THREADS = cores / 2 each)
+    dask 1 worker    render_dataset on a warm LocalCluster of 1 process (LP_NUM_THREADS = cores),
+                     through a Client held across the runs (client=), as a notebook or service
+                     holds one; `batch --scheduler` connects and closes a client a run, ~17 ms
+                     more a run here (scripts/ab_issue29.py dask-client)
+    dask 2 workers   a warm LocalCluster of 2 processes (LP_NUM_THREADS = cores / 2 each), the same
     naive, colour + depth     the naive loop with render_frame(depth=True), also writing the depth
                      as float32 .npy (np.save)
     batch, colour + depth     render_dataset(workers=1) with Outputs(depth="npy"): `wgpu-shading batch
@@ -26,7 +29,9 @@ compilation) before timing; their start-up is reported separately.
 Dask's per-frame overhead is measured within each run, so the load other processes put on the
 machine cancels out: wall time minus the time the worker spent inside its chunks (loading,
 rendering, writing), per frame, for 1 worker, less the same quantity of the in-process run
-(skip checks, cameras.json, report), as a share of the worker's time per frame. The time
+(skip checks, cameras.json, report), as a share of the worker's time per frame. What is
+left is Dask's: submitting the chunks, the scheduler's round trip between them, the
+records' way back (the client's connection is held across runs, as above). The time
 inside chunks is the union of each worker's spans of work (run.busy_time): a Dask worker
 renders its next chunk while the last one waits for its writes, and until issue #29's
 tenth pass those overlaps were counted twice, which made Dask's overhead read low.
@@ -221,9 +226,9 @@ def run_dataset_benchmark(
                 scenes = PyrenderScenes()
                 naive_loop(renderer, jobs[:2], scratch / "warmup3", 1, pyrender=scenes)
                 runs["pyrender, colour + depth"] = lambda out: naive_loop(renderer, jobs, out, 1, pyrender=scenes)
-            for workers, (cluster, _) in clusters.items():
-                runs[f"dask {workers} worker{'s' if workers > 1 else ''}"] = lambda out, c=cluster: render_dataset(
-                    jobs, out, scheduler=c.scheduler_address, progress=False, chunk_size=chunk
+            for (workers, (cluster, _)), client in zip(clusters.items(), cluster_clients):
+                runs[f"dask {workers} worker{'s' if workers > 1 else ''}"] = lambda out, c=client: render_dataset(
+                    jobs, out, client=c, progress=False, chunk_size=chunk
                 )
             modes = list(runs)
             for index in range(passes):

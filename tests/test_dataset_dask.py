@@ -21,6 +21,7 @@ from wgpu_shading.cli import main  # noqa: E402
 from wgpu_shading.dataset import Outputs, mesh_jobs, render_dataset, turntable_views  # noqa: E402
 from wgpu_shading.dataset.cluster import local_cluster  # noqa: E402
 from wgpu_shading.dataset.worker import chunk_renderers  # noqa: E402
+from wgpu_shading.errors import UsageError  # noqa: E402
 
 MESHES = ["builtin:torus?segments=24", "builtin:sphere?slices=24&stacks=12", "builtin:cube"]
 BIN = Path(sys.executable).parent
@@ -181,5 +182,42 @@ def test_a_one_thread_worker_holds_one_chunk_at_a_time():
                 time.sleep(0.05)
             assert max(counts) == 1, counts
             client.gather(futures)
+    finally:
+        cluster.close(timeout=10)
+
+
+def test_a_callers_client_renders_run_after_run_and_stays_open(tmp_path, renderer):
+    """render_dataset(client=...) on a client the caller holds: the same pixels as in-process,
+    the client still running afterwards, and nothing of the runs left on it (no futures, so
+    a notebook's client does not grow run after run)."""
+    jobs = mesh_jobs(MESHES[:2], turntable_views(3), Outputs(depth="npy"), {"size": 32})
+    assert not render_dataset(jobs, tmp_path / "local", progress=False, renderer=renderer).failed
+    cluster = local_cluster(1, lavapipe_threads=1)
+    try:
+        with distributed.Client(cluster) as client:
+            for run in range(2):
+                result = render_dataset(jobs, tmp_path / f"dask{run}", client=client, chunk_size=2, progress=False)
+                assert not result.failed and sorted(result.rendered) == sorted(job.id for job in jobs)
+                assert client.status == "running"
+                # Futures are let go on the client's loop (Future.release): soon, not at once.
+                deadline = time.monotonic() + 10
+                while (client.futures or any(client.has_what().values())) and time.monotonic() < deadline:
+                    time.sleep(0.01)
+                assert not client.futures and not any(client.has_what().values()), (client.futures, client.has_what())
+            for job in jobs:
+                for file in job.files():
+                    a, b = tmp_path / "dask1" / file, tmp_path / "local" / file
+                    if file.endswith(".png"):
+                        assert np.array_equal(np.array(Image.open(a)), np.array(Image.open(b))), file
+                    else:
+                        assert np.array_equal(np.load(a), np.load(b)), file
+            with pytest.raises(UsageError, match="not several"):
+                render_dataset(jobs, tmp_path / "x", client=client, workers=2, progress=False)
+            with pytest.raises(UsageError, match="give one of them"):
+                render_dataset(jobs, tmp_path / "x", client=client, renderer=renderer, progress=False)
+        with pytest.raises(UsageError, match="closed, not running"):
+            render_dataset(jobs, tmp_path / "y", client=client, progress=False)
+        with pytest.raises(UsageError, match="expected a distributed.Client"):
+            render_dataset(jobs, tmp_path / "z", client="tcp://127.0.0.1:1", progress=False)
     finally:
         cluster.close(timeout=10)

@@ -17,6 +17,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py crease-split --rounds 12
     python benchmarks/scripts/ab_issue29.py encoder-threads --size 256 --rounds 16
     python benchmarks/scripts/ab_issue29.py dask-saturation --size 256 --rounds 8
+    python benchmarks/scripts/ab_issue29.py dask-client --size 256 --rounds 12
     python benchmarks/scripts/ab_issue29.py per-mesh --size 256 --rounds 6
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
@@ -113,6 +114,12 @@ shipped worker-saturation (dataset/cluster.py, LOCAL_CLUSTER_CONFIG: 1.0, one ch
 1-thread worker) and one with 2.0 (the next chunk waiting on the worker), alternating; the time per frame end to end, outside
 the chunks (the scheduler's round trips between chunks among it) and inside them, and the
 first two paired.
+
+dask-client: the colour batch on one warm one-worker local cluster, alternately through
+render_dataset(scheduler=ADDRESS) (a client connected and closed each run, as `batch
+--scheduler` does) and render_dataset(client=CLIENT) (one client held across runs); the
+time per frame end to end, outside the chunks and inside them, the first two paired, and
+what a bare Client(ADDRESS) and its close() cost in the same rounds.
 
 per-mesh: each mesh of the dataset benchmark alone, its views' render + readback and then
 its colour + depth batch (its load included, as each run loads anew), round by round: the
@@ -720,6 +727,67 @@ def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
+def dask_client(size: int, rounds: int, smoke: bool) -> None:
+    import tempfile
+
+    import distributed
+
+    from benchmarks.dataset import SMOKE_MESHES, default_meshes
+    from wgpu_shading.dataset import Outputs, cluster, mesh_jobs, render_dataset, turntable_views
+
+    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
+    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
+    local = cluster.local_cluster(1)
+    held = distributed.Client(local)
+    scratch = tempfile.TemporaryDirectory(prefix="ab-dask-client-")
+    folder = Path(scratch.name)
+    runs = iter(range(1 << 30))
+    variants = {
+        "scheduler= (a client a run)": lambda out: render_dataset(jobs, out, scheduler=local.scheduler_address, progress=False),
+        "client= (one client held)": lambda out: render_dataset(jobs, out, client=held, progress=False),
+    }
+    outside: dict = {}
+    inside: dict = {}
+    walls: dict = {}
+    connects, closes = [], []
+    print(f"{len(meshes)} meshes × {views} views at {size}², colour, a one-worker local cluster; "
+          f"load average {os.getloadavg()[0]:.2f} at the start")
+    try:
+        for run in variants.values():  # the worker's pipelines and uploads
+            run(folder / f"{next(runs)}")
+        names = list(variants)
+        for round_index in range(rounds):
+            for name in names[round_index % 2:] + names[: round_index % 2]:
+                start = time.perf_counter()
+                result = variants[name](folder / f"{next(runs)}")
+                wall = time.perf_counter() - start
+                walls.setdefault(name, []).append(wall * 1e3 / len(jobs))
+                outside.setdefault(name, []).append((wall - result.busy_seconds) * 1e3 / len(jobs))
+                inside.setdefault(name, []).append(result.busy_seconds * 1e3 / len(jobs))
+            start = time.perf_counter()
+            bare = distributed.Client(local.scheduler_address)
+            connected = time.perf_counter()
+            bare.close()
+            connects.append((connected - start) * 1e3)
+            closes.append((time.perf_counter() - connected) * 1e3)
+    finally:
+        held.close()
+        local.close(timeout=10)
+        scratch.cleanup()
+    for name in variants:
+        print(f"{name}: end to end {statistics.median(walls[name]):.2f} ms a frame, outside the chunks "
+              f"{statistics.median(outside[name]):.3f} ({min(outside[name]):.2f}–{max(outside[name]):.2f}), "
+              f"inside {statistics.median(inside[name]):.2f}")
+    print(f"a bare Client(address): {statistics.median(connects):.1f} ms to connect, {statistics.median(closes):.1f} ms to close "
+          f"(median of {len(connects)}), i.e. {(statistics.median(connects) + statistics.median(closes)) / len(jobs):.3f} ms "
+          f"a frame of this run")
+    print("end to end:")
+    _print_paired(walls, names[0])
+    print("outside the chunks:")
+    _print_paired(outside, names[0])
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
 def crease_split(rounds: int, smoke: bool) -> None:
     import numpy as np
 
@@ -841,7 +909,7 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
 DATASET_SCENE_ABS = {
     "chunks": chunks, "batch-parts": batch_parts, "kept-frames": kept_frames, "fresh-meshes": fresh_meshes,
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
-    "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "per-mesh": per_mesh,
+    "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "dask-client": dask_client, "per-mesh": per_mesh,
 }
 
 

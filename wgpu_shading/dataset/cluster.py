@@ -86,13 +86,23 @@ def run_on_dask(
     *,
     workers: int = 2,
     scheduler: str | None = None,
+    client=None,
     adapter: str | None = None,
     lavapipe_threads: int | None = None,
 ) -> Iterator[list[dict]]:
-    """Records of every chunk as they finish (any order)."""
+    """Records of every chunk as they finish (any order). `client`: the caller's, used and
+    left open; otherwise a client of a new local cluster or of `scheduler`, closed at the end."""
     distributed = _distributed()
     cluster = None
-    if scheduler is None:
+    own_client = client is None
+    if client is not None:
+        if not isinstance(client, distributed.Client):
+            raise UsageError(f"client: expected a distributed.Client, got {type(client).__name__}")
+        if client.status not in ("running", "connecting"):
+            raise UsageError(f"client: this Dask client is {client.status}, not running")
+        if client.asynchronous:
+            raise UsageError("client: an asynchronous Dask client; render_dataset waits for results, so it needs a synchronous one")
+    elif scheduler is None:
         cluster = local_cluster(workers, lavapipe_threads)
         client = distributed.Client(cluster)
     else:
@@ -106,7 +116,8 @@ def run_on_dask(
         client.register_plugin(plugin)
         yield from _stream(client, work, str(out_dir.resolve()), plugin.name, distributed)
     finally:
-        client.close(timeout=10)
+        if own_client:
+            client.close(timeout=10)
         if cluster is not None:
             cluster.close(timeout=10)
 
@@ -132,6 +143,17 @@ def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distr
         return client.submit(render_chunk_task, chunk, out_dir, plugin_name, key=f"wgpu-shading-{key}-{batch}", pure=False)
 
     futures = {submit(chunk, f"chunk-{index}"): chunk for index, chunk in enumerate(work)}
+    try:
+        yield from _gather(futures, submit, client, distributed)
+    finally:
+        # Stopped early (an error, Ctrl-C, a caller that closed the generator): the chunks
+        # not begun are cancelled, also on a caller's client that stays open. A running
+        # one finishes its files (each complete or absent) and is let go.
+        if futures:
+            client.cancel(list(futures))
+
+
+def _gather(futures: dict, submit, client, distributed) -> Iterator[list[dict]]:
     # This client's loop, not the default client's: a process may hold other clients (a
     # notebook's, a test's), and as_completed would otherwise wait on another loop.
     pending = distributed.as_completed(futures, loop=client.loop)
@@ -159,12 +181,14 @@ def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distr
         yield _checked(records, chunk)
     for chunk in suspects:
         future = submit(chunk, f"alone-{chunk[0].id}")
+        futures[future] = chunk  # cancelled if the run stops meanwhile
         try:
             records = future.result()
         except distributed.KilledWorker as error:
             records = [_failure(job, f"the worker rendering it died repeatedly ({error})") for job in chunk]
         except Exception as error:  # noqa: BLE001
             records = [_failure(job, f"{type(error).__name__}: {error}") for job in chunk]
+        del futures[future]
         future.release()
         yield _checked(records, chunk)
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Iterator
+from typing import TYPE_CHECKING, Iterable, Iterator
 
 from ..errors import UsageError
 from .cameras import CONVENTION
@@ -15,6 +15,9 @@ from .jobs import Job, chunks
 from .lock import folder_lock
 from .names import CAMERAS_FILE, REPORT_FILE, check_output_names
 from .writer import atomic_write, finished, json_text, remove_stale_temporaries
+
+if TYPE_CHECKING:  # the optional `dask` extra
+    from distributed import Client
 
 DEFAULT_CHUNK = 16  # views of one mesh per task: spreads Dask's 2-5 ms a task over many frames
 
@@ -55,6 +58,7 @@ def render_dataset(
     lavapipe_threads: int | None = None,
     renderer=None,
     parallel: int | None = None,
+    client: Client | None = None,
 ) -> BatchResult:
     """Render every job into `output` (one folder per mesh) and return what happened.
 
@@ -63,11 +67,18 @@ def render_dataset(
     existing Dask cluster. Jobs whose outputs exist and match their manifest row are skipped.
     `renderer`: render in-process on this Renderer (yours, on your device) instead of a new one;
     `parallel`: its render_many devices (None: 2 on lavapipe). Dask workers use one each.
+    `client`: a distributed.Client you hold (a notebook's, a service's): render on its cluster
+    and leave it open. One connection for many runs, where scheduler= connects and closes
+    each time (~17 ms a run on a local cluster: docs/datasets.md).
     """
     if not jobs:
         raise UsageError("batch: no jobs")
     if workers < 1:
         raise UsageError(f"--workers must be at least 1, got {workers}")
+    if client is not None and (workers != 1 or scheduler is not None):
+        raise UsageError("render_dataset: give one of workers above 1 (a new local cluster), scheduler or client, not several")
+    if client is not None and renderer is not None:
+        raise UsageError("render_dataset: renderer renders in this process, client on a Dask cluster: give one of them")
     check_output_names(jobs)  # before anything is made: two jobs never write one file
     out_dir = Path(output)
     try:
@@ -75,10 +86,10 @@ def render_dataset(
     except OSError as error:
         raise UsageError(f"output folder {str(out_dir)!r}: {error.strerror or error}") from None
     with folder_lock(out_dir):  # one run per folder: its clean-up removes nothing of another's
-        return _run(jobs, out_dir, workers, scheduler, chunk_size, progress, adapter, lavapipe_threads, renderer, parallel)
+        return _run(jobs, out_dir, workers, scheduler, client, chunk_size, progress, adapter, lavapipe_threads, renderer, parallel)
 
 
-def _run(jobs, out_dir: Path, workers, scheduler, chunk_size, progress, adapter, lavapipe_threads, renderer, parallel) -> BatchResult:
+def _run(jobs, out_dir: Path, workers, scheduler, client, chunk_size, progress, adapter, lavapipe_threads, renderer, parallel) -> BatchResult:
     start = time.perf_counter()
     remove_stale_temporaries(out_dir)  # left by killed runs: no other run writes here now
     result = BatchResult(total=len(jobs))
@@ -92,7 +103,7 @@ def _run(jobs, out_dir: Path, workers, scheduler, chunk_size, progress, adapter,
     bar = _progress_bar(len(todo), progress)
     spans: dict[tuple, set] = {}  # worker (host, pid) → its chunks' spans of work (a chunk's jobs share them)
     try:
-        for records in _execute(work, out_dir, workers, scheduler, adapter, lavapipe_threads, renderer, parallel):
+        for records in _execute(work, out_dir, workers, scheduler, client, adapter, lavapipe_threads, renderer, parallel):
             for record in records:
                 if "spans" in record:
                     spans.setdefault((record.get("host"), record["pid"]), set()).update(map(tuple, record["spans"]))
@@ -135,15 +146,15 @@ def _progress_bar(total: int, enabled: bool):
     return tqdm(total=total, unit="frame", smoothing=0.1, dynamic_ncols=True)
 
 
-def _execute(work, out_dir: Path, workers: int, scheduler: str | None, adapter, lavapipe_threads, renderer, parallel) -> Iterator[list[dict]]:
+def _execute(work, out_dir: Path, workers: int, scheduler: str | None, client, adapter, lavapipe_threads, renderer, parallel) -> Iterator[list[dict]]:
     if not work:
         return
-    if workers == 1 and scheduler is None:
+    if workers == 1 and scheduler is None and client is None:
         yield from _in_process(work, out_dir, adapter, renderer, parallel)
         return
     from .cluster import run_on_dask
 
-    yield from run_on_dask(work, out_dir, workers=workers, scheduler=scheduler, adapter=adapter, lavapipe_threads=lavapipe_threads)
+    yield from run_on_dask(work, out_dir, workers=workers, scheduler=scheduler, client=client, adapter=adapter, lavapipe_threads=lavapipe_threads)
 
 
 def _in_process(work: list[list[Job]], out_dir: Path, adapter, renderer, parallel) -> Iterator[list[dict]]:
