@@ -198,6 +198,37 @@ def test_rerun_skips_finished_jobs_and_redoes_changed_or_missing_ones(tmp_path, 
     assert all(path.stat().st_mtime_ns == stamp[path] for path in untouched)
     report = json.loads((out / "report.json").read_text())
     assert report["rendered"] == 2 and report["skipped"] == 4 and report["failed"] == {}
+    # cameras.json, written from what the run holds (views skipped and rendered), lists what
+    # each view's record file on disk says.
+    for folder in ("torus", "sphere"):
+        views = json.loads((out / folder / "cameras.json").read_text())["views"]
+        assert sorted(views) == ["view_000", "view_001", "view_002"]
+        for name, view in views.items():
+            record = json.loads((out / folder / f"{name}.json").read_text())
+            assert view == {"id": record["id"], "files": record["files"], **record["camera"]}
+
+
+def test_a_run_stopped_early_lists_the_views_it_finished(tmp_path, renderer, monkeypatch):
+    """Ctrl-C while the second chunk is prepared: the first chunk's files and records are
+    complete (close() waits for its writes) though its records never reached the run's loop,
+    and cameras.json lists those views, as the next run would."""
+    from wgpu_shading.dataset import chunk as chunk_module
+
+    real_job_scene = chunk_module.job_scene
+
+    def interrupted(base, job):
+        if job.name == "view_002":
+            raise KeyboardInterrupt
+        return real_job_scene(base, job)
+
+    monkeypatch.setattr(chunk_module, "job_scene", interrupted)
+    jobs = mesh_jobs([TORUS], turntable_views(4), Outputs(), {"size": 32})
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        render_dataset(jobs, out, chunk_size=2, progress=False, renderer=renderer)
+    views = json.loads((out / "torus" / "cameras.json").read_text())["views"]
+    assert sorted(views) == ["view_000", "view_001"]
+    assert all((out / file).is_file() for name in views for file in views[name]["files"])
 
 
 def test_a_bad_mesh_fails_its_own_jobs_and_the_rest_finish(tmp_path, capsys):

@@ -134,7 +134,7 @@ class ChunkRenderer:
         start = time.monotonic()
         out_dir = Path(out_dir)
         records: dict[str, dict] = {}
-        writes: deque[tuple[Job, Future]] = deque()
+        writes: deque[tuple[Job, dict, Future]] = deque()
         ready: list[tuple[Job, object]] = []
         bases: dict[tuple, object] = {}
         for job in jobs:
@@ -179,7 +179,7 @@ class ChunkRenderer:
                 camera = camera_record(scene)
                 if ids:
                     camera["ids"] = id_legend(scene)
-                writes.append((job, self._encoders.submit(write_view, out_dir, job, frame, extra, camera)))
+                writes.append((job, camera, self._encoders.submit(write_view, out_dir, job, frame, extra, camera)))
                 done += 1
                 while len(writes) > MAX_PENDING_WRITES:
                     _collect(writes.popleft(), records)
@@ -188,15 +188,16 @@ class ChunkRenderer:
                 records[job.id] = failed(job, error)
 
 
-def _collect(entry: tuple[Job, Future], records: dict) -> None:
-    """The record of one job whose files were being written: its files, or its error."""
-    job, future = entry
+def _collect(entry: tuple[Job, dict, Future], records: dict) -> None:
+    """The record of one job whose files were being written: its files and camera (what
+    cameras.json lists, so the run need not read them back), or its error."""
+    job, camera, future = entry
     try:
         files = future.result()
     except Exception as error:  # noqa: BLE001
         records[job.id] = failed(job, error)
         return
-    records[job.id] = {"id": job.id, "ok": True, "error": None, "files": files, "pid": os.getpid()}
+    records[job.id] = {"id": job.id, "ok": True, "error": None, "files": files, "camera": camera, "pid": os.getpid()}
 
 
 class PendingChunk:
