@@ -208,6 +208,21 @@ def test_rerun_skips_finished_jobs_and_redoes_changed_or_missing_ones(tmp_path, 
             assert view == {"id": record["id"], "files": record["files"], **record["camera"]}
 
 
+def test_a_mesh_folder_gone_by_the_end_gets_no_cameras_json(tmp_path, renderer, monkeypatch):
+    """cameras.json is written from the run's records, not read back: a mesh folder that is
+    not there at the end (removed meanwhile; here a writer that writes nothing) gets no
+    cameras.json and the run ends normally, as before when the records were read back."""
+    from wgpu_shading.dataset import chunk as chunk_module
+
+    def names_only(out_dir, job, frame, extra, camera):
+        return [f"{job.folder}/{name}" for name in job.outputs.file_names(job.name)]
+
+    monkeypatch.setattr(chunk_module, "write_view", names_only)
+    jobs = mesh_jobs([TORUS], turntable_views(2), Outputs(), {"size": 32})
+    result = render_dataset(jobs, tmp_path / "out", progress=False, renderer=renderer)
+    assert len(result.rendered) == 2 and not (tmp_path / "out" / "torus").exists()
+
+
 def test_a_run_stopped_early_lists_the_views_it_finished(tmp_path, renderer, monkeypatch):
     """Ctrl-C while the second chunk is prepared: the first chunk's files and records are
     complete (close() waits for its writes) though its records never reached the run's loop,

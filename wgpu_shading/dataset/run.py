@@ -200,7 +200,7 @@ def _write_cameras(out_dir: Path, jobs: list[Job], known: dict[str, dict], read_
         if record is not None:
             views[job.name] = {"id": job.id, "files": record["files"], **record["camera"]}
     for folder, views in folders.items():
-        if views:
+        if views and (out_dir / folder).is_dir():  # a mesh folder removed meanwhile gets none
             data = {"convention": CONVENTION, "views": views}
             atomic_write(out_dir / folder / CAMERAS_FILE, lambda file, data=data: file.write(json_text(data)))
 
