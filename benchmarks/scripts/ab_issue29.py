@@ -675,14 +675,56 @@ def encoder_threads(size: int, rounds: int, smoke: bool) -> None:
         _print_paired(inside, label(shipped()))
 
 
-def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
-    import tempfile
-
+def _dask_jobs(size: int, smoke: bool) -> tuple[str, list]:
     from benchmarks.dataset import SMOKE_MESHES, default_meshes
-    from wgpu_shading.dataset import Outputs, cluster, mesh_jobs, render_dataset, turntable_views
+    from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
 
     meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
-    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
+    return f"{len(meshes)} meshes × {views} views at {size}², colour", mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
+
+
+def _alternate_dask_runs(variants: dict, rounds: int, frames: int, between_rounds=None) -> dict:
+    """Each variant (name → run(out_dir) returning a BatchResult) once to warm up, then
+    `rounds` rounds alternating their order; ms a frame end to end, outside the chunks and
+    inside them, per variant. between_rounds(): called after each round."""
+    import tempfile
+
+    times: dict = {"end to end": {}, "outside the chunks": {}, "inside": {}}
+    with tempfile.TemporaryDirectory(prefix="ab-dask-") as scratch:
+        folders = (Path(scratch) / str(index) for index in range(1 << 30))
+        for run in variants.values():  # the workers' pipelines and uploads
+            run(next(folders))
+        names = list(variants)
+        for round_index in range(rounds):
+            for name in names[round_index % 2:] + names[: round_index % 2]:
+                start = time.perf_counter()
+                result = variants[name](next(folders))
+                wall = time.perf_counter() - start
+                times["end to end"].setdefault(name, []).append(wall * 1e3 / frames)
+                times["outside the chunks"].setdefault(name, []).append((wall - result.busy_seconds) * 1e3 / frames)
+                times["inside"].setdefault(name, []).append(result.busy_seconds * 1e3 / frames)
+            if between_rounds is not None:
+                between_rounds()
+    return times
+
+
+def _print_dask_runs(times: dict) -> None:
+    walls, outside, inside = times["end to end"], times["outside the chunks"], times["inside"]
+    for name in walls:
+        print(f"{name}: end to end {statistics.median(walls[name]):.2f} ms a frame, outside the chunks "
+              f"{statistics.median(outside[name]):.3f} ({min(outside[name]):.2f}–{max(outside[name]):.2f}), "
+              f"inside {statistics.median(inside[name]):.2f}")
+    baseline = next(iter(walls))
+    print("end to end:")
+    _print_paired(walls, baseline)
+    print("outside the chunks:")
+    _print_paired(outside, baseline)
+
+
+def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
+    from wgpu_shading.dataset import cluster, render_dataset
+
+    what, jobs = _dask_jobs(size, smoke)
     shipped = cluster.LOCAL_CLUSTER_CONFIG
     key = "distributed.scheduler.worker-saturation"
     other = 2.0 if shipped[key] == 1.0 else 1.0
@@ -692,99 +734,52 @@ def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
         clusters[f"worker-saturation {other}"] = cluster.local_cluster(1)
     finally:
         cluster.LOCAL_CLUSTER_CONFIG = shipped
-    scratch = tempfile.TemporaryDirectory(prefix="ab-dask-saturation-")
-    folder = Path(scratch.name)
-    runs = iter(range(1 << 30))
-    outside: dict = {}
-    inside: dict = {}
-    walls: dict = {}
-    print(f"{len(meshes)} meshes × {views} views at {size}², colour, one-worker local clusters; "
-          f"load average {os.getloadavg()[0]:.2f} at the start")
+    print(f"{what}, one-worker local clusters; load average {os.getloadavg()[0]:.2f} at the start")
     try:
-        for local in clusters.values():  # the workers' pipelines and uploads
-            render_dataset(jobs, folder / f"{next(runs)}", scheduler=local.scheduler_address, progress=False)
-        names = list(clusters)
-        for round_index in range(rounds):
-            for name in names[round_index % 2:] + names[: round_index % 2]:
-                start = time.perf_counter()
-                result = render_dataset(jobs, folder / f"{next(runs)}", scheduler=clusters[name].scheduler_address, progress=False)
-                wall = time.perf_counter() - start
-                walls.setdefault(name, []).append(wall * 1e3 / len(jobs))
-                outside.setdefault(name, []).append((wall - result.busy_seconds) * 1e3 / len(jobs))
-                inside.setdefault(name, []).append(result.busy_seconds * 1e3 / len(jobs))
+        variants = {
+            name: (lambda out, local=local: render_dataset(jobs, out, scheduler=local.scheduler_address, progress=False))
+            for name, local in clusters.items()
+        }
+        times = _alternate_dask_runs(variants, rounds, len(jobs))
     finally:
         for local in clusters.values():
             local.close(timeout=10)
-        scratch.cleanup()
-    for name in clusters:
-        print(f"{name}: end to end {statistics.median(walls[name]):.2f} ms a frame, outside the chunks "
-              f"{statistics.median(outside[name]):.3f} ({min(outside[name]):.2f}–{max(outside[name]):.2f}), "
-              f"inside {statistics.median(inside[name]):.2f}")
-    print("end to end:")
-    _print_paired(walls, names[0])
-    print("outside the chunks:")
-    _print_paired(outside, names[0])
+    _print_dask_runs(times)
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
 def dask_client(size: int, rounds: int, smoke: bool) -> None:
-    import tempfile
-
     import distributed
 
-    from benchmarks.dataset import SMOKE_MESHES, default_meshes
-    from wgpu_shading.dataset import Outputs, cluster, mesh_jobs, render_dataset, turntable_views
+    from wgpu_shading.dataset import cluster, render_dataset
 
-    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
-    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
+    what, jobs = _dask_jobs(size, smoke)
     local = cluster.local_cluster(1)
     held = distributed.Client(local)
-    scratch = tempfile.TemporaryDirectory(prefix="ab-dask-client-")
-    folder = Path(scratch.name)
-    runs = iter(range(1 << 30))
-    variants = {
-        "scheduler= (a client a run)": lambda out: render_dataset(jobs, out, scheduler=local.scheduler_address, progress=False),
-        "client= (one client held)": lambda out: render_dataset(jobs, out, client=held, progress=False),
-    }
-    outside: dict = {}
-    inside: dict = {}
-    walls: dict = {}
     connects, closes = [], []
-    print(f"{len(meshes)} meshes × {views} views at {size}², colour, a one-worker local cluster; "
-          f"load average {os.getloadavg()[0]:.2f} at the start")
+
+    def bare_client() -> None:
+        start = time.perf_counter()
+        bare = distributed.Client(local.scheduler_address)
+        connected = time.perf_counter()
+        bare.close()
+        connects.append((connected - start) * 1e3)
+        closes.append((time.perf_counter() - connected) * 1e3)
+
+    print(f"{what}, a one-worker local cluster; load average {os.getloadavg()[0]:.2f} at the start")
     try:
-        for run in variants.values():  # the worker's pipelines and uploads
-            run(folder / f"{next(runs)}")
-        names = list(variants)
-        for round_index in range(rounds):
-            for name in names[round_index % 2:] + names[: round_index % 2]:
-                start = time.perf_counter()
-                result = variants[name](folder / f"{next(runs)}")
-                wall = time.perf_counter() - start
-                walls.setdefault(name, []).append(wall * 1e3 / len(jobs))
-                outside.setdefault(name, []).append((wall - result.busy_seconds) * 1e3 / len(jobs))
-                inside.setdefault(name, []).append(result.busy_seconds * 1e3 / len(jobs))
-            start = time.perf_counter()
-            bare = distributed.Client(local.scheduler_address)
-            connected = time.perf_counter()
-            bare.close()
-            connects.append((connected - start) * 1e3)
-            closes.append((time.perf_counter() - connected) * 1e3)
+        variants = {
+            "scheduler= (a client a run)": lambda out: render_dataset(jobs, out, scheduler=local.scheduler_address, progress=False),
+            "client= (one client held)": lambda out: render_dataset(jobs, out, client=held, progress=False),
+        }
+        times = _alternate_dask_runs(variants, rounds, len(jobs), between_rounds=bare_client)
     finally:
         held.close()
         local.close(timeout=10)
-        scratch.cleanup()
-    for name in variants:
-        print(f"{name}: end to end {statistics.median(walls[name]):.2f} ms a frame, outside the chunks "
-              f"{statistics.median(outside[name]):.3f} ({min(outside[name]):.2f}–{max(outside[name]):.2f}), "
-              f"inside {statistics.median(inside[name]):.2f}")
+    _print_dask_runs(times)
     print(f"a bare Client(address): {statistics.median(connects):.1f} ms to connect, {statistics.median(closes):.1f} ms to close "
           f"(median of {len(connects)}), i.e. {(statistics.median(connects) + statistics.median(closes)) / len(jobs):.3f} ms "
           f"a frame of this run")
-    print("end to end:")
-    _print_paired(walls, names[0])
-    print("outside the chunks:")
-    _print_paired(outside, names[0])
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
