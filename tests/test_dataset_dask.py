@@ -221,3 +221,33 @@ def test_a_callers_client_renders_run_after_run_and_stays_open(tmp_path, rendere
             render_dataset(jobs, tmp_path / "z", client="tcp://127.0.0.1:1", progress=False)
     finally:
         cluster.close(timeout=10)
+
+
+def test_a_run_stopped_early_cancels_its_chunks_on_a_callers_client(tmp_path, monkeypatch):
+    """Ctrl-C in the run's loop (here: at the progress bar's first update) while a held
+    client's cluster still has chunks queued: the chunks not begun are cancelled, not
+    rendered behind the caller's back, and nothing of the run stays on the client."""
+    import tqdm
+
+    def interrupted(self, n=1):
+        raise KeyboardInterrupt
+
+    jobs = mesh_jobs(MESHES[:1], turntable_views(24), Outputs(), {"size": 32})
+    cluster = local_cluster(1, lavapipe_threads=1)
+    try:
+        with distributed.Client(cluster) as client:
+            monkeypatch.setattr(tqdm.tqdm, "update", interrupted)
+            with pytest.raises(KeyboardInterrupt):
+                render_dataset(jobs, tmp_path / "out", client=client, chunk_size=2, progress=True)
+            monkeypatch.undo()
+            deadline = time.monotonic() + 10
+            while (client.futures or any(client.processing().values())) and time.monotonic() < deadline:
+                time.sleep(0.01)
+            assert not client.futures and not any(client.processing().values())
+            written = len(list((tmp_path / "out").glob("*/view_*.json")))
+            time.sleep(1.0)  # a chunk left queued would be rendered meanwhile
+            assert len(list((tmp_path / "out").glob("*/view_*.json"))) == written < len(jobs)
+            # The client still renders the next run.
+            assert not render_dataset(jobs[:2], tmp_path / "again", client=client, progress=False).failed
+    finally:
+        cluster.close(timeout=10)

@@ -150,7 +150,10 @@ def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distr
         # not begun are cancelled, also on a caller's client that stays open. A running
         # one finishes its files (each complete or absent) and is let go.
         if futures:
-            client.cancel(list(futures))
+            try:
+                client.cancel(list(futures))
+            except Exception:  # noqa: BLE001 - a client closed or cut off meanwhile: its futures went with it,
+                pass  # and the error that stopped the run is the one to report
 
 
 def _gather(futures: dict, submit, client, distributed) -> Iterator[list[dict]]:
