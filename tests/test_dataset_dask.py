@@ -232,7 +232,7 @@ def test_a_run_stopped_early_cancels_its_chunks_on_a_callers_client(tmp_path, mo
     def interrupted(self, n=1):
         raise KeyboardInterrupt
 
-    jobs = mesh_jobs(MESHES[:1], turntable_views(24), Outputs(), {"size": 32})
+    jobs = mesh_jobs(MESHES[:1], turntable_views(48), Outputs(), {"size": 32})
     cluster = local_cluster(1, lavapipe_threads=1)
     try:
         with distributed.Client(cluster) as client:
@@ -244,9 +244,15 @@ def test_a_run_stopped_early_cancels_its_chunks_on_a_callers_client(tmp_path, mo
             while (client.futures or any(client.processing().values())) and time.monotonic() < deadline:
                 time.sleep(0.01)
             assert not client.futures and not any(client.processing().values())
-            written = len(list((tmp_path / "out").glob("*/view_*.json")))
-            time.sleep(1.0)  # a chunk left queued would be rendered meanwhile
-            assert len(list((tmp_path / "out").glob("*/view_*.json"))) == written < len(jobs)
+            # A chunk already running when the cancel came finishes its files (Dask cannot
+            # stop a running task); wait until nothing more appears, then count.
+            written, stable_since = -1, time.monotonic()
+            while time.monotonic() - stable_since < 1.5 and time.monotonic() < deadline + 20:
+                now = len(list((tmp_path / "out").glob("*/view_*.json")))
+                if now != written:
+                    written, stable_since = now, time.monotonic()
+                time.sleep(0.05)
+            assert 0 < written <= len(jobs) // 2, written  # the queued chunks never ran
             # The client still renders the next run.
             assert not render_dataset(jobs[:2], tmp_path / "again", client=client, progress=False).failed
     finally:
