@@ -49,6 +49,7 @@ import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Iterable
 
 import numpy as np
 from PIL import Image
@@ -189,7 +190,7 @@ def run_dataset_benchmark(
     results = []
     scratch = Path(tempfile.mkdtemp(prefix="wgpu-shading-dataset-bench-", dir=scratch_parent))
     clusters = {}
-    cluster_clients: list = []
+    cluster_clients: dict = {}  # workers → a Client of that cluster, held across the runs
     if dask:
         from distributed import Client
     try:
@@ -200,7 +201,7 @@ def run_dataset_benchmark(
                 warm = mesh_jobs([meshes[0]], turntable_views(2), Outputs(), {"size": 32})
                 render_dataset(warm, scratch / f"warm{workers}", scheduler=cluster.scheduler_address, progress=False)
                 clusters[workers] = (cluster, time.perf_counter() - start)
-                cluster_clients.append(Client(cluster))
+                cluster_clients[workers] = Client(cluster)
         for size in sizes:
             jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
             depth_jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy"), {"size": size})
@@ -226,7 +227,7 @@ def run_dataset_benchmark(
                 scenes = PyrenderScenes()
                 naive_loop(renderer, jobs[:2], scratch / "warmup3", 1, pyrender=scenes)
                 runs["pyrender, colour + depth"] = lambda out: naive_loop(renderer, jobs, out, 1, pyrender=scenes)
-            for (workers, (cluster, _)), client in zip(clusters.items(), cluster_clients):
+            for workers, client in cluster_clients.items():
                 runs[f"dask {workers} worker{'s' if workers > 1 else ''}"] = lambda out, c=client: render_dataset(
                     jobs, out, client=c, progress=False, chunk_size=chunk
                 )
@@ -241,13 +242,13 @@ def run_dataset_benchmark(
                     out = scratch / f"{size}-{index}-{mode.replace(' ', '_').replace(',', '')}"
                     # Frames per CPU-second is throughput per busy core, which the load other
                     # processes put on a shared machine changes much less than frames/s.
-                    workers_before = _workers_cpu(cluster_clients)
+                    workers_before = _workers_cpu(cluster_clients.values())
                     own_before = _own_cpu()
                     start = time.perf_counter()
                     outcome = run(out)
                     wall = time.perf_counter() - start
                     own = _own_cpu() - own_before
-                    result.cpu.setdefault(mode, []).append(own + _workers_cpu(cluster_clients) - workers_before)
+                    result.cpu.setdefault(mode, []).append(own + _workers_cpu(cluster_clients.values()) - workers_before)
                     result.seconds.setdefault(mode, []).append(wall)
                     if outcome is not None:
                         result.outside.setdefault(mode, []).append(wall - outcome.busy_seconds)
@@ -264,7 +265,7 @@ def run_dataset_benchmark(
                 result.load_average.append(os.getloadavg()[0])
             results.append(result)
     finally:
-        for client in cluster_clients:
+        for client in cluster_clients.values():
             client.close()
         for cluster, _ in clusters.values():
             cluster.close(timeout=10)
@@ -287,7 +288,7 @@ def render_all(renderer: Renderer, scenes: list) -> None:
         pass
 
 
-def _workers_cpu(clients: list) -> float:
+def _workers_cpu(clients: Iterable) -> float:
     """CPU time (user + system, every thread) of every Dask worker process."""
     return sum(sum(client.run(time.process_time).values()) for client in clients)
 

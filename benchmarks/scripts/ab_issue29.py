@@ -299,15 +299,23 @@ def turned_away(size: int, rounds: int, segments: int) -> None:
     )
 
 
-def _dataset_scenes(size: int, smoke: bool) -> tuple[str, list, list]:
-    """The dataset benchmark's colour + depth jobs (its 4 meshes × 48 views; tiny when smoke)
-    and their scenes, built beforehand; and a line saying what they are."""
-    from benchmarks.dataset import SMOKE_MESHES, default_meshes, job_scenes
+def _dataset_jobs(size: int, smoke: bool, depth: bool) -> tuple[str, list]:
+    """The dataset benchmark's jobs (its 4 meshes × 48 views; tiny when smoke), colour or
+    colour + depth, and a line saying what they are."""
+    from benchmarks.dataset import SMOKE_MESHES, default_meshes
     from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
 
     meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
-    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy"), {"size": size})
-    return f"{len(meshes)} meshes × {views} views at {size}², colour + depth", jobs, job_scenes(jobs)
+    jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy") if depth else Outputs(), {"size": size})
+    return f"{len(meshes)} meshes × {views} views at {size}², colour{' + depth' if depth else ''}", jobs
+
+
+def _dataset_scenes(size: int, smoke: bool) -> tuple[str, list, list]:
+    """The dataset benchmark's colour + depth jobs and their scenes, built beforehand."""
+    from benchmarks.dataset import job_scenes
+
+    what, jobs = _dataset_jobs(size, smoke, depth=True)
+    return what, jobs, job_scenes(jobs)
 
 
 def _interleaved_per_frame(variants: dict, rounds: int, frames: int) -> tuple[dict, dict]:
@@ -675,14 +683,6 @@ def encoder_threads(size: int, rounds: int, smoke: bool) -> None:
         _print_paired(inside, label(shipped()))
 
 
-def _dask_jobs(size: int, smoke: bool) -> tuple[str, list]:
-    from benchmarks.dataset import SMOKE_MESHES, default_meshes
-    from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
-
-    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
-    return f"{len(meshes)} meshes × {views} views at {size}², colour", mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
-
-
 def _alternate_dask_runs(variants: dict, rounds: int, frames: int, between_rounds=None) -> dict:
     """Each variant (name → run(out_dir) returning a BatchResult) once to warm up, then
     `rounds` rounds alternating their order; ms a frame end to end, outside the chunks and
@@ -724,7 +724,7 @@ def _print_dask_runs(times: dict) -> None:
 def dask_saturation(size: int, rounds: int, smoke: bool) -> None:
     from wgpu_shading.dataset import cluster, render_dataset
 
-    what, jobs = _dask_jobs(size, smoke)
+    what, jobs = _dataset_jobs(size, smoke, depth=False)
     shipped = cluster.LOCAL_CLUSTER_CONFIG
     key = "distributed.scheduler.worker-saturation"
     other = 2.0 if shipped[key] == 1.0 else 1.0
@@ -753,7 +753,7 @@ def dask_client(size: int, rounds: int, smoke: bool) -> None:
 
     from wgpu_shading.dataset import cluster, render_dataset
 
-    what, jobs = _dask_jobs(size, smoke)
+    what, jobs = _dataset_jobs(size, smoke, depth=False)
     local = cluster.local_cluster(1)
     held = distributed.Client(local)
     connects, closes = [], []
