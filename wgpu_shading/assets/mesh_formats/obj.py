@@ -25,14 +25,15 @@ from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 from ..mesh_pieces import MeshFile, MeshPiece
 from .obj_elements import obj_elements, bare_points
-from .obj_faces import FaceRun, ear_clip_concave, parse_numbers, run_corners
+from .number_text import parse_floats
+from .obj_faces import FaceRun, ear_clip_concave, run_corners
 from .mtl import read_mtl_files
 
 
 def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
     """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array; `numbers`
     are their 1-based line numbers (for errors)."""
-    values = parse_numbers(" ".join(lines).replace(prefix.strip(), " "), np.float64)
+    values = parse_floats(" ".join(lines).replace(prefix.strip(), " "))
     if values is not None and values.size == width * len(lines):
         array = values.reshape(-1, width)
     elif values is not None and prefix == "v " and values.size == 6 * len(lines):

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...errors import MeshError
+from .number_text import parse_numbers
 
 
 @dataclass
@@ -24,16 +25,6 @@ class FaceRun:
     normal_count: int
     first_line: int
     lines: list[str] = field(default_factory=list)
-
-
-def parse_numbers(text: str, dtype) -> np.ndarray | None:
-    """Whitespace-separated numbers parsed in C; None when some token is not a number."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", DeprecationWarning)  # "could not be read to its end"
-        try:
-            return np.fromstring(text, dtype=dtype, sep=" ")
-        except (ValueError, DeprecationWarning):
-            return None
 
 
 def run_corners(run: FaceRun, path: str) -> tuple[np.ndarray, np.ndarray]:
