@@ -68,6 +68,7 @@ SMOKE_SCRIPTS = {
     "ab_issue29_dask_saturation": ("scripts/ab_issue29.py", "dask-saturation", "--smoke"),
     "ab_issue29_dask_client": ("scripts/ab_issue29.py", "dask-client", "--smoke"),
     "ab_issue29_per_mesh": ("scripts/ab_issue29.py", "per-mesh", "--smoke"),
+    "ab_issue29_files_beside": ("scripts/ab_issue29.py", "files-beside", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -96,6 +97,7 @@ REAL_SCRIPTS = {
     "ab_issue29_dask_saturation": ("scripts/ab_issue29.py", "dask-saturation", "--size", "256", "--rounds", "8"),
     "ab_issue29_dask_client": ("scripts/ab_issue29.py", "dask-client", "--size", "256", "--rounds", "12"),
     "ab_issue29_per_mesh": ("scripts/ab_issue29.py", "per-mesh", "--size", "256", "--rounds", "6"),
+    "ab_issue29_files_beside": ("scripts/ab_issue29.py", "files-beside", "--size", "256", "--rounds", "6"),
 }
 
 

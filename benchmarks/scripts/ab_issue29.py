@@ -19,6 +19,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py dask-saturation --size 256 --rounds 8
     python benchmarks/scripts/ab_issue29.py dask-client --size 256 --rounds 12
     python benchmarks/scripts/ab_issue29.py per-mesh --size 256 --rounds 6
+    python benchmarks/scripts/ab_issue29.py files-beside --size 256 --rounds 6
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -124,6 +125,15 @@ what a bare Client(ADDRESS) and its close() cost in the same rounds.
 per-mesh: each mesh of the dataset benchmark alone, its views' render + readback and then
 its colour + depth batch (its load included, as each run loads anew), round by round: the
 ratio of the two for each mesh, which shows which meshes set the benchmark's ratio.
+
+files-beside: what a view's files cost the frames on these cores when nothing else of the
+batch is there: render + readback of the dataset benchmark's scenes alone, and with another
+process (spawned, no wgpu in it, so no interpreter lock or driver shared) writing one view's
+files (the colour PNG at level 1, the depth `.npy`, a record, each through a temporary and a
+rename, with the batch's own writers) for every frame read back, at normal priority, at
+nice 19 and at SCHED_IDLE, rotated round by round: ms a frame, the ratio to the frames
+alone, how many views the writer kept up with a frame, and what creating an empty file
+took before each round (the file system's state moves the writes' cost most).
 
 crease-split: the 70K-triangle bunny's load_mesh with crease_normals.split_vertices and
 with the formulation it replaced (np.unique over every corner's (vertex, fan) key),
@@ -639,6 +649,89 @@ def per_mesh(size: int, rounds: int, smoke: bool) -> None:
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
+def _write_views_beside(policy: str, ready, tokens, stop, written, color: bytes, depth: bytes, size: int, folder: str) -> None:
+    """files-beside's writer, in a spawned process: one view's files for every token the
+    parent releases (one a frame read back), until `stop`."""
+    import numpy as np
+
+    from wgpu_shading.assets.png import encode_png
+    from wgpu_shading.dataset.direct_writes import write_bytes, write_npy
+    from wgpu_shading.dataset.writer import atomic_write, json_text
+
+    if policy == "SCHED_IDLE":
+        os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))
+    elif policy == "nice 19":
+        os.nice(19)
+    image = np.frombuffer(color, np.uint8).reshape(size, size, 4)
+    distance = np.frombuffer(depth, np.float64).reshape(size, size)
+    record = {"id": "mesh/view", "files": ["mesh/view.png", "mesh/view_depth.npy"], "camera": {"K": np.eye(3).tolist()}}
+    out = Path(folder)
+    out.mkdir()
+    ready.set()
+    count = 0
+    while not stop.is_set():
+        if not tokens.acquire(timeout=0.05):
+            continue
+        atomic_write(out / f"{count}.png", lambda file: write_bytes(file, encode_png(image, 1)))
+        atomic_write(out / f"{count}_depth.npy", lambda file: write_npy(file, distance))
+        atomic_write(out / f"{count}.json", lambda file: file.write(json_text(record)))
+        count += 1
+        with written.get_lock():
+            written.value += 1
+
+
+def files_beside(size: int, rounds: int, smoke: bool) -> None:
+    import multiprocessing
+    import tempfile
+
+    import numpy as np
+
+    from benchmarks.dataset import new_file_micros, render_all
+    from wgpu_shading import Renderer
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    render_all(renderer, scenes)  # pipelines and uploads
+    frame = renderer.render_frame(scenes[0], depth=True)
+    color, depth = np.ascontiguousarray(frame.color).tobytes(), np.ascontiguousarray(frame.depth, np.float64).tobytes()
+    spawn = multiprocessing.get_context("spawn")
+    policies = ("none", "normal priority", "nice 19", "SCHED_IDLE")
+    walls: dict[str, list[float]] = {policy: [] for policy in policies}
+    kept_up: dict[str, list[float]] = {policy: [] for policy in policies}
+    print(f"{what}: render + readback, with another process writing a view's files a frame; "
+          f"load average {os.getloadavg()[0]:.2f} at the start")
+    creations = []
+    with tempfile.TemporaryDirectory(prefix="ab-files-beside-") as folder:
+        for round_index in range(rounds):
+            creations.append(new_file_micros(Path(folder)))
+            shift = round_index % len(policies)
+            for policy in policies[shift:] + policies[:shift]:
+                ready, stop, tokens, written = spawn.Event(), spawn.Event(), spawn.Semaphore(0), spawn.Value("l", 0)
+                writer = None
+                if policy != "none":
+                    writer = spawn.Process(target=_write_views_beside, args=(
+                        policy, ready, tokens, stop, written, color, depth, size, f"{folder}/{round_index}-{policy}"))
+                    writer.start()
+                    if not ready.wait(60):
+                        raise RuntimeError("the writer process did not start")
+                start = time.perf_counter()
+                for _ in renderer.render_many(scenes, depth=True):
+                    tokens.release()
+                walls[policy].append((time.perf_counter() - start) * 1e3 / len(scenes))
+                kept_up[policy].append(written.value / len(scenes))
+                if writer is not None:
+                    stop.set()
+                    writer.join()
+    alone = statistics.median(walls["none"])
+    for policy in policies:
+        wall = statistics.median(walls[policy])
+        print(f"{policy}: {wall:.2f} ms a frame, {wall / alone:.2f}× the frames alone; the writer wrote "
+              f"{statistics.median(kept_up[policy]):.2f} views a frame meanwhile")
+    print(f"a new empty file before each round: {', '.join(f'{us:.0f}' for us in creations)} µs (each view creates 3 "
+          f"files; files removed nearby in the minutes before make it slower: benchmarks/dataset.py, new_file_micros)")
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
 def _print_paired(inside: dict, baseline: str) -> None:
     """Each variant's runs against the baseline's run of the same round: the median ratio
     and in how many rounds the variant was faster."""
@@ -905,6 +998,7 @@ DATASET_SCENE_ABS = {
     "chunks": chunks, "batch-parts": batch_parts, "kept-frames": kept_frames, "fresh-meshes": fresh_meshes,
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
     "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "dask-client": dask_client, "per-mesh": per_mesh,
+    "files-beside": files_beside,
 }
 
 
