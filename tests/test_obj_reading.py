@@ -253,3 +253,28 @@ def test_faces_read_in_blocks_of_a_few_lines_are_the_same(tmp_path, seed, monkey
     blocks = read_obj(path).pieces[0]
     np.testing.assert_array_equal(blocks.positions[blocks.faces], whole.positions[whole.faces])
     np.testing.assert_array_equal(blocks.positions[blocks.faces], [[c[0] for c in t] for t in _reference_triangles(text)])
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_coordinates_read_in_blocks_of_a_few_lines_are_the_same(tmp_path, seed, monkeypatch):
+    """v/vt/vn lines are read NUMBER_LINES_AT_ONCE lines at a time: blocks of 2 lines give the
+    same values as one block, and as float() of each number; a block of lines with a `w`
+    among plain ones (a width the whole-text reading cannot take) reads the same too."""
+    from wgpu_shading.assets.mesh_formats import obj
+    from wgpu_shading.assets.mesh_formats.obj import read_obj
+
+    rng = np.random.default_rng(300 + seed)
+    text = _generated_obj(rng)
+    if seed % 2:
+        text = text.replace("\nv ", "\nv 1e-3 2.5E1 -7 1\nv ", 1)  # an exponent, and x y z w once
+    path = tmp_path / "coordinates.obj"
+    path.write_text(text)
+    whole = read_obj(path).pieces[0]
+    monkeypatch.setattr(obj, "NUMBER_LINES_AT_ONCE", 2)
+    blocks = read_obj(path).pieces[0]
+    np.testing.assert_array_equal(blocks.positions, whole.positions)
+    np.testing.assert_array_equal(blocks.faces, whole.faces)
+    if seed % 2:
+        assert [1e-3, 25.0, -7.0] in blocks.positions.tolist()
+    else:  # (the extra vertex above makes some fans degenerate, which the reader leaves out)
+        np.testing.assert_array_equal(blocks.positions[blocks.faces], [[c[0] for c in t] for t in _reference_triangles(text)])

@@ -30,10 +30,25 @@ from .obj_faces import FaceRun, ear_clip_concave, run_corners
 from .mtl import read_mtl_files
 
 
+NUMBER_LINES_AT_ONCE = 1 << 16  # v/vt/vn lines read together: bounded temporaries (a few bytes a character)
+
+
+def _numbers(lines: list[str], prefix: str) -> np.ndarray | None:
+    """Every number of the lines (their `v`/`vt`/`vn` left out), NUMBER_LINES_AT_ONCE lines at
+    a time: the reading's temporaries stay a few MB however big the file, and in cache."""
+    blocks = []
+    for start in range(0, len(lines), NUMBER_LINES_AT_ONCE):
+        block = parse_floats(" ".join(lines[start : start + NUMBER_LINES_AT_ONCE]).replace(prefix.strip(), " "))
+        if block is None:
+            return None
+        blocks.append(block)
+    return blocks[0] if len(blocks) == 1 else np.concatenate(blocks or [np.empty(0)])
+
+
 def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
     """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array; `numbers`
     are their 1-based line numbers (for errors)."""
-    values = parse_floats(" ".join(lines).replace(prefix.strip(), " "))
+    values = _numbers(lines, prefix)
     if values is not None and values.size == width * len(lines):
         array = values.reshape(-1, width)
     elif values is not None and prefix == "v " and values.size == 6 * len(lines):
