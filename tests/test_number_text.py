@@ -5,19 +5,26 @@ and everything outside its form must be refused so the caller reads it the usual
 import numpy as np
 import pytest
 
-from wgpu_shading.assets.mesh_formats.number_text import EXACT_DIGITS, parse_decimals, parse_floats
+from wgpu_shading.assets.mesh_formats.number_text import (
+    EXACT_DIGITS, EXACT_POWER, parse_decimals, parse_floats, tokens_as_floats, tokens_as_integers,
+)
 
 
 def _bits(values) -> np.ndarray:
     return np.asarray(values, np.float64).view(np.int64)
 
 
-def _random_decimals(rng, count: int) -> list[str]:
+def _random_decimals(rng, count: int, exponents: bool = False) -> list[str]:
     tokens = []
     for _ in range(count):
         digits = "".join(rng.choice(list("0123456789"), int(rng.integers(1, EXACT_DIGITS + 1))))
         dot = int(rng.integers(0, len(digits) + 1))
         number = digits[:dot] + "." + digits[dot:] if rng.random() < 0.9 else digits  # `.5`, `5.`, `12`
+        if exponents and rng.random() < 0.7:  # e-005, E+3, e7: the power of ten kept within ±EXACT_POWER
+            fraction = len(digits) - dot
+            power = int(rng.integers(-EXACT_POWER + fraction, EXACT_POWER - len(digits) + 1)) if fraction < EXACT_POWER else 0
+            exponent = power + 0
+            number += str(rng.choice(["e", "E"])) + str(rng.choice(["", "+", "-"] if exponent >= 0 else ["-"])) + str(abs(exponent)).zfill(int(rng.integers(1, 4)))
         tokens.append(str(rng.choice(["", "-", "+"], p=[0.5, 0.4, 0.1])) + number)
     return tokens
 
@@ -32,10 +39,21 @@ def test_plain_decimals_are_what_float_gives_bit_for_bit():
     assert np.array_equal(_bits(values), _bits([float(token) for token in tokens]))
 
 
+def test_exponents_are_what_float_gives_bit_for_bit():
+    rng = np.random.default_rng(2029)
+    tokens = _random_decimals(rng, 50_000, exponents=True)
+    values = parse_decimals(" ".join(tokens))
+    assert values is not None
+    assert np.array_equal(_bits(values), _bits([float(token) for token in tokens]))
+    edges = ["6.14986e-005", "-0e5", "1e22", "1e-22", "123456789012345e7", "0.00000000000001e-7", "9.99E+1"]
+    assert np.array_equal(_bits(parse_decimals(" ".join(edges))), _bits([float(token) for token in edges]))
+
+
 def test_what_exporters_write():
     rng = np.random.default_rng(7)
     coordinates = rng.normal(0.0, 10.0, 30_000)
-    for style in ("%.6f", "%.4f", "%.9f", "%g"):
+    coordinates[::7] *= 1e-6  # small ones: %g writes them with exponents
+    for style in ("%.6f", "%.4f", "%.9f", "%g", "%.6g", "%e", "%.3e"):
         tokens = [style % value for value in coordinates]
         values = parse_floats(" ".join(tokens))
         assert np.array_equal(_bits(values), _bits([float(token) for token in tokens])), style
@@ -48,14 +66,30 @@ def test_signed_zeros_and_short_forms():
 
 
 @pytest.mark.parametrize("text", [
-    "1e5", "1.5E-3", "nan", "-inf", "1.2.3", "--1", "1-2", "+-1", ".", "-", "+", "1 . 2",
+    "nan", "-inf", "1.2.3", "--1", "1-2", "+-1", ".", "-", "+", "1 . 2",
     "1" * (EXACT_DIGITS + 1), "0." + "0" * EXACT_DIGITS, "0x10", "1,2", "\uff11", "1 2 x",
+    "e5", "1e", "1e+", "1e5e5", "1e5.0", "1e--5", "1e-5-", ".e5", "1e23", "1e-23", "1e00001", "1.5e-30",
 ])
 def test_other_forms_are_refused(text):
     assert parse_decimals(text) is None
 
 
 def test_other_forms_are_read_the_usual_way():
-    text = "1e-3 2.5 -7E2 " + "1" * 17 + ".5 nan"
+    text = "1e-3 2.5 -7E2 1e300 " + "1" * 17 + ".5 nan"
     assert np.array_equal(parse_floats(text), np.fromstring(text, np.float64, sep=" "), equal_nan=True)
     assert parse_floats("1 two 3") is None
+
+
+def test_tokens_are_read_as_numpy_reads_them():
+    """OFF's words (str.split()): the same values as np.array(tokens, dtype), a block at a time."""
+    rng = np.random.default_rng(5)
+    tokens = _random_decimals(rng, 3000, exponents=True)
+    assert np.array_equal(_bits(tokens_as_floats(tokens)), _bits(np.array(tokens, dtype=np.float64)))
+    mixed = tokens[:100] + ["nan", "1e300", "1_000"] + tokens[100:200]  # a block np.array reads: the usual way
+    assert np.array_equal(tokens_as_floats(mixed), np.array(mixed, dtype=np.float64), equal_nan=True)
+    integers = [str(value) for value in rng.integers(-10**12, 10**12, 5000)] + ["+7", "007"]
+    assert np.array_equal(tokens_as_integers(integers), np.array(integers, dtype=np.int64))
+    with pytest.raises(ValueError):
+        tokens_as_floats(["1.5", "x"])
+    with pytest.raises(ValueError):
+        tokens_as_integers(["1", "2.0"])

@@ -1,7 +1,7 @@
 """Whitespace-separated numbers in text (OBJ's v/vt/vn and f lines), read in C.
 
-Plain decimals (`-0.037830`, `12`, `.5`) are read as float64 through integers: the exact
-value strtod gives, at a third of np.fromstring's time.
+Plain decimals (`-0.037830`, `12`, `.5`, `6.14986e-005`) are read as float64 through
+integers: the exact value strtod gives, at a third of np.fromstring's time.
 
 np.fromstring(text, float64, sep=" ") takes ~185 ns a number here (20 ms of the Stanford
 bunny's 75 ms OBJ load), its integer reading ~20 ns. A decimal with at most 15 digits is
@@ -9,10 +9,11 @@ m / 10**k with an integer m < 2**53 and k <= 15: both are exact doubles, and one
 division of exact operands is correctly rounded, so the quotient is the double nearest the
 decimal, which is what strtod returns (Clinger's fast path: W. D. Clinger, "How to read
 floating point numbers accurately", PLDI 1990). So the digits are read as integers with
-the dots removed, and each divided by the power of ten its fraction had.
+the dots removed, and each divided by the power of ten its fraction had. An exponent moves
+that power: m * 10**p or m / 10**-p, still one operation on exact doubles while |p| <= 22.
 
-Anything else (an exponent, more digits, nan, inf, a stray character) gets None, and the
-caller reads the text the usual way.
+Anything else (more digits, a larger power, nan, inf, a stray character) gets None, and
+the caller reads the text the usual way.
 """
 
 from __future__ import annotations
@@ -22,13 +23,15 @@ import warnings
 import numpy as np
 
 EXACT_DIGITS = 15  # every integer of 15 digits is below 2**53: exact as a double
-_POWERS_OF_TEN = np.array([float(10**k) for k in range(EXACT_DIGITS + 1)])  # exact doubles
+EXACT_POWER = 22  # 10**22 = 2**22 * 5**22, and 5**22 < 2**53: the largest power of ten that is exact
+_POWERS_OF_TEN = np.array([float(10**k) for k in range(EXACT_POWER + 1)])  # exact doubles
 
-_BLANK, _DIGIT, _DOT, _MINUS, _PLUS, _OTHER = range(6)
+_BLANK, _DIGIT, _DOT, _EXPONENT, _MINUS, _PLUS, _OTHER = range(7)
 _KIND = np.full(256, _OTHER, np.uint8)
 _KIND[[9, 10, 11, 12, 13, 32]] = _BLANK  # what str.split() and np.fromstring(sep=" ") skip
 _KIND[48:58] = _DIGIT
 _KIND[ord(".")] = _DOT
+_KIND[[ord("e"), ord("E")]] = _EXPONENT
 _KIND[ord("-")] = _MINUS
 _KIND[ord("+")] = _PLUS
 
@@ -49,10 +52,40 @@ def parse_floats(text: str) -> np.ndarray | None:
     return values if values is not None else parse_numbers(text, np.float64)
 
 
+TOKENS_AT_ONCE = 1 << 18  # tokens joined and read together: bounded temporaries
+
+
+def tokens_as_floats(tokens: list[str]) -> np.ndarray:
+    """float64 values of number words (from str.split()), the same as
+    np.array(tokens, dtype=np.float64) gives: plain decimals read through integers, a
+    block of TOKENS_AT_ONCE words at a time, and any block with another form the usual
+    way (which raises ValueError for a word that is not a number)."""
+    blocks = []
+    for start in range(0, len(tokens), TOKENS_AT_ONCE):
+        block = tokens[start : start + TOKENS_AT_ONCE]
+        values = parse_decimals(" ".join(block))
+        blocks.append(values if values is not None and values.size == len(block) else np.array(block, dtype=np.float64))
+    return np.concatenate(blocks) if len(blocks) != 1 else blocks[0]
+
+
+def tokens_as_integers(tokens: list[str]) -> np.ndarray:
+    """int64 values of integer words (from str.split()), the same as
+    np.array(tokens, dtype=np.int64) gives, read in C a block at a time; a block
+    np.fromstring cannot read whole is read the usual way (ValueError for a non-integer)."""
+    blocks = []
+    for start in range(0, len(tokens), TOKENS_AT_ONCE):
+        block = tokens[start : start + TOKENS_AT_ONCE]
+        values = parse_numbers(" ".join(block), np.int64)
+        blocks.append(values if values is not None and values.size == len(block) else np.array(block, dtype=np.int64))
+    return np.concatenate(blocks) if len(blocks) != 1 else blocks[0]
+
+
 def parse_decimals(text: str) -> np.ndarray | None:
     """The whitespace-separated numbers of `text` as float64, equal bit for bit to what
     float() gives each (the sign of a zero too), when every one is a plain decimal: an
-    optional sign, digits with at most one dot, 1 to EXACT_DIGITS digits. None otherwise."""
+    optional sign, 1 to EXACT_DIGITS digits with at most one dot, and optionally an
+    exponent (`e` or `E`, an optional sign, 1 to 4 digits) that leaves the power of ten
+    within ±EXACT_POWER (`6.14986e-005`, as C++ streams write small numbers). None otherwise."""
     try:
         data = np.frombuffer(text.encode("ascii"), np.uint8)
     except UnicodeEncodeError:
@@ -64,32 +97,68 @@ def parse_decimals(text: str) -> np.ndarray | None:
     np.not_equal(kind, _BLANK, out=filled[1:-1])
     starts = np.flatnonzero(filled[1:] > filled[:-1])  # each number's first character
     ends = np.flatnonzero(filled[:-1] > filled[1:])  # one past its last
-    if not len(starts):
+    count = len(starts)
+    if not count:
         return np.empty(0, np.float64)
-    digits = ends - starts
+    mantissa_ends = ends.copy()  # where each number's digits end: its `e`, or its end
+    exponents_at = np.flatnonzero(kind == _EXPONENT)
+    has_exponent = np.zeros(count, bool)
+    exponent_signed = np.zeros(len(exponents_at), bool)
+    if len(exponents_at):
+        owner = np.searchsorted(starts, exponents_at, "right") - 1
+        if len(owner) > 1 and not (np.diff(owner) > 0).all():  # two in one number
+            return None
+        has_exponent[owner] = True
+        mantissa_ends[owner] = exponents_at
+        after = data[np.minimum(exponents_at + 1, len(data) - 1)]
+        exponent_signed = ((after == ord("-")) | (after == ord("+"))) & (exponents_at + 1 < len(data))
     first = data[starts]
     negative = first == ord("-")
     signed = negative | (first == ord("+"))
-    if np.count_nonzero(kind >= _MINUS) != np.count_nonzero(signed):  # a sign after a number's start
+    # Signs only at a number's start or right after its `e`: counting those finds any other.
+    if np.count_nonzero(kind >= _MINUS) != np.count_nonzero(signed) + np.count_nonzero(exponent_signed):
         return None
-    digits -= signed
     dots = np.flatnonzero(kind == _DOT)
-    fraction_digits = np.zeros(len(starts), np.intp)
-    if len(dots) == len(starts) and ((starts < dots) & (dots < ends)).all():  # one in each (most files)
-        fraction_digits = ends - dots - 1
-        digits -= 1
+    fraction_digits = np.zeros(count, np.intp)
+    has_dot = np.zeros(count, bool)
+    if len(dots) == count and ((starts < dots) & (dots < mantissa_ends)).all():  # one in each (most files)
+        fraction_digits = mantissa_ends - dots - 1
+        has_dot[:] = True
     elif len(dots):
         owner = np.searchsorted(starts, dots, "right") - 1
-        if len(owner) > 1 and not (np.diff(owner) > 0).all():  # two dots in one number
+        if len(owner) > 1 and not (np.diff(owner) > 0).all():  # two in one number
             return None
-        fraction_digits[owner] = ends[owner] - dots - 1
-        digits[owner] -= 1
-    if (digits.min() < 1 or digits.max() > EXACT_DIGITS):
+        if not (dots < mantissa_ends[owner]).all():  # a dot in an exponent
+            return None
+        fraction_digits[owner] = mantissa_ends[owner] - dots - 1
+        has_dot[owner] = True
+    digits = mantissa_ends - starts - signed - has_dot
+    if digits.min() < 1 or digits.max() > EXACT_DIGITS:
         return None
-    # Base 10 whatever the leading zeros; a sign before the digits (`-.5` → `-5`) is read too.
-    mantissas = parse_numbers(text.replace(".", "") if len(dots) else text, np.int64)
-    if mantissas is None or mantissas.size != len(starts):
+    if len(exponents_at):
+        exponent_digits = ends[has_exponent] - exponents_at - 1 - exponent_signed
+        if exponent_digits.min() < 1 or exponent_digits.max() > 4:
+            return None
+    # The digits as integers, base 10 whatever the leading zeros (`-.5` → `-5`); an exponent
+    # becomes a second integer after its number's.
+    cleaned = text.replace(".", "") if len(dots) else text
+    if len(exponents_at):
+        cleaned = cleaned.replace("e", " ").replace("E", " ")
+    integers = parse_numbers(cleaned, np.int64)
+    if integers is None or integers.size != count + len(exponents_at):
         return None
-    values = np.abs(mantissas).astype(np.float64) / _POWERS_OF_TEN[fraction_digits]
+    # One multiplication or division of two exact doubles: correctly rounded (module docstring).
+    if not len(exponents_at):
+        values = np.abs(integers).astype(np.float64)
+        values /= _POWERS_OF_TEN[fraction_digits]
+    else:
+        mantissa_index = np.arange(count) + np.concatenate([[0], np.cumsum(has_exponent)[:-1]])
+        power = -fraction_digits.astype(np.int64)
+        power[has_exponent] += integers[mantissa_index[has_exponent] + 1]
+        if power.min() < -EXACT_POWER or power.max() > EXACT_POWER:
+            return None
+        values = np.abs(integers[mantissa_index]).astype(np.float64)
+        np.multiply(values, _POWERS_OF_TEN[np.maximum(power, 0)], out=values, where=power > 0)
+        np.divide(values, _POWERS_OF_TEN[np.maximum(-power, 0)], out=values, where=power < 0)
     np.negative(values, out=values, where=negative)  # -0.0 stays negative, as float("-0.0")
     return values

@@ -29,6 +29,7 @@ from ...errors import MeshError
 from ..files import read_text_bytes
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import check_declared_counts
+from .number_text import tokens_as_floats, tokens_as_integers
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
 
@@ -72,7 +73,7 @@ def _read_arrays(path: Path, file_size: int) -> _OffArrays:
     header = _header(text, where)
     # limits, before anything is allocated: at least "0 0 0\n" a vertex, "3 0 0 0\n" a face
     check_declared_counts(where, header.vertex_count, header.face_count, 6 * header.vertex_count + 8 * header.face_count, file_size)
-    fast = _triangles_only(text, header)
+    fast = _uniform_faces(text, header)
     if fast is not None:
         return fast
     numbered = [(header.line, header.rest)]
@@ -145,26 +146,31 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
     return np.clip(colors, 0.0, 1.0)
 
 
-def _triangles_only(text: str, header: _Header) -> _OffArrays | None:
-    """The common file read in one split: plain OFF, no comments, every face a triangle
-    without a colour (4 tokens each, wherever the lines break). None for anything else,
-    which the line-aware reader below handles (a colour after a face's indices can only be
-    told from the next face by its line)."""
+def _uniform_faces(text: str, header: _Header) -> _OffArrays | None:
+    """The common file read in one split: plain OFF, no comments, every face the same
+    polygon (triangles, or quads as some exporters write) without a colour (n + 1 tokens
+    each, wherever the lines break), its numbers read in C (number_text.py), polygons fanned
+    as the line-aware reader fans them. None for anything else, which the line-aware reader
+    below handles (a colour after a face's indices can only be told from the next face by
+    its line)."""
     if header.keyword.group(0) != "OFF" or "#" in text:
         return None
     tokens = header.rest + text[header.offset :].split()
     vertex_count, face_count = header.vertex_count, header.face_count
     faces = tokens[3 * vertex_count :]
-    if len(faces) != 4 * face_count or set(faces[::4]) != {"3"}:
+    corners = len(faces) // face_count - 1 if face_count else 0
+    if not 3 <= corners <= min(vertex_count, 64) or len(faces) != (corners + 1) * face_count or set(faces[:: corners + 1]) != {str(corners)}:
         return None
     try:
-        vertices = np.array(tokens[: 3 * vertex_count], dtype=np.float64).reshape(vertex_count, 3)
-        triangles = np.array(faces, dtype=np.int64).reshape(face_count, 4)[:, 1:]
+        vertices = tokens_as_floats(tokens[: 3 * vertex_count]).reshape(vertex_count, 3)
+        polygons = tokens_as_integers(faces).reshape(face_count, corners + 1)[:, 1:]
     except ValueError:  # not numbers where numbers belong: the careful reader names the line
         return None
-    if len(triangles) and (triangles.min() < 0 or triangles.max() >= vertex_count):
+    if polygons.min() < 0 or polygons.max() >= vertex_count:
         return None
-    return _OffArrays(vertices, triangles, None, None, None)
+    fan = np.arange(1, corners - 1)  # triangle (0, k, k + 1) of each polygon, k = 1 .. corners - 2
+    triangles = np.stack([np.broadcast_to(polygons[:, :1], (face_count, len(fan))), polygons[:, fan], polygons[:, fan + 1]], axis=2)
+    return _OffArrays(vertices, triangles.reshape(-1, 3), None, None, None)
 
 
 class _Tokens:
