@@ -118,3 +118,26 @@ def test_usemtl_without_any_mtllib_is_a_warning(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         load_mesh(path)
+
+
+@pytest.mark.parametrize("corners", [3, 4, 6])
+def test_equal_polygons_read_in_one_split_as_the_line_aware_reader_reads_them(tmp_path, corners):
+    """A file of equal polygons without colours or comments takes the one-split path; the
+    same file with a comment takes the line-aware one: the same vertices (exponents among
+    them) and the same fans, in order."""
+    from wgpu_shading.assets.mesh_formats.off import read_off
+
+    rng = np.random.default_rng(corners)
+    count = 40
+    positions = rng.normal(size=(count, 3)) * np.where(rng.random((count, 1)) < 0.3, 1e-6, 1.0)
+    lines = [" ".join(f"{value:g}" for value in row) for row in positions]  # %g: exponents for the small ones
+    faces = [" ".join(str(i) for i in [corners, *rng.choice(count, corners, replace=False)]) for _ in range(25)]
+    body = f"{count} {len(faces)} 0\n" + "\n".join(lines + faces) + "\n"
+    split = tmp_path / "split.off"
+    split.write_text("OFF\n" + body)
+    careful = tmp_path / "careful.off"
+    careful.write_text("OFF # a comment: the line-aware reader\n" + body)
+    one, other = read_off(split, split.stat().st_size).pieces[0], read_off(careful, careful.stat().st_size).pieces[0]
+    assert np.array_equal(one.positions, other.positions) and np.array_equal(one.faces, other.faces)
+    assert np.array_equal(one.positions, [[float(word) for word in line.split()] for line in lines])
+    assert len(one.faces) == 25 * (corners - 2)
