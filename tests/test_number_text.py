@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading.assets.mesh_formats.number_text import (
-    EXACT_DIGITS, EXACT_POWER, parse_decimals, parse_floats, tokens_as_floats, tokens_as_integers,
+    EXACT_DIGITS, EXACT_POWER, parse_decimals, parse_floats, tokens_as_numbers,
 )
 
 
@@ -84,12 +84,12 @@ def test_tokens_are_read_as_numpy_reads_them():
     """OFF's words (str.split()): the same values as np.array(tokens, dtype), a block at a time."""
     rng = np.random.default_rng(5)
     tokens = _random_decimals(rng, 3000, exponents=True)
-    assert np.array_equal(_bits(tokens_as_floats(tokens)), _bits(np.array(tokens, dtype=np.float64)))
+    assert np.array_equal(_bits(tokens_as_numbers(tokens, np.float64)), _bits(np.array(tokens, dtype=np.float64)))
     mixed = tokens[:100] + ["nan", "1e300", "1_000"] + tokens[100:200]  # a block np.array reads: the usual way
-    assert np.array_equal(tokens_as_floats(mixed), np.array(mixed, dtype=np.float64), equal_nan=True)
+    assert np.array_equal(tokens_as_numbers(mixed, np.float64), np.array(mixed, dtype=np.float64), equal_nan=True)
     integers = [str(value) for value in rng.integers(-10**12, 10**12, 5000)] + ["+7", "007"]
-    assert np.array_equal(tokens_as_integers(integers), np.array(integers, dtype=np.int64))
+    assert np.array_equal(tokens_as_numbers(integers, np.int64), np.array(integers, dtype=np.int64))
     with pytest.raises(ValueError):
-        tokens_as_floats(["1.5", "x"])
+        tokens_as_numbers(["1.5", "x"], np.float64)
     with pytest.raises(ValueError):
-        tokens_as_integers(["1", "2.0"])
+        tokens_as_numbers(["1", "2.0"], np.int64)

@@ -55,29 +55,19 @@ def parse_floats(text: str) -> np.ndarray | None:
 TOKENS_AT_ONCE = 1 << 18  # tokens joined and read together: bounded temporaries
 
 
-def tokens_as_floats(tokens: list[str]) -> np.ndarray:
-    """float64 values of number words (from str.split()), the same as
-    np.array(tokens, dtype=np.float64) gives: plain decimals read through integers, a
-    block of TOKENS_AT_ONCE words at a time, and any block with another form the usual
-    way (which raises ValueError for a word that is not a number)."""
+def tokens_as_numbers(tokens: list[str], dtype) -> np.ndarray:
+    """float64 or int64 values of number words (from str.split()), the same as
+    np.array(tokens, dtype) gives, read in C a block of TOKENS_AT_ONCE words at a time
+    (floats through parse_decimals); a block in another form is read the usual way, which
+    raises ValueError for a word that is not a number."""
+    dtype = np.dtype(dtype)
     blocks = []
     for start in range(0, len(tokens), TOKENS_AT_ONCE):
         block = tokens[start : start + TOKENS_AT_ONCE]
-        values = parse_decimals(" ".join(block))
-        blocks.append(values if values is not None and values.size == len(block) else np.array(block, dtype=np.float64))
-    return np.concatenate(blocks) if len(blocks) != 1 else blocks[0]
-
-
-def tokens_as_integers(tokens: list[str]) -> np.ndarray:
-    """int64 values of integer words (from str.split()), the same as
-    np.array(tokens, dtype=np.int64) gives, read in C a block at a time; a block
-    np.fromstring cannot read whole is read the usual way (ValueError for a non-integer)."""
-    blocks = []
-    for start in range(0, len(tokens), TOKENS_AT_ONCE):
-        block = tokens[start : start + TOKENS_AT_ONCE]
-        values = parse_numbers(" ".join(block), np.int64)
-        blocks.append(values if values is not None and values.size == len(block) else np.array(block, dtype=np.int64))
-    return np.concatenate(blocks) if len(blocks) != 1 else blocks[0]
+        text = " ".join(block)
+        values = parse_decimals(text) if dtype == np.float64 else parse_numbers(text, dtype)
+        blocks.append(values if values is not None and values.size == len(block) else np.array(block, dtype=dtype))
+    return blocks[0] if len(blocks) == 1 else np.concatenate(blocks or [np.empty(0, dtype)])
 
 
 def parse_decimals(text: str) -> np.ndarray | None:

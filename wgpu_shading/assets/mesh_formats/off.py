@@ -29,7 +29,7 @@ from ...errors import MeshError
 from ..files import read_text_bytes
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import check_declared_counts
-from .number_text import tokens_as_floats, tokens_as_integers
+from .number_text import tokens_as_numbers
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
 
@@ -159,11 +159,11 @@ def _uniform_faces(text: str, header: _Header) -> _OffArrays | None:
     vertex_count, face_count = header.vertex_count, header.face_count
     faces = tokens[3 * vertex_count :]
     corners = len(faces) // face_count - 1 if face_count else 0
-    if not 3 <= corners <= min(vertex_count, 64) or len(faces) != (corners + 1) * face_count or set(faces[:: corners + 1]) != {str(corners)}:
+    if not 3 <= corners <= vertex_count or len(faces) != (corners + 1) * face_count or set(faces[:: corners + 1]) != {str(corners)}:
         return None
     try:
-        vertices = tokens_as_floats(tokens[: 3 * vertex_count]).reshape(vertex_count, 3)
-        polygons = tokens_as_integers(faces).reshape(face_count, corners + 1)[:, 1:]
+        vertices = tokens_as_numbers(tokens[: 3 * vertex_count], np.float64).reshape(vertex_count, 3)
+        polygons = tokens_as_numbers(faces, np.int64).reshape(face_count, corners + 1)[:, 1:]
     except ValueError:  # not numbers where numbers belong: the careful reader names the line
         return None
     if polygons.min() < 0 or polygons.max() >= vertex_count:
