@@ -198,10 +198,10 @@ def run_dataset_benchmark(
             for workers in (1, 2):
                 start = time.perf_counter()
                 cluster = local_cluster(workers)
-                warm = mesh_jobs([meshes[0]], turntable_views(2), Outputs(), {"size": 32})
-                render_dataset(warm, scratch / f"warm{workers}", scheduler=cluster.scheduler_address, progress=False)
-                clusters[workers] = (cluster, time.perf_counter() - start)
                 cluster_clients[workers] = Client(cluster)
+                warm = mesh_jobs([meshes[0]], turntable_views(2), Outputs(), {"size": 32})
+                render_dataset(warm, scratch / f"warm{workers}", client=cluster_clients[workers], progress=False)
+                clusters[workers] = (cluster, time.perf_counter() - start)
         for size in sizes:
             jobs = mesh_jobs(meshes, turntable_views(views), Outputs(), {"size": size})
             depth_jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy"), {"size": size})
