@@ -56,6 +56,7 @@ from PIL import Image
 
 from wgpu_shading import Renderer
 from wgpu_shading.dataset import Outputs, mesh_jobs, render_dataset, turntable_views
+from wgpu_shading.dataset.output_folder import make_output_folder
 from wgpu_shading.dataset.views import base_scene, job_scene
 
 from .dataset_stages import STAGES, StageTimes, time_stages
@@ -93,6 +94,7 @@ class DatasetResult:
     stages: StageTimes = field(default_factory=StageTimes)  # the colour + depth batch's stages alone
     load_average: list[float] = field(default_factory=list)  # 1-minute load average after each pass
     new_file_us: list[float] = field(default_factory=list)  # creating an empty file in the scratch folder, before each pass
+    new_file_spread_us: list[float] = field(default_factory=list)  # the same in a mesh folder made as the batch makes them
 
     @property
     def frames(self) -> int:
@@ -156,9 +158,11 @@ def naive_loop(renderer: Renderer, jobs, out_dir: Path, level: int, *, depth: bo
 PROBE_FILES = 100  # empty files created before each pass to time a file's creation
 
 
-def new_file_micros(folder: Path, count: int = PROBE_FILES) -> float:
+def new_file_micros(folder: Path, count: int = PROBE_FILES, spread: bool = False) -> float:
     """Median µs to create (and close) an empty file in a new subfolder of `folder`. The
     files are left there: removing them would make the next creations slower (below).
+    spread: in a subfolder of a new output folder made as render_dataset makes one, i.e.
+    where a dataset's mesh folder would be (dataset/output_folder.py), instead.
 
     Why it is measured: on ext4 without a journal (this VM's disk) the kernel avoids
     reusing an inode freed in the last 60 s, or 6 minutes while its inode table block is
@@ -169,7 +173,13 @@ def new_file_micros(folder: Path, count: int = PROBE_FILES) -> float:
     their job files in /tmp) one creation took 0.2–0.86 ms here, against 0.016–0.025 ms
     in a quiet folder: each view creates 3 files, so up to 2.5 ms of kernel CPU a frame.
     """
-    probe = Path(tempfile.mkdtemp(prefix="new-file-probe-", dir=folder))
+    if spread:
+        parent = Path(tempfile.mkdtemp(prefix="new-file-probe-spread-", dir=folder))
+        make_output_folder(parent)  # found empty: marked as render_dataset marks its folder
+        probe = parent / "mesh"
+        probe.mkdir()
+    else:
+        probe = Path(tempfile.mkdtemp(prefix="new-file-probe-", dir=folder))
     times = []
     for index in range(count):
         start = time.perf_counter()
@@ -234,6 +244,7 @@ def run_dataset_benchmark(
             modes = list(runs)
             for index in range(passes):
                 result.new_file_us.append(new_file_micros(scratch))
+                result.new_file_spread_us.append(new_file_micros(scratch, spread=True))
                 # Alternating, so load changes hit every mode alike, in an order rotated from
                 # pass to pass: a run's place in the sequence moved one configuration's batch
                 # by up to 7 % on this machine (docs/performance.md, "Where a dataset frame goes").
@@ -244,6 +255,10 @@ def run_dataset_benchmark(
                     # processes put on a shared machine changes much less than frames/s.
                     workers_before = _workers_cpu(cluster_clients.values())
                     own_before = _own_cpu()
+                    # Every mode's folder made as render_dataset makes its own (its mesh
+                    # folders spread over the disk's block groups: dataset/output_folder.py),
+                    # so that the loops compared write their files alike.
+                    make_output_folder(out)
                     start = time.perf_counter()
                     outcome = run(out)
                     wall = time.perf_counter() - start
@@ -392,8 +407,11 @@ def stage_table(results: list[DatasetResult]) -> str:
     loads = [f"{value:.1f}" for result in results for value in result.load_average]
     lines += ["", f"1-minute load average after each pass: {', '.join(loads)} ({os.cpu_count()} cores)."]
     creations = [f"{value:.0f}" for result in results for value in result.new_file_us]
+    spread = [f"{value:.0f}" for result in results for value in result.new_file_spread_us]
     if creations:
-        lines += ["", f"A new empty file in the scratch folder, before each pass: {', '.join(creations)} µs (median of "
+        lines += ["", f"A new empty file before each pass, in a new subfolder of the scratch folder: {', '.join(creations)} µs; "
+                  f"in a mesh folder made as the batch makes them (its output folder marked for ext4 to spread "
+                  f"its subfolders: dataset/output_folder.py): {', '.join(spread)} µs (medians of "
                   f"{PROBE_FILES}; each view creates 3 files; 16–25 µs in a quiet folder here, up to 860 µs where many "
                   "files were removed nearby in the minutes before, which ext4 without a journal skips one by one: "
                   "benchmarks/dataset.py, new_file_micros)."]

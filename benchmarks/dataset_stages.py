@@ -7,7 +7,7 @@ alone, in one process, on the same jobs as benchmarks/dataset.py, beside the bat
                (the pipelined path a chunk uses); "one at a time" is render_frame in a loop
     encode     the PNG (assets/png.py at the batch's level), the .npy bytes and the record
     write      those bytes written atomically into a fresh folder (temporary, rename) the way the
-               batch writes them (files of 512 KiB and more around the page cache:
+               batch writes them (its folder made as render_dataset makes one: output_folder.py) (files of 512 KiB and more around the page cache:
                dataset/direct_writes.py), removed only at the end of the benchmark (as the batch
                modes' folders are)
 
@@ -27,8 +27,9 @@ import numpy as np
 
 from wgpu_shading.assets.png import encode_png
 from wgpu_shading.dataset.cameras import camera_record
-from wgpu_shading.dataset.views import base_scene, job_scene
 from wgpu_shading.dataset.direct_writes import write_bytes
+from wgpu_shading.dataset.output_folder import make_output_folder
+from wgpu_shading.dataset.views import base_scene, job_scene
 from wgpu_shading.dataset.writer import atomic_write, json_text
 
 STAGES = ("load", "scenes", "render", "render, one at a time", "encode", "write")
@@ -93,7 +94,7 @@ def time_stages(renderer, jobs, level: int, times: StageTimes, folder: Path) -> 
             encode(job, scene, color, depth)
     times.add("encode", clock.wall, clock.cpu, frames)
     encoded = [encode(job, scene, *frame) for job, scene, frame in zip(jobs, scenes, rendered)]  # for write, untimed
-    folder.mkdir(parents=True)
+    make_output_folder(folder)  # as render_dataset makes its folder: mesh folders spread
     with _Clock() as clock:
         for job, png, npy, record in encoded:
             (folder / job.folder).mkdir(exist_ok=True)

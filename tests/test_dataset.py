@@ -495,3 +495,70 @@ def test_time_inside_chunks_is_within_the_run(tmp_path, renderer):
     result = render_dataset(jobs, tmp_path / "out", renderer=renderer, chunk_size=2, progress=False)
     assert not result.failed
     assert 0.0 < result.busy_seconds <= result.seconds
+
+
+def _lsattr(folder: Path) -> str | None:
+    """The folder's attribute letters as e2fsprogs' lsattr prints them; None where it cannot
+    tell (no lsattr, or a file system without these attributes)."""
+    import shutil
+    import subprocess
+
+    if shutil.which("lsattr") is None:
+        return None
+    result = subprocess.run(["lsattr", "-d", str(folder)], capture_output=True, text=True)
+    return result.stdout.split()[0] if result.returncode == 0 and result.stdout.strip() else None
+
+
+def test_a_run_marks_the_output_folder_it_makes_for_ext4_to_spread_its_mesh_folders(tmp_path, renderer):
+    """dataset/output_folder.py: a folder the run makes, or finds empty, gets ext4's `T`
+    attribute (read back with lsattr, not with our own ioctl); one holding files already is
+    the user's and is left as it is."""
+    jobs = mesh_jobs([TORUS], turntable_views(1), Outputs(), {"size": 16})
+    made, empty, used = tmp_path / "made" / "out", tmp_path / "empty", tmp_path / "used"
+    empty.mkdir()
+    used.mkdir()
+    (used / "notes.txt").write_text("mine")
+    probe = tmp_path / "probe"
+    probe.mkdir()
+    attributes = _lsattr(probe)
+    if attributes is None or not _can_mark(probe):
+        pytest.skip(f"no ext4-style folder attributes at {tmp_path} (lsattr: {attributes})")
+    for folder in (made, empty, used):
+        result = render_dataset(jobs, folder, progress=False, renderer=renderer)
+        assert len(result.rendered) == 1
+    assert "T" in _lsattr(made) and "T" in _lsattr(empty)
+    assert "T" not in _lsattr(used) and "T" not in _lsattr(made.parent)  # only the output folder itself
+    assert "T" not in _lsattr(made / "torus")  # not inherited: the mesh folders are plain
+    again = render_dataset(jobs, made, progress=False, renderer=renderer)  # a rerun into the marked folder
+    assert again.skipped == [jobs[0].id] and "T" in _lsattr(made)
+
+
+def _can_mark(folder: Path) -> bool:
+    from wgpu_shading.dataset.output_folder import spread_subfolders
+
+    return spread_subfolders(folder)
+
+
+def test_a_file_system_that_refuses_the_mark_gets_a_plain_folder(tmp_path, renderer, monkeypatch):
+    """tmpfs, xfs, NFS refuse the attribute's ioctl (ENOTTY, EOPNOTSUPP): the run goes on."""
+    import errno
+
+    from wgpu_shading.dataset import output_folder
+
+    def refused(*args, **kwargs):
+        raise OSError(errno.ENOTTY, "Inappropriate ioctl for device")
+
+    monkeypatch.setattr(output_folder.fcntl, "ioctl", refused)
+    out = tmp_path / "out"
+    assert output_folder.spread_subfolders(tmp_path) is False and output_folder.has_spread_mark(tmp_path) is None
+    result = render_dataset(mesh_jobs([TORUS], turntable_views(1), Outputs(), {"size": 16}), out, progress=False, renderer=renderer)
+    assert len(result.rendered) == 1 and (out / "torus" / "view_000.png").is_file()
+
+
+def test_an_output_path_that_is_a_file_is_a_usage_error(tmp_path, capsys):
+    target = tmp_path / "out"
+    target.write_text("not a folder")
+    manifest = tmp_path / "jobs.csv"
+    manifest.write_text(f"mesh,size\n{TORUS},16\n")
+    assert main(["batch", str(manifest), "-o", str(target), "-q"]) == 2
+    assert str(target) in capsys.readouterr().err and target.read_text() == "not a folder"

@@ -20,6 +20,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py dask-client --size 256 --rounds 12
     python benchmarks/scripts/ab_issue29.py per-mesh --size 256 --rounds 6
     python benchmarks/scripts/ab_issue29.py files-beside --size 256 --rounds 6
+    python benchmarks/scripts/ab_issue29.py spread-folders --size 256 --rounds 8
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -136,6 +137,13 @@ rename, with the batch's own writers) for every frame read back, at normal prior
 nice 19 and at SCHED_IDLE, rotated round by round: ms a frame, the ratio to the frames
 alone, how many views the writer kept up with a frame, and what creating an empty file
 took before each round (the file system's state moves the writes' cost most).
+
+spread-folders: the colour + depth batch with its output folder as render_dataset makes it
+(marked for ext4 to spread its mesh folders over block groups: dataset/output_folder.py) and
+without the mark, each round after removing each batch's output of the round before (as
+`rm -r OUT` before rendering a dataset again), rotated with render + readback alone: each
+batch's time inside its chunks, both paired round by round, and what creating an empty file
+took after the removals in a plain subfolder and in a mesh folder of a marked folder.
 
 crease-split: the 70K-triangle bunny's load_mesh with crease_normals.split_vertices and
 with the formulation it replaced (np.unique over every corner's (vertex, fan) key),
@@ -1005,12 +1013,74 @@ def _start_up_instructions(variants: dict[str, str], environment: dict[str, str]
         print(f"  {name:52s} {counts[name] / 1e6:8.1f} M ({counts[name] / counts['as shipped']:.3f}×)")
 
 
+def spread_folders(size: int, rounds: int, smoke: bool) -> None:
+    import shutil
+    import tempfile
+
+    from benchmarks.dataset import new_file_micros, render_all
+    from wgpu_shading import Renderer
+    from wgpu_shading.dataset import output_folder, render_dataset
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    shipped = output_folder.spread_subfolders
+    scratch = Path(tempfile.mkdtemp(prefix="ab-spread-folders-"))
+    outputs: dict[str, Path] = {}  # variant → its latest output, removed at the start of the next round
+    inside: dict[str, list[float]] = {}
+    alone: list[float] = []
+
+    def batch(name: str, marked: bool) -> None:
+        output_folder.spread_subfolders = shipped if marked else (lambda folder: False)
+        try:
+            outputs[name] = scratch / f"{name.split()[0]}-{len(inside.get(name, []))}"
+            result = render_dataset(jobs, outputs[name], progress=False, renderer=renderer)
+        finally:
+            output_folder.spread_subfolders = shipped
+        inside.setdefault(name, []).append(1e3 * result.busy_seconds / len(jobs))
+
+    variants = {"marked (as shipped)": True, "not marked": False}
+    print(f"{what}; each round first removes each batch's previous output, as `rm -r OUT` before a rerun; "
+          f"load average {os.getloadavg()[0]:.2f} at the start")
+    try:
+        render_all(renderer, scenes)
+        for name, marked in variants.items():  # pipelines, thread pools; an output to remove
+            batch(name, marked)
+        inside.clear()
+        creations = []
+        for round_index in range(rounds):
+            for folder in outputs.values():
+                shutil.rmtree(folder)
+            creations.append((new_file_micros(scratch), new_file_micros(scratch, spread=True)))
+            names = ["alone", *variants]
+            for name in names[round_index % 3:] + names[: round_index % 3]:
+                if name == "alone":
+                    start = time.perf_counter()
+                    render_all(renderer, scenes)
+                    alone.append(1e3 * (time.perf_counter() - start) / len(scenes))
+                else:
+                    batch(name, variants[name])
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    frames = statistics.median(alone)
+    print(f"render + readback alone: {frames:.2f} ms a frame")
+    for name in variants:
+        batch_ms = statistics.median(inside[name])
+        print(f"batch, output folder {name}: inside its chunks {batch_ms:.2f} ms a frame "
+              f"({min(inside[name]):.2f}–{max(inside[name]):.2f}), {batch_ms / frames:.2f}× the frames alone")
+    paired = [plain / marked for plain, marked in zip(inside["not marked"], inside["marked (as shipped)"])]
+    print(f"not marked ÷ marked, round by round: median {statistics.median(paired):.2f}, "
+          f"the marked batch faster in {sum(ratio > 1 for ratio in paired)} of {len(paired)} rounds")
+    print("a new empty file after the removals, µs (plain subfolder / mesh folder of a marked folder): "
+          + ", ".join(f"{plain:.0f} / {spread:.0f}" for plain, spread in creations))
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
 # The A/Bs on the dataset benchmark's scenes, each called as f(size, rounds, smoke).
 DATASET_SCENE_ABS = {
     "chunks": chunks, "batch-parts": batch_parts, "kept-frames": kept_frames, "fresh-meshes": fresh_meshes,
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
     "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "dask-client": dask_client, "per-mesh": per_mesh,
-    "files-beside": files_beside,
+    "files-beside": files_beside, "spread-folders": spread_folders,
 }
 
 

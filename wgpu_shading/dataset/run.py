@@ -14,6 +14,7 @@ from .cameras import CONVENTION
 from .jobs import Job, chunks
 from .lock import folder_lock
 from .names import CAMERAS_FILE, REPORT_FILE, check_output_names
+from .output_folder import make_output_folder
 from .writer import atomic_write, finished, json_text, remove_stale_temporaries
 
 if TYPE_CHECKING:  # the optional `dask` extra
@@ -82,7 +83,7 @@ def render_dataset(
     check_output_names(jobs)  # before anything is made: two jobs never write one file
     out_dir = Path(output)
     try:
-        out_dir.mkdir(parents=True, exist_ok=True)
+        make_output_folder(out_dir)  # its mesh folders away from files removed nearby
     except OSError as error:
         raise UsageError(f"output folder {str(out_dir)!r}: {error.strerror or error}") from None
     with folder_lock(out_dir):  # one run per folder: its clean-up removes nothing of another's
