@@ -62,27 +62,18 @@ def can_spread() -> bool:
 def spread_subfolders(folder: str | os.PathLike[str]) -> bool:
     """Mark `folder` as the top of a directory hierarchy (module docstring). True when it
     carries the mark now, False where the system or its file system has none."""
-    if not can_spread():
-        return False
-    try:
-        descriptor = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
-    except OSError:
-        return False
-    try:
-        flags = array.array("i", [0])  # the kernel reads and writes an int, whatever the macros say
-        fcntl.ioctl(descriptor, GET_FLAGS, flags, True)
-        if not flags[0] & TOPDIR_FLAG:
-            flags[0] |= TOPDIR_FLAG
-            fcntl.ioctl(descriptor, SET_FLAGS, flags, True)
-        return True
-    except OSError:  # ENOTTY, EOPNOTSUPP, EINVAL, EPERM: no such attribute here
-        return False
-    finally:
-        os.close(descriptor)
+    return _folder_flags(folder, add=TOPDIR_FLAG) is not None
 
 
 def has_spread_mark(folder: str | os.PathLike[str]) -> bool | None:
     """Whether `folder` carries the mark; None where its attributes cannot be read."""
+    flags = _folder_flags(folder)
+    return None if flags is None else bool(flags & TOPDIR_FLAG)
+
+
+def _folder_flags(folder: str | os.PathLike[str], add: int = 0) -> int | None:
+    """The folder's attribute flags, with `add` set first where missing; None where they
+    cannot be read or set (ENOTTY, EOPNOTSUPP, EINVAL, EPERM: no such attributes here)."""
     if not can_spread():
         return None
     try:
@@ -90,9 +81,12 @@ def has_spread_mark(folder: str | os.PathLike[str]) -> bool | None:
     except OSError:
         return None
     try:
-        flags = array.array("i", [0])
+        flags = array.array("i", [0])  # the kernel reads and writes an int, whatever the macros say
         fcntl.ioctl(descriptor, GET_FLAGS, flags, True)
-        return bool(flags[0] & TOPDIR_FLAG)
+        if flags[0] & add != add:
+            flags[0] |= add
+            fcntl.ioctl(descriptor, SET_FLAGS, flags, True)
+        return flags[0]
     except OSError:
         return None
     finally:
