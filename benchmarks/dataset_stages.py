@@ -7,9 +7,9 @@ alone, in one process, on the same jobs as benchmarks/dataset.py, beside the bat
                (the pipelined path a chunk uses); "one at a time" is render_frame in a loop
     encode     the PNG (assets/png.py at the batch's level), the .npy bytes and the record
     write      those bytes written atomically into a fresh folder (temporary, rename) the way the
-               batch writes them (its folder made as render_dataset makes one: output_folder.py) (files of 512 KiB and more around the page cache:
-               dataset/direct_writes.py), removed only at the end of the benchmark (as the batch
-               modes' folders are)
+               batch writes them: the folder made as render_dataset makes one (output_folder.py),
+               files of 512 KiB and more around the page cache (dataset/direct_writes.py);
+               removed only at the end of the benchmark (as the batch modes' folders are)
 
 Every stage is wall and CPU time (this process, every thread), per frame; load is spread over
 the frames of its mesh. The batch's own time inside its chunks, per frame, is then compared

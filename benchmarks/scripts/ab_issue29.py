@@ -338,7 +338,7 @@ def _dataset_scenes(size: int, smoke: bool) -> tuple[str, list, list]:
     return what, jobs, job_scenes(jobs)
 
 
-def _interleaved_per_frame(variants: dict, rounds: int, frames: int) -> tuple[dict, dict]:
+def _interleaved_per_frame(variants: dict, rounds: int, frames: int, before_round=None) -> tuple[dict, dict]:
     """Each variant run once per round, in turn, the order rotated from round to round (on
     this machine a variant's place in the round moved batch runs of one configuration by
     ±0.6 ms a frame, 7 %: docs/performance.md): wall and process CPU ms per frame, per round."""
@@ -346,6 +346,8 @@ def _interleaved_per_frame(variants: dict, rounds: int, frames: int) -> tuple[di
     cpus: dict[str, list[float]] = {name: [] for name in variants}
     names = list(variants)
     for round_index in range(rounds):
+        if before_round is not None:  # untimed
+            before_round()
         shift = round_index % len(names)
         for name in names[shift:] + names[:shift]:
             run = variants[name]
@@ -493,13 +495,15 @@ def _batch_runner(renderer, folder: Path, inside: dict):
     return variant
 
 
-def _print_batches(what: str, variants: dict, rounds: int, frames: int, inside: dict, alone_name: str) -> None:
-    """Each variant once first (pipelines, uploads, thread pools), then the interleaved rounds:
-    wall and CPU a frame, and each batch's time inside its chunks ÷ `alone_name`'s wall."""
+def _print_batches(what: str, variants: dict, rounds: int, frames: int, inside: dict, alone_name: str,
+                   before_round=None) -> None:
+    """Each variant once first (pipelines, uploads, thread pools), then the interleaved rounds
+    (before_round() untimed before each): wall and CPU a frame, and each batch's time inside
+    its chunks ÷ `alone_name`'s wall."""
     for run in variants.values():
         run()
     inside.clear()
-    walls = _print_per_frame(what, variants, rounds, frames)
+    walls = _print_per_frame(what, variants, rounds, frames, before_round)
     alone = statistics.median(walls[alone_name])
     for name, values in inside.items():
         print(f"{name}: inside its chunks {statistics.median(values):.2f} ms a frame, "
@@ -935,9 +939,9 @@ def crease_split(rounds: int, smoke: bool) -> None:
         print(f"{name:28s}: load_mesh {statistics.median(walls[name]):.1f} ms ({min(walls[name]):.1f}–{max(walls[name]):.1f})")
 
 
-def _print_per_frame(what: str, variants: dict, rounds: int, frames: int) -> dict:
+def _print_per_frame(what: str, variants: dict, rounds: int, frames: int, before_round=None) -> dict:
     print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start")
-    walls, cpus = _interleaved_per_frame(variants, rounds, frames)
+    walls, cpus = _interleaved_per_frame(variants, rounds, frames, before_round)
     width = max(map(len, variants))
     for name in variants:
         print(f"{name:{width}s}: wall {statistics.median(walls[name]):.2f} ms a frame ({min(walls[name]):.2f}–"
@@ -1019,60 +1023,43 @@ def spread_folders(size: int, rounds: int, smoke: bool) -> None:
 
     from benchmarks.dataset import new_file_micros, render_all
     from wgpu_shading import Renderer
-    from wgpu_shading.dataset import output_folder, render_dataset
+    from wgpu_shading.dataset import output_folder
 
     what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
     shipped = output_folder.spread_subfolders
-    scratch = Path(tempfile.mkdtemp(prefix="ab-spread-folders-"))
-    outputs: dict[str, Path] = {}  # variant → its latest output, removed at the start of the next round
-    inside: dict[str, list[float]] = {}
-    alone: list[float] = []
+    creations: list[tuple[float, float]] = []
+    with tempfile.TemporaryDirectory(prefix="ab-spread-folders-") as scratch:
+        outputs = Path(scratch) / "runs"
+        outputs.mkdir()
+        inside: dict = {}
+        batch = _batch_runner(renderer, outputs, inside)
 
-    def batch(name: str, marked: bool) -> None:
-        output_folder.spread_subfolders = shipped if marked else (lambda folder: False)
-        try:
-            outputs[name] = scratch / f"{name.split()[0]}-{len(inside.get(name, []))}"
-            result = render_dataset(jobs, outputs[name], progress=False, renderer=renderer)
-        finally:
-            output_folder.spread_subfolders = shipped
-        inside.setdefault(name, []).append(1e3 * result.busy_seconds / len(jobs))
+        def with_mark(name: str, marked: bool):
+            run = batch(name, jobs)
 
-    variants = {"marked (as shipped)": True, "not marked": False}
-    print(f"{what}; each round first removes each batch's previous output, as `rm -r OUT` before a rerun; "
-          f"load average {os.getloadavg()[0]:.2f} at the start")
-    try:
-        render_all(renderer, scenes)
-        for name, marked in variants.items():  # pipelines, thread pools; an output to remove
-            batch(name, marked)
-        inside.clear()
-        creations = []
-        for round_index in range(rounds):
-            for folder in outputs.values():
+            def variant() -> None:
+                output_folder.spread_subfolders = shipped if marked else (lambda folder: False)
+                try:
+                    run()
+                finally:
+                    output_folder.spread_subfolders = shipped
+            return variant
+
+        def remove_outputs() -> None:
+            """The round before's outputs removed, as `rm -r OUT` before a rerun; then a new file timed."""
+            for folder in list(outputs.iterdir()):
                 shutil.rmtree(folder)
-            creations.append((new_file_micros(scratch), new_file_micros(scratch, spread=True)))
-            names = ["alone", *variants]
-            for name in names[round_index % 3:] + names[: round_index % 3]:
-                if name == "alone":
-                    start = time.perf_counter()
-                    render_all(renderer, scenes)
-                    alone.append(1e3 * (time.perf_counter() - start) / len(scenes))
-                else:
-                    batch(name, variants[name])
-    finally:
-        shutil.rmtree(scratch, ignore_errors=True)
-    frames = statistics.median(alone)
-    print(f"render + readback alone: {frames:.2f} ms a frame")
-    for name in variants:
-        batch_ms = statistics.median(inside[name])
-        print(f"batch, output folder {name}: inside its chunks {batch_ms:.2f} ms a frame "
-              f"({min(inside[name]):.2f}–{max(inside[name]):.2f}), {batch_ms / frames:.2f}× the frames alone")
-    paired = [plain / marked for plain, marked in zip(inside["not marked"], inside["marked (as shipped)"])]
-    print(f"not marked ÷ marked, round by round: median {statistics.median(paired):.2f}, "
-          f"the marked batch faster in {sum(ratio > 1 for ratio in paired)} of {len(paired)} rounds")
+            creations.append((new_file_micros(Path(scratch)), new_file_micros(Path(scratch), spread=True)))
+
+        variants = {"render + readback alone": lambda: render_all(renderer, scenes),
+                    "marked (as shipped)": with_mark("batch, output folder marked (as shipped)", True),
+                    "not marked": with_mark("batch, output folder not marked", False)}
+        _print_batches(f"{what}; each round first removes the batches' outputs of the round before", variants,
+                       rounds, len(jobs), inside, "render + readback alone", before_round=remove_outputs)
+        _print_paired(inside, "batch, output folder not marked")
     print("a new empty file after the removals, µs (plain subfolder / mesh folder of a marked folder): "
           + ", ".join(f"{plain:.0f} / {spread:.0f}" for plain, spread in creations))
-    print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
 # The A/Bs on the dataset benchmark's scenes, each called as f(size, rounds, smoke).

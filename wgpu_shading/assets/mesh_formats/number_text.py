@@ -26,9 +26,12 @@ EXACT_DIGITS = 15  # every integer of 15 digits is below 2**53: exact as a doubl
 EXACT_POWER = 22  # 10**22 = 2**22 * 5**22, and 5**22 < 2**53: the largest power of ten that is exact
 _POWERS_OF_TEN = np.array([float(10**k) for k in range(EXACT_POWER + 1)])  # exact doubles
 
+BLANK_BYTES = np.zeros(256, bool)  # byte → whether it separates numbers
+BLANK_BYTES[[9, 10, 11, 12, 13, 32]] = True  # what str.split() and np.fromstring(sep=" ") skip
+
 _BLANK, _DIGIT, _DOT, _EXPONENT, _MINUS, _PLUS, _OTHER = range(7)
 _KIND = np.full(256, _OTHER, np.uint8)
-_KIND[[9, 10, 11, 12, 13, 32]] = _BLANK  # what str.split() and np.fromstring(sep=" ") skip
+_KIND[BLANK_BYTES] = _BLANK
 _KIND[48:58] = _DIGIT
 _KIND[ord(".")] = _DOT
 _KIND[[ord("e"), ord("E")]] = _EXPONENT

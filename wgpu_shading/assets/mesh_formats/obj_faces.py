@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...errors import MeshError
-from .number_text import parse_numbers
+from .number_text import BLANK_BYTES, parse_numbers
 
 
 @dataclass
@@ -78,10 +78,6 @@ def run_corners(run: FaceRun, path: str) -> tuple[np.ndarray, np.ndarray]:
     return resolved, polygon
 
 
-_BLANK_BYTES = np.zeros(256, bool)
-_BLANK_BYTES[[9, 10, 11, 12, 13, 32]] = True  # what str.split() and np.fromstring(sep=" ") skip
-
-
 FACE_LINES_AT_ONCE = 1 << 16  # lines read together: bounded temporaries (~40 bytes a line, a few arrays of them)
 
 
@@ -113,7 +109,7 @@ def _block_fans(lines: list[str], per_corner: int | None) -> tuple[np.ndarray, n
         text = text.replace("//", "/0/")
     data = np.frombuffer(text.encode(), np.uint8)
     filled = np.zeros(len(data) + 1, bool)  # a blank before the text
-    np.logical_not(np.take(_BLANK_BYTES, data), out=filled[1:])
+    np.logical_not(np.take(BLANK_BYTES, data), out=filled[1:])
     starts = np.flatnonzero(filled[1:] > filled[:-1])  # where each token begins (the first line's `f` at 0)
     newlines = np.flatnonzero(data == 10)
     slash_at = np.flatnonzero(data == 47)
@@ -121,10 +117,9 @@ def _block_fans(lines: list[str], per_corner: int | None) -> tuple[np.ndarray, n
     if not len(slash_at) and len(starts) == 4 * len(lines) and np.array_equal(starts[::4], line_starts):
         # Every line `f a b c` (most scans' files): four tokens a line, each line's first at
         # its start, so no token's line need be looked up (a third of this function's time).
-        corners = np.full(len(lines), 3)
-        per_corner = 1 if per_corner is None else per_corner
-        if per_corner != 1:
+        if per_corner not in (None, 1):  # the run's earlier blocks had v/vt corners: not one form
             return None
+        corners, per_corner = np.full(len(lines), 3), 1
     else:
         token_line = np.searchsorted(newlines, starts)  # the newlines before a token: its line
         corners = np.bincount(token_line, minlength=len(lines)) - 1  # the `f` is a token too
