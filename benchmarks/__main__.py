@@ -70,6 +70,7 @@ SMOKE_SCRIPTS = {
     "ab_issue29_per_mesh": ("scripts/ab_issue29.py", "per-mesh", "--smoke"),
     "ab_issue29_files_beside": ("scripts/ab_issue29.py", "files-beside", "--smoke"),
     "ab_issue29_spread_folders": ("scripts/ab_issue29.py", "spread-folders", "--smoke"),
+    "ab_issue29_poll_gap": ("scripts/ab_issue29.py", "poll-gap", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -100,6 +101,7 @@ REAL_SCRIPTS = {
     "ab_issue29_per_mesh": ("scripts/ab_issue29.py", "per-mesh", "--size", "256", "--rounds", "6"),
     "ab_issue29_files_beside": ("scripts/ab_issue29.py", "files-beside", "--size", "256", "--rounds", "6"),
     "ab_issue29_spread_folders": ("scripts/ab_issue29.py", "spread-folders", "--size", "256", "--rounds", "8"),
+    "ab_issue29_poll_gap": ("scripts/ab_issue29.py", "poll-gap", "--size", "256", "--rounds", "8"),
 }
 
 

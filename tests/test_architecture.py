@@ -92,6 +92,7 @@ def test_imports_point_only_downward():
 # API on top. A module imports its own floor or a lower one.
 RENDER_FLOORS = {
     "features": 0, "stroke_features": 0, "device": 0, "_prebuilt_ffi": 0, "image_error": 0, "frame_memory": 0,
+    "poll_thread": 0,
     "shaders": 1,
     "gpu": 2,
     "passes": 3,
@@ -193,6 +194,13 @@ FOREIGN_PRIVATE_ACCESS = {
     ("wgpu_shading.cli.process_end", "_exit"): "os._exit: the standard library's end of a process without Python's teardown",
     ("tests.test_doc_code", "_actions"): "argparse keeps a parser's subcommands only there",
     ("tests.test_memory", "_first_level"): "the test is about this helper: its strips equal the whole image",
+    ("wgpu_shading.render.poll_thread", "_poll_func"): (
+        "wgpu-py 0.32's poll thread keeps the function it polls a device with only there; the module checks it is there"
+    ),
+    ("tests.test_poll_thread", "_poller"): "the test counts the polls of wgpu-py's poll thread, which it keeps there",
+    ("tests.test_poll_thread", "_poll_func"): "the test counts the polls of wgpu-py's poll thread, which it keeps there",
+    ("benchmarks.scripts.ab_issue29", "_poller"): "poll-gap counts the polls of wgpu-py's poll thread, which it keeps there",
+    ("benchmarks.scripts.ab_issue29", "_poll_func"): "poll-gap counts the polls of wgpu-py's poll thread, which it keeps there",
     ("benchmarks.scripts.ab_issue29", "_poll_wait"): (
         "the A/B is about waiting with wgpuDevicePoll on our own thread; wgpu-py exposes that poll nowhere else"
     ),

@@ -21,6 +21,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py per-mesh --size 256 --rounds 6
     python benchmarks/scripts/ab_issue29.py files-beside --size 256 --rounds 6
     python benchmarks/scripts/ab_issue29.py spread-folders --size 256 --rounds 8
+    python benchmarks/scripts/ab_issue29.py poll-gap --size 256 --rounds 8
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -112,6 +113,13 @@ encoder-threads: the colour + depth batch with 1, 2 and 3 encoder threads
 readback alone; each batch's time inside its chunks, and paired with the default's run
 of the same round: the median of the per-round ratios and in how many rounds it was
 faster (a run's place in a slow or fast minute of the machine cancels out in the pair).
+
+poll-gap: render + readback of the dataset benchmark's 192 colour + depth scenes alone,
+and the colour + depth batch, each with wgpu-py's poll threads given a gap after a poll
+that did not wait (render/poll_thread.py, as shipped) and without it, interleaved round by
+round: wall and CPU a frame, the waiting polls of the two devices' poll threads a frame,
+each batch's time inside its chunks ÷ render + readback alone with the same setting, and
+each setting's runs paired with the other's of the same round.
 
 dask-saturation: the colour batch on two warm one-worker local clusters, one with the
 shipped worker-saturation (dataset/cluster.py, LOCAL_CLUSTER_CONFIG: 1.0, one chunk a
@@ -765,6 +773,68 @@ def _print_paired(inside: dict, baseline: str) -> None:
               f"{sum(ratio < 1.0 for ratio in paired)} of {len(paired)} rounds")
 
 
+def poll_gap(size: int, rounds: int, smoke: bool) -> None:
+    import tempfile
+    from collections import Counter
+
+    from benchmarks.dataset import render_all
+    from wgpu_shading import Renderer
+    from wgpu_shading.render.poll_thread import with_poll_gap
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    devices = [worker.device for worker in renderer.parallel_renderers(2)]
+    polls: Counter = Counter()
+    for device in devices:  # count the waiting polls under the gap (or with none)
+        with_poll_gap(device, False)
+        poll = device._poller._poll_func
+
+        def counting(wait: bool, poll=poll):
+            polls[wait] += 1
+            return poll(wait)
+        device._poller._poll_func = counting
+    counted: dict[str, list[float]] = {}
+
+    def setting(gap: bool, run):
+        def variant() -> None:
+            for device in devices:
+                with_poll_gap(device, gap)
+            polls.clear()
+            try:
+                run()
+            finally:
+                for device in devices:
+                    with_poll_gap(device, True)
+            counted.setdefault(names[variant], []).append(polls[True] / len(jobs))
+        return variant
+
+    with tempfile.TemporaryDirectory(prefix="ab-poll-gap-") as folder:
+        inside: dict = {}
+        batch = _batch_runner(renderer, Path(folder), inside)
+        variants = {
+            "render + readback alone, gap (shipped)": setting(True, lambda: render_all(renderer, scenes)),
+            "render + readback alone, no gap": setting(False, lambda: render_all(renderer, scenes)),
+            "batch, gap (shipped)": setting(True, batch("batch, gap (shipped)", jobs)),
+            "batch, no gap": setting(False, batch("batch, no gap", jobs)),
+        }
+        names = {variant: name for name, variant in variants.items()}
+        for run in variants.values():  # pipelines, uploads, thread pools
+            run()
+        inside.clear()
+        counted.clear()
+        walls = _print_per_frame(what, variants, rounds, len(jobs))
+    for name, values in counted.items():
+        print(f"{name}: {statistics.median(values):.0f} waiting polls a frame (median of rounds)")
+    for gap in ("gap (shipped)", "no gap"):
+        alone = statistics.median(walls[f"render + readback alone, {gap}"])
+        within = statistics.median(inside[f"batch, {gap}"])
+        print(f"batch, {gap}: inside its chunks {within:.2f} ms a frame, {within / alone:.2f}× render + readback alone, {gap}")
+    for kind in ("render + readback alone", "batch"):
+        paired = [a / b for a, b in zip(walls[f"{kind}, gap (shipped)"], walls[f"{kind}, no gap"])]
+        print(f"{kind}: gap ÷ no gap, paired by round, median {statistics.median(paired):.3f}×, "
+              f"faster with the gap in {sum(ratio < 1.0 for ratio in paired)} of {len(paired)} rounds")
+
+
 def encoder_threads(size: int, rounds: int, smoke: bool) -> None:
     import tempfile
 
@@ -1067,7 +1137,7 @@ DATASET_SCENE_ABS = {
     "chunks": chunks, "batch-parts": batch_parts, "kept-frames": kept_frames, "fresh-meshes": fresh_meshes,
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
     "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "dask-client": dask_client, "per-mesh": per_mesh,
-    "files-beside": files_beside, "spread-folders": spread_folders,
+    "files-beside": files_beside, "spread-folders": spread_folders, "poll-gap": poll_gap,
 }
 
 

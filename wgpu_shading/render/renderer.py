@@ -39,6 +39,7 @@ from .features import FeatureSet
 from .stroke_features import part_features
 from .frame_memory import keep_frame_memory_mapped
 from .frames_in_flight import render_many
+from .poll_thread import with_poll_gap
 from .gpu.device_cache import DeviceCache
 from .gpu.vertex_order import SharedOrders
 from .gpu.targets import Target
@@ -96,6 +97,9 @@ class Renderer:
         self._device = device if device is not None else default_device(adapter)
         # The driver's per-frame scratch stays mapped between frames (frame_memory.py).
         keep_frame_memory_mapped()
+        # wgpu-py's poll thread pauses after a poll that did not wait, instead of holding
+        # up this device's map requests and submits (poll_thread.py).
+        with_poll_gap(self._device)
         # One frame at a time per renderer (reentrant: the accuracy study renders from
         # inside its own loops over frames).
         self._lock = threading.RLock()
