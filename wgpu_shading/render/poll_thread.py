@@ -12,7 +12,8 @@ the dataset benchmark at 256² (docs/performance.md, "The poll thread's tight lo
 up to 5.6 ms, against 0.05 ms with the gap; the loop itself took ~0.9 ms of CPU a frame.
 Changing Python's switch interval did not change it, so the interpreter lock is not what
 the frame's thread waits for: a lock of wgpu-native's that the poll thread takes again
-as soon as it let it go, before a waiter can (we did not find which).
+as soon as it let it go, before a waiter can (we did not find which; that a waiting poll
+keeps other threads from submitting was seen elsewhere too: tracel-ai/burn#2032).
 
 The gap: after a waiting poll that returned at once, the thread sleeps for zero seconds,
 which lets go of the interpreter lock and the core for a moment. That is enough for the
