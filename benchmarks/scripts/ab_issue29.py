@@ -795,7 +795,7 @@ def poll_gap(size: int, rounds: int, smoke: bool) -> None:
         device._poller._poll_func = counting
     counted: dict[str, list[float]] = {}
 
-    def setting(gap: bool, run):
+    def setting(name: str, gap: bool, run):
         def variant() -> None:
             for device in devices:
                 with_poll_gap(device, gap)
@@ -805,19 +805,18 @@ def poll_gap(size: int, rounds: int, smoke: bool) -> None:
             finally:
                 for device in devices:
                     with_poll_gap(device, True)
-            counted.setdefault(names[variant], []).append(polls[True] / len(jobs))
-        return variant
+            counted.setdefault(name, []).append(polls[True] / len(jobs))
+        return name, variant
 
     with tempfile.TemporaryDirectory(prefix="ab-poll-gap-") as folder:
         inside: dict = {}
         batch = _batch_runner(renderer, Path(folder), inside)
-        variants = {
-            "render + readback alone, gap (shipped)": setting(True, lambda: render_all(renderer, scenes)),
-            "render + readback alone, no gap": setting(False, lambda: render_all(renderer, scenes)),
-            "batch, gap (shipped)": setting(True, batch("batch, gap (shipped)", jobs)),
-            "batch, no gap": setting(False, batch("batch, no gap", jobs)),
-        }
-        names = {variant: name for name, variant in variants.items()}
+        variants = dict([
+            setting("render + readback alone, gap (shipped)", True, lambda: render_all(renderer, scenes)),
+            setting("render + readback alone, no gap", False, lambda: render_all(renderer, scenes)),
+            setting("batch, gap (shipped)", True, batch("batch, gap (shipped)", jobs)),
+            setting("batch, no gap", False, batch("batch, no gap", jobs)),
+        ])
         for run in variants.values():  # pipelines, uploads, thread pools
             run()
         inside.clear()

@@ -19,6 +19,7 @@ the caller reads the text the usual way.
 from __future__ import annotations
 
 import warnings
+from typing import Callable
 
 import numpy as np
 
@@ -58,19 +59,32 @@ def parse_floats(text: str) -> np.ndarray | None:
 TOKENS_AT_ONCE = 1 << 18  # tokens joined and read together: bounded temporaries
 
 
+def read_in_blocks(pieces: list[str], per_block: int, read: Callable[[list[str]], np.ndarray | None], dtype=np.float64) -> np.ndarray | None:
+    """read(block) for each block of `per_block` pieces (lines or words), concatenated: the
+    temporaries of reading text in C (a few bytes a character) stay bounded however big the
+    file. None as soon as one block gives None."""
+    blocks = []
+    for start in range(0, len(pieces), per_block):
+        block = read(pieces[start : start + per_block])
+        if block is None:
+            return None
+        blocks.append(block)
+    return blocks[0] if len(blocks) == 1 else np.concatenate(blocks or [np.empty(0, dtype)])
+
+
 def tokens_as_numbers(tokens: list[str], dtype) -> np.ndarray:
     """float64 or int64 values of number words (from str.split()), the same as
     np.array(tokens, dtype) gives, read in C a block of TOKENS_AT_ONCE words at a time
     (floats through parse_decimals); a block in another form is read the usual way, which
     raises ValueError for a word that is not a number."""
     dtype = np.dtype(dtype)
-    blocks = []
-    for start in range(0, len(tokens), TOKENS_AT_ONCE):
-        block = tokens[start : start + TOKENS_AT_ONCE]
+
+    def read(block: list[str]) -> np.ndarray:
         text = " ".join(block)
         values = parse_decimals(text) if dtype == np.float64 else parse_numbers(text, dtype)
-        blocks.append(values if values is not None and values.size == len(block) else np.array(block, dtype=dtype))
-    return blocks[0] if len(blocks) == 1 else np.concatenate(blocks or [np.empty(0, dtype)])
+        return values if values is not None and values.size == len(block) else np.array(block, dtype=dtype)
+
+    return read_in_blocks(tokens, TOKENS_AT_ONCE, read, dtype)
 
 
 def parse_decimals(text: str) -> np.ndarray | None:

@@ -25,7 +25,7 @@ from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 from ..mesh_pieces import MeshFile, MeshPiece
 from .obj_elements import obj_elements, bare_points
-from .number_text import parse_floats
+from .number_text import parse_floats, read_in_blocks
 from .obj_faces import FaceRun, ear_clip_concave, run_corners
 from .mtl import read_mtl_files
 
@@ -36,13 +36,8 @@ NUMBER_LINES_AT_ONCE = 1 << 16  # v/vt/vn lines read together: bounded temporari
 def _numbers(lines: list[str], prefix: str) -> np.ndarray | None:
     """Every number of the lines (their `v`/`vt`/`vn` left out), NUMBER_LINES_AT_ONCE lines at
     a time: the reading's temporaries stay a few MB however big the file, and in cache."""
-    blocks = []
-    for start in range(0, len(lines), NUMBER_LINES_AT_ONCE):
-        block = parse_floats(" ".join(lines[start : start + NUMBER_LINES_AT_ONCE]).replace(prefix.strip(), " "))
-        if block is None:
-            return None
-        blocks.append(block)
-    return blocks[0] if len(blocks) == 1 else np.concatenate(blocks or [np.empty(0)])
+    keyword = prefix.strip()
+    return read_in_blocks(lines, NUMBER_LINES_AT_ONCE, lambda block: parse_floats(" ".join(block).replace(keyword, " ")))
 
 
 def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
