@@ -278,3 +278,21 @@ def test_coordinates_read_in_blocks_of_a_few_lines_are_the_same(tmp_path, seed, 
         assert [1e-3, 25.0, -7.0] in blocks.positions.tolist()
     else:  # (the extra vertex above makes some fans degenerate, which the reader leaves out)
         np.testing.assert_array_equal(blocks.positions[blocks.faces], [[c[0] for c in t] for t in _reference_triangles(text)])
+
+
+def test_faces_group_by_material_in_order_of_first_use(tmp_path):
+    """Faces are sorted into one range per material, materials in the order the faces first
+    use them, file order kept within each (a stable sort); a quad's two triangles stay
+    together. Faces before any `usemtl` form a part without a material. Written out by hand
+    here, since the reader lists materials per run of face lines, not per face."""
+    from wgpu_shading.assets.mesh_formats.obj import read_obj
+
+    (tmp_path / "m.mtl").write_text("newmtl red\nKd 1 0 0\nnewmtl green\nKd 0 1 0\n")
+    (tmp_path / "m.obj").write_text(
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
+        "f 1 2 3\nusemtl red\nf 1 2 4 5\nusemtl green\nf 2 3 4\nusemtl red\nf 3 4 5\n"
+    )
+    piece = read_obj(tmp_path / "m.obj").pieces[0]
+    assert piece.faces.tolist() == [[0, 1, 2], [0, 1, 3], [0, 3, 4], [2, 3, 4], [1, 2, 3]]
+    assert [(first, count, name) for first, count, _, name in piece.parts] == [(0, 1, ""), (1, 3, "red"), (4, 1, "green")]
+    assert [material is None for _, _, material, _ in piece.parts] == [True, False, False]
