@@ -71,6 +71,7 @@ SMOKE_SCRIPTS = {
     "ab_issue29_files_beside": ("scripts/ab_issue29.py", "files-beside", "--smoke"),
     "ab_issue29_spread_folders": ("scripts/ab_issue29.py", "spread-folders", "--smoke"),
     "ab_issue29_poll_gap": ("scripts/ab_issue29.py", "poll-gap", "--smoke"),
+    "ab_issue29_vertex_cache": ("scripts/ab_issue29.py", "vertex-cache", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
@@ -102,6 +103,7 @@ REAL_SCRIPTS = {
     "ab_issue29_files_beside": ("scripts/ab_issue29.py", "files-beside", "--size", "256", "--rounds", "6"),
     "ab_issue29_spread_folders": ("scripts/ab_issue29.py", "spread-folders", "--size", "256", "--rounds", "8"),
     "ab_issue29_poll_gap": ("scripts/ab_issue29.py", "poll-gap", "--size", "256", "--rounds", "8"),
+    "ab_issue29_vertex_cache": ("scripts/ab_issue29.py", "vertex-cache", "--size", "512", "--rounds", "16"),
 }
 
 

@@ -22,6 +22,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py files-beside --size 256 --rounds 6
     python benchmarks/scripts/ab_issue29.py spread-folders --size 256 --rounds 8
     python benchmarks/scripts/ab_issue29.py poll-gap --size 256 --rounds 8
+    python benchmarks/scripts/ab_issue29.py vertex-cache --size 512 --rounds 16
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -152,6 +153,15 @@ without the mark, each round after removing each batch's output of the round bef
 `rm -r OUT` before rendering a dataset again), rotated with render + readback alone: each
 batch's time inside its chunks, both paired round by round, and what creating an empty file
 took after the removals in a plain subfolder and in a mesh folder of a marked folder.
+
+vertex-cache: the vertex-cache order an upload makes (render/gpu/vertex_order.py), with
+meshoptimizer's Forsyth-like optimize_vertex_cache (as shipped) and with its faster FIFO
+ordering (optimize_vertex_cache_fifo, a 16-vertex cache): the time to order the bunny's and
+the teapot's triangles, then frames of 24 views of each mesh uploaded in either order, and
+a second upload in the shipped order as a control (what the same order reads twice),
+interleaved round by round (clusters off: their build orders the triangles again); wall
+and CPU a frame, each paired with the shipped order's of the same round. The images are
+compared first.
 
 crease-split: the 70K-triangle bunny's load_mesh with crease_normals.split_vertices and
 with the formulation it replaced (np.unique over every corner's (vertex, fan) key),
@@ -1008,6 +1018,72 @@ def crease_split(rounds: int, smoke: bool) -> None:
         print(f"{name:28s}: load_mesh {statistics.median(walls[name]):.1f} ms ({min(walls[name]):.1f}–{max(walls[name]):.1f})")
 
 
+def vertex_cache(size: int, rounds: int, smoke: bool) -> None:
+    import numpy as np
+
+    from benchmarks.dataset import MODELS, SMOKE_MESHES
+    from wgpu_shading import Renderer
+    from wgpu_shading.assets.meshes import load_mesh
+    from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
+    from wgpu_shading.dataset.views import base_scene, job_scene
+    from wgpu_shading.render.gpu import vertex_order
+
+    names = ("stanford-bunny.obj", "teapot.obj")
+    sources = [str(MODELS / name) for name in names] if not smoke and all((MODELS / n).exists() for n in names) else [SMOKE_MESHES[0]]
+    shipped = vertex_order.optimize_for_cache
+
+    def fifo(destination, indices, vertex_count):
+        import meshoptimizer
+
+        meshoptimizer.optimize_vertex_cache_fifo(destination, indices, indices.size, vertex_count, 16)
+
+    orders = {"Forsyth (shipped)": shipped, "FIFO": fifo, "Forsyth again (control)": shipped}
+    renderer = Renderer()
+    clusters = os.environ.get("WGPU_SHADING_CLUSTERS")
+    os.environ["WGPU_SHADING_CLUSTERS"] = "0"
+    try:
+        for source in sources:
+            mesh = load_mesh(source)
+            flat = np.ascontiguousarray(mesh.indices, dtype=np.uint32).reshape(-1)
+            destination = np.empty_like(flat)
+            for name in ("Forsyth (shipped)", "FIFO"):
+                times = []
+                for _ in range(max(3, min(rounds, 10))):
+                    start = time.perf_counter()
+                    orders[name](destination, flat, mesh.vertex_count)
+                    times.append((time.perf_counter() - start) * 1e3)
+                print(f"{Path(source).name}, {mesh.triangle_count} triangles: {name} order made in {statistics.median(times):.2f} ms")
+            jobs = mesh_jobs([source], turntable_views(2 if smoke else 24), Outputs(depth="npy"), {"size": size})
+            variants, images = {}, {}
+            for name, order in orders.items():
+                base = base_scene(jobs[0])  # a mesh of its own: its own upload, in this order
+                scenes = [job_scene(base, job) for job in jobs]
+                vertex_order.optimize_for_cache = order
+                try:
+                    images[name] = [frame.color for frame in renderer.render_many(scenes, depth=True)]
+                finally:
+                    vertex_order.optimize_for_cache = shipped
+
+                def run(scenes=scenes) -> None:
+                    for _ in renderer.render_many(scenes, depth=True):
+                        pass
+                variants[name] = run
+            same = all(np.array_equal(a, b) for a, b in zip(images["Forsyth (shipped)"], images["FIFO"]))
+            print(f"the same images in either order: {same}")
+            walls, cpus = _interleaved_per_frame(variants, rounds, len(jobs))
+            for name in variants:
+                wall = [a / b for a, b in zip(walls[name], walls["Forsyth (shipped)"])]
+                cpu = [a / b for a, b in zip(cpus[name], cpus["Forsyth (shipped)"])]
+                print(f"  {name:23s}: wall {statistics.median(walls[name]):.2f} ms a frame, CPU {statistics.median(cpus[name]):.2f} ms; "
+                      f"÷ shipped, paired by round: wall {statistics.median(wall):.3f}×, CPU {statistics.median(cpu):.3f}×")
+    finally:
+        if clusters is None:
+            os.environ.pop("WGPU_SHADING_CLUSTERS", None)
+        else:
+            os.environ["WGPU_SHADING_CLUSTERS"] = clusters
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
 def _print_per_frame(what: str, variants: dict, rounds: int, frames: int, before_round=None) -> dict:
     print(f"{what}; load average {os.getloadavg()[0]:.2f} at the start")
     walls, cpus = _interleaved_per_frame(variants, rounds, frames, before_round)
@@ -1136,7 +1212,7 @@ DATASET_SCENE_ABS = {
     "chunks": chunks, "batch-parts": batch_parts, "kept-frames": kept_frames, "fresh-meshes": fresh_meshes,
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
     "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "dask-client": dask_client, "per-mesh": per_mesh,
-    "files-beside": files_beside, "spread-folders": spread_folders, "poll-gap": poll_gap,
+    "files-beside": files_beside, "spread-folders": spread_folders, "poll-gap": poll_gap, "vertex-cache": vertex_cache,
 }
 
 

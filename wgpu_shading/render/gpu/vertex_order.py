@@ -7,7 +7,9 @@ meshoptimizer's `optimize_vertex_cache` (after Forsyth, "Linear-Speed Vertex Cac
 Optimisation", 2006; https://github.com/zeux/meshoptimizer#vertex-cache-optimization) reorders the
 triangles of each part, then `optimize_vertex_fetch_remap` renumbers the vertices in
 first-use order so the vertex fetches walk memory forwards. Measured in
-docs/performance.md ("Vertex-cache order").
+docs/performance.md ("Vertex-cache order"), with meshoptimizer's faster FIFO ordering
+tried against it: 4-5x cheaper to make (the bunny 3 against 13-15 ms), frames 1-10 %
+slower, so it pays back within ~50 frames of a mesh and was not kept.
 
 What stays the same, so images are bit-identical (tests/test_vertex_order.py):
 - every triangle keeps its three corners in their order (winding, and the rasterizer's
@@ -90,7 +92,7 @@ def cache_order(
         if number in in_order or part.count < 2 or part.primitive != "triangles":
             continue  # (points and lines have uploads of their own: stroke_uploads.py)
         start, stop = 3 * part.first, 3 * (part.first + part.count)
-        meshoptimizer.optimize_vertex_cache(ordered[start:stop], flat[start:stop], stop - start, vertex_count)
+        optimize_for_cache(ordered[start:stop], flat[start:stop], vertex_count)
     clusters = None if positions is None else cluster_triangles(ordered, positions, parts, frozenset(in_order))
     remap = np.empty(vertex_count, np.uint32)
     used = meshoptimizer.optimize_vertex_fetch_remap(remap, ordered, ordered.size, vertex_count)
@@ -103,6 +105,14 @@ def cache_order(
     if flat.nbytes >= _TRIM_BYTES:
         _return_freed_memory()
     return scratch, VertexOrder(gather=gather, in_order=frozenset(in_order), clusters=clusters)
+
+
+def optimize_for_cache(destination: np.ndarray, indices: np.ndarray, vertex_count: int) -> None:
+    """The triangles of `indices` (flat uint32) in vertex-cache order, into `destination`
+    (one function, so an A/B can swap the ordering: ab_issue29.py vertex-cache)."""
+    import meshoptimizer
+
+    meshoptimizer.optimize_vertex_cache(destination, indices, indices.size, vertex_count)
 
 
 class SharedOrders:
