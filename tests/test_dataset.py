@@ -343,6 +343,38 @@ def test_one_chunk_renderer_serves_several_threads(tmp_path, renderer):
             assert np.array_equal(pixels(tmp_path / "threads" / file), pixels(tmp_path / "alone" / file)), file
 
 
+TRIANGLE_OBJ = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n"
+SQUARE_OBJ = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n"
+
+
+def test_a_chunk_renderer_reads_a_mesh_again_in_the_next_run(tmp_path, renderer):
+    """A Dask worker's ChunkRenderer serves run after run: a mesh file edited between two
+    runs is drawn as it is now, not as the last run kept it (it was, until the runs were
+    told apart). Within one run, the chunks of a mesh share its one load."""
+    from wgpu_shading.dataset import chunk as chunk_module
+
+    mesh = tmp_path / "m.obj"
+    mesh.write_text(TRIANGLE_OBJ)
+    jobs = mesh_jobs([str(mesh)], turntable_views(2), Outputs(), {"size": 24})
+    shared = chunk_module.ChunkRenderer(renderer)
+    try:
+        assert all(r["ok"] for r in shared.render(jobs[:1], tmp_path / "first", run="a"))
+        mesh.write_text(SQUARE_OBJ)
+        assert all(r["ok"] for r in shared.render(jobs[1:], tmp_path / "same-run", run="a"))  # kept: still the triangle
+        assert all(r["ok"] for r in shared.render(jobs[1:], tmp_path / "next-run", run="b"))
+    finally:
+        shared.close()
+    triangle_dir, square_dir = tmp_path / "triangle", tmp_path / "square"
+    mesh.write_text(TRIANGLE_OBJ)
+    render_dataset(jobs, triangle_dir, progress=False, renderer=renderer)
+    mesh.write_text(SQUARE_OBJ)
+    render_dataset(jobs, square_dir, progress=False, renderer=renderer)
+    file = jobs[1].files()[0]
+    assert not np.array_equal(pixels(triangle_dir / file), pixels(square_dir / file))  # the edit shows
+    assert np.array_equal(pixels(tmp_path / "same-run" / file), pixels(triangle_dir / file))
+    assert np.array_equal(pixels(tmp_path / "next-run" / file), pixels(square_dir / file))
+
+
 def test_prefetch_loads_the_next_chunk_once_and_its_errors_stay_with_its_jobs(tmp_path, renderer, monkeypatch):
     """The in-process run loads chunk i+1's mesh on the loader thread while chunk i renders;
     each mesh is still loaded once, a broken one fails only its own jobs, and the files are

@@ -223,6 +223,28 @@ def test_a_callers_client_renders_run_after_run_and_stays_open(tmp_path, rendere
         cluster.close(timeout=10)
 
 
+def test_a_mesh_file_edited_between_runs_on_a_callers_client_is_read_again(tmp_path, renderer):
+    """The workers' renderers outlive a run (their pipelines stay warm), but not the meshes a
+    run loaded: the second run draws the file as it is now, as a fresh process would.
+    (Until the runs were told apart, the worker drew the first run's mesh again.)"""
+    mesh = tmp_path / "m.obj"
+    mesh.write_text("v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n")
+    jobs = mesh_jobs([str(mesh)], turntable_views(1), Outputs(), {"size": 32})
+    cluster = local_cluster(1, lavapipe_threads=1)
+    try:
+        with distributed.Client(cluster) as client:
+            assert not render_dataset(jobs, tmp_path / "before", client=client, progress=False).failed
+            mesh.write_text("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n")
+            assert not render_dataset(jobs, tmp_path / "after", client=client, progress=False).failed
+    finally:
+        cluster.close(timeout=10)
+    assert not render_dataset(jobs, tmp_path / "fresh", progress=False, renderer=renderer).failed
+    file = jobs[0].files()[0]
+    before, after, fresh = (np.array(Image.open(tmp_path / name / file)) for name in ("before", "after", "fresh"))
+    assert not np.array_equal(before, fresh)
+    assert np.array_equal(after, fresh)
+
+
 def test_a_run_stopped_early_cancels_its_chunks_on_a_callers_client(tmp_path, monkeypatch):
     """Ctrl-C in the run's loop (here: at the progress bar's first update) while a held
     client's cluster still has chunks queued: the chunks not begun are cancelled, not

@@ -28,8 +28,9 @@ from .writer import write_view
 
 MAX_PENDING_WRITES = 8  # frames waiting for the encoder: bounds memory when encoding lags
 MAX_ENCODER_THREADS = 4
-# Base scenes kept between chunks: the next chunk is usually the same mesh's next views, and
-# loading a mesh file can cost more than rendering its chunk (the 70k-triangle bunny OBJ: 0.14 s).
+# Base scenes kept between chunks of one run: the next chunk is usually the same mesh's next
+# views, and loading a mesh file can cost more than rendering its chunk (the 70k-triangle
+# bunny OBJ: 0.14 s). Never between runs: a file may have changed since (start(), `run`).
 KEPT_SCENES = 2
 HOST = socket.gethostname()  # with the pid, which worker a record's spans belong to
 
@@ -79,6 +80,7 @@ class ChunkRenderer:
         self.renderer = renderer if renderer is not None else Renderer(adapter=adapter)
         self.parallel = parallel
         self._kept: OrderedDict[tuple, object] = OrderedDict()  # load_key → base scene, newest last
+        self._run: object = None  # the run whose scenes are kept (start())
         self._loading: dict[tuple, Future] = {}  # load_key → its base scene being loaded by prefetch()
         self._loading_lock = threading.Lock()  # prefetch() may run while another thread renders
         self._lock = threading.Lock()
@@ -116,18 +118,26 @@ class ChunkRenderer:
             self._kept.popitem(last=False)
         return scene
 
-    def render(self, jobs: list[Job], out_dir: str | Path) -> list[dict]:
+    def render(self, jobs: list[Job], out_dir: str | Path, run: object = None) -> list[dict]:
         """Render and write `jobs`; one record per job, in order, with the chunk's `spans`
         of work (PendingChunk.finish)."""
-        return self.start(jobs, out_dir).finish()
+        return self.start(jobs, out_dir, run).finish()
 
-    def start(self, jobs: list[Job], out_dir: str | Path) -> "PendingChunk":
+    def start(self, jobs: list[Job], out_dir: str | Path, run: object = None) -> "PendingChunk":
         """Render `jobs` and queue their writes; `finish()` of the result waits for the writes
         and gives the records. A process that renders chunk after chunk starts the next one
         before it finishes this one, so that this chunk's last writes run while the next
         chunk renders, instead of leaving the device idle at every chunk's end (up to
-        MAX_PENDING_WRITES frames each; docs/performance.md, "Where a dataset frame goes")."""
+        MAX_PENDING_WRITES frames each; docs/performance.md, "Where a dataset frame goes").
+
+        `run`: what the chunk's run calls itself (render_dataset gives each run a new one).
+        The meshes kept from another run's chunks are let go first: a Dask worker's renderer
+        serves run after run, and a mesh file (or its materials, textures, a scene's meshes)
+        edited between two runs must be read again, not drawn as it was."""
         with self._lock:
+            if run != self._run:
+                self._kept.clear()
+                self._run = run
             return self._render(jobs, out_dir)
 
     def _render(self, jobs: list[Job], out_dir: str | Path) -> "PendingChunk":

@@ -137,10 +137,12 @@ def _connect(distributed, scheduler: str):
 def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distributed) -> Iterator[list[dict]]:
     from .worker import render_chunk_task
 
-    batch = uuid.uuid4().hex[:12]  # keys unique per run: a reused key returns an old result
+    # Unique per run: in the keys (a reused key returns an old result) and for the workers'
+    # renderers, which read a run's meshes anew (ChunkRenderer.start).
+    batch = uuid.uuid4().hex[:12]
 
     def submit(chunk: list[Job], key: str):
-        return client.submit(render_chunk_task, chunk, out_dir, plugin_name, key=f"wgpu-shading-{key}-{batch}", pure=False)
+        return client.submit(render_chunk_task, chunk, out_dir, plugin_name, batch, key=f"wgpu-shading-{key}-{batch}", pure=False)
 
     futures = {submit(chunk, f"chunk-{index}"): chunk for index, chunk in enumerate(work)}
     try:

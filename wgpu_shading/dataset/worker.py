@@ -48,9 +48,10 @@ def chunk_renderers(worker) -> dict[str, ChunkRenderer]:
     return getattr(worker, _ATTRIBUTE, {})
 
 
-def render_chunk_task(jobs: list[Job], out_dir: str, plugin_name: str) -> list[dict]:
+def render_chunk_task(jobs: list[Job], out_dir: str, plugin_name: str, run: str | None = None) -> list[dict]:
     """The Dask task: render a chunk on this worker's warm renderer; its result is the
-    chunk's records once all its files are complete.
+    chunk's records once all its files are complete. `run`: the run's own name, so that
+    meshes the renderer kept from an earlier run are read again (ChunkRenderer.start).
 
     Once its frames are rendered, the task leaves the worker's thread pool (Dask's
     `secede`) to wait for its last writes, so that the worker starts its next chunk
@@ -62,6 +63,6 @@ def render_chunk_task(jobs: list[Job], out_dir: str, plugin_name: str) -> list[d
     chunk_renderer = chunk_renderers(get_worker()).get(plugin_name)
     if chunk_renderer is None:  # the plugin's setup failed on this worker (logged there)
         return [failed(job, "this Dask worker has no renderer: its set-up failed (see the worker's log)") for job in jobs]
-    pending = chunk_renderer.start(jobs, out_dir)
+    pending = chunk_renderer.start(jobs, out_dir, run)
     secede()
     return pending.finish()
