@@ -105,7 +105,7 @@ def fans_at_once(lines: list[str]) -> tuple[np.ndarray, np.ndarray] | None:
 def _block_fans(lines: list[str], per_corner: int | None) -> tuple[np.ndarray, np.ndarray, int] | None:
     """fans_at_once for one block; `per_corner`: the numbers a corner has in the blocks before."""
     text = "\n".join(lines)
-    if "//" in text:
+    if "/" in text and "//" in text:  # (one character is found with memchr: 0.01 ms; "//" took 0.5 ms a block)
         text = text.replace("//", "/0/")
     data = np.frombuffer(text.encode(), np.uint8)
     filled = np.zeros(len(data) + 1, bool)  # a blank before the text
