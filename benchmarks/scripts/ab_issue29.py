@@ -8,6 +8,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py start-up --rounds 20
     python benchmarks/scripts/ab_issue29.py chunks --size 512 --rounds 5
     python benchmarks/scripts/ab_issue29.py batch-parts --size 512 --rounds 5
+    python benchmarks/scripts/ab_issue29.py batch-parts --size 256 --rounds 8 --views 12   # --quick's 12 views a mesh
     python benchmarks/scripts/ab_issue29.py kept-frames --size 512 --rounds 6
     python benchmarks/scripts/ab_issue29.py fresh-meshes --size 256 --rounds 10
     python benchmarks/scripts/ab_issue29.py frames-in-flight --size 256 --rounds 8
@@ -72,9 +73,12 @@ A/B in one process on the dataset benchmark's 192 jobs, round by round: `render_
 their scenes alone (built beforehand), then `render_dataset` with each job's files neither
 encoded nor written (its write_view replaced by one that only names the files: what is
 left is loading the meshes, building the scenes, the chunks' bookkeeping), encoded but not
-written (the PNG, the .npy bytes and the record, into memory), with its meshes loaded
-once before all runs (the same Mesh objects every run: no file read, and no mesh
-uploaded, ordered or clustered anew), with neither files nor loading, and as it is.
+written (the PNG, the .npy bytes and the record, into memory), with its meshes read
+once before all runs but new Mesh objects each run (no file read; every mesh uploaded,
+ordered and clustered anew), with its meshes loaded once before all runs (the same Mesh
+objects every run: no file read, and no mesh uploaded, ordered or clustered anew), with
+neither files nor loading, and as it is. `--views 12` gives each mesh the 12 views of
+`python -m benchmarks --quick`, over which its load and upload are spread.
 Median wall and process CPU (every thread) ms per frame, and each ÷ render_many's wall.
 
 kept-frames: the dataset benchmark's 192 colour + depth scenes through render_many, every
@@ -337,13 +341,17 @@ def turned_away(size: int, rounds: int, segments: int) -> None:
     )
 
 
+# Views of each mesh in the dataset A/Bs: the full benchmark's 48 (`--views 12`: --quick's).
+DATASET_VIEWS = 48
+
+
 def _dataset_jobs(size: int, smoke: bool, depth: bool) -> tuple[str, list]:
-    """The dataset benchmark's jobs (its 4 meshes × 48 views; tiny when smoke), colour or
-    colour + depth, and a line saying what they are."""
+    """The dataset benchmark's jobs (its 4 meshes × DATASET_VIEWS views; tiny when smoke),
+    colour or colour + depth, and a line saying what they are."""
     from benchmarks.dataset import SMOKE_MESHES, default_meshes
     from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
 
-    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), 48)
+    meshes, views = (list(SMOKE_MESHES), 4) if smoke else (default_meshes(), DATASET_VIEWS)
     jobs = mesh_jobs(meshes, turntable_views(views), Outputs(depth="npy") if depth else Outputs(), {"size": size})
     return f"{len(meshes)} meshes × {views} views at {size}², colour{' + depth' if depth else ''}", jobs
 
@@ -420,6 +428,14 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
             loaded[job.load_key()] = as_shipped_load(job)
         return loaded[job.load_key()]
 
+    def read_before(job):
+        """The job's base scene read once for every run, but with Mesh objects new to the
+        renderer each run: no file read, and every mesh uploaded, ordered and clustered anew."""
+        import dataclasses
+
+        base = loaded_before(job)
+        return dataclasses.replace(base, objects=[dataclasses.replace(o, mesh=dataclasses.replace(o.mesh)) for o in base.objects])
+
     def named_only(out_dir, job, frame, extra, camera) -> list[str]:
         return [f"{job.folder}/{name}" for name in job.outputs.file_names(job.name)]
 
@@ -449,6 +465,7 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
         "batch, files neither encoded nor written": batch(named_only),
         "batch, files encoded, not written": batch(encoded_only),
         "batch, every file through the page cache": batch(as_shipped, 1 << 62),
+        "batch, meshes read before, uploaded anew": batch(as_shipped, load=read_before),
         "batch, meshes loaded before the run": batch(as_shipped, load=loaded_before),
         "batch, neither files nor meshes loaded": batch(named_only, load=loaded_before),
         "batch": batch(as_shipped),
@@ -463,7 +480,7 @@ def batch_parts(size: int, rounds: int, smoke: bool) -> None:
     alone = statistics.median(walls["render + readback alone"])
     for name in variants:
         wall = statistics.median(walls[name])
-        print(f"{name:42s}: wall {wall:6.2f} ms a frame ({min(walls[name]):.2f}–{max(walls[name]):.2f}), "
+        print(f"{name:43s}: wall {wall:6.2f} ms a frame ({min(walls[name]):.2f}–{max(walls[name]):.2f}), "
               f"CPU {statistics.median(cpus[name]):6.2f} ms; {wall / alone:.2f}× the frames alone")
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
@@ -1217,6 +1234,7 @@ DATASET_SCENE_ABS = {
 
 
 def main(argv: list[str] | None = None) -> int:
+    global DATASET_VIEWS  # (--views)
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("what", choices=("frame-memory", "poll", "frame-plans", "turned-away", "start-up", *DATASET_SCENE_ABS,
                                          "output-folders", "crease-split", "child"))
@@ -1225,6 +1243,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--rounds", type=int, default=30)
     parser.add_argument("--segments", type=int, default=72)
+    parser.add_argument("--views", type=int, default=DATASET_VIEWS,
+                        help="the dataset A/Bs: views of each mesh (48: the full benchmark's; 12: --quick's)")
     parser.add_argument("--smoke", action="store_true", help="a tiny torus at 32², a few frames, one run")
     parser.add_argument("--callgrind", action="store_true", help="start-up: instruction counts under valgrind instead of times")
     parser.add_argument("--folders", type=Path, nargs="+", default=None,
@@ -1232,6 +1252,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.smoke:
         args.size, args.frames, args.runs, args.segments, args.rounds = 32, 3, 1, 8, 1
+    DATASET_VIEWS = args.views
     if args.what == "child":
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
     elif args.what in DATASET_SCENE_ABS:
