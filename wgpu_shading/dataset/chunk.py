@@ -130,10 +130,11 @@ class ChunkRenderer:
         chunk renders, instead of leaving the device idle at every chunk's end (up to
         MAX_PENDING_WRITES frames each; docs/performance.md, "Where a dataset frame goes").
 
-        `run`: what the chunk's run calls itself (render_dataset gives each run a new one).
-        The meshes kept from another run's chunks are let go first: a Dask worker's renderer
-        serves run after run, and a mesh file (or its materials, textures, a scene's meshes)
-        edited between two runs must be read again, not drawn as it was."""
+        `run`: what the chunk's run calls itself (render_dataset gives each run on Dask a
+        new one; calls that give none are one run). The meshes kept from another run's
+        chunks are let go first: a Dask worker's renderer serves run after run, and a mesh
+        file (or its materials, textures, a scene's meshes) edited between two runs must be
+        read again, not drawn as it was."""
         with self._lock:
             if run != self._run:
                 self._kept.clear()
