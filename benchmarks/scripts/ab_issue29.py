@@ -1036,13 +1036,10 @@ def crease_split(rounds: int, smoke: bool) -> None:
 
 
 def vertex_cache(size: int, rounds: int, smoke: bool) -> None:
-    import numpy as np
+    from unittest import mock
 
     from benchmarks.dataset import MODELS, SMOKE_MESHES
     from wgpu_shading import Renderer
-    from wgpu_shading.assets.meshes import load_mesh
-    from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
-    from wgpu_shading.dataset.views import base_scene, job_scene
     from wgpu_shading.render.gpu import vertex_order
 
     names = ("stanford-bunny.obj", "teapot.obj")
@@ -1056,49 +1053,52 @@ def vertex_cache(size: int, rounds: int, smoke: bool) -> None:
 
     orders = {"Forsyth (shipped)": shipped, "FIFO": fifo, "Forsyth again (control)": shipped}
     renderer = Renderer()
-    clusters = os.environ.get("WGPU_SHADING_CLUSTERS")
-    os.environ["WGPU_SHADING_CLUSTERS"] = "0"
-    try:
+    with mock.patch.dict(os.environ, {"WGPU_SHADING_CLUSTERS": "0"}):  # (clusters_enabled() reads it each frame)
         for source in sources:
-            mesh = load_mesh(source)
-            flat = np.ascontiguousarray(mesh.indices, dtype=np.uint32).reshape(-1)
-            destination = np.empty_like(flat)
-            for name in ("Forsyth (shipped)", "FIFO"):
-                times = []
-                for _ in range(max(3, min(rounds, 10))):
-                    start = time.perf_counter()
-                    orders[name](destination, flat, mesh.vertex_count)
-                    times.append((time.perf_counter() - start) * 1e3)
-                print(f"{Path(source).name}, {mesh.triangle_count} triangles: {name} order made in {statistics.median(times):.2f} ms")
-            jobs = mesh_jobs([source], turntable_views(2 if smoke else 24), Outputs(depth="npy"), {"size": size})
-            variants, images = {}, {}
-            for name, order in orders.items():
-                base = base_scene(jobs[0])  # a mesh of its own: its own upload, in this order
-                scenes = [job_scene(base, job) for job in jobs]
-                vertex_order.optimize_for_cache = order
-                try:
-                    images[name] = [frame.color for frame in renderer.render_many(scenes, depth=True)]
-                finally:
-                    vertex_order.optimize_for_cache = shipped
-
-                def run(scenes=scenes) -> None:
-                    for _ in renderer.render_many(scenes, depth=True):
-                        pass
-                variants[name] = run
-            same = all(np.array_equal(a, b) for a, b in zip(images["Forsyth (shipped)"], images["FIFO"]))
-            print(f"the same images in either order: {same}")
-            walls, cpus = _interleaved_per_frame(variants, rounds, len(jobs))
-            for name in variants:
-                wall = [a / b for a, b in zip(walls[name], walls["Forsyth (shipped)"])]
-                cpu = [a / b for a, b in zip(cpus[name], cpus["Forsyth (shipped)"])]
-                print(f"  {name:23s}: wall {statistics.median(walls[name]):.2f} ms a frame, CPU {statistics.median(cpus[name]):.2f} ms; "
-                      f"÷ shipped, paired by round: wall {statistics.median(wall):.3f}×, CPU {statistics.median(cpu):.3f}×")
-    finally:
-        if clusters is None:
-            os.environ.pop("WGPU_SHADING_CLUSTERS", None)
-        else:
-            os.environ["WGPU_SHADING_CLUSTERS"] = clusters
+            _vertex_cache_of(source, orders, renderer, size, rounds, smoke)
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
+
+
+def _vertex_cache_of(source: str, orders: dict, renderer, size: int, rounds: int, smoke: bool) -> None:
+    """vertex-cache for one mesh: each order's making time, then its frames, paired with the shipped order's."""
+    import numpy as np
+
+    from benchmarks.dataset import render_all
+    from wgpu_shading.assets.meshes import load_mesh
+    from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
+    from wgpu_shading.dataset.views import base_scene, job_scene
+    from wgpu_shading.render.gpu import vertex_order
+
+    shipped = vertex_order.optimize_for_cache
+    mesh = load_mesh(source)
+    flat = np.ascontiguousarray(mesh.indices, dtype=np.uint32).reshape(-1)
+    destination = np.empty_like(flat)
+    for name in ("Forsyth (shipped)", "FIFO"):
+        times = []
+        for _ in range(max(3, min(rounds, 10))):
+            start = time.perf_counter()
+            orders[name](destination, flat, mesh.vertex_count)
+            times.append((time.perf_counter() - start) * 1e3)
+        print(f"{Path(source).name}, {mesh.triangle_count} triangles: {name} order made in {statistics.median(times):.2f} ms")
+    jobs = mesh_jobs([source], turntable_views(2 if smoke else 24), Outputs(depth="npy"), {"size": size})
+    variants, images = {}, {}
+    for name, order in orders.items():
+        base = base_scene(jobs[0])  # a mesh of its own: its own upload, in this order
+        scenes = [job_scene(base, job) for job in jobs]
+        vertex_order.optimize_for_cache = order
+        try:
+            images[name] = [frame.color for frame in renderer.render_many(scenes, depth=True)]
+        finally:
+            vertex_order.optimize_for_cache = shipped
+        variants[name] = lambda scenes=scenes: render_all(renderer, scenes)
+    same = all(np.array_equal(a, b) for a, b in zip(images["Forsyth (shipped)"], images["FIFO"]))
+    print(f"the same images in either order: {same}")
+    walls, cpus = _interleaved_per_frame(variants, rounds, len(jobs))
+    for name in variants:
+        wall = [a / b for a, b in zip(walls[name], walls["Forsyth (shipped)"])]
+        cpu = [a / b for a, b in zip(cpus[name], cpus["Forsyth (shipped)"])]
+        print(f"  {name:23s}: wall {statistics.median(walls[name]):.2f} ms a frame, CPU {statistics.median(cpus[name]):.2f} ms; "
+              f"÷ shipped, paired by round: wall {statistics.median(wall):.3f}×, CPU {statistics.median(cpu):.3f}×")
 
 
 def _print_per_frame(what: str, variants: dict, rounds: int, frames: int, before_round=None) -> dict:

@@ -139,10 +139,10 @@ def _stream(client, work: list[list[Job]], out_dir: str, plugin_name: str, distr
 
     # Unique per run: in the keys (a reused key returns an old result) and for the workers'
     # renderers, which read a run's meshes anew (ChunkRenderer.start).
-    batch = uuid.uuid4().hex[:12]
+    run = uuid.uuid4().hex[:12]
 
     def submit(chunk: list[Job], key: str):
-        return client.submit(render_chunk_task, chunk, out_dir, plugin_name, batch, key=f"wgpu-shading-{key}-{batch}", pure=False)
+        return client.submit(render_chunk_task, chunk, out_dir, plugin_name, run, key=f"wgpu-shading-{key}-{run}", pure=False)
 
     futures = {submit(chunk, f"chunk-{index}"): chunk for index, chunk in enumerate(work)}
     try:
