@@ -8,8 +8,8 @@ Optimisation", 2006; https://github.com/zeux/meshoptimizer#vertex-cache-optimiza
 triangles of each part, then `optimize_vertex_fetch_remap` renumbers the vertices in
 first-use order so the vertex fetches walk memory forwards. Measured in
 docs/performance.md ("Vertex-cache order"), with meshoptimizer's faster FIFO ordering
-tried against it: 4-5x cheaper to make (the bunny 3 against 13-15 ms), frames 2-10 %
-slower, so the saving is repaid within 20-40 frames of a mesh; not kept.
+tried against it: 4-5x cheaper to make (the bunny 3 against 12-15 ms), but the teapot's
+frames 2-10 % slower in every run and the bunny's no faster than the noise; not kept.
 
 What stays the same, so images are bit-identical (tests/test_vertex_order.py):
 - every triangle keeps its three corners in their order (winding, and the rasterizer's
