@@ -139,7 +139,7 @@ class Settings:
     dataset_views: int = 48
     dataset_sizes: tuple[int, ...] = (256, 512)
     dataset_passes: int = 3
-    file_triangles: int = 10_000_000  # memory: the binary STL loaded and rendered (issue #29: < 3x its arrays)
+    file_triangles: int = 10_000_000  # memory: the binary STL and PLY loaded and rendered (issue #29: < 3x their arrays)
     shadow_sizes: tuple[int, ...] = (512,)  # benchmarks/shadows.py: a shadowed frame against pyrender and pygfx
 
 
@@ -294,12 +294,12 @@ def main(argv: list[str] | None = None) -> int:
             results["batch"] = batch
     if "memory" in chosen:
         with step("memory"):
-            from .memory import run_file_memory, run_memory
+            from .memory import FILE_FORMATS, run_file_memory, run_memory
 
             memory = run_memory(s.memory_triangles, s.memory_size, runs=s.memory_runs)
             print(report.memory_table(memory, **labels["memory"]), flush=True)
             results["memory"] = memory
-            file_memory = run_file_memory(s.file_triangles, s.memory_size)
+            file_memory = [run_file_memory(s.file_triangles, s.memory_size, file_format) for file_format in FILE_FORMATS]
             print(report.file_memory_table(file_memory), flush=True)
             results["file_memory"] = file_memory
     if "scaling" in chosen:

@@ -1,12 +1,13 @@
 """Memory: peak RSS of rendering the 1.3M-triangle sphere, against 3× its arrays + baseline;
-and of loading a 10M-triangle binary STL file and rendering it.
+and of loading a 10M-triangle mesh file and rendering it, as a binary STL and as a binary
+PLY (FILE_FORMATS).
 
 Measured in fresh processes (scripts/memory_peak.py, scripts/load_peak.py). Besides the
 default run, one with LP_NUM_THREADS=0 (llvmpipe rasterizing on the driver's thread,
 nothing queued) isolates how much of the peak is llvmpipe's binned-triangle queue rather
-than our buffers. The STL file (a torus, written once into a temporary folder) goes through
-everything a user's file does: the STL reader joining its corners, the crease normals,
-the Mesh, the upload in vertex-cache order, the frame.
+than our buffers. Each file (the same torus, written once into a temporary folder) goes
+through everything a user's file does: its reader (the STL's joining its corners), the
+crease normals, the Mesh, the upload in vertex-cache order, the frame.
 """
 
 from __future__ import annotations
@@ -30,10 +31,15 @@ SCRIPT = Path(__file__).resolve().parent / "scripts" / "memory_peak.py"
 FILE_SCRIPT = Path(__file__).resolve().parent / "scripts" / "load_peak.py"
 
 
+# The big files measured: suffix → what it is and load_peak.py's options to write it
+FILE_FORMATS = {"stl": ("binary STL", []), "ply": ("binary PLY", ["--triangles"])}
+
+
 @dataclass
 class FileMemoryRow:
     """One fresh process loading a mesh file, then rendering it (scripts/load_peak.py)."""
 
+    file_format: str  # a key of FILE_FORMATS
     triangles: int
     vertices: int
     file_bytes: int
@@ -50,16 +56,17 @@ class FileMemoryRow:
         return (peak - self.baseline) / self.mesh_bytes
 
 
-def run_file_memory(triangles: int, size: int) -> FileMemoryRow:
-    progress(f"memory: a {triangles:,}-triangle binary STL loaded and rendered at {size}² in a fresh process")
+def run_file_memory(triangles: int, size: int, file_format: str = "stl") -> FileMemoryRow:
+    what, options = FILE_FORMATS[file_format]
+    progress(f"memory: a {triangles:,}-triangle {what} loaded and rendered at {size}² in a fresh process")
     with tempfile.TemporaryDirectory() as folder:
         result = subprocess.run(
-            [sys.executable, str(FILE_SCRIPT), str(triangles), str(Path(folder) / "torus.stl"), "--render", str(size)],
+            [sys.executable, str(FILE_SCRIPT), str(triangles), str(Path(folder) / f"torus.{file_format}"), *options, "--render", str(size)],
             capture_output=True, text=True, timeout=1200, check=True,
         )
     sample = json.loads(result.stdout.strip().splitlines()[-1])
     return FileMemoryRow(
-        triangles=sample["triangles"], vertices=sample["vertices"], file_bytes=sample["file_bytes"],
+        file_format=file_format, triangles=sample["triangles"], vertices=sample["vertices"], file_bytes=sample["file_bytes"],
         mesh_bytes=sample["mesh_array_bytes"], baseline=sample["baseline_rss"], load_peak=sample["load_peak_rss"],
         peak=sample["peak_rss"], load_seconds=sample["load_seconds"], load_cpu_seconds=sample["load_cpu_seconds"],
         render_seconds=sample["render_seconds"], render_cpu_seconds=sample["render_cpu_seconds"],

@@ -202,23 +202,30 @@ def memory_table(rows, size: int = 512) -> str:
     return "\n".join(lines) + "\n"
 
 
-def file_memory_table(row) -> str:
-    """benchmarks/memory.py's large mesh file: load, then load and render, in mesh arrays."""
-    load, both = row.in_meshes(row.load_peak), row.in_meshes(row.peak)
-    return "\n".join([
-        f"## Memory: a {_count(row.triangles)}-triangle binary STL ({row.file_bytes / MiB:,.0f} MiB) loaded and rendered",
+def file_memory_table(rows) -> str:
+    """benchmarks/memory.py's large mesh files: load, then load and render, in mesh arrays."""
+    from .memory import FILE_FORMATS
+
+    rows = rows if isinstance(rows, list) else [rows]  # (results of runs before the PLY row: one STL row)
+    lines = [
+        f"## Memory: a {_count(rows[0].triangles)}-triangle mesh file loaded and rendered",
         "",
         "Peak RSS above the baseline (start-up, device and a small render), in the mesh's arrays "
         "(positions + normals + indices); wall / CPU seconds of each step.",
         "",
-        "| triangles | vertices | mesh arrays MiB | baseline MiB | load peak ÷ mesh arrays | load + render peak ÷ mesh arrays (< 3) "
-        "| load s (CPU) | render s (CPU) |",
-        "|---:|---:|---:|---:|---:|---:|---:|---:|",
-        f"| {row.triangles:,} | {row.vertices:,} | {row.mesh_bytes / MiB:.0f} | {row.baseline / MiB:.0f} | {_ratio(load)} "
-        f"| {_ratio(both)} {'✓' if both < 3 else '✗'} | {row.load_seconds:.1f} ({row.load_cpu_seconds:.1f}) "
-        f"| {row.render_seconds:.1f} ({row.render_cpu_seconds:.1f}) |",
-        "",
-    ])
+        "| file | MiB | triangles | vertices | mesh arrays MiB | baseline MiB | load peak ÷ mesh arrays "
+        "| load + render peak ÷ mesh arrays (< 3) | load s (CPU) | render s (CPU) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for row in rows:
+        load, both = row.in_meshes(row.load_peak), row.in_meshes(row.peak)
+        what = FILE_FORMATS[getattr(row, "file_format", "stl")][0]
+        lines.append(
+            f"| {what} | {row.file_bytes / MiB:,.0f} | {row.triangles:,} | {row.vertices:,} | {row.mesh_bytes / MiB:.0f} "
+            f"| {row.baseline / MiB:.0f} | {_ratio(load)} | {_ratio(both)} {'✓' if both < 3 else '✗'} "
+            f"| {row.load_seconds:.1f} ({row.load_cpu_seconds:.1f}) | {row.render_seconds:.1f} ({row.render_cpu_seconds:.1f}) |"
+        )
+    return "\n".join(lines + [""])
 
 
 def scaling_table(scaling, sphere_size: int = 512, torus: str = "10K") -> str:

@@ -4,12 +4,15 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.stl
     python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.stl --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/points10m.ply
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.ply --triangles --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
 order of the torus's grid); `.ply`, a point cloud of COUNT points on a sphere as a binary
 little-endian PLY (float x y z, float nx ny nz, uchar red green blue: 27 bytes a point, as
-scanners write them). Then loads it and prints one JSON object: the mesh's arrays
+scanners write them), or with --triangles the same torus as the STL's as a binary
+little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and MeshLab
+write a scan). Then loads it and prints one JSON object: the mesh's arrays
 (positions + normals + indices + colours, what a Renderer uploads), the process's resident
 memory after imports (with --render: after the device and a small render too), its peak
 (VmHWM), and the peak above that baseline as a multiple of the mesh's arrays; with --render
@@ -27,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 
-def write_torus_stl(path: Path, triangles: int) -> None:
+def torus(triangles: int) -> tuple[np.ndarray, np.ndarray]:
+    """A smooth torus of about `triangles` triangles: float32 positions, faces in the order of its grid."""
     side = max(3, int(math.sqrt(triangles / 2)))
     u = np.linspace(0, 2 * np.pi, side, endpoint=False)
     uu, vv = np.meshgrid(u, u)
@@ -38,6 +42,11 @@ def write_torus_stl(path: Path, triangles: int) -> None:
     a, b = i * side + j, i * side + (j + 1) % side
     c, d = ((i + 1) % side) * side + j, ((i + 1) % side) * side + (j + 1) % side
     faces = np.concatenate([np.stack([a, b, d], -1).reshape(-1, 3), np.stack([a, d, c], -1).reshape(-1, 3)])
+    return positions, faces
+
+
+def write_torus_stl(path: Path, triangles: int) -> None:
+    positions, faces = torus(triangles)
     records = np.zeros(len(faces), np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")]))
     records["corners"] = positions[faces]
     with open(path, "wb") as file:
@@ -65,6 +74,21 @@ def write_point_ply(path: Path, count: int) -> None:
         records.tofile(file)
 
 
+def write_torus_ply(path: Path, triangles: int) -> None:
+    positions, faces = torus(triangles)
+    records = np.zeros(len(faces), np.dtype([("count", "u1"), ("corners", "<i4", (3,))]))
+    records["count"], records["corners"] = 3, faces
+    header = (
+        "ply\nformat binary_little_endian 1.0\ncomment load_peak.py\n"
+        f"element vertex {len(positions)}\nproperty float x\nproperty float y\nproperty float z\n"
+        f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
+    )
+    with open(path, "wb") as file:
+        file.write(header.encode("ascii"))
+        positions.astype("<f4").tofile(file)
+        records.tofile(file)
+
+
 WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply}
 
 
@@ -80,7 +104,7 @@ def main() -> None:
     count, path = int(sys.argv[1]), Path(sys.argv[2])
     render_size = int(sys.argv[sys.argv.index("--render") + 1]) if "--render" in sys.argv else None
     if not path.exists():
-        WRITERS[path.suffix.lower()](path, count)
+        (write_torus_ply if "--triangles" in sys.argv else WRITERS[path.suffix.lower()])(path, count)
     import trimesh  # noqa: F401  - imported by load_mesh; counted in the baseline
 
     from wgpu_shading import load_mesh

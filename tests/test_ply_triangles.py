@@ -1,0 +1,196 @@
+"""Binary PLY triangle meshes read with numpy in blocks (assets/mesh_formats/ply_triangles.py):
+the same Mesh as trimesh's reading of the same file, within bounded memory; every other
+layout still goes to trimesh."""
+
+from __future__ import annotations
+
+import tracemalloc
+from pathlib import Path
+from unittest import mock
+
+import numpy as np
+import pytest
+
+from wgpu_shading import load_mesh
+from wgpu_shading.assets.mesh_formats import ply, ply_triangles
+from wgpu_shading.assets.mesh_formats.ply_header import read_ply_header
+from wgpu_shading.assets.mesh_formats.ply_triangles import read_triangles, triangle_layout
+from wgpu_shading.errors import MeshError
+
+# ../shared, beside the project (CI has it), also from a worktree deeper down
+SHARED = next((p / "shared" for p in Path(__file__).resolve().parents if (p / "shared" / "corpora").is_dir()), None)
+REAL_FILES = SHARED / "corpora" / "realworld2" / "ply" if SHARED is not None else None
+# The binary triangle meshes of the corpus (MeshLab with flags and RGBA, a big-endian scan
+# with confidence, VTK's Lucy, MeshLab's doubles with quality): all read here.
+READ_HERE = ("bone_meshlab.ply", "horse_bigendian_rgb.ply", "lucy.ply", "cube_meshlab_binary.ply", "colored_airplane_meshlab.ply")
+ARRAYS = ("positions", "normals", "indices", "colors", "uvs", "origin")
+
+
+def _through_trimesh(path: Path):
+    with mock.patch.object(ply, "triangle_layout", lambda header, size: None):
+        return load_mesh(path)
+
+
+def _assert_same_mesh(mesh, expected) -> None:
+    for name in ARRAYS:
+        ours, theirs = getattr(mesh, name), getattr(expected, name)
+        assert (ours is None) == (theirs is None), name
+        if ours is not None:
+            ours, theirs = np.asarray(ours), np.asarray(theirs)
+            assert ours.dtype == theirs.dtype, name
+            np.testing.assert_array_equal(ours, theirs, err_msg=name)
+    assert [(p.first, p.count, p.name) for p in mesh.parts] == [(p.first, p.count, p.name) for p in expected.parts]
+
+
+def _layout(path: Path):
+    return triangle_layout(read_ply_header(path, str(path)), path.stat().st_size)
+
+
+@pytest.mark.parametrize("name", READ_HERE)
+def test_real_binary_ply_meshes_are_read_as_trimesh_reads_them(name):
+    if REAL_FILES is None or not (REAL_FILES / name).exists():
+        pytest.skip("the shared corpus is not beside the project")
+    path = REAL_FILES / name
+    assert _layout(path) is not None
+    _assert_same_mesh(load_mesh(path), _through_trimesh(path))
+
+
+def _octahedron() -> tuple[np.ndarray, np.ndarray]:
+    positions = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float) * 0.7 + 0.1
+    faces = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+    return positions, faces
+
+
+def write_ply(path: Path, *, order="<", position="float", normals=None, colors=(), extras=(), index="int", count="uchar",
+              counts=None, faces=None, vertex_names=None, face_extras=(), tail=b"") -> Path:
+    """A binary PLY of the octahedron with the given property types (PLY type names)."""
+    from wgpu_shading.assets.mesh_formats.ply_header import PLY_TYPES
+
+    positions, octahedron = _octahedron()
+    faces = octahedron.tolist() if faces is None else faces
+    rng = np.random.default_rng(7)
+    columns = [("x", position), ("y", position), ("z", position)]
+    if normals:
+        columns += [("nx", normals), ("ny", normals), ("nz", normals)]
+    columns += [(name, "uchar") for name in colors] + list(extras) + [(name, "float") for name in (vertex_names or ())]
+    row = np.dtype([(name, order + PLY_TYPES[kind]) for name, kind in columns])
+    vertices = np.zeros(len(positions), row)
+    for axis, name in enumerate("xyz"):
+        vertices[name] = positions[:, axis]
+    if normals:
+        unit = positions / np.linalg.norm(positions, axis=1, keepdims=True) * 1.3  # not unit: kept as given
+        for axis, name in enumerate(("nx", "ny", "nz")):
+            vertices[name] = unit[:, axis]
+    for name, _ in columns[3 + (3 if normals else 0):]:
+        vertices[name] = rng.integers(0, 256, len(positions)) if name in colors else rng.random(len(positions))
+    header = [f"ply\nformat {'binary_little_endian' if order == '<' else 'binary_big_endian'} 1.0\n",
+              f"element vertex {len(positions)}\n"] + [f"property {kind} {name}\n" for name, kind in columns]
+    header += [f"element face {len(faces)}\nproperty list {count} {index} vertex_indices\n"]
+    header += [f"property {kind} {name}\n" for name, kind in face_extras] + ["end_header\n"]
+    body = bytearray(vertices.tobytes())
+    for number, face in enumerate(faces):
+        body += np.array(len(face) if counts is None else counts[number], order + PLY_TYPES[count]).tobytes()
+        body += np.array(face, order + PLY_TYPES[index]).tobytes()
+        for _, kind in face_extras:
+            body += np.array(200, order + PLY_TYPES[kind]).tobytes()
+    path.write_bytes("".join(header).encode("ascii") + bytes(body) + tail)
+    return path
+
+
+LAYOUTS = {
+    "little-endian floats": {},
+    "big-endian": {"order": ">"},
+    "doubles": {"position": "double"},
+    "normals": {"normals": "float"},
+    "double normals": {"normals": "double"},
+    "RGB": {"colors": ("red", "green", "blue")},
+    "RGBA, big-endian": {"colors": ("red", "green", "blue", "alpha"), "order": ">"},
+    "MeshLab's flags and quality": {"extras": (("flags", "int"), ("quality", "double")), "colors": ("red", "green", "blue")},
+    "uint indices, int counts": {"index": "uint", "count": "int"},
+    "uint8/int32 spelling": {"index": "int32", "count": "uint8"},
+}
+
+
+@pytest.mark.parametrize("options", LAYOUTS.values(), ids=LAYOUTS.keys())
+def test_each_layout_read_here_gives_trimeshs_mesh(tmp_path, options):
+    path = write_ply(tmp_path / "mesh.ply", **options)
+    assert _layout(path) is not None
+    _assert_same_mesh(load_mesh(path), _through_trimesh(path))
+
+
+OTHERS = {
+    "quads": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]]},
+    "mixed polygons": {"faces": [[0, 2, 4], [2, 1, 4, 3]]},
+    "texture coordinates": {"vertex_names": ("u", "v")},
+    "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
+    "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
+    "bytes after the faces": {"tail": b"\0\0\0\0"},
+}
+
+
+@pytest.mark.parametrize("options", OTHERS.values(), ids=OTHERS.keys())
+def test_other_layouts_still_go_to_trimesh(tmp_path, options):
+    """The same mesh, or the same error (trimesh refuses binary files of mixed polygons,
+    and bytes after the last face, as "unexpected length")."""
+    path = write_ply(tmp_path / "mesh.ply", **options)
+    assert _layout(path) is None
+    try:
+        expected = _through_trimesh(path)
+    except MeshError as error:
+        with pytest.raises(MeshError) as raised:
+            load_mesh(path)
+        assert str(raised.value) == str(error)
+        return
+    _assert_same_mesh(load_mesh(path), expected)
+
+
+def test_a_face_that_is_not_a_triangle_sends_the_file_to_trimesh(tmp_path):
+    # A quad and a two-corner face take as many bytes as two triangles: only the counts tell.
+    path = write_ply(tmp_path / "mesh.ply", faces=[[0, 2, 4], [2, 1, 4], [0, 1, 2, 3], [0, 5]])
+    layout = _layout(path)
+    assert layout is not None
+    assert read_triangles(path, layout, "mesh") is None
+
+
+def test_a_face_index_beyond_the_vertices_is_named(tmp_path):
+    path = write_ply(tmp_path / "mesh.ply", faces=[[0, 2, 4], [2, 1, 99]])
+    assert _layout(path) is not None
+    with pytest.raises(MeshError, match="refers to vertex 99, but the file has 6 vertices"):
+        load_mesh(path)
+
+
+def test_a_truncated_file_is_refused_as_before(tmp_path):
+    path = write_ply(tmp_path / "mesh.ply")
+    path.write_bytes(path.read_bytes()[:-5])
+    assert _layout(path) is None
+    with pytest.raises(MeshError, match="truncated|face"):
+        load_mesh(path)
+
+
+def test_reading_a_big_mesh_takes_little_more_than_its_arrays(tmp_path):
+    """The rows are read a block at a time into the arrays kept: the reader's peak is
+    those arrays and one block of rows (trimesh's reading of the same file held the whole
+    file and float64/int64 copies of it: 10.6x the arrays here, traced the same way)."""
+    side = 400  # a 400 × 400 grid: 160,000 vertices, 318,402 triangles
+    u, v = np.meshgrid(np.linspace(0, 1, side), np.linspace(0, 1, side))
+    positions = np.stack([u, v, 0.1 * np.sin(6 * u)], -1).reshape(-1, 3).astype("<f4")
+    grid = np.arange(side * side).reshape(side, side)
+    a, b, c, d = grid[:-1, :-1].ravel(), grid[:-1, 1:].ravel(), grid[1:, :-1].ravel(), grid[1:, 1:].ravel()
+    faces = np.concatenate([np.stack([a, b, d], 1), np.stack([a, d, c], 1)])
+    rows = np.zeros(len(faces), np.dtype([("count", "u1"), ("corners", "<i4", (3,))]))
+    rows["count"], rows["corners"] = 3, faces
+    path = tmp_path / "grid.ply"
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(positions)}\nproperty float x\nproperty float y\n"
+              f"property float z\nelement face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    path.write_bytes(header.encode() + positions.tobytes() + rows.tobytes())
+    arrays = positions.nbytes + faces.shape[0] * 3 * 4
+    tracemalloc.start()
+    try:  # blocks of 16,384 rows: this file is a few blocks, as a big one is many
+        with mock.patch.object(ply_triangles, "BLOCK_ROWS", 1 << 14):
+            piece = ply.read_ply(path, path.stat().st_size).pieces[0]
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    np.testing.assert_array_equal(piece.positions, positions)
+    np.testing.assert_array_equal(piece.faces, faces)
+    assert peak < 1.25 * arrays, f"peak {peak / arrays:.2f}x the arrays"

@@ -1,0 +1,136 @@
+"""Binary PLY triangle meshes read with numpy, a block of rows at a time: what scanners,
+MeshLab, VTK and Open3D write for a mesh (Lucy, the big-endian horse, MeshLab's coloured
+exports in ../shared/corpora/realworld2/ply).
+
+trimesh's reader, which reads every other PLY (trimesh_reader.py), holds the whole file in
+memory and makes float64 and int64 copies of it: a 2M-triangle binary PLY peaked at 4.0×
+its mesh's arrays (`python benchmarks/scripts/load_peak.py`), over issue #29's 3× for big
+meshes. Here the rows go straight into the arrays a Mesh keeps (float32 positions where the
+file has floats, 32-bit indices), and the peak is that of a binary STL (stl.py).
+
+Only this layout is read here, and it is read as trimesh reads it (tests/test_ply_triangles.py
+compares the two on real files and on every case below); any other PLY goes to trimesh:
+- binary (either byte order), its non-empty elements `vertex` then `face`;
+- vertex: scalar properties with x, y, z; nx, ny, nz are its normals and red, green, blue
+  (alpha) its colours when they are uchar; others (MeshLab's flags and quality, a scanner's
+  confidence) are skipped, as trimesh skips them. Texture coordinates, which trimesh reads
+  under several names and splits vertices for, go to trimesh;
+- face: one list property, vertex_indices or vertex_index, and nothing else (face colours
+  and texcoord lists go to trimesh); every face a triangle: the file is exactly as long as
+  that makes it, and every count read is 3 (a file of quads, or of mixed polygons, goes to
+  trimesh, which cuts them into triangles).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import MeshError
+from ..mesh_pieces import MeshPiece
+from .ply_header import PLY_TYPES, PlyHeader
+
+# The names trimesh reads texture coordinates under (trimesh/exchange/ply.py, _elements_to_kwargs)
+TEXTURE_NAMES = frozenset({"texture_u", "texture_v", "u", "v", "s", "t"})
+INDEX_NAMES = ("vertex_indices", "vertex_index")
+COLOR_NAMES = ("red", "green", "blue", "alpha")
+BLOCK_ROWS = 1 << 18  # vertices or faces read at a time: a few MB of records
+
+
+@dataclass(frozen=True)
+class TriangleLayout:
+    """Where a binary PLY's vertices and triangles are, and their record types."""
+
+    vertex: np.dtype  # one vertex row (structured: the file's properties)
+    face: np.dtype  # one face row: ("count", its type), ("corners", index type, (3,))
+    vertices: int
+    faces: int
+    offset: int  # the first vertex row's byte
+
+
+def triangle_layout(header: PlyHeader, file_size: int) -> TriangleLayout | None:
+    """The layout of a binary PLY this module reads (the module docstring), or None for any
+    other PLY."""
+    if header.format not in ("binary_little_endian", "binary_big_endian"):
+        return None
+    filled = [element for element in header.elements if element.count]
+    if [element.name for element in filled] != ["vertex", "face"]:
+        return None
+    vertex, face = filled
+    order = "<" if header.format == "binary_little_endian" else ">"
+    names = [name for name, _, _ in vertex.properties]
+    if len(set(names)) != len(names) or not {"x", "y", "z"} <= set(names) or TEXTURE_NAMES & set(names):
+        return None
+    if any(count is not None or kind not in PLY_TYPES for _, kind, count in vertex.properties):
+        return None
+    kinds = {name: PLY_TYPES[kind] for name, kind, _ in vertex.properties}
+    colors = [name for name in COLOR_NAMES if name in kinds]
+    if colors and (colors[:3] != ["red", "green", "blue"] or any(kinds[name] != "u1" for name in colors)):
+        return None
+    if len({"nx", "ny", "nz"} & set(names)) not in (0, 3):
+        return None
+    if len(face.properties) != 1:
+        return None
+    name, index_kind, count_kind = face.properties[0]
+    if name not in INDEX_NAMES or count_kind is None or index_kind not in PLY_TYPES or count_kind not in PLY_TYPES:
+        return None
+    if PLY_TYPES[index_kind][0] not in "iu" or PLY_TYPES[count_kind][0] not in "iu":
+        return None
+    vertex_row = np.dtype([(name, order + kind) for name, kind in kinds.items()])
+    face_row = np.dtype([("count", order + PLY_TYPES[count_kind]), ("corners", order + PLY_TYPES[index_kind], (3,))])
+    if header.header_bytes + vertex.count * vertex_row.itemsize + face.count * face_row.itemsize != file_size:
+        return None  # not triangles only (or truncated, or more after them): trimesh says which
+    return TriangleLayout(vertex_row, face_row, vertex.count, face.count, header.header_bytes)
+
+
+def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece | None:
+    """The mesh of a PLY in `layout`, or None when some face turns out not to be a triangle
+    (then trimesh reads the file). Indices are checked later, with every other reader's
+    (mesh_pieces.py)."""
+    fields = layout.vertex.fields
+    positions = np.empty((layout.vertices, 3), _float_type(fields, "xyz"))
+    normals = np.empty((layout.vertices, 3), _float_type(fields, ("nx", "ny", "nz"))) if "nx" in fields else None
+    channels = [name for name in COLOR_NAMES if name in fields]
+    colors = np.empty((layout.vertices, len(channels)), np.uint8) if channels else None
+    index_kind = layout.face.fields["corners"][0].base
+    faces = np.empty((layout.faces, 3), np.uint32 if index_kind.kind == "u" and index_kind.itemsize == 4 else np.int32)
+    try:
+        with open(path, "rb") as file:
+            file.seek(layout.offset)
+            for start in range(0, layout.vertices, BLOCK_ROWS):
+                block = _rows(file, layout.vertex, min(BLOCK_ROWS, layout.vertices - start), where)
+                rows = slice(start, start + len(block))
+                for column, axis in enumerate("xyz"):
+                    positions[rows, column] = block[axis]
+                if normals is not None:
+                    for column, axis in enumerate(("nx", "ny", "nz")):
+                        normals[rows, column] = block[axis]
+                for column, channel in enumerate(channels):
+                    colors[rows, column] = block[channel]
+            for start in range(0, layout.faces, BLOCK_ROWS):
+                block = _rows(file, layout.face, min(BLOCK_ROWS, layout.faces - start), where)
+                if (block["count"] != 3).any():
+                    return None
+                faces[start : start + len(block)] = block["corners"]
+    except OSError as error:
+        raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
+    except MemoryError:
+        raise MeshError(f"{where}: not enough memory to read {layout.vertices} vertices and {layout.faces} faces") from None
+    return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, layout.faces, None, path.name)])
+
+
+def _rows(file, row: np.dtype, count: int, where: str) -> np.ndarray:
+    block = np.fromfile(file, row, count)
+    if len(block) < count:  # the file shrank since its size was taken
+        raise MeshError(f"{where}: truncated while it was read")
+    return block
+
+
+def _float_type(fields, names) -> type:
+    """float32 where the file's values are float32 (or small integers): exact, half the
+    memory of float64; float64 for doubles and 32-bit integers."""
+    small = all(fields[name][0].kind == "f" and fields[name][0].itemsize == 4
+                or fields[name][0].kind in "iu" and fields[name][0].itemsize <= 2 for name in names)
+    return np.float32 if small else np.float64
