@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...scene.freed_memory import return_freed_memory
 from .clusters import ClusterTable, cluster_triangles
 
 _UNUSED = np.uint32(0xFFFFFFFF)  # meshoptimizer's remap value for a vertex no triangle uses
@@ -103,7 +104,7 @@ def cache_order(
     gather[remap[referenced]] = np.flatnonzero(referenced)
     del remap, referenced
     if flat.nbytes >= _TRIM_BYTES:
-        _return_freed_memory()
+        return_freed_memory()
     return scratch, VertexOrder(gather=gather, in_order=frozenset(in_order), clusters=clusters)
 
 
@@ -157,12 +158,3 @@ SHARED_ORDER_BYTES = 64 << 20  # reordered indices kept for sibling devices (a 5
 # onto glibc's heap, which keeps them: the process would look a mesh copy bigger after the
 # upload than before (tests/test_memory.py measures that). malloc_trim hands them back.
 _TRIM_BYTES = 4 << 20
-
-
-def _return_freed_memory() -> None:
-    try:
-        import ctypes
-
-        ctypes.CDLL("libc.so.6").malloc_trim(0)
-    except (OSError, AttributeError):  # not glibc: nothing to do
-        pass
