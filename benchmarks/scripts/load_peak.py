@@ -12,7 +12,7 @@ order of the torus's grid); `.ply`, a point cloud of COUNT points on a sphere as
 little-endian PLY (float x y z, float nx ny nz, uchar red green blue: 27 bytes a point, as
 scanners write them), or with --triangles the same torus as the STL's as a binary
 little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and MeshLab
-write a scan). Then loads it and prints one JSON object: the mesh's arrays
+write a scan); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines. Then loads it and prints one JSON object: the mesh's arrays
 (positions + normals + indices + colours, what a Renderer uploads), the process's resident
 memory after imports (with --render: after the device and a small render too), its peak
 (VmHWM), and the peak above that baseline as a multiple of the mesh's arrays; with --render
@@ -89,7 +89,15 @@ def write_torus_ply(path: Path, triangles: int) -> None:
         records.tofile(file)
 
 
-WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply}
+def write_torus_obj(path: Path, triangles: int) -> None:
+    """The torus as an OBJ of `v x y z` lines (6 decimals, as MeshLab writes them) and `f a b c` lines."""
+    positions, faces = torus(triangles)
+    with open(path, "w") as file:
+        np.savetxt(file, positions, fmt="v %.6f %.6f %.6f")
+        np.savetxt(file, faces + 1, fmt="f %d %d %d")
+
+
+WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj}
 
 
 def status(key: str) -> int:

@@ -13,6 +13,7 @@ import importlib.util
 import os
 import stat
 from functools import lru_cache
+from typing import Iterator
 from pathlib import Path
 
 from ..errors import WgpuShadingError
@@ -61,6 +62,51 @@ def is_readable_regular_file(path: str | os.PathLike[str]) -> bool:
 
 
 TEXT_CHUNK = 16 << 20
+
+
+def text_line_blocks(path: str | os.PathLike[str], where: str, error: type[WgpuShadingError],
+                     block_bytes: int = TEXT_CHUNK) -> Iterator[bytes]:
+    """A text file's bytes in blocks of whole lines, about `block_bytes` each (a line longer
+    than that is one block), refused at the first NUL byte as read_text_bytes refuses it:
+    a reader that takes a block at a time never holds the whole text (a 2M-triangle OBJ is
+    75 MB). Every block but the last ends with a newline. UTF-16 text (a byte-order mark)
+    is read whole, as read_text_bytes reads it, and given as one block.
+
+    The file is read TEXT_CHUNK bytes at a time whatever the block size, one read ahead of
+    the blocks given, so that a file of one chunk is read to its end (the last, empty read
+    takes and frees a TEXT_CHUNK buffer) before its block is parsed, as with read_text_bytes.
+    Reading the end only after the parsing, glibc's heap grew and shrank around the parser's
+    temporaries at every file: 6,200 instead of 1,400 page faults and 42 instead of 32 ms
+    to read the bunny's OBJ, in a new process (docs/performance.md, "Loading a large mesh")."""
+    offset = 0  # bytes of the file read so far
+    carry: list[bytes] = []  # the unfinished last line of what was read (joined once it ends)
+    with open(path, "rb") as file:
+        following = file.read(TEXT_CHUNK)
+        while chunk := following:
+            if offset == 0 and chunk[:2] in (b"\xff\xfe", b"\xfe\xff"):
+                yield chunk + file.read()
+                return
+            following = file.read(TEXT_CHUNK)
+            nul = chunk.find(b"\x00")
+            if nul >= 0:
+                raise error(f"{where}: not a text file (a NUL byte at offset {offset + nul}); is it binary or damaged?")
+            offset += len(chunk)
+            if b"\n" not in chunk:  # the line goes on (a file without newlines is one block, read once)
+                carry.append(chunk)
+                continue
+            text = b"".join(carry + [chunk]) if carry else chunk
+            start = 0
+            while True:
+                end = text.rfind(b"\n", start, start + max(block_bytes, 1)) + 1 if len(text) - start > block_bytes else 0
+                if end <= start:  # the rest fits in a block, or its first line is longer than one
+                    end = text.rfind(b"\n", start) + 1 if len(text) - start <= block_bytes else text.find(b"\n", start) + 1
+                if end <= start:  # no line ends here: the line goes on in the next chunk
+                    break
+                yield text[start:end]
+                start = end
+            carry = [text[start:]] if start < len(text) else []
+    if carry:
+        yield b"".join(carry)
 
 
 def read_text_bytes(path: str | os.PathLike[str], where: str, error: type[WgpuShadingError]) -> bytes:

@@ -44,23 +44,23 @@ def _record_indices(line: str, line_number: int, declared: int, path: str) -> li
     return resolved
 
 
-def obj_elements(lines: list[str], record_lines: np.ndarray, v_count: np.ndarray, material_at, v: np.ndarray,
-                 materials: dict, path: str, kind: str) -> ObjElements | None:
-    """The `l` (kind "lines") or `p` (kind "points") records at `record_lines` (0-based line
-    numbers); `v_count[i]` is how many `v` lines precede line i, `material_at(i)` the
-    material name in force there."""
-    if not len(record_lines):
+def obj_elements(records: dict[int, tuple[str, int, str | None]], v: np.ndarray, materials: dict, path: str,
+                 kind: str) -> ObjElements | None:
+    """The `l` (kind "lines") or `p` (kind "points") records: 0-based line number → (the
+    line, how many `v` lines precede it, the material in force there), in file order
+    (obj_blocks.py collects them)."""
+    if not records:
         return None
     by_material: dict[str, list[np.ndarray]] = {}
-    for index in record_lines.tolist():
-        vertices = _record_indices(lines[index], index + 1, int(v_count[index]), path)
+    for index, (line, declared, material) in records.items():
+        vertices = _record_indices(line, index + 1, declared, path)
         if kind == "lines":
             if len(vertices) < 2:
-                raise MeshError(f"{path}:{index + 1}: a line needs at least 2 vertices, got {lines[index].strip()!r}")
+                raise MeshError(f"{path}:{index + 1}: a line needs at least 2 vertices, got {line.strip()!r}")
             elements = np.array([vertices[:-1], vertices[1:]], np.int64).T
         else:
             elements = np.array(vertices, np.int64)
-        by_material.setdefault(material_at(index) or "", []).append(elements)
+        by_material.setdefault(material or "", []).append(elements)
     return _on_own_vertices(by_material, v, materials, kind)
 
 

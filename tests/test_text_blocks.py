@@ -1,0 +1,48 @@
+"""files.text_line_blocks: a text file in blocks of whole lines, whatever the sizes of the
+reads and of the blocks, refused at a NUL byte with its offset."""
+
+from __future__ import annotations
+
+import pytest
+
+from wgpu_shading.assets import files
+from wgpu_shading.assets.files import text_line_blocks
+from wgpu_shading.errors import MeshError
+
+TEXTS = {
+    "lines": b"".join(b"v %d 0 0\n" % i for i in range(500)),
+    "no final newline": b"v 0 0 0\nf 1 2 3",
+    "CR LF": b"v 0 0 0\r\nv 1 0 0\r\n" * 50,
+    "classic Mac (no newline at all)": b"v 0 0 0\rv 1 0 0\rf 1 2 3\r" * 200,
+    "a line longer than a block": b"v 0 0 0\n# " + b"x" * 3000 + b"\nv 1 2 3\n",
+    "empty": b"",
+}
+
+
+@pytest.mark.parametrize("text", TEXTS.values(), ids=TEXTS.keys())
+@pytest.mark.parametrize("chunk", [16, 1000, 1 << 24])
+def test_blocks_are_the_file_in_whole_lines(tmp_path, monkeypatch, text, chunk):
+    path = tmp_path / "text.obj"
+    path.write_bytes(text)
+    monkeypatch.setattr(files, "TEXT_CHUNK", chunk)
+    longest = max(len(line) + 1 for line in text.split(b"\n"))
+    for block_bytes in (1, 2, 40, 999, 1 << 24):
+        blocks = list(text_line_blocks(path, "text", MeshError, block_bytes))
+        assert b"".join(blocks) == text
+        assert all(block.endswith(b"\n") for block in blocks[:-1])
+        assert all(0 < len(block) <= max(block_bytes, longest) for block in blocks)
+
+
+def test_a_nul_byte_is_refused_with_its_offset(tmp_path, monkeypatch):
+    path = tmp_path / "text.obj"
+    path.write_bytes(b"v 0 0 0\n" * 100 + b"\0")
+    monkeypatch.setattr(files, "TEXT_CHUNK", 64)
+    with pytest.raises(MeshError, match=r"text: not a text file \(a NUL byte at offset 800\)"):
+        list(text_line_blocks(path, "text", MeshError, 16))
+
+
+def test_utf16_text_is_one_block(tmp_path):
+    path = tmp_path / "text.obj"
+    text = "v 0 0 0\nf 1 1 1\n".encode("utf-16")
+    path.write_bytes(text)
+    assert list(text_line_blocks(path, "text", MeshError, 4)) == [text]

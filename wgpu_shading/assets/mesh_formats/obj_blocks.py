@@ -1,0 +1,231 @@
+"""An OBJ file read a block of whole lines at a time (files.text_line_blocks, 16 MiB each):
+each block's lines classified by their first two bytes in numpy, its `v`/`vt`/`vn` numbers
+and its face runs read, and only the arrays kept. The text, a Python string per line of a
+block, is let go block by block: a 2M-triangle OBJ (75 MB) held 250 MB of line strings
+and the whole text at once before (docs/performance.md, "Loading a large mesh").
+
+What a block leaves for the file's end (obj.py): the numbers of its vertex lines, its face
+runs as resolved corners (obj_faces.py), the `usemtl`/`s` state the next block starts in,
+its `mtllib` names, its `l`/`p` records as text, and the first error of each kind, which
+obj.py raises in the order the whole-file reading did (vertices, elements, texture
+coordinates, normals, faces), whichever line came first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...errors import MeshError
+from .number_text import parse_floats, read_in_blocks
+from .obj_faces import FaceRun, run_corners
+
+NUMBER_LINES_AT_ONCE = 1 << 16  # v/vt/vn lines read together: bounded temporaries (a few bytes a character)
+KINDS = (("v ", 3), ("vt", 2), ("vn", 3))  # the number lines: keyword, numbers kept
+
+
+@dataclass
+class FaceRunCorners:
+    """A run of face lines, read: its state, its triangles' resolved (v, vt, vn) corners
+    (int32, −1 for absent; (T, 3, 1) when the run has neither vt nor vn) and, when some
+    face is a polygon, each triangle's polygon (for ear clipping once the positions are
+    known); None when every face is a triangle."""
+
+    material: str | None
+    flat: bool
+    corners: np.ndarray
+    polygon: np.ndarray | None
+
+
+@dataclass
+class ObjContent:
+    """What the blocks of an OBJ file read so far hold (obj.py turns it into pieces)."""
+
+    name: str
+    vertex_limit: int
+    triangle_limit: int
+    lines: int = 0  # lines read so far
+    counts: dict = field(default_factory=lambda: {keyword: 0 for keyword, _ in KINDS})  # v/vt/vn lines so far
+    polygons: int = 0  # face lines so far
+    numbers: dict = field(default_factory=lambda: {keyword: [] for keyword, _ in KINDS})  # keyword → (n, w) float64 blocks
+    runs: list[FaceRunCorners] = field(default_factory=list)
+    libraries: list[str] = field(default_factory=list)
+    material: str | None = None  # the state the next line is in
+    flat: bool = False
+    # `l` and `p` records: kind → {line index: (text, v declared before it, material)}
+    elements: dict = field(default_factory=lambda: {"lines": {}, "points": {}})
+    errors: dict = field(default_factory=dict)  # the first error of each kind ("v ", "vt", "vn", "f")
+
+    @property
+    def over_limit(self) -> bool:
+        """More vertices or faces than supported: the rest is only counted (obj.py says how many)."""
+        return self.counts["v "] > self.vertex_limit or self.polygons > self.triangle_limit
+
+    def read_block(self, data: bytes) -> None:
+        """One block of whole lines (the file's first: its byte-order mark and line ends
+        already seen to, obj.py)."""
+        starts, first, second = _line_starts(data)
+        if ((first == 32) | (first == 9)).any():
+            data = _without_indentation(data)
+            starts, first, second = _line_starts(data)
+        blank = (second == 32) | (second == 9)
+        is_f = (first == ord("f")) & blank
+        kinds = {"v ": (first == ord("v")) & blank, "vt": (first == ord("v")) & (second == ord("t")),
+                 "vn": (first == ord("v")) & (second == ord("n"))}
+        before = dict(self.counts)  # the counts at the block's start
+        counts = {keyword: np.cumsum(is_kind) for keyword, is_kind in kinds.items()}  # within the block, up to each line
+        for keyword in self.counts:
+            self.counts[keyword] += int(counts[keyword][-1]) if len(starts) else 0
+        self.polygons += int(is_f.sum())
+        offset, self.lines = self.lines, self.lines + len(starts)
+        if self.over_limit:  # counted, never split into lines (obj.py raises with the totals)
+            return
+        lines = data.decode("utf-8", errors="replace").split("\n")[: len(starts)]
+        changes = self._state(lines, np.flatnonzero((first == ord("u")) | (first == ord("s")) | (first == ord("m"))))
+        change_at = np.array([index for index, _, _ in changes], np.int64)
+
+        def state_at(index: int) -> tuple[str | None, bool]:
+            state = int(np.searchsorted(change_at, index)) - 1
+            return changes[state][1:]
+
+        for keyword, width in KINDS:
+            rows = np.flatnonzero(kinds[keyword])
+            if len(rows) and keyword not in self.errors:
+                try:
+                    self.numbers[keyword].append(_floats(_slices(lines, rows), keyword, width, self.name, offset + rows + 1))
+                except MeshError as error:
+                    self.errors[keyword] = error
+        for kind, letter in (("lines", "l"), ("points", "p")):
+            for index in np.flatnonzero((first == ord(letter)) & blank).tolist():
+                self.elements[kind][offset + index] = (lines[index], before["v "] + int(counts["v "][index]), state_at(index)[0])
+        face_lines = np.flatnonzero(is_f)
+        if not len(face_lines) or "f" in self.errors:
+            return
+        # Runs: blocks of consecutive face lines (the counts and the state are fixed within one).
+        breaks = np.flatnonzero(np.diff(face_lines) != 1) + 1
+        for a, b in zip(np.concatenate([[0], breaks]).tolist(), np.concatenate([breaks, [len(face_lines)]]).tolist()):
+            index = int(face_lines[a])
+            material, flat = state_at(index)
+            run = FaceRun(material, flat, *(before[keyword] + int(counts[keyword][index]) for keyword, _ in KINDS),
+                          offset + index + 1, lines[index : int(face_lines[b - 1]) + 1])
+            try:
+                corners, polygon = run_corners(run, self.name)
+            except MeshError as error:
+                self.errors["f"] = error
+                return
+            self.runs.append(FaceRunCorners(material, flat, _compact(corners), None if _triangles_only(polygon) else polygon))
+
+    def _state(self, lines: list[str], state_lines: np.ndarray) -> list[tuple[int, str | None, bool]]:
+        """The block's state changes in order, (line index, material, flat) from there on,
+        after the state the block starts in (index −1); `mtllib` names are kept."""
+        changes = [(-1, self.material, self.flat)]
+        for index in state_lines.tolist():
+            line = lines[index].strip()
+            if line.startswith("usemtl"):
+                self.material = line[6:].strip() or None
+            elif line.startswith("s ") or line.startswith("s\t"):
+                self.flat = line[2:].strip().lower() in ("off", "0")
+            elif line.startswith("mtllib"):
+                self.libraries.append(line[6:].strip())
+                continue
+            else:
+                continue
+            changes.append((index, self.material, self.flat))
+        return changes
+
+    def vertex_numbers(self, keyword: str) -> np.ndarray:
+        """Every `keyword` line's numbers, (n, width) float64; `v` lines with colours (x y z
+        r g b) in some blocks give every vertex a colour (white where a line had none), as
+        the line-by-line reading does (_floats)."""
+        blocks = self.numbers[keyword]
+        if len(blocks) == 1:
+            return blocks.pop()
+        width = max((block.shape[1] for block in blocks), default=dict(KINDS)[keyword])
+        numbers = np.empty((sum(len(block) for block in blocks), width))  # (its pages taken as blocks are given back)
+        start = 0
+        for index, block in enumerate(blocks):  # each block let go once copied: never all twice in memory
+            numbers[start : start + len(block), : block.shape[1]] = block
+            numbers[start : start + len(block), block.shape[1] :] = 1.0  # the colour of a v line without one: white
+            start += len(block)
+            blocks[index] = None
+        blocks.clear()
+        return numbers
+
+
+def _compact(corners: np.ndarray) -> np.ndarray:
+    """Resolved corners as int32 (every index is below MAX_VERTICES), without the vt and vn
+    columns when the run has neither: a scan's faces are a third of the size."""
+    if (corners[:, :, 1:] == -1).all():
+        return corners[:, :, :1].astype(np.int32)
+    return corners.astype(np.int32)
+
+
+def _triangles_only(polygon: np.ndarray) -> bool:
+    """Every face a triangle: the polygon numbers run 0, 1, ... one per triangle."""
+    return len(polygon) == 0 or len(polygon) == int(polygon[-1]) + 1
+
+
+def _numbers(lines: list[str], prefix: str) -> np.ndarray | None:
+    """Every number of the lines (their `v`/`vt`/`vn` left out), NUMBER_LINES_AT_ONCE lines at
+    a time: the reading's temporaries stay a few MB however big the file, and in cache."""
+    keyword = prefix.strip()
+    return read_in_blocks(lines, NUMBER_LINES_AT_ONCE, lambda block: parse_floats(" ".join(block).replace(keyword, " ")))
+
+
+def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
+    """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array; `numbers`
+    are their 1-based line numbers (for errors)."""
+    values = _numbers(lines, prefix)
+    if values is not None and values.size == width * len(lines):
+        array = values.reshape(-1, width)
+    elif values is not None and prefix == "v " and values.size == 6 * len(lines):
+        array = values.reshape(-1, 6)  # x y z r g b
+    else:  # mixed widths (vt u v w, v x y z w) or a bad number: line by line
+        rows = []
+        for ordinal, line in enumerate(lines):
+            text = line.strip()[len(prefix.strip()) :]
+            try:
+                row = [float(token) for token in text.split()]
+            except ValueError:
+                raise MeshError(f"{path}:{numbers[ordinal]}: cannot read {prefix.strip()!r} line {line.strip()!r} (expected numbers)") from None
+            if len(row) < width:
+                raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has {len(row)} numbers, expected {width}")
+            rows.append(row[:6] if prefix == "v " and len(row) >= 6 else row[:width])
+        if prefix == "v " and any(len(r) == 6 for r in rows):
+            rows = [r if len(r) == 6 else r[:3] + [1.0, 1.0, 1.0] for r in rows]
+        array = np.array(rows, dtype=np.float64).reshape(len(rows), -1)
+    bad = ~np.isfinite(array[:, :width]).all(axis=1)
+    if bad.any():
+        ordinal = int(np.flatnonzero(bad)[0])
+        raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has a NaN or infinite coordinate: {lines[ordinal].strip()[len(prefix.strip()):].strip()!r}")
+    return array
+
+
+def _slices(lines: list[str], indices: np.ndarray) -> list[str]:
+    """lines[i] for each i, taken as list slices of consecutive runs (fast for blocks)."""
+    if not len(indices):
+        return []
+    breaks = np.flatnonzero(np.diff(indices) != 1) + 1
+    starts = np.concatenate([[0], breaks])
+    ends = np.concatenate([breaks, [len(indices)]])
+    out: list[str] = []
+    for a, b in zip(starts.tolist(), ends.tolist()):
+        out.extend(lines[indices[a] : indices[b - 1] + 1])
+    return out
+
+
+def _without_indentation(data: bytes) -> bytes:
+    """Lines with their leading blanks removed: the OBJ spec allows them, and the
+    classification looks at a line's first two bytes."""
+    return b"\n".join(line.lstrip(b" \t") for line in data.split(b"\n"))
+
+
+def _line_starts(data: bytes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each line's first byte offset and its first two bytes (0 past the end), in numpy; a
+    block ending with a newline has no empty line after it (the next block goes on)."""
+    raw = np.frombuffer(data + b"\0\0", np.uint8)
+    starts = np.concatenate([[0], np.flatnonzero(raw[: len(data)] == 10) + 1])
+    if len(starts) > 1 and starts[-1] == len(data):
+        starts = starts[:-1]
+    return starts, raw[starts], raw[starts + 1]
