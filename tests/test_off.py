@@ -141,3 +141,52 @@ def test_equal_polygons_read_in_one_split_as_the_line_aware_reader_reads_them(tm
     assert np.array_equal(one.positions, other.positions) and np.array_equal(one.faces, other.faces)
     assert np.array_equal(one.positions, [[float(word) for word in line.split()] for line in lines])
     assert len(one.faces) == 25 * (corners - 2)
+
+
+@pytest.mark.parametrize("corners", [3, 4])
+@pytest.mark.parametrize("ending, trailer", [("\n", ""), ("\r\n", ""), ("\n", "\n  \n\n")])
+def test_a_plain_off_read_a_block_of_lines_at_a_time_is_the_file_read_whole(tmp_path, monkeypatch, corners, ending, trailer):
+    """A plain OFF (a vertex a line, then a face a line) is read a block of lines at a time,
+    never split into a Python string per number: blocks of a line or a few give the
+    vertices and fans the whole-text reading gives, and files it does not take (a face
+    over two lines, a comment, a bad index) still read, or fail, as before."""
+    from wgpu_shading.assets.files import read_text_bytes
+    from wgpu_shading.assets.mesh_formats import off
+
+    rng = np.random.default_rng(corners)
+    vertices = rng.uniform(-1, 1, (40, 3))
+    polygons = np.array([rng.choice(40, corners, replace=False) for _ in range(30)])
+    lines = ["OFF", "40 30 0"] + [f"{x:.6f} {y:.6e} {z:.5f}" for x, y, z in vertices]
+    lines += [f"{corners} " + " ".join(map(str, polygon)) for polygon in polygons]
+    path = tmp_path / "plain.off"
+    path.write_bytes(ending.join(lines).encode() + ending.encode() + trailer.encode())
+
+    def read(block_bytes):
+        monkeypatch.setattr(off, "BLOCK_BYTES", block_bytes)
+        return off.read_off(path, path.stat().st_size).pieces[0]
+
+    whole_reads = []
+
+    def read_whole(*arguments):  # the whole-text readers' way in
+        whole_reads.append(arguments)
+        return read_text_bytes(*arguments)
+
+    with monkeypatch.context() as whole_text:
+        whole_text.setattr(off, "text_line_blocks", lambda *arguments: iter(()))  # no blocks: the whole text
+        expected = read(1 << 22)
+    monkeypatch.setattr(off, "read_text_bytes", read_whole)
+    for block_bytes in (2, 50, 1 << 22):
+        piece = read(block_bytes)
+        np.testing.assert_array_equal(piece.positions, expected.positions)
+        np.testing.assert_array_equal(piece.faces, expected.faces)
+    assert not whole_reads
+    for changed in (lines[:-1] + [lines[-1].replace(" ", "\n", 2)],  # the last face over lines
+                    lines[:5] + ["# a comment"] + lines[5:],
+                    lines[:-1] + [f"{corners} 0 1 " + " ".join(["99"] * (corners - 2))]):
+        path.write_bytes(ending.join(changed).encode() + ending.encode())
+        try:
+            read(50)
+        except MeshError as error:
+            assert "vertex 99" in str(error)
+        assert whole_reads
+        whole_reads.clear()

@@ -1,4 +1,5 @@
-"""OFF files (Geomview's Object File Format) read as a stream of tokens.
+"""OFF files (Geomview's Object File Format) read as a stream of tokens; the commonest,
+a vertex a line then a face a line, a block of lines at a time (bounded memory).
 
 The format is whitespace-separated: nothing ties a vertex or a face to one line, and
 libigl's writer breaks long faces over several lines, which trimesh (one face per line)
@@ -19,6 +20,7 @@ vertex line holds 6 or 7 numbers carries vertex colours (docs/real-world-files.m
 
 from __future__ import annotations
 
+import itertools
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,10 +28,11 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
-from ..files import read_text_bytes
+from ...scene.freed_memory import return_freed_memory
+from ..files import read_text_bytes, text_line_blocks
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import check_declared_counts
-from .number_text import tokens_as_numbers
+from .number_text import parse_floats, parse_numbers, tokens_as_numbers
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
 
@@ -65,6 +68,9 @@ def read_off(path: Path, file_size: int) -> MeshFile:
 
 def _read_arrays(path: Path, file_size: int) -> _OffArrays:
     where = f"mesh file {str(path)!r}"
+    plain = _plain_in_blocks(path, file_size, where)
+    if plain is not None:
+        return plain
     data = read_text_bytes(path, where, MeshError)  # a NUL byte: refused at once (2 GB of NULs took minutes)
     try:
         text = data.decode("utf-8")
@@ -144,6 +150,105 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
     if colors.max(initial=0.0) > 1.0:  # integer colours 0..255
         colors = colors / 255.0
     return np.clip(colors, 0.0, 1.0)
+
+
+# The blocks a plain OFF is read in (files.text_line_blocks): its tokens are never all
+# Python strings at once (a 2M-triangle OFF split into tokens peaked at 22x its arrays).
+BLOCK_BYTES = 4 << 20
+HEADER_BYTES = 1 << 16  # the most text before the counts (comments) read here; more, and the whole text is read
+
+
+def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | None:
+    """The commonest OFF read a block of lines at a time, without the whole text: plain
+    `OFF`, no comments, a vertex a line (x y z), then a face a line, every face the same
+    polygon without a colour, as `_uniform_faces` reads them (numbers read in C, polygons
+    fanned from their first corner). None for anything else, and for a file that turns out
+    otherwise on the way (a blank line, a colour, a comment, a bad index): the whole-text
+    readers below then read it, and name what is wrong."""
+    blocks = text_line_blocks(path, where, MeshError, BLOCK_BYTES)
+    first, header = b"", None
+    while header is None and len(first) <= HEADER_BYTES:  # the blocks up to the counts' line
+        block = next(blocks, None)
+        if block is None:
+            return None
+        first += block
+        try:
+            header = _header(first.decode("ascii"), where)
+        except UnicodeDecodeError:
+            return None
+        except MeshError as error:
+            if "ends in its header" not in str(error):
+                return None
+    if header is None:
+        return None
+    if header.keyword.group(0) != "OFF" or header.rest or not header.face_count:
+        return None
+    check_declared_counts(where, header.vertex_count, header.face_count, 6 * header.vertex_count + 8 * header.face_count, file_size)
+    vertices = np.empty((header.vertex_count, 3))
+    triangles: list[np.ndarray] = []
+    corners = None  # the polygon size, from the first face
+    read_vertices = read_faces = 0
+    for text in _texts(first[header.offset :], blocks):
+        if text is None or "#" in text:
+            return None
+        lines = text.split("\n")
+        if lines[-1] == "":
+            lines.pop()
+        wanted = min(len(lines), header.vertex_count - read_vertices)
+        if wanted:
+            values = parse_floats("\n".join(lines[:wanted]))
+            if values is None or values.size != 3 * wanted:
+                return None
+            vertices[read_vertices : read_vertices + wanted] = values.reshape(wanted, 3)
+            read_vertices += wanted
+        face_lines = lines[wanted:]
+        while face_lines and read_faces + len(face_lines) > header.face_count and not face_lines[-1].strip():
+            face_lines.pop()  # blank lines after the last face
+        if not face_lines:
+            continue
+        if read_faces + len(face_lines) > header.face_count:
+            return None
+        numbers = parse_numbers("\n".join(face_lines), np.int64)
+        if numbers is None or not numbers.size:
+            return None
+        corners = int(numbers[0]) if corners is None else corners
+        if not 3 <= corners <= header.vertex_count or numbers.size != (corners + 1) * len(face_lines):
+            return None
+        polygons = numbers.reshape(len(face_lines), corners + 1)
+        if (polygons[:, 0] != corners).any() or polygons[:, 1:].min() < 0 or polygons[:, 1:].max() >= header.vertex_count:
+            return None
+        fan = np.arange(1, corners - 1)  # triangle (0, k, k + 1) of each polygon, k = 1 .. corners - 2
+        first_corner = np.broadcast_to(polygons[:, 1:2], (len(polygons), len(fan)))
+        triangles.append(np.stack([first_corner, polygons[:, fan + 1], polygons[:, fan + 2]], axis=2).reshape(-1, 3).astype(np.int32))
+        read_faces += len(face_lines)
+    if read_vertices != header.vertex_count or read_faces != header.face_count:
+        return None
+    arrays = _OffArrays(vertices, _joined(triangles), None, None, None)
+    if len(first) > header.offset and file_size > BLOCK_BYTES:  # several blocks: their temporaries given back
+        return_freed_memory()
+    return arrays
+
+
+def _texts(start: bytes, blocks):
+    """The text of the first block after the header, then of every block; None for a block
+    that is not ASCII (a plain OFF's numbers are: the whole-text readers take any other)."""
+    for block in itertools.chain([start], blocks):
+        try:
+            yield block.decode("ascii")
+        except UnicodeDecodeError:
+            yield None
+
+
+def _joined(blocks: list[np.ndarray]) -> np.ndarray:
+    """The blocks' rows in one array, each block let go once copied."""
+    joined = np.empty((sum(len(block) for block in blocks), 3), np.int32)
+    start = 0
+    blocks.reverse()
+    while blocks:
+        block = blocks.pop()
+        joined[start : start + len(block)] = block
+        start += len(block)
+    return joined
 
 
 def _uniform_faces(text: str, header: _Header) -> _OffArrays | None:
