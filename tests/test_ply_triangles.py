@@ -194,3 +194,75 @@ def test_reading_a_big_mesh_takes_little_more_than_its_arrays(tmp_path):
     np.testing.assert_array_equal(piece.positions, positions)
     np.testing.assert_array_equal(piece.faces, faces)
     assert peak < 1.25 * arrays, f"peak {peak / arrays:.2f}x the arrays"
+
+
+def write_ascii_ply(path: Path, *, position="float", normals=None, colors=(), extras=(), faces=None, ending="\n",
+                    between="", after="") -> Path:
+    """The octahedron as an ASCII PLY with the given property types; `between` goes after the
+    vertex lines, `after` after the face lines."""
+    positions, octahedron = _octahedron()
+    faces = octahedron.tolist() if faces is None else faces
+    rng = np.random.default_rng(11)
+    header = ["ply", "format ascii 1.0", f"element vertex {len(positions)}"] + [f"property {position} {axis}" for axis in "xyz"]
+    header += [f"property {normals} {axis}" for axis in ("nx", "ny", "nz")] if normals else []
+    header += [f"property uchar {name}" for name in colors] + [f"property {kind} {name}" for name, kind in extras]
+    header += [f"element face {len(faces)}", "property list uchar int vertex_indices", "end_header"]
+    rows = []
+    for point in positions * 1e-3:  # exponents: 1.00000000e-04
+        row = [f"{value:.8e}" for value in point]
+        row += [f"{value:.7g}" for value in point / np.linalg.norm(point) * 1.3] if normals else []
+        row += [str(int(rng.integers(0, 256))) for _ in colors]
+        row += [str(int(rng.integers(0, 9))) if kind in ("int", "uchar") else f"{rng.random():.6f}" for _, kind in extras]
+        rows.append(" ".join(row))
+    lines = header + rows + ([between] if between else []) + [f"{len(face)} " + " ".join(map(str, face)) for face in faces]
+    path.write_bytes((ending.join(lines) + ending + after).encode())
+    return path
+
+
+ASCII_LAYOUTS = {
+    "floats": {},
+    "doubles, CR LF": {"position": "double", "ending": "\r\n"},
+    "normals and RGBA": {"normals": "float", "colors": ("red", "green", "blue", "alpha")},
+    "MeshLab's flags and quality": {"extras": (("flags", "int"), ("quality", "double")), "colors": ("red", "green", "blue")},
+    "blank lines at the end": {"after": "\n  \n"},
+}
+
+
+def _through_trimesh_ascii(path: Path):
+    with mock.patch.object(ply, "read_ascii_triangles", lambda path, header, where: None):
+        return load_mesh(path)
+
+
+@pytest.mark.parametrize("block_bytes", [2, 1 << 22])
+@pytest.mark.parametrize("options", ASCII_LAYOUTS.values(), ids=ASCII_LAYOUTS.keys())
+def test_ascii_ply_meshes_read_in_blocks_of_lines_give_trimeshs_mesh(tmp_path, monkeypatch, options, block_bytes):
+    from wgpu_shading.assets.mesh_formats import ply_ascii_triangles
+
+    path = write_ascii_ply(tmp_path / "mesh.ply", **options)
+    monkeypatch.setattr(ply_ascii_triangles, "BLOCK_BYTES", block_bytes)
+    header = read_ply_header(path, "mesh")
+    assert ply_ascii_triangles.read_ascii_triangles(path, header, "mesh") is not None
+    _assert_same_mesh(load_mesh(path), _through_trimesh_ascii(path))
+
+
+ASCII_OTHERS = {
+    "quads": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]]},
+    "a blank line among the rows": {"between": " "},
+    "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
+}
+
+
+@pytest.mark.parametrize("options", ASCII_OTHERS.values(), ids=ASCII_OTHERS.keys())
+def test_other_ascii_plys_still_go_to_trimesh(tmp_path, options):
+    from wgpu_shading.assets.mesh_formats import ply_ascii_triangles
+
+    path = write_ascii_ply(tmp_path / "mesh.ply", **options)
+    assert ply_ascii_triangles.read_ascii_triangles(path, read_ply_header(path, "mesh"), "mesh") is None
+    try:
+        expected = _through_trimesh_ascii(path)
+    except MeshError as error:
+        with pytest.raises(MeshError) as raised:
+            load_mesh(path)
+        assert str(raised.value) == str(error)
+        return
+    _assert_same_mesh(load_mesh(path), expected)

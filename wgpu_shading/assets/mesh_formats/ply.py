@@ -5,8 +5,8 @@ A binary PLY whose only non-empty element is `vertex` with scalar properties (wh
 scanners, Open3D, MeshLab and point-cloud-utils write) is read here in blocks of rows
 straight into the arrays a Mesh keeps: trimesh reads the whole file into memory, then makes
 float64 copies of it (a 10M-point cloud peaked at 2.5 GB; docs/primitives.md). A binary
-triangle mesh is read the same way by ply_triangles.py; any other PLY by trimesh
-(trimesh_reader.py).
+triangle mesh is read the same way by ply_triangles.py, an ASCII one a block of lines at a
+time by ply_ascii_triangles.py; any other PLY by trimesh (trimesh_reader.py).
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ import numpy as np
 
 from ...errors import MeshError
 from ..mesh_pieces import MeshFile, point_piece
+from .ply_ascii_triangles import read_ascii_triangles
 from .ply_edges import renamed_edge_file
 from .ply_header import PLY_TYPES, PlyHeader, ply_declared_counts, read_ply_header
 from .ply_triangles import read_triangles, triangle_layout
@@ -92,7 +93,7 @@ def read_ply(path: Path, file_size: int) -> MeshFile:
     declared = ply_declared_counts(path, where, file_size, header)
     if not is_binary_point_cloud(header):
         layout = triangle_layout(header, file_size)
-        triangles = read_triangles(path, layout, where) if layout is not None else None
+        triangles = read_triangles(path, layout, where) if layout is not None else read_ascii_triangles(path, header, where)
         if triangles is not None:
             return MeshFile([triangles])
         edges = renamed_edge_file(path, header.header_bytes) if header.count("edge") else None

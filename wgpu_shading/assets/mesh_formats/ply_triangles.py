@@ -55,11 +55,24 @@ def triangle_layout(header: PlyHeader, file_size: int) -> TriangleLayout | None:
     other PLY."""
     if header.format not in ("binary_little_endian", "binary_big_endian"):
         return None
+    rows = mesh_rows(header, "<" if header.format == "binary_little_endian" else ">")
+    if rows is None:
+        return None
+    vertex_row, face_row = rows
+    vertices, faces = header.count("vertex"), header.count("face")
+    if header.header_bytes + vertices * vertex_row.itemsize + faces * face_row.itemsize != file_size:
+        return None  # not triangles only (or truncated, or more after them): trimesh says which
+    return TriangleLayout(vertex_row, face_row, vertices, faces, header.header_bytes)
+
+
+def mesh_rows(header: PlyHeader, order: str) -> tuple[np.dtype, np.dtype] | None:
+    """A vertex row's and a triangle's record types (byte order `order`) when the header's
+    elements and properties are of the layout this module reads (the module docstring,
+    binary or not), else None."""
     filled = [element for element in header.elements if element.count]
     if [element.name for element in filled] != ["vertex", "face"]:
         return None
     vertex, face = filled
-    order = "<" if header.format == "binary_little_endian" else ">"
     names = [name for name, _, _ in vertex.properties]
     if len(set(names)) != len(names) or not {"x", "y", "z"} <= set(names) or TEXTURE_NAMES & set(names):
         return None
@@ -80,22 +93,15 @@ def triangle_layout(header: PlyHeader, file_size: int) -> TriangleLayout | None:
         return None
     vertex_row = np.dtype([(name, order + kind) for name, kind in kinds.items()])
     face_row = np.dtype([("count", order + PLY_TYPES[count_kind]), ("corners", order + PLY_TYPES[index_kind], (3,))])
-    if header.header_bytes + vertex.count * vertex_row.itemsize + face.count * face_row.itemsize != file_size:
-        return None  # not triangles only (or truncated, or more after them): trimesh says which
-    return TriangleLayout(vertex_row, face_row, vertex.count, face.count, header.header_bytes)
+    return vertex_row, face_row
 
 
 def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece | None:
     """The mesh of a PLY in `layout`, or None when some face turns out not to be a triangle
     (then trimesh reads the file). Indices are checked later, with every other reader's
     (mesh_pieces.py)."""
-    fields = layout.vertex.fields
-    positions = np.empty((layout.vertices, 3), _float_type(fields, "xyz"))
-    normals = np.empty((layout.vertices, 3), _float_type(fields, ("nx", "ny", "nz"))) if "nx" in fields else None
-    channels = [name for name in COLOR_NAMES if name in fields]
-    colors = np.empty((layout.vertices, len(channels)), np.uint8) if channels else None
-    index_kind = layout.face.fields["corners"][0].base
-    faces = np.empty((layout.faces, 3), np.uint32 if index_kind.kind == "u" and index_kind.itemsize == 4 else np.int32)
+    positions, normals, colors, faces = mesh_arrays(layout.vertex, layout.face, layout.vertices, layout.faces)
+    channels = [name for name in COLOR_NAMES if name in layout.vertex.fields]
     try:
         with open(path, "rb") as file:
             file.seek(layout.offset)
@@ -119,6 +125,21 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {layout.vertices} vertices and {layout.faces} faces") from None
     return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, layout.faces, None, path.name)])
+
+
+def mesh_arrays(vertex_row: np.dtype, face_row: np.dtype, vertices: int, faces: int):
+    """The arrays a mesh of these records is read into: positions and normals as float32
+    where the file's values are float32 (or small integers), else float64; RGB(A) uint8;
+    the faces' indices 32-bit, unsigned when the file's are (normals, colours None when
+    the file has none)."""
+    fields = vertex_row.fields
+    positions = np.empty((vertices, 3), _float_type(fields, "xyz"))
+    normals = np.empty((vertices, 3), _float_type(fields, ("nx", "ny", "nz"))) if "nx" in fields else None
+    channels = [name for name in COLOR_NAMES if name in fields]
+    colors = np.empty((vertices, len(channels)), np.uint8) if channels else None
+    index_kind = face_row.fields["corners"][0].base
+    triangles = np.empty((faces, 3), np.uint32 if index_kind.kind == "u" and index_kind.itemsize == 4 else np.int32)
+    return positions, normals, colors, triangles
 
 
 def _rows(file, row: np.dtype, count: int, where: str) -> np.ndarray:
