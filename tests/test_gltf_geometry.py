@@ -272,3 +272,24 @@ def test_hostile_skins_and_morph_targets_are_one_line_errors(tmp_path, capsys, p
         path.write_text(json.dumps(document))
     line = _cli(capsys, path)
     assert "skin.gltf" in line and all(word in line for word in words), line
+
+
+def test_a_read_lets_go_of_the_files_binary_data_and_still_gives_its_lights_and_cameras():
+    """read_gltf keeps the parsed document for the MeshFile's lights and cameras, and lets
+    go of the binary data and the float64 accessors once the pieces are made (a 10M-triangle
+    GLB was 5x its arrays while the Mesh was built); an accessor read after that is an error."""
+    from wgpu_shading.assets.gltf.document import GltfData
+    from wgpu_shading.assets.gltf.reader import posed_gltf, read_gltf
+
+    path = Path(__file__).parent / "data" / "real" / "cubevc.glb"
+    whole = posed_gltf(GltfData(path))
+    read = read_gltf(path)
+    for ours, kept in zip(read.pieces, whole.pieces):
+        np.testing.assert_array_equal(ours.positions, kept.positions)
+        np.testing.assert_array_equal(ours.faces, kept.faces)
+    assert read.lights() == whole.lights()
+    data = GltfData(path)
+    posed_gltf(data)
+    data.forget_binary_data()
+    with pytest.raises(RuntimeError, match="let go"):
+        data.accessor(0, "accessors[0]")

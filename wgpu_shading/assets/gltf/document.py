@@ -111,6 +111,7 @@ class GltfData:
         self._buffers: dict[int, bytes] = {}
         self._accessors: dict[int, np.ndarray] = {}
         self._decoded_views: dict[object, bytes] = {}
+        self._forgotten = False  # forget_binary_data() was called
         # reader.py's classic materials, made (their textures decoded) once however many times
         # the document is posed (an animation's frames: assets/animation_frames.py)
         self.materials: dict[tuple, object] = {}
@@ -177,6 +178,8 @@ class GltfData:
     def buffer(self, index: object, field: str) -> bytes:
         if index in self._buffers:
             return self._buffers[index]
+        if self._forgotten:
+            raise RuntimeError(f"{self.path}: its binary data was let go (forget_binary_data) before {field} was read")
         entry = self.item("buffers", index, field)
         where = f"buffers[{index}]"
         length = self.integer(entry.get("byteLength"), f"{where}.byteLength", 1)
@@ -226,6 +229,19 @@ class GltfData:
         return bytes(data[start : start + length])
 
     # ------------------------------------------------------------------ accessors
+
+    def forget_binary_data(self) -> None:
+        """Let go of the file's binary data and what was read from it (buffers, accessors,
+        decoded views): the document's JSON stays, which is all its lights and cameras read.
+        Once a read's pieces are made, what they need is in them, and a big mesh's buffers
+        and float64 accessors, kept for the lights and cameras' sake, were twice its arrays
+        while the Mesh was built (docs/performance.md, "Loading a large mesh"). Reading an
+        accessor afterwards is an error."""
+        self._accessors.clear()
+        self._buffers.clear()
+        self._decoded_views.clear()
+        self.binary = None
+        self._forgotten = True
 
     def accessor(self, index: object, field: str) -> np.ndarray:
         """An accessor's elements as an (count, width) array: float64 for floats and

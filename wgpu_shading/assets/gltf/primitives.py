@@ -170,10 +170,10 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
     # KHR_mesh_quantization allows integer positions, normals and uvs: placed as floats
     if arrays["TANGENT"] is not None and (arrays["TANGENT"].ndim != 2 or arrays["TANGENT"].shape[1] != 4):
         arrays["TANGENT"] = None  # a Draco TANGENT of another shape: the derivative frame instead
-    for name in ("NORMAL", "TANGENT") + _UV_SET_NAMES:
+    for name in ("NORMAL", "TANGENT") + _UV_SET_NAMES:  # (accessors are float64 already: no copy of them)
         if arrays.get(name) is not None:
-            arrays[name] = arrays[name].astype(np.float64)
-    arrays["POSITION"] = positions.astype(np.float64)
+            arrays[name] = arrays[name].astype(np.float64, copy=False)
+    arrays["POSITION"] = positions.astype(np.float64, copy=False)
     arrays["kind"] = PRIMITIVE_OF_MODE.get(mode, "triangles")
     if arrays["kind"] == "points":  # every listed vertex a point (in index order, after morphing: _listed_points)
         arrays["faces"] = None

@@ -33,7 +33,10 @@ from .punctual_lights import gltf_lights
 def read_gltf(path: Path, file_size: int | None = None, animation: tuple[float, int | str] | None = None) -> MeshFile:
     """A .gltf or .glb file (its size is checked by GltfData against what it declares);
     animation: (time in seconds, animation index or "all") to pose it at (animations.py)."""
-    return posed_gltf(GltfData(path), animation)
+    data = GltfData(path)
+    posed = posed_gltf(data, animation)
+    data.forget_binary_data()  # (the lights and cameras it keeps it for read only the document)
+    return posed
 
 
 def posed_gltf(data: GltfData, animation: tuple[float, int | str] | None = None) -> MeshFile:
