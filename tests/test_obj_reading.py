@@ -319,7 +319,7 @@ def test_a_file_read_in_blocks_of_a_few_bytes_is_the_file_read_whole(tmp_path, s
     blocks, so blocks of a line or a few give the same pieces, warnings and errors."""
     import warnings
 
-    from wgpu_shading.assets.mesh_formats import obj
+    from wgpu_shading.assets import files
     from wgpu_shading.assets.mesh_formats.obj import read_obj
 
     rng = np.random.default_rng(700 + seed)
@@ -330,7 +330,7 @@ def test_a_file_read_in_blocks_of_a_few_bytes_is_the_file_read_whole(tmp_path, s
     path.write_bytes(text.encode())
 
     def read(block_bytes: int):
-        monkeypatch.setattr(obj, "BLOCK_BYTES", block_bytes)
+        monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
@@ -367,7 +367,6 @@ def test_a_big_obj_is_read_in_a_few_times_its_arrays(tmp_path, monkeypatch):
     import tracemalloc
 
     from wgpu_shading.assets import files
-    from wgpu_shading.assets.mesh_formats import obj
     from wgpu_shading.assets.mesh_formats.obj import read_obj
 
     side = 200  # 40,000 vertices, 79,202 triangles, 2.6 MB of text
@@ -379,7 +378,7 @@ def test_a_big_obj_is_read_in_a_few_times_its_arrays(tmp_path, monkeypatch):
     path = tmp_path / "grid.obj"
     path.write_text("".join(f"v {x:.6f} {y:.6f} {z:.6f}\n" for x, y, z in positions) + "".join(f"f {i} {j} {k}\n" for i, j, k in faces))
     monkeypatch.setattr(files, "TEXT_CHUNK", 1 << 18)
-    monkeypatch.setattr(obj, "BLOCK_BYTES", 1 << 16)
+    monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", 1 << 16)
     tracemalloc.start()
     try:
         (piece,) = read_obj(path).pieces

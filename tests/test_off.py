@@ -150,6 +150,7 @@ def test_a_plain_off_read_a_block_of_lines_at_a_time_is_the_file_read_whole(tmp_
     never split into a Python string per number: blocks of a line or a few give the
     vertices and fans the whole-text reading gives, and files it does not take (a face
     over two lines, a comment, a bad index) still read, or fail, as before."""
+    from wgpu_shading.assets import files
     from wgpu_shading.assets.files import read_text_bytes
     from wgpu_shading.assets.mesh_formats import off
 
@@ -162,7 +163,7 @@ def test_a_plain_off_read_a_block_of_lines_at_a_time_is_the_file_read_whole(tmp_
     path.write_bytes(ending.join(lines).encode() + ending.encode() + trailer.encode())
 
     def read(block_bytes):
-        monkeypatch.setattr(off, "BLOCK_BYTES", block_bytes)
+        monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
         return off.read_off(path, path.stat().st_size).pieces[0]
 
     whole_reads = []

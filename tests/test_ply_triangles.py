@@ -241,10 +241,11 @@ def _through_trimesh_ascii(path: Path):
 @pytest.mark.parametrize("block_bytes", [2, 1 << 22])
 @pytest.mark.parametrize("options", ASCII_LAYOUTS.values(), ids=ASCII_LAYOUTS.keys())
 def test_ascii_ply_meshes_read_in_blocks_of_lines_give_trimeshs_mesh(tmp_path, monkeypatch, options, block_bytes):
+    from wgpu_shading.assets import files
     from wgpu_shading.assets.mesh_formats import ply_ascii_triangles
 
     path = write_ascii_ply(tmp_path / "mesh.ply", **options)
-    monkeypatch.setattr(ply_ascii_triangles, "BLOCK_BYTES", block_bytes)
+    monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
     header = read_ply_header(path, "mesh")
     assert ply_ascii_triangles.read_ascii_triangles(path, header, "mesh") is not None
     _assert_same_mesh(load_mesh(path), _through_trimesh_ascii(path))

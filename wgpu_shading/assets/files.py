@@ -64,13 +64,19 @@ def is_readable_regular_file(path: str | os.PathLike[str]) -> bool:
 TEXT_CHUNK = 16 << 20
 
 
+# The blocks of lines the OBJ, plain OFF and ASCII PLY readers take at a time: their lines
+# are Python strings (~60 bytes a line) a block at a time, never the whole file's.
+TEXT_BLOCK_BYTES = 4 << 20
+
+
 def text_line_blocks(path: str | os.PathLike[str], where: str, error: type[WgpuShadingError],
-                     block_bytes: int = TEXT_CHUNK) -> Iterator[bytes]:
-    """A text file's bytes in blocks of whole lines, about `block_bytes` each (a line longer
-    than that is one block), refused at the first NUL byte as read_text_bytes refuses it:
-    a reader that takes a block at a time never holds the whole text (a 2M-triangle OBJ is
-    75 MB). Every block but the last ends with a newline. UTF-16 text (a byte-order mark)
-    is read whole, as read_text_bytes reads it, and given as one block.
+                     block_bytes: int | None = None) -> Iterator[bytes]:
+    """A text file's bytes in blocks of whole lines, about `block_bytes` each (None:
+    TEXT_BLOCK_BYTES; a line longer than that is one block), refused at the first NUL byte
+    as read_text_bytes refuses it: a reader that takes a block at a time never holds the
+    whole text (a 2M-triangle OBJ is 75 MB). Every block but the last ends with a newline.
+    UTF-16 text (a byte-order mark) is read whole, as read_text_bytes reads it, and given as
+    one block.
 
     The file is read TEXT_CHUNK bytes at a time whatever the block size, one read ahead of
     the blocks given, so that a file of one chunk is read to its end (the last, empty read
@@ -78,6 +84,7 @@ def text_line_blocks(path: str | os.PathLike[str], where: str, error: type[WgpuS
     Reading the end only after the parsing, glibc's heap grew and shrank around the parser's
     temporaries at every file: 6,200 instead of 1,400 page faults and 42 instead of 32 ms
     to read the bunny's OBJ, in a new process (docs/performance.md, "Loading a large mesh")."""
+    block_bytes = TEXT_BLOCK_BYTES if block_bytes is None else block_bytes
     offset = 0  # bytes of the file read so far
     carry: list[bytes] = []  # the unfinished last line of what was read (joined once it ends)
     with open(path, "rb") as file:
@@ -97,9 +104,9 @@ def text_line_blocks(path: str | os.PathLike[str], where: str, error: type[WgpuS
             text = b"".join(carry + [chunk]) if carry else chunk
             start = 0
             while True:
-                end = text.rfind(b"\n", start, start + max(block_bytes, 1)) + 1 if len(text) - start > block_bytes else 0
-                if end <= start:  # the rest fits in a block, or its first line is longer than one
-                    end = text.rfind(b"\n", start) + 1 if len(text) - start <= block_bytes else text.find(b"\n", start) + 1
+                end = text.rfind(b"\n", start, start + block_bytes) + 1  # the last line end within a block
+                if end <= start:  # none: the next line is longer than a block
+                    end = text.find(b"\n", start) + 1
                 if end <= start:  # no line ends here: the line goes on in the next chunk
                     break
                 yield text[start:end]

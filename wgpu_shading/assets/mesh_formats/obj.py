@@ -27,15 +27,11 @@ from ...scene.freed_memory import return_freed_memory
 from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import text_line_blocks
 from ..mesh_pieces import MeshFile, MeshPiece
+from .line_sections import joined
 from .mtl import read_mtl_files
 from .obj_blocks import ObjContent
 from .obj_elements import bare_points, obj_elements
 from .obj_faces import ear_clip_concave
-
-
-# The blocks the text is read in (files.text_line_blocks): the lines of one block are
-# Python strings at a time (~60 bytes a line), never the whole file's.
-BLOCK_BYTES = 4 << 20
 
 
 def _without_byte_order_mark(data: bytes) -> bytes:
@@ -64,7 +60,7 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     name = str(path)
     content = ObjContent(name, MAX_VERTICES, MAX_TRIANGLES)
     blocks = 0
-    for blocks, block in enumerate(text_line_blocks(path, f"mesh file {name!r}", MeshError, BLOCK_BYTES), 1):
+    for blocks, block in enumerate(text_line_blocks(path, f"mesh file {name!r}", MeshError), 1):
         content.read_block(_with_newlines(_without_byte_order_mark(block)) if blocks == 1 else block)
     vertices, polygons = content.counts["v "], content.polygons
     if content.over_limit:  # (each block past the limit only counted)
@@ -91,22 +87,13 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     for run in content.runs:  # concave polygons cut again (a degenerate one may give fewer triangles)
         if run.polygon is not None:
             run.corners, run.polygon = ear_clip_concave(run.corners, run.polygon, v[:, :3]), None
-    # Every run's corners in one array, each run let go once copied: the corners are never
-    # all in memory twice.
     run_triangles = [len(run.corners) for run in content.runs]
     run_materials = [run.material or "" for run in content.runs]
     flat_faces = np.repeat([run.flat for run in content.runs], run_triangles).astype(bool)
-    # (np.empty: its pages are taken as the runs are copied in, while the runs' are given back)
-    corners = np.empty((sum(run_triangles), 3, max(run.corners.shape[2] for run in content.runs)), np.int32)
-    start = 0
-    content.runs.reverse()
-    while content.runs:
-        run = content.runs.pop()
-        rows = slice(start, start + len(run.corners))
-        corners[rows, :, : run.corners.shape[2]] = run.corners
-        corners[rows, :, run.corners.shape[2] :] = -1  # a run without vt and vn among runs with them
-        start += len(run.corners)
-        del run
+    # Every run's corners in one array, each let go once copied (−1: a run without vt and vn)
+    corner_blocks = [run.corners for run in content.runs]
+    content.runs.clear()  # (so that joined() lets each go once copied)
+    corners = joined(corner_blocks, np.int32, fill=-1)
     # Distinct (v, vt, vn) combinations become vertices.
     has_uv = bool(len(vt)) and corners.shape[2] > 1 and bool((corners[:, :, 1] >= 0).all())
     has_normal = bool(len(vn)) and corners.shape[2] > 1 and bool((corners[:, :, 2] >= 0).all())
@@ -118,9 +105,7 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     same = all(np.array_equal(columns[0], column) for column in columns[1:])
     # One index per corner for every attribute (exporters that write per-vertex uvs and
     # normals, and scans with neither): the vertices are the v lines, in order.
-    if same and len(v) >= len(vt) * has_uv and len(v) >= len(vn) * has_normal and not (
-        has_uv and len(vt) < len(v) or has_normal and len(vn) < len(v)
-    ):
+    if same and (not has_uv or len(vt) == len(v)) and (not has_normal or len(vn) == len(v)):
         faces = columns[0].reshape(-1, 3)
         del columns, corners
         positions = np.ascontiguousarray(v[:, :3])

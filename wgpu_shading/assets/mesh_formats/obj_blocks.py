@@ -1,4 +1,4 @@
-"""An OBJ file read a block of whole lines at a time (files.text_line_blocks, 16 MiB each):
+"""An OBJ file read a block of whole lines at a time (files.text_line_blocks, 4 MiB each):
 each block's lines classified by their first two bytes in numpy, its `v`/`vt`/`vn` numbers
 and its face runs read, and only the arrays kept. The text, a Python string per line of a
 block, is let go block by block: a 2M-triangle OBJ (75 MB) held 250 MB of line strings
@@ -18,8 +18,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...errors import MeshError
+from .line_sections import joined
 from .number_text import parse_floats, read_in_blocks
-from .obj_faces import FaceRun, run_corners
+from .obj_faces import FaceRun, run_corners, triangles_only
 
 NUMBER_LINES_AT_ONCE = 1 << 16  # v/vt/vn lines read together: bounded temporaries (a few bytes a character)
 KINDS = (("v ", 3), ("vt", 2), ("vn", 3))  # the number lines: keyword, numbers kept
@@ -114,7 +115,7 @@ class ObjContent:
             except MeshError as error:
                 self.errors["f"] = error
                 return
-            self.runs.append(FaceRunCorners(material, flat, _compact(corners), None if _triangles_only(polygon) else polygon))
+            self.runs.append(FaceRunCorners(material, flat, _compact(corners), None if triangles_only(polygon) else polygon))
 
     def _state(self, lines: list[str], state_lines: np.ndarray) -> list[tuple[int, str | None, bool]]:
         """The block's state changes in order, (line index, material, flat) from there on,
@@ -139,18 +140,9 @@ class ObjContent:
         r g b) in some blocks give every vertex a colour (white where a line had none), as
         the line-by-line reading does (_floats)."""
         blocks = self.numbers[keyword]
-        if len(blocks) == 1:
-            return blocks.pop()
-        width = max((block.shape[1] for block in blocks), default=dict(KINDS)[keyword])
-        numbers = np.empty((sum(len(block) for block in blocks), width))  # (its pages taken as blocks are given back)
-        start = 0
-        for index, block in enumerate(blocks):  # each block let go once copied: never all twice in memory
-            numbers[start : start + len(block), : block.shape[1]] = block
-            numbers[start : start + len(block), block.shape[1] :] = 1.0  # the colour of a v line without one: white
-            start += len(block)
-            blocks[index] = None
-        blocks.clear()
-        return numbers
+        if not blocks:
+            return np.zeros((0, dict(KINDS)[keyword]))
+        return blocks.pop() if len(blocks) == 1 else joined(blocks, np.float64, fill=1.0)  # (1.0: white)
 
 
 def _compact(corners: np.ndarray) -> np.ndarray:
@@ -159,11 +151,6 @@ def _compact(corners: np.ndarray) -> np.ndarray:
     if (corners[:, :, 1:] == -1).all():
         return corners[:, :, :1].astype(np.int32)
     return corners.astype(np.int32)
-
-
-def _triangles_only(polygon: np.ndarray) -> bool:
-    """Every face a triangle: the polygon numbers run 0, 1, ... one per triangle."""
-    return len(polygon) == 0 or len(polygon) == int(polygon[-1]) + 1
 
 
 def _numbers(lines: list[str], prefix: str) -> np.ndarray | None:

@@ -154,8 +154,8 @@ def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.nda
     own normal (its vector area, the sum of the fan's): then the corners lie in angular order
     around the first one. Otherwise (an L, a ring cut open by a slit, letters) the fan covers
     the concave notches, which f3d, Blender and assimp leave open."""
-    if len(corners) == 0 or len(polygon) == int(polygon[-1]) + 1:
-        return corners  # triangles only (polygon numbers run 0, 1, ... in order, one per triangle)
+    if len(corners) == 0 or triangles_only(polygon):
+        return corners
     points = positions[corners[:, :, 0]]
     areas = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
     count = int(polygon.max()) + 1
@@ -182,6 +182,11 @@ def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.nda
         start = stop
     pieces.append(corners[start:])
     return np.concatenate(pieces)
+
+
+def triangles_only(polygon: np.ndarray) -> bool:
+    """Every face a triangle: the polygon numbers of the triangles run 0, 1, ... one each."""
+    return len(polygon) == 0 or len(polygon) == int(polygon[-1]) + 1
 
 
 def resolve_positive(raw: np.ndarray, counts: np.ndarray) -> np.ndarray | None:

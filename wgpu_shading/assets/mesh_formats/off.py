@@ -29,9 +29,10 @@ import numpy as np
 
 from ...errors import MeshError
 from ...scene.freed_memory import return_freed_memory
-from ..files import read_text_bytes, text_line_blocks
+from ..files import TEXT_BLOCK_BYTES, read_text_bytes, text_line_blocks
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import check_declared_counts
+from .line_sections import ascii_texts, joined, vertex_and_face_lines
 from .number_text import parse_floats, parse_numbers, tokens_as_numbers
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
@@ -152,20 +153,19 @@ def _unit_colors(colors: np.ndarray) -> np.ndarray:
     return np.clip(colors, 0.0, 1.0)
 
 
-# The blocks a plain OFF is read in (files.text_line_blocks): its tokens are never all
-# Python strings at once (a 2M-triangle OFF split into tokens peaked at 22x its arrays).
-BLOCK_BYTES = 4 << 20
 HEADER_BYTES = 1 << 16  # the most text before the counts (comments) read here; more, and the whole text is read
 
 
 def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | None:
-    """The commonest OFF read a block of lines at a time, without the whole text: plain
-    `OFF`, no comments, a vertex a line (x y z), then a face a line, every face the same
-    polygon without a colour, as `_uniform_faces` reads them (numbers read in C, polygons
-    fanned from their first corner). None for anything else, and for a file that turns out
-    otherwise on the way (a blank line, a colour, a comment, a bad index): the whole-text
-    readers below then read it, and name what is wrong."""
-    blocks = text_line_blocks(path, where, MeshError, BLOCK_BYTES)
+    """The commonest OFF read a block of lines at a time (files.text_line_blocks), without
+    the whole text: its tokens are never all Python strings at once (a 2M-triangle OFF
+    split into tokens peaked at 22x its arrays). Plain `OFF`, no comments, a vertex a line
+    (x y z), then a face a line, every face the same polygon without a colour, as
+    `_uniform_faces` reads them (numbers read in C, polygons fanned from their first
+    corner). None for anything else, and for a file that turns out otherwise on the way (a
+    blank line, a colour, a comment, a bad index): the whole-text readers below then read
+    it, and name what is wrong."""
+    blocks = text_line_blocks(path, where, MeshError)
     first, header = b"", None
     while header is None and len(first) <= HEADER_BYTES:  # the blocks up to the counts' line
         block = next(blocks, None)
@@ -187,28 +187,23 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
     vertices = np.empty((header.vertex_count, 3))
     triangles: list[np.ndarray] = []
     corners = None  # the polygon size, from the first face
-    read_vertices = read_faces = 0
-    for text in _texts(first[header.offset :], blocks):
-        if text is None or "#" in text:
+    read_vertices = 0
+    texts = ascii_texts(itertools.chain([first], blocks), skip=header.offset)
+    for section in vertex_and_face_lines(texts, header.vertex_count, header.face_count):
+        if section is None:
             return None
-        lines = text.split("\n")
-        if lines[-1] == "":
-            lines.pop()
-        wanted = min(len(lines), header.vertex_count - read_vertices)
-        if wanted:
-            values = parse_floats("\n".join(lines[:wanted]))
-            if values is None or values.size != 3 * wanted:
+        vertex_lines, face_lines = section
+        if vertex_lines:
+            text = "\n".join(vertex_lines)
+            values = None if "#" in text else parse_floats(text)
+            if values is None or values.size != 3 * len(vertex_lines):
                 return None
-            vertices[read_vertices : read_vertices + wanted] = values.reshape(wanted, 3)
-            read_vertices += wanted
-        face_lines = lines[wanted:]
-        while face_lines and read_faces + len(face_lines) > header.face_count and not face_lines[-1].strip():
-            face_lines.pop()  # blank lines after the last face
+            vertices[read_vertices : read_vertices + len(vertex_lines)] = values.reshape(-1, 3)
+            read_vertices += len(vertex_lines)
         if not face_lines:
             continue
-        if read_faces + len(face_lines) > header.face_count:
-            return None
-        numbers = parse_numbers("\n".join(face_lines), np.int64)
+        text = "\n".join(face_lines)
+        numbers = None if "#" in text else parse_numbers(text, np.int64)
         if numbers is None or not numbers.size:
             return None
         corners = int(numbers[0]) if corners is None else corners
@@ -220,35 +215,10 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
         fan = np.arange(1, corners - 1)  # triangle (0, k, k + 1) of each polygon, k = 1 .. corners - 2
         first_corner = np.broadcast_to(polygons[:, 1:2], (len(polygons), len(fan)))
         triangles.append(np.stack([first_corner, polygons[:, fan + 1], polygons[:, fan + 2]], axis=2).reshape(-1, 3).astype(np.int32))
-        read_faces += len(face_lines)
-    if read_vertices != header.vertex_count or read_faces != header.face_count:
-        return None
-    arrays = _OffArrays(vertices, _joined(triangles), None, None, None)
-    if len(first) > header.offset and file_size > BLOCK_BYTES:  # several blocks: their temporaries given back
+    arrays = _OffArrays(vertices, joined(triangles, np.int32), None, None, None)
+    if file_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return arrays
-
-
-def _texts(start: bytes, blocks):
-    """The text of the first block after the header, then of every block; None for a block
-    that is not ASCII (a plain OFF's numbers are: the whole-text readers take any other)."""
-    for block in itertools.chain([start], blocks):
-        try:
-            yield block.decode("ascii")
-        except UnicodeDecodeError:
-            yield None
-
-
-def _joined(blocks: list[np.ndarray]) -> np.ndarray:
-    """The blocks' rows in one array, each block let go once copied."""
-    joined = np.empty((sum(len(block) for block in blocks), 3), np.int32)
-    start = 0
-    blocks.reverse()
-    while blocks:
-        block = blocks.pop()
-        joined[start : start + len(block)] = block
-        start += len(block)
-    return joined
 
 
 def _uniform_faces(text: str, header: _Header) -> _OffArrays | None:

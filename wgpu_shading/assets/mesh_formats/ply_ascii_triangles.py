@@ -18,13 +18,12 @@ import numpy as np
 
 from ...errors import MeshError
 from ...scene.freed_memory import return_freed_memory
-from ..files import text_line_blocks
+from ..files import TEXT_BLOCK_BYTES, text_line_blocks
 from ..mesh_pieces import MeshPiece
+from .line_sections import ascii_texts, vertex_and_face_lines
 from .number_text import parse_floats, parse_numbers
 from .ply_header import PlyHeader
 from .ply_triangles import COLOR_NAMES, mesh_arrays, mesh_rows
-
-BLOCK_BYTES = 4 << 20  # the blocks of lines read at a time (as an OBJ's)
 
 
 def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece | None:
@@ -39,19 +38,17 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
     columns = {name: names.index(name) for name in names}
     channels = [name for name in COLOR_NAMES if name in columns]
     vertices_read = faces_read = 0
-    for text in _texts(path, header.header_bytes, where):
-        if text is None:
+    texts = ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes)
+    for section in vertex_and_face_lines(texts, vertex_count, face_count):
+        if section is None:
             return None
-        lines = text.split("\n")
-        if lines[-1] == "":
-            lines.pop()
-        wanted = min(len(lines), vertex_count - vertices_read)
-        if wanted:
-            values = parse_floats("\n".join(lines[:wanted]))
-            if values is None or values.size != len(names) * wanted:
+        vertex_lines, face_lines = section
+        if vertex_lines:
+            values = parse_floats("\n".join(vertex_lines))
+            if values is None or values.size != len(names) * len(vertex_lines):
                 return None
-            values = values.reshape(wanted, len(names))
-            rows_read = slice(vertices_read, vertices_read + wanted)
+            values = values.reshape(len(vertex_lines), len(names))
+            rows_read = slice(vertices_read, vertices_read + len(vertex_lines))
             for column, axis in enumerate("xyz"):  # each value given its property's type first, as trimesh gives it
                 positions[rows_read, column] = values[:, columns[axis]].astype(vertex_row.fields[axis][0])
             if normals is not None:
@@ -62,14 +59,9 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
                 if channel_values.min() < 0 or channel_values.max() > 255 or (channel_values % 1).any():
                     return None
                 colors[rows_read, column] = channel_values
-            vertices_read += wanted
-        face_lines = lines[wanted:]
-        while face_lines and faces_read + len(face_lines) > face_count and not face_lines[-1].strip():
-            face_lines.pop()  # blank lines after the last face
+            vertices_read += len(vertex_lines)
         if not face_lines:
             continue
-        if faces_read + len(face_lines) > face_count:
-            return None
         numbers = parse_numbers("\n".join(face_lines), np.int64)
         if numbers is None or numbers.size != 4 * len(face_lines):
             return None
@@ -79,25 +71,6 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
             return None
         faces[faces_read : faces_read + len(face_lines)] = triangles[:, 1:]
         faces_read += len(face_lines)
-    if vertices_read != vertex_count or faces_read != face_count:
-        return None
-    if header.header_bytes + 4 * BLOCK_BYTES < path.stat().st_size:  # several blocks: their temporaries given back
+    if path.stat().st_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, face_count, None, path.name)])
-
-
-def _texts(path: Path, header_bytes: int, where: str):
-    """The text of the data's blocks of lines, past the header; None for a block that is
-    not ASCII (trimesh then reads the file)."""
-    blocks = text_line_blocks(path, where, MeshError, BLOCK_BYTES)
-    skipped = 0
-    for block in blocks:
-        if skipped < header_bytes:  # (the header is whole lines: a block ends at it or beyond)
-            block, skipped = block[header_bytes - skipped :], skipped + len(block)
-            if not block:
-                continue
-        try:
-            yield block.decode("ascii")
-        except UnicodeDecodeError:
-            yield None
-            return
