@@ -139,7 +139,7 @@ class Settings:
     dataset_views: int = 48
     dataset_sizes: tuple[int, ...] = (256, 512)
     dataset_passes: int = 3
-    file_triangles: int = 10_000_000  # memory: the binary STL and PLY and the OBJ loaded and rendered (issue #29: < 3x their arrays)
+    file_triangles: int = 10_000_000  # memory: the binary STL and PLY, the OBJ and the GLB loaded and rendered (issue #29: < 3x their arrays)
     shadow_sizes: tuple[int, ...] = (512,)  # benchmarks/shadows.py: a shadowed frame against pyrender and pygfx
 
 

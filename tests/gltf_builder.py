@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-FLOAT, USHORT, UINT = 5126, 5123, 5125  # glTF componentType
-_DTYPES = {FLOAT: np.float32, USHORT: np.uint16, UINT: np.uint32}
+FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125  # glTF componentType
+_DTYPES = {FLOAT: np.float32, UBYTE: np.uint8, USHORT: np.uint16, UINT: np.uint32}
 _TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4", 16: "MAT4"}
 
 

@@ -360,7 +360,7 @@ def test_a_file_read_in_blocks_of_a_few_bytes_is_the_file_read_whole(tmp_path, s
 def test_a_big_obj_is_read_in_a_few_times_its_arrays(tmp_path, monkeypatch):
     """A scan-like OBJ (plain `v` and `f a b c` lines) is read a block at a time: the text's
     line strings and int64 corners of the whole file are never held at once. tracemalloc's
-    peak, in the arrays the reader gives (float64 positions, int32 faces), with the file
+    peak, in the arrays the reader gives (float64 positions, uint32 faces), with the file
     read in chunks of 256 KiB and blocks of 64 KiB (16 MiB and 4 MiB scaled to this 2.6 MB
     file): 2.1x here; the reader that split the whole text into lines and kept every
     corner as three int64s peaked at 18x the same arrays."""

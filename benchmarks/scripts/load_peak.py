@@ -12,7 +12,8 @@ order of the torus's grid); `.ply`, a point cloud of COUNT points on a sphere as
 little-endian PLY (float x y z, float nx ny nz, uchar red green blue: 27 bytes a point, as
 scanners write them), or with --triangles the same torus as the STL's as a binary
 little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and MeshLab
-write a scan); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines. Then loads it and prints one JSON object: the mesh's arrays
+write a scan); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
+torus as a binary glTF with float32 normals (as Blender exports one). Then loads it and prints one JSON object: the mesh's arrays
 (positions + normals + indices + colours, what a Renderer uploads), the process's resident
 memory after imports (with --render: after the device and a small render too), its peak
 (VmHWM), and the peak above that baseline as a multiple of the mesh's arrays; with --render
@@ -97,7 +98,46 @@ def write_torus_obj(path: Path, triangles: int) -> None:
         np.savetxt(file, faces + 1, fmt="f %d %d %d")
 
 
-WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj}
+def write_torus_glb(path: Path, triangles: int) -> None:
+    """The torus as a binary glTF (GLB) as exporters write one: float32 POSITION and NORMAL,
+    uint32 indices, one node without a transform."""
+    import json
+
+    positions, faces = torus(triangles)
+    ring = positions.astype(np.float64)
+    ring[:, :2] /= np.linalg.norm(ring[:, :2], axis=1, keepdims=True)  # the point of the ring the tube is around
+    ring[:, 2] = 0.0
+    normals = positions - ring
+    normals = (normals / np.linalg.norm(normals, axis=1, keepdims=True)).astype(np.float32)
+    indices = faces.astype(np.uint32).reshape(-1)
+    views, offset = [], 0
+    for array, target in ((positions, 34962), (normals, 34962), (indices, 34963)):
+        views.append({"buffer": 0, "byteOffset": offset, "byteLength": array.nbytes, "target": target})
+        offset += array.nbytes
+    document = {
+        "asset": {"version": "2.0", "generator": "load_peak.py"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]}],
+        "buffers": [{"byteLength": offset}], "bufferViews": views,
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": len(positions), "type": "VEC3",
+             "min": positions.min(axis=0).tolist(), "max": positions.max(axis=0).tolist()},
+            {"bufferView": 1, "componentType": 5126, "count": len(normals), "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5125, "count": len(indices), "type": "SCALAR"},
+        ],
+    }
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    binary_length = offset + (-offset % 4)
+    with open(path, "wb") as file:
+        file.write(np.array([0x46546C67, 2, 12 + 8 + len(text) + 8 + binary_length], "<u4").tobytes())
+        file.write(np.array([len(text), 0x4E4F534A], "<u4").tobytes() + text)
+        file.write(np.array([binary_length, 0x004E4942], "<u4").tobytes())
+        for array in (positions, normals, indices):
+            array.tofile(file)
+        file.write(b"\0" * (binary_length - offset))
+
+
+WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj, ".glb": write_torus_glb}
 
 
 def status(key: str) -> int:

@@ -109,7 +109,7 @@ class GltfData:
         self.document = parse_json(text, path)
         self.notes: list[str] = []  # warnings for the user, said once the file is read (meshes.py)
         self._buffers: dict[int, bytes] = {}
-        self._accessors: dict[int, np.ndarray] = {}
+        self._accessors: dict[tuple[int, bool], np.ndarray] = {}
         self._decoded_views: dict[object, bytes] = {}
         self._forgotten = False  # forget_binary_data() was called
         # reader.py's classic materials, made (their textures decoded) once however many times
@@ -243,12 +243,16 @@ class GltfData:
         self.binary = None
         self._forgotten = True
 
-    def accessor(self, index: object, field: str) -> np.ndarray:
+    def accessor(self, index: object, field: str, as_stored: bool = False) -> np.ndarray:
         """An accessor's elements as an (count, width) array: float64 for floats and
         normalized integers (§3.11: c / (2^n − 1), signed ones clamped at −1), int64 for
-        integers; sparse substitutions applied."""
-        if isinstance(index, int) and index in self._accessors:
-            return self._accessors[index]
+        integers; sparse substitutions applied. `as_stored`: float32 stays float32 (a
+        read-only view of the file's bytes where it can be) and unsigned integers become
+        uint32, for a big mesh's positions, normals and indices: their float64 and int64
+        copies were most of a 10M-triangle load's peak (docs/performance.md, "Loading a large
+        mesh"). Its reader converts them to float64 itself, where it computes with them."""
+        if isinstance(index, int) and (index, as_stored) in self._accessors:
+            return self._accessors[index, as_stored]
         entry = self.item("accessors", index, field)
         where = f"accessors[{index}]"
         dtype = _lookup(_COMPONENTS, entry.get("componentType"))
@@ -278,9 +282,9 @@ class GltfData:
             values = np.zeros((count, width), dtype)
         if "sparse" in entry:
             values = self._apply_sparse(values, entry["sparse"], count, width, dtype, where)
-        values = self._convert(values, dtype, bool(entry.get("normalized", False)))
+        values = self._convert(values, dtype, bool(entry.get("normalized", False)), as_stored)
         if isinstance(index, int):
-            self._accessors[index] = values
+            self._accessors[index, as_stored] = values
         return values
 
     def _apply_sparse(self, values, sparse, count, width, dtype, where) -> np.ndarray:
@@ -309,7 +313,9 @@ class GltfData:
         return np.frombuffer(data, dtype, count * width, start + offset).reshape(count, width)
 
     @staticmethod
-    def _convert(values: np.ndarray, dtype: np.dtype, normalized: bool) -> np.ndarray:
+    def _convert(values: np.ndarray, dtype: np.dtype, normalized: bool, as_stored: bool) -> np.ndarray:
+        if as_stored and not normalized and dtype.kind in "fu":
+            return values if dtype.kind == "f" else values.astype(np.uint32)
         if dtype.kind == "f":
             return values.astype(np.float64)
         if normalized:

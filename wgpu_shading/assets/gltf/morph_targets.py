@@ -47,7 +47,7 @@ def apply_morph_targets(data: GltfData, primitive: dict, arrays: dict, weights: 
     for name in _MORPHED:
         if arrays.get(name) is None:
             continue
-        moved = arrays[name][:, :3].copy()
+        moved = arrays[name][:, :3].astype(np.float64)  # (a copy; POSITION and NORMAL may be stored float32)
         for index, (target, weight) in enumerate(zip(targets, weights)):
             if weight == 0.0 or name not in target:
                 continue

@@ -18,6 +18,7 @@ import numpy as np
 
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
+from ...scene.geometry.vertex_arrays import row_blocks
 from .document import MAX_GLTF_ITEMS, GltfData, gltf_error
 from .morph_targets import apply_morph_targets, morph_weights
 from .nodes import pose, scene_nodes, scene_roots, skin_matrices, world_matrices
@@ -78,10 +79,11 @@ def segments(mode: int, indices: np.ndarray) -> np.ndarray:
     return pairs
 
 
-def _attribute(data: GltfData, attributes: dict, name: str, where: str, count: int, widths: tuple[int, ...]) -> np.ndarray | None:
+def _attribute(data: GltfData, attributes: dict, name: str, where: str, count: int, widths: tuple[int, ...],
+               as_stored: bool = False) -> np.ndarray | None:
     if name not in attributes:
         return None
-    values = data.accessor(attributes[name], f"{where}.attributes.{name}")
+    values = data.accessor(attributes[name], f"{where}.attributes.{name}", as_stored)
     if values.shape[1] not in widths or len(values) != count:
         raise gltf_error(data.path, f"{where}.attributes.{name}", f"expected {count} elements of width {'/'.join(map(str, widths))}, got {values.shape[0]} of width {values.shape[1]}")
     if values.dtype.kind == "f" and not np.isfinite(values).all():
@@ -144,10 +146,10 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
         arrays = {name: decoded.get(name) for name in ("NORMAL", "TANGENT", "COLOR_0", "JOINTS_0", "WEIGHTS_0") + _UV_SET_NAMES}
         indices = decoded["indices"]
     else:
-        positions = _attribute(data, attributes, "POSITION", where, data.accessor(attributes["POSITION"], f"{where}.attributes.POSITION").shape[0], (3,))
+        positions = _attribute(data, attributes, "POSITION", where, data.accessor(attributes["POSITION"], f"{where}.attributes.POSITION", True).shape[0], (3,), True)
         count = len(positions)
         arrays = {
-            "NORMAL": _attribute(data, attributes, "NORMAL", where, count, (3,)),
+            "NORMAL": _attribute(data, attributes, "NORMAL", where, count, (3,), True),
             "TANGENT": _optional_tangents(data, attributes, where, count),
             **{name: _attribute(data, attributes, name, where, count, (2,)) for name in _UV_SET_NAMES},
             "COLOR_0": _attribute(data, attributes, "COLOR_0", where, count, (3, 4)),
@@ -159,8 +161,8 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
             arrays["JOINTS_0"] = np.concatenate([arrays["JOINTS_0"], extra[0]], axis=1)
             arrays["WEIGHTS_0"] = np.concatenate([arrays["WEIGHTS_0"], extra[1]], axis=1)
         if "indices" in primitive:
-            indices = data.accessor(primitive["indices"], f"{where}.indices")
-            if indices.shape[1] != 1 or indices.dtype.kind != "i":
+            indices = data.accessor(primitive["indices"], f"{where}.indices", as_stored=True)
+            if indices.shape[1] != 1 or indices.dtype.kind not in "iu":
                 raise gltf_error(data.path, f"{where}.indices", "expected an accessor of unsigned integer scalars")
             indices = indices.reshape(-1)
         else:
@@ -170,10 +172,11 @@ def _primitive_arrays(data: GltfData, primitive: dict, where: str) -> dict | Non
     # KHR_mesh_quantization allows integer positions, normals and uvs: placed as floats
     if arrays["TANGENT"] is not None and (arrays["TANGENT"].ndim != 2 or arrays["TANGENT"].shape[1] != 4):
         arrays["TANGENT"] = None  # a Draco TANGENT of another shape: the derivative frame instead
-    for name in ("NORMAL", "TANGENT") + _UV_SET_NAMES:  # (accessors are float64 already: no copy of them)
+    for name in ("TANGENT",) + _UV_SET_NAMES:  # (accessors are float64 already: no copy of them)
         if arrays.get(name) is not None:
             arrays[name] = arrays[name].astype(np.float64, copy=False)
-    arrays["POSITION"] = positions.astype(np.float64, copy=False)
+    # POSITION and NORMAL as stored (float32, or integers): _instance places them in float64.
+    arrays["POSITION"] = positions
     arrays["kind"] = PRIMITIVE_OF_MODE.get(mode, "triangles")
     if arrays["kind"] == "points":  # every listed vertex a point (in index order, after morphing: _listed_points)
         arrays["faces"] = None
@@ -242,12 +245,12 @@ def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPi
     if skin is not None and arrays["JOINTS_0"] is not None and arrays["WEIGHTS_0"] is not None:
         tangents = None  # not posed: skinned primitives keep the derivative frame
         positions, normals = pose(skin, arrays["JOINTS_0"].astype(np.int64), arrays["WEIGHTS_0"].astype(np.float64),
-                                  positions, normals, f"{where}.attributes.JOINTS_0", data)
+                                  _float64(positions), _float64(normals), f"{where}.attributes.JOINTS_0", data)
     elif matrix is not None:
         linear = matrix[:3, :3]
-        positions = positions @ linear.T + matrix[:3, 3]
+        positions = _transformed(positions, linear.T, matrix[:3, 3])
         if normals is not None:
-            normals = normals @ np.linalg.inv(linear)  # the inverse transpose, applied to rows
+            normals = _transformed(normals, np.linalg.inv(linear))  # the inverse transpose, applied to rows
         if tangents is not None:  # tangents follow the surface (the matrix); a mirror flips w
             tangents = np.concatenate([tangents[:, :3] @ linear.T, tangents[:, 3:] * np.sign(np.linalg.det(linear))], axis=1)
         if np.linalg.det(linear) < 0 and arrays["kind"] == "triangles":
@@ -260,7 +263,24 @@ def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPi
         if colors.shape[1] == 3:
             colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
         colors = np.clip(colors, 0.0, 1.0)
-    return GltfPiece(positions, faces, normals, uv_sets, colors, primitive, str(name), key, tangents, arrays["kind"])
+    return GltfPiece(_float64(positions), faces, _float64(normals), uv_sets, colors, primitive, str(name), key, tangents, arrays["kind"])
+
+
+def _float64(values: np.ndarray | None) -> np.ndarray | None:
+    return None if values is None else values.astype(np.float64, copy=False)
+
+
+def _transformed(values: np.ndarray, right: np.ndarray, translation: np.ndarray | None = None) -> np.ndarray:
+    """float64(values) @ right + translation, a block of rows at a time into one float64
+    array: no float64 copy of the stored float32 values, nor a temporary per operation.
+    Each row's product is the one the whole array's product gives (the same operands,
+    and one BLAS call a block: the same bits, tests/test_gltf_large.py)."""
+    out = np.empty((len(values), right.shape[1]))
+    for rows in row_blocks(len(values)):
+        out[rows] = values[rows].astype(np.float64) @ right
+    if translation is not None:
+        out += translation
+    return out
 
 
 def material_images(data: GltfData, material: dict, warn_name: str):

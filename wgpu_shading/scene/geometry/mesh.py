@@ -308,7 +308,7 @@ class Mesh:
         elif normals is None:
             unit_normals = vertex_normals(positions, faces)
         else:
-            unit_normals = validated_normals(np.asarray(normals, dtype=np.float64), positions, faces, name)
+            unit_normals = validated_normals(np.asarray(normals), positions, faces, name)
         if normals is None:
             tangents = None  # tangents belong to the file's normals
         if tangents is not None:

@@ -14,7 +14,8 @@ import numpy as np
 BLOCK_ROWS = 1 << 16  # 65,536 rows: a few MB of float64 temporaries
 
 
-def _blocks(count: int):
+def row_blocks(count: int):
+    """Slices of at most BLOCK_ROWS rows covering `count` rows, in order."""
     for start in range(0, count, BLOCK_ROWS):
         yield slice(start, min(start + BLOCK_ROWS, count))
 
@@ -22,7 +23,7 @@ def _blocks(count: int):
 def relative_positions(positions: np.ndarray, origin: np.ndarray) -> np.ndarray:
     """float32 positions − origin, computed in float64."""
     out = np.empty(positions.shape, np.float32)
-    for rows in _blocks(len(positions)):
+    for rows in row_blocks(len(positions)):
         out[rows] = positions[rows].astype(np.float64) - origin
     return out
 
@@ -37,7 +38,7 @@ def unit_colors(colors: np.ndarray) -> np.ndarray:
     is 1, NaN is 1."""
     out = np.ones((len(colors), 4), np.float32)
     columns = colors.shape[1]
-    for rows in _blocks(len(colors)):
+    for rows in row_blocks(len(colors)):
         block = colors[rows].astype(np.float32)
         if colors.dtype.kind in "iu":
             block /= 255.0
@@ -49,7 +50,7 @@ def unit_or_zero_normals(normals: np.ndarray) -> np.ndarray:
     """(N, 3) normals made unit length; NaN, infinite or zero ones become zero (for
     vertices of no triangle: a point without a normal is drawn unlit)."""
     out = np.zeros(normals.shape, np.float32)
-    for rows in _blocks(len(normals)):
+    for rows in row_blocks(len(normals)):
         block = normals[rows].astype(np.float64)
         finite = np.isfinite(block).all(axis=1)
         block[~finite] = 0.0

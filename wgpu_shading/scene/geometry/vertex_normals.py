@@ -11,6 +11,7 @@ import numpy as np
 
 from ...errors import MeshError
 from .crease_normals import face_normals
+from .vertex_arrays import row_blocks
 
 
 def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -50,19 +51,37 @@ def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 
 def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndarray, name: str) -> np.ndarray:
+    """The given (N, 3) normals as float32 unit vectors: already unit ones (within 1e-9, all
+    of them: computed ones, most files) as given, otherwise each made unit length in float64,
+    with computed ones where a given one has no direction. Converted a block of rows at a
+    time: a float64 copy of 10M vertices' normals would be half the mesh again."""
     if normals.shape != positions.shape:
         raise MeshError(f"{name}: normals must have shape {positions.shape}, got {normals.shape}")
-    squared = np.einsum("ij,ij->i", normals, normals)
-    if np.all(np.abs(squared - 1.0) < 1e-9):  # already unit (and so finite): computed ones, most files
-        return normals
-    finite = np.isfinite(normals).all(axis=1)
-    length = np.linalg.norm(np.where(finite[:, None], normals, 0.0), axis=1)
-    usable = finite & (length > 1e-20)
-    result = np.zeros_like(normals)
-    result[usable] = normals[usable] / length[usable, None]
+    if normals.dtype.kind not in "iuf":
+        normals = np.asarray(normals, dtype=np.float64)  # what cannot be a number fails here, as before
+    blocks = list(row_blocks(len(normals)))
+    out = np.empty(normals.shape, np.float32)
+    if all(_all_unit(normals[rows].astype(np.float64, copy=False)) for rows in blocks):
+        for rows in blocks:
+            out[rows] = normals[rows].astype(np.float64, copy=False)
+        return out
+    usable = np.empty(len(normals), bool)
+    for rows in blocks:
+        block = normals[rows].astype(np.float64, copy=False)
+        finite = np.isfinite(block).all(axis=1)
+        length = np.linalg.norm(np.where(finite[:, None], block, 0.0), axis=1)
+        usable[rows] = finite & (length > 1e-20)
+        unit = np.zeros_like(block)
+        unit[usable[rows]] = block[usable[rows]] / length[usable[rows], None]
+        out[rows] = unit
     if not usable.all():
         # Zero-length or NaN normals in the input: replace those with computed ones
         # rather than let normalize(0) reach the shader.
         computed = vertex_normals(positions, faces)
-        result[~usable] = computed[~usable]
-    return result
+        out[~usable] = computed[~usable]
+    return out
+
+
+def _all_unit(normals: np.ndarray) -> bool:
+    squared = np.einsum("ij,ij->i", normals, normals)
+    return bool(np.all(np.abs(squared - 1.0) < 1e-9))
