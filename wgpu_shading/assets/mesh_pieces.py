@@ -80,7 +80,7 @@ def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:
     return replace(
         piece,
         positions=piece.positions[corners],
-        faces=np.arange(len(corners)).reshape(-1, 3),
+        faces=_numbered_corners(len(piece.faces)),
         normals=None if piece.normals is None else piece.normals[corners],
         uvs=None if piece.uvs is None else piece.uvs[corners],
         colors=np.repeat(face_colors, 3, axis=0),
@@ -101,7 +101,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
         return replace(
             piece,
             positions=piece.positions[corners],
-            faces=np.arange(len(corners)).reshape(-1, 3),
+            faces=_numbered_corners(len(piece.faces)),
             normals=np.repeat(unit, 3, axis=0),
             uvs=None if piece.uvs is None else piece.uvs[corners],
             colors=None if piece.colors is None else piece.colors[corners],
@@ -119,6 +119,15 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
         colors=None if piece.colors is None else piece.colors[source],
         extra_uvs=None if piece.extra_uvs is None else piece.extra_uvs[source],
     )
+
+
+def _numbered_corners(count: int) -> np.ndarray:
+    """(count, 3) triangles 0 1 2, 3 4 5, ...: uint32, read-only and owning its memory,
+    which a Mesh keeps as its indices without a copy (scene/geometry/mesh.py, owned)."""
+    faces = np.empty((count, 3), np.uint32)
+    faces.reshape(-1)[:] = np.arange(3 * count, dtype=np.uint32)
+    faces.setflags(write=False)
+    return faces
 
 
 def _check_piece(piece: MeshPiece, name: str) -> None:

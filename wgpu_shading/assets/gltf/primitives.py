@@ -263,23 +263,39 @@ def _instance(data, arrays, primitive, where, matrix, skin, key, name) -> GltfPi
         if colors.shape[1] == 3:
             colors = np.concatenate([colors, np.ones((len(colors), 1))], axis=1)
         colors = np.clip(colors, 0.0, 1.0)
-    return GltfPiece(_float64(positions), faces, _float64(normals), uv_sets, colors, primitive, str(name), key, tangents, arrays["kind"])
+    return GltfPiece(_floats(positions), faces, _floats(normals), uv_sets, colors, primitive, str(name), key, tangents, arrays["kind"])
 
 
 def _float64(values: np.ndarray | None) -> np.ndarray | None:
     return None if values is None else values.astype(np.float64, copy=False)
 
 
+def _floats(values: np.ndarray | None) -> np.ndarray | None:
+    """Float values as they are (float32 ones are exact as stored, and a Mesh reads them in
+    float64); stored integers (KHR_mesh_quantization) as float64."""
+    return values if values is None or values.dtype.kind == "f" else values.astype(np.float64)
+
+
 def _transformed(values: np.ndarray, right: np.ndarray, translation: np.ndarray | None = None) -> np.ndarray:
-    """float64(values) @ right + translation, a block of rows at a time into one float64
-    array: no float64 copy of the stored float32 values, nor a temporary per operation.
-    Each row's product is the one the whole array's product gives (the same operands,
-    and one BLAS call a block: the same bits, tests/test_gltf_large.py)."""
-    out = np.empty((len(values), right.shape[1]))
+    """float64(values) @ right + translation, a block of rows at a time into one array:
+    no float64 copy of the stored values, nor a temporary of the whole array. Each row's
+    product is the one the whole array's product gives (the same operands, one BLAS call a
+    block: the same bits, tests/test_large_mesh_arrays.py). The array is float32 while
+    every value is exactly a float32 (float32 data placed by a node without a transform:
+    most files), else float64: the same values, which a Mesh reads in float64 again
+    (scene/geometry/mesh.py), in half the memory."""
+    out = np.empty((len(values), right.shape[1]), np.float32)
     for rows in row_blocks(len(values)):
-        out[rows] = values[rows].astype(np.float64) @ right
-    if translation is not None:
-        out += translation
+        block = values[rows].astype(np.float64) @ right
+        if translation is not None:
+            block += translation
+        if out.dtype == np.float32:
+            narrow = block.astype(np.float32)
+            if np.array_equal(narrow, block):
+                out[rows] = narrow
+                continue
+            out = out.astype(np.float64)  # the rows so far, exactly; float64 from here on
+        out[rows] = block
     return out
 
 
