@@ -80,13 +80,19 @@ def test_an_ascii_stl_is_still_read(tmp_path):
 
 
 def test_an_ascii_stl_beyond_its_limit_is_refused_before_trimesh_reads_it(tmp_path, monkeypatch):
+    """A plain ASCII STL is read a block of lines at a time whatever its size
+    (stl_ascii.py); any other layout goes to trimesh, which holds the whole text several
+    times over, and only up to MAX_ASCII_BYTES."""
     from wgpu_shading.assets.mesh_formats import stl
 
     monkeypatch.setattr(stl, "MAX_ASCII_BYTES", 100)
-    path = tmp_path / "big.stl"
-    path.write_text("solid big\n" + "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n" * 3)
-    with pytest.raises(MeshError, match="big.stl': an ASCII STL of 0 MiB; ASCII STL files up to 0 MiB are read.*save it as binary STL"):
-        load_mesh(path)
+    facets = "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n" * 3
+    (tmp_path / "plain.stl").write_text(f"solid plain\n{facets}endsolid plain\n")
+    assert load_mesh(tmp_path / "plain.stl").triangle_count == 3
+    (tmp_path / "big.stl").write_text(f"solid big\n{facets}endsolid big\nsolid second\n{facets}endsolid second\n")
+    with pytest.raises(MeshError, match="big.stl': an ASCII STL of 0 MiB, not in the plain layout .* read in blocks; "
+                                        "others are read whole, up to 0 MiB .*save it as binary STL"):
+        load_mesh(tmp_path / "big.stl")
 
 
 # --------------------------------------------------------------------------- text meshes

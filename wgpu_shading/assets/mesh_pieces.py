@@ -80,7 +80,7 @@ def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:
     return replace(
         piece,
         positions=piece.positions[corners],
-        faces=_numbered_corners(len(piece.faces)),
+        faces=numbered_corners(len(piece.faces)),
         normals=None if piece.normals is None else piece.normals[corners],
         uvs=None if piece.uvs is None else piece.uvs[corners],
         colors=np.repeat(face_colors, 3, axis=0),
@@ -101,7 +101,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
         return replace(
             piece,
             positions=piece.positions[corners],
-            faces=_numbered_corners(len(piece.faces)),
+            faces=numbered_corners(len(piece.faces)),
             normals=np.repeat(unit, 3, axis=0),
             uvs=None if piece.uvs is None else piece.uvs[corners],
             colors=None if piece.colors is None else piece.colors[corners],
@@ -121,7 +121,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
     )
 
 
-def _numbered_corners(count: int) -> np.ndarray:
+def numbered_corners(count: int) -> np.ndarray:
     """(count, 3) triangles 0 1 2, 3 4 5, ...: uint32, read-only and owning its memory,
     which a Mesh keeps as its indices without a copy (scene/geometry/mesh.py, owned)."""
     faces = np.empty((count, 3), np.uint32)

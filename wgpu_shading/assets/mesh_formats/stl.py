@@ -7,7 +7,8 @@ against the file's size before anything is allocated, the corners are read in bl
 one float32 array, and corners with equal coordinates are joined into one vertex at once
 (STL repeats each vertex for every triangle around it; the crease normals weld by exact
 position anyway, docs/conventions.md), so everything after works on ~1/6 of the vertices.
-ASCII STL stays with trimesh (trimesh_reader.py).
+ASCII STL in the layout exporters write is read a block of lines at a time (stl_ascii.py),
+any other through trimesh (trimesh_reader.py).
 """
 
 from __future__ import annotations
@@ -19,23 +20,35 @@ import numpy as np
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES
 from ..mesh_pieces import MeshFile, MeshPiece
+from .stl_ascii import read_plain_ascii_stl
 from .trimesh_reader import read_with_trimesh
 
 HEADER_BYTES = 84  # 80 bytes of free text, then the little-endian uint32 triangle count
 RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])  # 50 bytes
-# ASCII STL is read by trimesh, whose text parsing peaked at ~6x the file (a 16 MB file:
-# 100k triangles, +80 MB resident); 512 MiB of text is ~3M triangles and ~3 GB.
+# An ASCII STL not in the plain layout (stl_ascii.py) is read by trimesh, whose text parsing
+# peaked at ~6x the file (a 16 MB file: 100k triangles, +80 MB resident); 512 MiB of text is
+# ~3M triangles and ~3 GB.
 MAX_ASCII_BYTES = 512 << 20
 BLOCK = 1 << 18  # triangles read at a time: 13 MB of records, and the block's corners
 _KEY = np.dtype("V12")  # a corner's three coordinates as big-endian bits: compared bytewise, in coordinate order
 
 
 def read_stl(path: Path, file_size: int) -> MeshFile:
-    """An STL file: binary with numpy, ASCII through trimesh."""
+    """An STL file: binary with numpy; ASCII in blocks of lines when it is in the plain
+    layout (stl_ascii.py), else through trimesh."""
     where = f"mesh file {str(path)!r}"
     try:
         count = binary_stl_count(path, where, file_size)
         if count is None:
+            piece = read_plain_ascii_stl(path, where)
+            if piece is not None:
+                return MeshFile([piece])
+            if file_size > MAX_ASCII_BYTES:
+                raise MeshError(
+                    f"{where}: an ASCII STL of {file_size / 2**20:.0f} MiB, not in the plain layout (a `solid`, facets "
+                    f"of seven lines, one `endsolid`) that is read in blocks; others are read whole, up to "
+                    f"{MAX_ASCII_BYTES >> 20} MiB (trimesh holds ~6 bytes per byte of text); save it as binary STL"
+                )
             return read_with_trimesh(path, file_size)
         positions, faces = read_binary_stl(path, count)
     except OSError as error:
@@ -47,7 +60,7 @@ def read_stl(path: Path, file_size: int) -> MeshFile:
 
 def binary_stl_count(path: Path, where: str, file_size: int) -> int | None:
     """The triangle count of a binary STL (checked against the file's size), or None for an
-    ASCII one (trimesh reads those)."""
+    ASCII one."""
     with open(path, "rb") as file:
         head = file.read(1024)
     count = int.from_bytes(head[80:84], "little") if len(head) >= HEADER_BYTES else -1
@@ -57,11 +70,6 @@ def binary_stl_count(path: Path, where: str, file_size: int) -> int | None:
         return count  # binary, even when its free text starts with "solid" (many exporters do that)
     text = head.lstrip()
     if text[:5].lower() == b"solid" and _mostly_text(head):
-        if file_size > MAX_ASCII_BYTES:
-            raise MeshError(
-                f"{where}: an ASCII STL of {file_size / 2**20:.0f} MiB; ASCII STL files up to {MAX_ASCII_BYTES >> 20} MiB "
-                "are read (trimesh holds ~6 bytes per byte of text); save it as binary STL"
-            )
         return None
     if count < 0:
         raise MeshError(f"{where}: not a valid STL file (shorter than a binary STL's 84-byte header, and not ASCII STL)")

@@ -1,0 +1,122 @@
+"""ASCII STL in the layout exporters write, read a block of lines at a time.
+
+    solid NAME
+    facet normal nx ny nz
+    outer loop
+    vertex x y z          (three of these)
+    endloop
+    endfacet
+    ...                   (a facet is always these seven lines)
+    endsolid NAME
+
+trimesh reads ASCII STL as one lower-cased copy of the whole text, then a string per
+`vertex` line: ~6 bytes per byte of text, 20x the mesh's arrays (a 50 MB file, 200K
+triangles; docs/performance.md, "Loading a large mesh"). Here the text comes in blocks of
+whole lines (files.text_line_blocks), each block's facets are checked line by line in numpy
+(every line's keyword, and its count of words: 5, 2, 4, 4, 4, 1, 1), the keywords are then
+blanked and the twelve numbers of each facet read in C (number_text.parse_floats), and only
+the vertices are kept, float64 as trimesh gives them. The result is trimesh's: every corner
+its own vertex in file order, the triangles 0 1 2, 3 4 5, ... (the facet normals are not
+used, by either). Anything else (several solids, upper-case keywords, a blank or extra
+line, a facet of other than three vertices, a word where a number belongs) gives None and
+trimesh reads the file as before (stl.py).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import MeshError
+from ...scene.geometry.mesh import MAX_TRIANGLES
+from ..files import text_line_blocks
+from ..mesh_pieces import MeshPiece, numbered_corners
+from .line_sections import joined
+from .number_text import BLANK_BYTES, parse_floats
+
+# A facet's seven lines: each one's keyword and its count of words (keywords and numbers).
+_LINES = (("facet normal", 5), ("outer loop", 2), ("vertex", 4), ("vertex", 4), ("vertex", 4), ("endloop", 1), ("endfacet", 1))
+_KEYWORD_BYTES = 12  # the longest keyword, "facet normal": each line's first 12 bytes are compared
+_INDENT = 16  # blanks a line may start with (exporters indent by 0 to 6)
+_EXPECTED = np.array([list(word.encode().ljust(_KEYWORD_BYTES, b"\0")) for word, _ in _LINES], np.uint8)
+_WORDS = np.array([words for _, words in _LINES])
+_LENGTHS = np.array([len(word) for word, _ in _LINES])
+_FACET_NUMBERS = 12  # the normal's three, then three vertices' three
+
+
+def read_plain_ascii_stl(path: Path, where: str) -> MeshPiece | None:
+    """The file's triangles as trimesh gives them (float64 corners, every one its own
+    vertex), or None when the file is not in the plain layout."""
+    corners: list[np.ndarray] = []
+    triangles = 0
+    rest = b""  # the lines after the last whole facet read, not yet a facet
+    for number, block in enumerate(text_line_blocks(path, where, MeshError)):
+        text = rest + block
+        if number == 0:  # the `solid NAME` line
+            head, _, text = text.partition(b"\n")
+            if not head.lstrip().lower().startswith(b"solid"):
+                return None
+        data = np.frombuffer(text, np.uint8)
+        ends = np.flatnonzero(data == 10)
+        facets = len(ends) // 7
+        cut = int(ends[7 * facets - 1]) + 1 if facets else 0
+        block_corners = _facet_corners(data[:cut], ends[: 7 * facets])
+        if block_corners is None:
+            return None
+        rest = text[cut:]
+        triangles += facets
+        if triangles > MAX_TRIANGLES:
+            raise MeshError(f"{where}: more than {MAX_TRIANGLES} triangles; at most {MAX_TRIANGLES} are supported")
+        if facets:
+            corners.append(block_corners)
+    last = rest.strip()
+    if not corners or not last.lower().startswith(b"endsolid") or b"\n" in last:
+        return None  # (no facet, or something after them other than one `endsolid` line)
+    positions = joined(corners, np.float64)
+    return MeshPiece(positions, numbered_corners(triangles), parts=[(0, triangles, None, path.name)])
+
+
+def _facet_corners(data: np.ndarray, ends: np.ndarray) -> np.ndarray | None:
+    """The (3 × facets, 3) float64 corners of whole facets of the plain layout (`data`: the
+    text's bytes, `ends`: its newlines, 7 a facet); None for anything else."""
+    lines = len(ends)
+    if not lines:
+        return np.zeros((0, 3))
+    if data.max() >= 128:
+        return None  # not ASCII
+    starts = np.empty(lines, np.int64)
+    starts[0], starts[1:] = 0, ends[:-1] + 1
+    padded = np.concatenate([data, np.full(_INDENT + _KEYWORD_BYTES + 1, 10, np.uint8)])  # (newlines: blank)
+    # Each line's keyword: after at most _INDENT blanks, then followed by a blank. (Column
+    # by column: temporaries of one value a line, not of a line's bytes.)
+    first = starts
+    for _ in range(_INDENT):
+        indented = BLANK_BYTES[padded[first]]
+        if not indented.any():
+            break
+        first = first + indented
+    if np.any(first >= ends):
+        return None  # a blank line, or one indented further
+    kind = np.tile(np.arange(7), lines // 7)
+    lengths = _LENGTHS[kind]
+    for column in range(_KEYWORD_BYTES):
+        within = column < lengths
+        if not np.array_equal(padded[first[within] + column], _EXPECTED[kind[within], column]):
+            return None  # another keyword
+    if not BLANK_BYTES[padded[first + lengths]].all():
+        return None  # a longer word ("vertexes")
+    # Every line has its count of words (keyword and numbers).
+    blank = BLANK_BYTES[data]
+    word_start = ~blank
+    word_start[1:] &= blank[:-1]
+    if not np.array_equal(np.add.reduceat(word_start, starts, dtype=np.int32), _WORDS[kind]):
+        return None
+    numbers = data.copy()
+    for column in range(_KEYWORD_BYTES):  # the keywords blanked
+        numbers[first[column < lengths] + column] = 32
+    values = parse_floats(numbers.tobytes().decode("ascii"))
+    facets = lines // 7
+    if values is None or len(values) != _FACET_NUMBERS * facets:
+        return None
+    return np.ascontiguousarray(values.reshape(facets, _FACET_NUMBERS)[:, 3:]).reshape(-1, 3)
