@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading.assets.mesh_formats.number_text import (
-    EXACT_DIGITS, EXACT_POWER, parse_decimals, parse_floats, tokens_as_numbers,
+    EXACT_DIGITS, EXACT_POWER, INTEGER_DIGITS, parse_decimals, parse_floats, tokens_as_numbers,
 )
 
 
@@ -67,11 +67,24 @@ def test_signed_zeros_and_short_forms():
 
 @pytest.mark.parametrize("text", [
     "nan", "-inf", "1.2.3", "--1", "1-2", "+-1", ".", "-", "+", "1 . 2",
-    "1" * (EXACT_DIGITS + 1), "0." + "0" * EXACT_DIGITS, "0x10", "1,2", "\uff11", "1 2 x",
-    "e5", "1e", "1e+", "1e5e5", "1e5.0", "1e--5", "1e-5-", ".e5", "1e23", "1e-23", "1e00001", "1.5e-30",
+    "1" * (INTEGER_DIGITS + 1), "0." + "0" * INTEGER_DIGITS, "0x10", "1,2", "\uff11", "1 2 x",
+    "e5", "1e", "1e+", "1e5e5", "1e5.0", "1e--5", "1e-5-", ".e5", "1e00001",
 ])
 def test_other_forms_are_refused(text):
     assert parse_decimals(text) is None
+
+
+def test_a_few_long_or_far_numbers_are_read_by_float_and_the_rest_the_fast_way():
+    """More digits than a double holds exactly, or a power of ten beyond ±22 (`8.266366e-17`,
+    as %e writes a coordinate that is zero but for rounding): float()'s value, bit for bit,
+    without sending the whole text to np.fromstring; many of them do go there (None)."""
+    rng = np.random.default_rng(9)
+    few = ["1" * (EXACT_DIGITS + 1), "0." + "0" * EXACT_DIGITS + "1", "-" + "9" * INTEGER_DIGITS, "1e23", "1e-23",
+           "-1.5e-30", "8.266366e-17", "-0.000000e-40", "4.9e-324", "1.7976931348623157e308"]
+    tokens = _random_decimals(rng, 2000, exponents=True) + few
+    rng.shuffle(tokens)
+    assert np.array_equal(_bits(parse_decimals(" ".join(tokens))), _bits([float(token) for token in tokens]))
+    assert parse_decimals(" ".join(few * 20)) is None  # (200 of 200: np.fromstring's work)
 
 
 def test_other_forms_are_read_the_usual_way():

@@ -148,7 +148,7 @@ def test_a_big_ascii_stl_is_read_in_a_fraction_of_trimesh_memory(tmp_path, monke
     """tracemalloc's peak of the reading alone, 20,000 facets (2.6 MB of text) in blocks of
     64 KiB (4 MiB scaled to this file): the arrays kept (0.6 MB) and a block's temporaries,
     against trimesh's lower-cased copy of the text and a string a line. A 2M-triangle file
-    (448 MB), resident, load and render: 3.73x the mesh's arrays, against 19.0x."""
+    (448 MB), resident, load and render: 3.71x the mesh's arrays, against 19.0x."""
     monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", 1 << 16)
     monkeypatch.setattr(files, "TEXT_CHUNK", 1 << 18)
     path = tmp_path / "big.stl"

@@ -12,8 +12,12 @@ floating point numbers accurately", PLDI 1990). So the digits are read as intege
 the dots removed, and each divided by the power of ten its fraction had. An exponent moves
 that power: m * 10**p or m / 10**-p, still one operation on exact doubles while |p| <= 22.
 
-Anything else (more digits, a larger power, nan, inf, a stray character) gets None, and
-the caller reads the text the usual way.
+A number with more digits (up to 18: still an exact int64) or a larger power (`8.2e-17`,
+which %e writes for a coordinate that is zero but for rounding) is read by float() alone,
+the same correctly rounded value, while the rest keep the fast path: one such number no
+longer sends its whole block to np.fromstring, ten times slower. Anything else (nan, inf,
+a stray character, or many numbers of those) gets None, and the caller reads the text the
+usual way.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ import numpy as np
 
 EXACT_DIGITS = 15  # every integer of 15 digits is below 2**53: exact as a double
 EXACT_POWER = 22  # 10**22 = 2**22 * 5**22, and 5**22 < 2**53: the largest power of ten that is exact
+INTEGER_DIGITS = 18  # every integer of 18 digits is an int64: read as one, then by float() (above)
 _POWERS_OF_TEN = np.array([float(10**k) for k in range(EXACT_POWER + 1)])  # exact doubles
 
 BLANK_BYTES = np.zeros(256, bool)  # byte → whether it separates numbers
@@ -90,9 +95,10 @@ def tokens_as_numbers(tokens: list[str], dtype) -> np.ndarray:
 def parse_decimals(text: str) -> np.ndarray | None:
     """The whitespace-separated numbers of `text` as float64, equal bit for bit to what
     float() gives each (the sign of a zero too), when every one is a plain decimal: an
-    optional sign, 1 to EXACT_DIGITS digits with at most one dot, and optionally an
-    exponent (`e` or `E`, an optional sign, 1 to 4 digits) that leaves the power of ten
-    within ±EXACT_POWER (`6.14986e-005`, as C++ streams write small numbers). None otherwise."""
+    optional sign, 1 to INTEGER_DIGITS digits with at most one dot, and optionally an
+    exponent (`e` or `E`, an optional sign, 1 to 4 digits) (`6.14986e-005`, as C++ streams
+    write small numbers). Those with more than EXACT_DIGITS digits or a power of ten beyond
+    ±EXACT_POWER are read by float() one by one, when they are few. None otherwise."""
     try:
         data = np.frombuffer(text.encode("ascii"), np.uint8)
     except UnicodeEncodeError:
@@ -140,8 +146,9 @@ def parse_decimals(text: str) -> np.ndarray | None:
         fraction_digits[owner] = mantissa_ends[owner] - dots - 1
         has_dot[owner] = True
     digits = mantissa_ends - starts - signed - has_dot
-    if digits.min() < 1 or digits.max() > EXACT_DIGITS:
+    if digits.min() < 1 or digits.max() > INTEGER_DIGITS:
         return None
+    inexact = digits > EXACT_DIGITS  # read by float() below
     if len(exponents_at):
         exponent_digits = ends[has_exponent] - exponents_at - 1 - exponent_signed
         if exponent_digits.min() < 1 or exponent_digits.max() > 4:
@@ -157,15 +164,20 @@ def parse_decimals(text: str) -> np.ndarray | None:
     # One multiplication or division of two exact doubles: correctly rounded (module docstring).
     if not len(exponents_at):
         values = np.abs(integers).astype(np.float64)
-        values /= _POWERS_OF_TEN[fraction_digits]
+        values /= _POWERS_OF_TEN[np.minimum(fraction_digits, EXACT_POWER)]
     else:
         mantissa_index = np.arange(count) + np.concatenate([[0], np.cumsum(has_exponent)[:-1]])
         power = -fraction_digits.astype(np.int64)
         power[has_exponent] += integers[mantissa_index[has_exponent] + 1]
-        if power.min() < -EXACT_POWER or power.max() > EXACT_POWER:
-            return None
+        inexact |= (power < -EXACT_POWER) | (power > EXACT_POWER)
+        power = np.clip(power, -EXACT_POWER, EXACT_POWER)
         values = np.abs(integers[mantissa_index]).astype(np.float64)
         np.multiply(values, _POWERS_OF_TEN[np.maximum(power, 0)], out=values, where=power > 0)
         np.divide(values, _POWERS_OF_TEN[np.maximum(-power, 0)], out=values, where=power < 0)
     np.negative(values, out=values, where=negative)  # -0.0 stays negative, as float("-0.0")
+    if inexact.any():
+        slow = np.flatnonzero(inexact)
+        if len(slow) > max(64, count >> 6):
+            return None  # (many: np.fromstring reads them all faster)
+        values[slow] = [float(text[start:end]) for start, end in zip(starts[slow].tolist(), ends[slow].tolist())]
     return values
