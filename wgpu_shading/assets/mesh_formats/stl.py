@@ -20,6 +20,7 @@ import numpy as np
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES
 from ..mesh_pieces import MeshFile, MeshPiece
+from .corner_join import CornerJoin
 from .stl_ascii import read_plain_ascii_stl
 from .trimesh_reader import read_with_trimesh
 
@@ -30,7 +31,6 @@ RECORD = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attrib
 # ~3M triangles and ~3 GB.
 MAX_ASCII_BYTES = 512 << 20
 BLOCK = 1 << 18  # triangles read at a time: 13 MB of records, and the block's corners
-_KEY = np.dtype("V12")  # a corner's three coordinates as big-endian bits: compared bytewise, in coordinate order
 
 
 def read_stl(path: Path, file_size: int) -> MeshFile:
@@ -89,63 +89,21 @@ def binary_stl_count(path: Path, where: str, file_size: int) -> int | None:
 
 def read_binary_stl(path: Path, count: int) -> tuple[np.ndarray, np.ndarray]:
     """(positions (V, 3) float32, faces (F, 3) uint32) with equal corners joined, the
-    vertices sorted by their coordinates' bits (x, then y, then z, as unsigned integers).
-
-    A block of triangles at a time: the block's distinct corners are looked up among those
-    of the blocks before (a sorted index of their bits), and only new ones are added. The
-    file's ~6 copies of every vertex are never in memory at once, whatever the order of its
-    triangles (a 10M-triangle file's corners alone are 360 MB, 1.5x the mesh they make;
-    docs/reliability.md). Each corner first gets the id of its vertex in the order vertices
-    were met; one pass at the end renumbers them in sorted order."""
+    vertices sorted by their coordinates' bits (x, then y, then z, as unsigned integers):
+    a block of triangles at a time (corner_join.py), then one pass over the corners'
+    ids at the end to renumber them in sorted order."""
     corner_ids = np.empty(count * 3, np.uint32)
-    index = np.empty(0, _KEY)  # the distinct corners so far, sorted (big-endian bits compare in order)
-    index_ids = np.empty(0, np.uint32)  # the id (order met) of each
+    join = CornerJoin(np.float32)
     with open(path, "rb") as file:
         file.seek(HEADER_BYTES)
         for start in range(0, count, BLOCK):
             records = np.fromfile(file, dtype=RECORD, count=min(BLOCK, count - start))
-            corners = records["corners"].reshape(-1, 3) + np.float32(0.0)  # -0.0 becomes 0.0: equal coordinates, equal bits
-            del records
-            rows, inverse = _join_equal(corners.view(np.uint32))  # integer sorts: 5x faster than sorting keys bytewise
-            keys = rows.astype(">u4").view(_KEY).ravel()
-            del rows
-            at = np.searchsorted(index, keys)
-            known = at < len(index)
-            known[known] = index[at[known]] == keys[known]
-            ids = np.empty(len(keys), np.uint32)
-            ids[known] = index_ids[at[known]]
-            fresh = np.flatnonzero(~known)
-            ids[fresh] = np.arange(len(index), len(index) + len(fresh), dtype=np.uint32)
-            index = np.insert(index, at[fresh], keys[fresh])
-            index_ids = np.insert(index_ids, at[fresh], ids[fresh])
-            corner_ids[start * 3 : start * 3 + len(inverse)] = ids[inverse]
-    rank = np.empty(len(index), np.uint32)
-    rank[index_ids] = np.arange(len(index), dtype=np.uint32)
-    del index_ids
+            ids = join.add(records["corners"].reshape(-1, 3))
+            corner_ids[start * 3 : start * 3 + len(ids)] = ids
+    positions, rank = join.finish()
     for start in range(0, len(corner_ids), BLOCK * 3):  # in place: no second array of every corner
         corner_ids[start : start + BLOCK * 3] = rank[corner_ids[start : start + BLOCK * 3]]
-    positions = index.view(">u4").reshape(-1, 3).astype(np.uint32).view(np.float32)
     return positions, corner_ids.reshape(-1, 3)
-
-
-def _join_equal(bits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The distinct rows of `bits` (N, 3) uint32 sorted by (column 0, 1, 2), and each row's
-    index among them. np.unique(axis=0, return_inverse=True) on 12-byte rows held five
-    arrays of the rows' size at once; this holds one sort order and one key."""
-    high = (bits[:, 0].astype(np.uint64) << np.uint64(32)) | bits[:, 1]
-    order = np.lexsort((bits[:, 2], high))
-    del high
-    new = np.zeros(len(order), bool)
-    new[:1] = True
-    for column in range(3):  # one sorted column at a time, not a sorted copy of every row
-        ordered = bits[order, column]
-        new[1:] |= ordered[1:] != ordered[:-1]
-    del ordered
-    vertex = np.cumsum(new, dtype=np.uint32)
-    vertex -= 1
-    inverse = np.empty(len(order), np.uint32)
-    inverse[order] = vertex
-    return bits[order[new]], inverse
 
 
 def _mostly_text(head: bytes) -> bool:

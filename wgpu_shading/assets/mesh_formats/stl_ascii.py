@@ -10,16 +10,18 @@
     endsolid NAME
 
 trimesh reads ASCII STL as one lower-cased copy of the whole text, then a string per
-`vertex` line: ~6 bytes per byte of text, 20x the mesh's arrays (a 50 MB file, 200K
-triangles; docs/performance.md, "Loading a large mesh"). Here the text comes in blocks of
-whole lines (files.text_line_blocks), each block's facets are checked line by line in numpy
-(every line's keyword, and its count of words: 5, 2, 4, 4, 4, 1, 1), the keywords are then
-blanked and the twelve numbers of each facet read in C (number_text.parse_floats), and only
-the vertices are kept, float64 as trimesh gives them. The result is trimesh's: every corner
-its own vertex in file order, the triangles 0 1 2, 3 4 5, ... (the facet normals are not
-used, by either). Anything else (several solids, upper-case keywords, a blank or extra
-line, a facet of other than three vertices, a word where a number belongs) gives None and
-trimesh reads the file as before (stl.py).
+`vertex` line, and keeps every corner as its own float64 vertex: ~6 bytes per byte of
+text, 19x the mesh's arrays for a 2M-triangle file (docs/performance.md, "Loading a large
+mesh"). Here the text comes in blocks of whole lines (files.text_line_blocks), each block's
+facets are checked line by line in numpy (every line's keyword, and its count of words: 5,
+2, 4, 4, 4, 1, 1), the keywords are then blanked and the twelve numbers of each facet read
+in C (number_text.parse_floats), and only the corners are kept, float64 as trimesh reads
+them, joined into vertices as a binary STL's are (corner_join.py): the same triangles,
+corner by corner, on a sixth of the vertices; the crease normals weld by exact position
+anyway, so every corner gets the normal it got before and the images are the same (the
+facet normals are not used, by either). Anything else (several solids, upper-case
+keywords, a blank or extra line, a facet of other than three vertices, a word where a
+number belongs) gives None, and trimesh reads the file as before (stl.py).
 """
 
 from __future__ import annotations
@@ -31,7 +33,8 @@ import numpy as np
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES
 from ..files import text_line_blocks
-from ..mesh_pieces import MeshPiece, numbered_corners
+from ..mesh_pieces import MeshPiece
+from .corner_join import CornerJoin
 from .line_sections import joined
 from .number_text import BLANK_BYTES, parse_floats
 
@@ -43,15 +46,20 @@ _EXPECTED = np.array([list(word.encode().ljust(_KEYWORD_BYTES, b"\0")) for word,
 _WORDS = np.array([words for _, words in _LINES])
 _LENGTHS = np.array([len(word) for word, _ in _LINES])
 _FACET_NUMBERS = 12  # the normal's three, then three vertices' three
+JOIN_CORNERS = 3 << 18  # corners joined at a time: as a binary STL's blocks of triangles (stl.py)
+BLOCK_BYTES = 1 << 20  # text read at a time: its parsing takes ~10 bytes a byte (number_text.py)
 
 
 def read_plain_ascii_stl(path: Path, where: str) -> MeshPiece | None:
-    """The file's triangles as trimesh gives them (float64 corners, every one its own
-    vertex), or None when the file is not in the plain layout."""
-    corners: list[np.ndarray] = []
+    """The file's triangles with equal corners joined (corner_join.py, as a binary STL's:
+    float64 vertices sorted by their bits), or None when the file is not in the plain
+    layout."""
+    join = CornerJoin(np.float64)
+    ids: list[np.ndarray] = []  # each corner's vertex id (order met), a joined block at a time
+    pending: list[np.ndarray] = []  # corners read, not yet joined
     triangles = 0
     rest = b""  # the lines after the last whole facet read, not yet a facet
-    for number, block in enumerate(text_line_blocks(path, where, MeshError)):
+    for number, block in enumerate(text_line_blocks(path, where, MeshError, BLOCK_BYTES)):
         text = rest + block
         if number == 0:  # the `solid NAME` line
             head, _, text = text.partition(b"\n")
@@ -61,20 +69,28 @@ def read_plain_ascii_stl(path: Path, where: str) -> MeshPiece | None:
         ends = np.flatnonzero(data == 10)
         facets = len(ends) // 7
         cut = int(ends[7 * facets - 1]) + 1 if facets else 0
-        block_corners = _facet_corners(data[:cut], ends[: 7 * facets])
-        if block_corners is None:
+        corners = _facet_corners(data[:cut], ends[: 7 * facets])
+        if corners is None:
             return None
         rest = text[cut:]
         triangles += facets
         if triangles > MAX_TRIANGLES:
             raise MeshError(f"{where}: more than {MAX_TRIANGLES} triangles; at most {MAX_TRIANGLES} are supported")
-        if facets:
-            corners.append(block_corners)
+        pending.append(corners)
+        if sum(len(c) for c in pending) >= JOIN_CORNERS:  # joined in large blocks: each join copies the index once
+            ids.append(join.add(np.concatenate(pending)).reshape(-1, 3))
+            pending.clear()
     last = rest.strip()
-    if not corners or not last.lower().startswith(b"endsolid") or b"\n" in last:
+    if not triangles or not last.lower().startswith(b"endsolid") or b"\n" in last:
         return None  # (no facet, or something after them other than one `endsolid` line)
-    positions = joined(corners, np.float64)
-    return MeshPiece(positions, numbered_corners(triangles), parts=[(0, triangles, None, path.name)])
+    if pending:
+        ids.append(join.add(np.concatenate(pending)).reshape(-1, 3))
+    del pending
+    positions, rank = join.finish()
+    faces = joined(ids, np.uint32)
+    for start in range(0, len(faces), JOIN_CORNERS):  # in place: no second array of every corner
+        faces[start : start + JOIN_CORNERS] = rank[faces[start : start + JOIN_CORNERS]]
+    return MeshPiece(positions, faces, parts=[(0, triangles, None, path.name)])
 
 
 def _facet_corners(data: np.ndarray, ends: np.ndarray) -> np.ndarray | None:
