@@ -181,3 +181,20 @@ def test_corners_equal_but_for_the_sign_of_zero_are_one_vertex(tmp_path):
     assert len(piece.positions) == 4 and piece.faces[0, 0] == piece.faces[1, 0]
     origin = piece.positions[piece.faces[0, 0]]
     assert not origin.any() and not np.signbit(origin).any()  # (0, 0, 0), not (-0, 0, -0)
+
+
+def test_a_file_of_long_lines_is_not_read_whole_before_it_is_refused(tmp_path, monkeypatch):
+    """No line of the plain layout is long: a line past LONGEST_LINE stops the block reading
+    (files.LongLine) instead of holding the line, and a file that is not plain is then
+    refused beyond MAX_ASCII_BYTES, as before the block reader."""
+    from wgpu_shading.assets.mesh_formats import stl
+    from wgpu_shading.errors import MeshError
+
+    monkeypatch.setattr(files, "TEXT_CHUNK", 1 << 12)
+    monkeypatch.setattr(stl_ascii, "LONGEST_LINE", 1 << 13)
+    monkeypatch.setattr(stl, "MAX_ASCII_BYTES", 1 << 16)
+    path = tmp_path / "line.stl"
+    path.write_bytes(b"solid line\n" + b"1 " * 50_000)
+    assert read_plain_ascii_stl(path, "m") is None
+    with pytest.raises(MeshError, match="line.stl': an ASCII STL of 0 MiB, not in the plain layout"):
+        load_mesh(path)

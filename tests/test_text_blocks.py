@@ -46,3 +46,26 @@ def test_utf16_text_is_one_block(tmp_path):
     text = "v 0 0 0\nf 1 1 1\n".encode("utf-16")
     path.write_bytes(text)
     assert list(text_line_blocks(path, "text", MeshError, 4)) == [text]
+
+
+def test_a_line_longer_than_told_stops_the_reading_at_once(tmp_path, monkeypatch):
+    """longest_line: a reader whose lines are short is not made to hold a line of a whole
+    file (ASCII STL, stl_ascii.py): LongLine once the line goes on past a chunk beyond it."""
+    path = tmp_path / "text.stl"
+    path.write_bytes(b"solid x\n" + b"1 " * 50_000)  # 100 KB without a newline
+    monkeypatch.setattr(files, "TEXT_CHUNK", 1 << 12)
+    reads = []
+    real_open = open
+
+    def counting_open(*args, **kwargs):
+        handle = real_open(*args, **kwargs)
+        read = handle.read
+        handle_read = lambda size=-1: reads.append(size) or read(size)  # noqa: E731
+        return type("Counted", (), {"read": staticmethod(handle_read), "__enter__": lambda self: self,
+                                    "__exit__": lambda self, *exc: handle.close()})()
+
+    monkeypatch.setattr(files, "open", counting_open, raising=False)
+    with pytest.raises(files.LongLine):
+        list(text_line_blocks(path, "text", MeshError, 1 << 10, longest_line=1 << 13))
+    assert len(reads) < 8  # a few chunks of 4 KiB, not the 25 of the whole line
+    assert list(text_line_blocks(path, "text", MeshError, 1 << 10))[-1].startswith(b"1 1 ")  # without: one block

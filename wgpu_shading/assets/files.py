@@ -69,8 +69,13 @@ TEXT_CHUNK = 16 << 20
 TEXT_BLOCK_BYTES = 4 << 20
 
 
+class LongLine(Exception):
+    """A line longer than text_line_blocks was told to expect (longest_line): raised before
+    the rest of it is read, for a reader whose format has only short lines to give up."""
+
+
 def text_line_blocks(path: str | os.PathLike[str], where: str, error: type[WgpuShadingError],
-                     block_bytes: int | None = None) -> Iterator[bytes]:
+                     block_bytes: int | None = None, longest_line: int | None = None) -> Iterator[bytes]:
     """A text file's bytes in blocks of whole lines, about `block_bytes` each (None:
     TEXT_BLOCK_BYTES; a line longer than that is one block), refused at the first NUL byte
     as read_text_bytes refuses it: a reader that takes a block at a time never holds the
@@ -83,7 +88,9 @@ def text_line_blocks(path: str | os.PathLike[str], where: str, error: type[WgpuS
     takes and frees a TEXT_CHUNK buffer) before its block is parsed, as with read_text_bytes.
     Reading the end only after the parsing, glibc's heap grew and shrank around the parser's
     temporaries at every file: 6,200 instead of 1,400 page faults and 42 instead of 32 ms
-    to read the bunny's OBJ, in a new process (docs/performance.md, "Loading a large mesh")."""
+    to read the bunny's OBJ, in a new process (docs/performance.md, "Loading a large mesh").
+    `longest_line`: LongLine is raised once a line goes on past that many bytes, instead of
+    reading the whole line (a file of one line is one block otherwise)."""
     block_bytes = TEXT_BLOCK_BYTES if block_bytes is None else block_bytes
     offset = 0  # bytes of the file read so far
     carry: list[bytes] = []  # the unfinished last line of what was read (joined once it ends)
@@ -100,6 +107,8 @@ def text_line_blocks(path: str | os.PathLike[str], where: str, error: type[WgpuS
             offset += len(chunk)
             if b"\n" not in chunk:  # the line goes on (a file without newlines is one block, read once)
                 carry.append(chunk)
+                if longest_line is not None and sum(map(len, carry)) > longest_line:
+                    raise LongLine(where)
                 continue
             text = b"".join(carry + [chunk]) if carry else chunk
             start = 0

@@ -32,7 +32,7 @@ import numpy as np
 
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES
-from ..files import text_line_blocks
+from ..files import LongLine, text_line_blocks
 from ..mesh_pieces import MeshPiece
 from .corner_join import CornerJoin
 from .line_sections import joined
@@ -48,18 +48,26 @@ _LENGTHS = np.array([len(word) for word, _ in _LINES])
 _FACET_NUMBERS = 12  # the normal's three, then three vertices' three
 JOIN_CORNERS = 3 << 18  # corners joined at a time: as a binary STL's blocks of triangles (stl.py)
 BLOCK_BYTES = 1 << 20  # text read at a time: its parsing takes ~10 bytes a byte (number_text.py)
+LONGEST_LINE = 1 << 16  # a facet's lines are short: a longer one is another layout, not read whole here
 
 
 def read_plain_ascii_stl(path: Path, where: str) -> MeshPiece | None:
     """The file's triangles with equal corners joined (corner_join.py, as a binary STL's:
     float64 vertices sorted by their bits), or None when the file is not in the plain
     layout."""
+    try:
+        return _read(path, where)
+    except LongLine:  # (no line of the layout is long: not read further)
+        return None
+
+
+def _read(path: Path, where: str) -> MeshPiece | None:
     join = CornerJoin(np.float64)
     ids: list[np.ndarray] = []  # each corner's vertex id (order met), a joined block at a time
     pending: list[np.ndarray] = []  # corners read, not yet joined
     triangles = 0
     rest = b""  # the lines after the last whole facet read, not yet a facet
-    for number, block in enumerate(text_line_blocks(path, where, MeshError, BLOCK_BYTES)):
+    for number, block in enumerate(text_line_blocks(path, where, MeshError, BLOCK_BYTES, LONGEST_LINE)):
         text = rest + block
         if number == 0:  # the `solid NAME` line
             head, _, text = text.partition(b"\n")
