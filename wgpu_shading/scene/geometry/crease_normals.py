@@ -23,75 +23,9 @@ import math
 
 import numpy as np
 
+from .face_normals import FACE_BLOCK, FaceNormals, float_positions
 
-FACE_BLOCK = 1 << 16  # faces whose normals are computed at a time: ~12 MB of temporaries
-KEPT_FACES = 1 << 18  # meshes up to this many faces keep their face normals (8 MB) instead of recomputing them
 ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (_mean_normals)
-
-
-def _scale(positions: np.ndarray) -> float:
-    """The largest absolute coordinate (np.abs(positions).max(), without the (N, 3) copy)."""
-    return max(float(-positions.min()), float(positions.max())) if len(positions) else 1.0
-
-
-def _normals_of(positions: np.ndarray, faces: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray]:
-    """Unit normals and twice the areas of `faces` (a block), float64 from positions of any
-    float type (each coordinate converted exactly, then every operation in float64)."""
-    # Component by component: np.cross on (F, 3) arrays costs 4x more. np.take along axis 0,
-    # and no copy of float64 rows: indexing rows (positions[i]) and copying them took 4 ms
-    # of the bunny's 70K faces, this 1 ms (the same values).
-    i0, i1, i2 = (np.ascontiguousarray(faces[:, k]) for k in range(3))
-    p0, p1, p2 = (np.take(positions, i, axis=0).astype(np.float64, copy=False) for i in (i0, i1, i2))
-    ax, ay, az = p1[:, 0] - p0[:, 0], p1[:, 1] - p0[:, 1], p1[:, 2] - p0[:, 2]
-    bx, by, bz = p2[:, 0] - p0[:, 0], p2[:, 1] - p0[:, 1], p2[:, 2] - p0[:, 2]
-    cross = np.empty((len(faces), 3))
-    cross[:, 0] = ay * bz - az * by
-    cross[:, 1] = az * bx - ax * bz
-    cross[:, 2] = ax * by - ay * bx
-    length = np.sqrt(np.einsum("ij,ij->i", cross, cross))
-    # "zero area" relative to the mesh's own scale, so tiny meshes (1e-5) keep their faces
-    degenerate = length <= 1e-12 * max(scale, 1e-300) ** 2
-    unit = np.zeros((len(faces), 3))
-    np.divide(cross, length[:, None], out=unit, where=~degenerate[:, None])
-    return unit, np.where(degenerate, 0.0, length)
-
-
-def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit face normals (zero for zero-area faces) and twice the face areas, float64."""
-    # In blocks of faces: the temporaries stay ~25 MB however big the mesh (a 10M-triangle
-    # scan needed 1 GB for them at once; docs/reliability.md).
-    positions = _float_positions(positions)
-    scale = _scale(positions)
-    unit = np.empty((len(faces), 3))
-    area = np.empty(len(faces))
-    for start in range(0, len(faces), FACE_BLOCK):
-        block = slice(start, start + FACE_BLOCK)
-        unit[block], area[block] = _normals_of(positions, faces[block], scale)
-    return unit, area
-
-
-class _FaceNormals:
-    """Unit normals and doubled areas of a mesh's faces, for any block or subset of them.
-    A big mesh computes them when asked (no per-face array is kept: 32 bytes a face); a
-    small one (at most KEPT_FACES faces) computes them once. Either way a face's values are
-    the same: each face's arithmetic is its own."""
-
-    def __init__(self, positions: np.ndarray, faces: np.ndarray):
-        self.positions, self.faces, self.scale = positions, faces, _scale(positions)
-        self.kept = face_normals(positions, faces) if len(faces) <= KEPT_FACES else None
-
-    def of(self, face_ids) -> tuple[np.ndarray, np.ndarray]:
-        """(unit, area) of the faces `face_ids` (an index array or a slice)."""
-        if self.kept is not None:
-            return self.kept[0][face_ids], self.kept[1][face_ids]
-        return _normals_of(self.positions, self.faces[face_ids], self.scale)
-
-
-def _float_positions(positions) -> np.ndarray:
-    """float32 positions stay float32 (every use converts what it reads to float64, exactly);
-    anything else becomes float64."""
-    positions = np.asarray(positions)
-    return positions if positions.dtype in (np.float32, np.float64) else positions.astype(np.float64)
 
 
 def _indices(faces) -> np.ndarray:
@@ -156,7 +90,7 @@ def _normalized(summed: np.ndarray, adjacent: np.ndarray) -> tuple[np.ndarray, n
     return summed, length, ~good & (adjacent > 0)
 
 
-def _largest_face_normals(result, cancelled, labels, corner_faces, normals: _FaceNormals) -> None:
+def _largest_face_normals(result, cancelled, labels, corner_faces, normals: FaceNormals) -> None:
     """Where the sum cancelled, the normal of the largest face around it (the seeds' rule):
     the corners of those labels sorted by area (stable), larger ones overwriting smaller."""
     corners = np.flatnonzero(cancelled[labels])
@@ -167,7 +101,7 @@ def _largest_face_normals(result, cancelled, labels, corner_faces, normals: _Fac
     result[labels[corners[order]][keep]] = unit[order][keep]
 
 
-def _mean_normals(normals: _FaceNormals, welded_faces, count: int):
+def _mean_normals(normals: FaceNormals, welded_faces, count: int):
     """Per welded vertex: the normalized sum of its faces' unit normals (the seeds' rule),
     k − |sum| (how far its k unit normals are from all being equal), and the faces without
     area. One pass over blocks of faces: no per-face array is kept.
@@ -216,12 +150,26 @@ def _mean_normals(normals: _FaceNormals, welded_faces, count: int):
     return mean_normal, adjacent - length, np.concatenate(degenerate)
 
 
-def _fan_normals(labels, corner_faces, normals: _FaceNormals, count: int) -> np.ndarray:
+def _fan_normals(labels, corner_faces, normals: FaceNormals, count: int) -> np.ndarray:
     """Per fan label (0..count-1): the normalized sum of the unit normals of the faces of
-    its corners; where it cancels, the largest face's normal."""
-    unit, area = normals.of(corner_faces)
-    summed = np.stack([np.bincount(labels, weights=unit[:, k], minlength=count) for k in range(3)], axis=1)
-    adjacent = np.bincount(labels, weights=(area > 0).astype(float), minlength=count)
+    its corners; where it cancels, the largest face's normal. Many corners (every vertex on
+    a crease) are summed FACE_BLOCK at a time with np.add.at, which goes on where the last
+    block stopped: the same sums, in the same order, as one np.bincount (_mean_normals)."""
+    if len(labels) <= FACE_BLOCK:
+        unit, area = normals.of(corner_faces)
+        summed = np.stack([np.bincount(labels, weights=unit[:, k], minlength=count) for k in range(3)], axis=1)
+        adjacent = np.bincount(labels, weights=(area > 0).astype(float), minlength=count)
+    else:
+        columns, adjacent = np.zeros((3, count)), np.zeros(count)
+        for start in range(0, len(labels), FACE_BLOCK):
+            block = slice(start, start + FACE_BLOCK)
+            unit, area = normals.of(corner_faces[block])
+            block_labels = labels[block].astype(np.intp)
+            for k in range(3):
+                np.add.at(columns[k], block_labels, np.ascontiguousarray(unit[:, k]))
+            np.add.at(adjacent, block_labels, (area > 0).astype(float))
+        summed = np.ascontiguousarray(columns.T)
+        del columns
     result, _, cancelled = _normalized(summed, adjacent)
     if cancelled.any():
         _largest_face_normals(result, cancelled, labels, corner_faces, normals)
@@ -245,14 +193,14 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     for a block of faces at a time, and again for the few faces the crease analysis looks
     at. The per-vertex sums are the largest arrays (docs/reliability.md).
     """
-    positions, faces = _float_positions(positions), _indices(faces)
+    positions, faces = float_positions(positions), _indices(faces)
     vertex_count = len(positions)
     welded = weld_by_position(positions)
     welded_count = int(welded.max()) + 1
     # Already welded (weld_by_position returns the identity then): no (F, 3) gather.
     welded_faces = faces if welded_count == vertex_count else welded[faces]
     corner_welded = welded_faces.reshape(-1)
-    normals = _FaceNormals(positions, faces)
+    normals = FaceNormals(positions, faces)
     mean_normal, spread, degenerate = _mean_normals(normals, welded_faces, welded_count)
     flat = None if flat_faces is None or not np.any(flat_faces) else np.asarray(flat_faces, bool)
     label = corner_welded  # a fan per welded vertex (index into `table`)
@@ -285,7 +233,9 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
             if extra > 0:
                 crease_corners = np.flatnonzero(label >= welded_count)
                 fan_normals = _fan_normals(label[crease_corners] - welded_count, crease_corners // 3, normals, extra)
+                del crease_corners
                 table = np.vstack([mean_normal, fan_normals])
+                del fan_normals, mean_normal  # (per fan and per vertex: table holds both now)
     if label is corner_welded:  # one fan per welded vertex: every given vertex takes its vertex's
         return None, _uint32(faces), table if welded_count == vertex_count else table[welded]  # welded: the identity, or not
     flat_corners = faces.reshape(-1)
@@ -317,26 +267,36 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
     several[flat_corners[split]] = True
     in_several = np.flatnonzero(several[flat_corners])
     keys = flat_corners[in_several].astype(np.int64) * len(table) + label[in_several]
+    # (Each per-corner temporary let go once used: along creases they are few, but where
+    # every vertex is on one they are every corner's: docs/performance.md, "Loading a large mesh".)
     unique_keys, inverse = np.unique(keys, return_inverse=True)
+    del keys
     key_vertex = unique_keys // len(table)
+    del unique_keys
     count = (vertex_fan >= 0).astype(np.int64)
     count[several] = 0
     count += np.bincount(key_vertex, minlength=len(vertex_fan))
     first = np.cumsum(count) - count  # each given vertex's first output vertex
     output = first[flat_corners]
-    rank = np.arange(len(unique_keys)) - np.searchsorted(key_vertex, key_vertex)  # fan's place among its vertex's
+    del first
+    rank = np.arange(len(key_vertex)) - np.searchsorted(key_vertex, key_vertex)  # fan's place among its vertex's
+    del key_vertex
     output[in_several] += rank[inverse.reshape(-1)]
+    del rank, inverse, in_several
     output_label = np.empty(int(count.sum()), np.int64)
     output_label[output] = label
-    source = np.repeat(np.arange(len(vertex_fan)), count)
-    return source, output.reshape(-1, 3).astype(np.uint32), table[output_label]
+    faces = output.reshape(-1, 3).astype(np.uint32)
+    del output
+    normals = table[output_label]
+    del output_label
+    return np.repeat(np.arange(len(vertex_fan)), count), faces, normals
 
 
 def _uint32(faces: np.ndarray) -> np.ndarray:
     return faces if faces.dtype == np.uint32 else faces.astype(np.uint32)
 
 
-def _fan_labels(welded_faces, near_crease, normals: _FaceNormals, crease_angle, flat, welded_count) -> np.ndarray:
+def _fan_labels(welded_faces, near_crease, normals: FaceNormals, crease_angle, flat, welded_count) -> np.ndarray:
     """Per corner: its welded vertex where that vertex is far from creases, else
     welded_count + a compact id of its fan (connected corners around the vertex)."""
     corner_welded = welded_faces.reshape(-1)
@@ -347,36 +307,53 @@ def _fan_labels(welded_faces, near_crease, normals: _FaceNormals, crease_angle, 
     if crease_angle <= 0.0:
         cos_crease = 1.0 - 1e-12  # 0°: only (numerically) coplanar neighbours join
     left, right = _smooth_corner_pairs_of(involved, start, end, normals, cos_crease, flat)
+    del involved, end
     keep = near_crease[start[left]]  # join corners only at the vertices being analysed
-    left, right = left[keep], right[keep]
     analysed = np.flatnonzero(near_crease[corner_welded])
     compact = np.full(len(corner_welded), -1, np.int64)
     compact[analysed] = np.arange(len(analysed))
-    roots = _components(len(analysed), compact[left], compact[right])
-    _, fan_id = np.unique(roots, return_inverse=True)
+    left, right = compact[left[keep]], compact[right[keep]]
+    del compact, keep
+    roots = _components(len(analysed), left, right)
+    del left, right
+    # Each root's rank among the roots present: np.unique(roots, return_inverse=True)[1],
+    # without sorting every corner (roots are ids below len(analysed)).
+    present = np.zeros(len(analysed), bool)
+    present[roots] = True
+    rank = np.cumsum(present) - 1
+    del present
     label = corner_welded.copy()
-    label[analysed] = welded_count + fan_id
+    label[analysed] = welded_count + rank[roots]
     return label
 
 
-def _smooth_corner_pairs_of(halfedges, start, end, normals: _FaceNormals, cos_crease, flat):
+def _smooth_corner_pairs_of(halfedges, start, end, normals: FaceNormals, cos_crease, flat):
     """Pairs of corners (3·face + k) joined by the smooth edges among `halfedges`."""
+    # (Each temporary let go once used: where every vertex is on a crease, these arrays are
+    # per half-edge of the whole mesh.)
     low, high = np.minimum(start[halfedges], end[halfedges]), np.maximum(start[halfedges], end[halfedges])
     key = low.astype(np.int64) * (int(high.max()) + 1 if len(high) else 1) + high  # ids are 32-bit: the product is not
+    del low, high
     order = np.argsort(key, kind="stable")
     sorted_key = key[order]
+    del key
     run_start = np.ones(len(sorted_key), bool)
     run_start[1:] = sorted_key[1:] != sorted_key[:-1]
-    run_id = np.cumsum(run_start) - 1
-    run_length = np.bincount(run_id)
-    first = np.flatnonzero(run_start & (run_length[run_id] == 2))  # manifold: exactly two
+    del sorted_key
+    starts = np.flatnonzero(run_start)
+    del run_start
+    first = starts[np.diff(starts, append=len(order)) == 2]  # manifold: exactly two
+    del starts
     h1, h2 = halfedges[order[first]], halfedges[order[first + 1]]
+    del order, first
     f1, f2 = h1 // 3, h2 // 3
-    unit1, area1 = normals.of(f1)
-    unit2, area2 = normals.of(f2)
-    smooth = (area1 > 0) & (area2 > 0) & (f1 != f2)
-    smooth &= np.einsum("ij,ij->i", unit1, unit2) >= cos_crease
-    del unit1, unit2
+    smooth = np.empty(len(f1), bool)
+    for block_start in range(0, len(f1), FACE_BLOCK):  # the two faces' normals a block at a time
+        block = slice(block_start, block_start + FACE_BLOCK)
+        unit1, area1 = normals.of(f1[block])
+        unit2, area2 = normals.of(f2[block])
+        smooth[block] = (area1 > 0) & (area2 > 0) & (f1[block] != f2[block])
+        smooth[block] &= np.einsum("ij,ij->i", unit1, unit2) >= cos_crease
     if flat is not None:
         smooth &= ~(flat[f1] | flat[f2])
     h1, h2 = h1[smooth], h2[smooth]

@@ -23,7 +23,8 @@ import numpy as np
 
 from ...errors import MeshError
 from .mesh_parts import PRIMITIVES, MeshPart, check_parts, default_parts, kept_for_lines_and_points, triangle_edges, valid_elements
-from .crease_normals import crease_normals, face_normals
+from .crease_normals import crease_normals
+from .face_normals import face_normals
 from .solids import solid_orientation
 from .vertex_normals import validated_normals, vertex_normals
 from .vertex_arrays import bounds, relative_positions, unit_colors, unit_or_zero_normals

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import MeshError
-from .crease_normals import face_normals
+from .face_normals import face_normals
 from .vertex_arrays import row_blocks
 
 
