@@ -206,11 +206,16 @@ def test_crease_angle_0_is_flat():
 
 
 @pytest.mark.parametrize("seed", range(12))
-def test_split_vertices_gives_np_unique_of_vertex_and_fan(seed):
+@pytest.mark.parametrize("range_corners", [1 << 20, 7])
+def test_split_vertices_gives_np_unique_of_vertex_and_fan(monkeypatch, seed, range_corners):
     """The output vertices are those of np.unique over (given vertex, fan) keys, in its
     order, with its inverse as the faces: the formulation split_vertices replaced (it sorts
-    only the corners of vertices in several fans). Random corners: unused vertices, vertices
-    in one fan, vertices in up to four."""
+    only the corners of vertices in several fans, a range of vertices at a time: ranges of
+    ~7 corners here). Random corners: unused vertices, vertices in one fan, vertices in up
+    to four."""
+    from wgpu_shading.scene.geometry import crease_normals as creases
+
+    monkeypatch.setattr(creases, "SPLIT_CORNERS", range_corners)
     rng = np.random.default_rng(seed)
     vertex_count, table_size = int(rng.integers(1, 60)), int(rng.integers(1, 90))
     flat_corners = rng.integers(0, vertex_count, 3 * int(rng.integers(1, 80)))

@@ -26,6 +26,7 @@ import numpy as np
 from .face_normals import FACE_BLOCK, FaceNormals, float_positions
 
 ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (_mean_normals)
+SPLIT_CORNERS = 1 << 20  # corners on creases whose keys split_vertices sorts at a time
 
 
 def _indices(faces) -> np.ndarray:
@@ -266,23 +267,37 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
     several = np.zeros(len(vertex_fan), bool)
     several[flat_corners[split]] = True
     in_several = np.flatnonzero(several[flat_corners])
-    keys = flat_corners[in_several].astype(np.int64) * len(table) + label[in_several]
-    # (Each per-corner temporary let go once used: along creases they are few, but where
-    # every vertex is on one they are every corner's: docs/performance.md, "Loading a large mesh".)
-    unique_keys, inverse = np.unique(keys, return_inverse=True)
-    del keys
-    key_vertex = unique_keys // len(table)
-    del unique_keys
+    corner_vertex = flat_corners[in_several]
+    # The keys a range of vertices at a time (every key of a vertex in its range): np.unique
+    # of each range is the global one's part for those vertices, and where every vertex is
+    # on a crease the keys of every corner at once were ~200 bytes a corner of temporaries
+    # (docs/performance.md, "Loading a large mesh"). Two passes: the fans a vertex has, then
+    # each corner's place among them.
+    ranges = _vertex_ranges(corner_vertex, len(vertex_fan))
+    fans = np.zeros(len(vertex_fan), np.int64)
+    kept = None  # one range (few corners on creases: most meshes): its np.unique, for the second pass
+    for low, high in ranges:
+        keys = _range_keys(corner_vertex, label, in_several, low, high, len(table))[1]
+        if len(ranges) == 1:
+            kept = unique_keys, _ = np.unique(keys, return_inverse=True)
+        else:
+            unique_keys = np.unique(keys)
+        fans += np.bincount(unique_keys // len(table), minlength=len(vertex_fan))
     count = (vertex_fan >= 0).astype(np.int64)
     count[several] = 0
-    count += np.bincount(key_vertex, minlength=len(vertex_fan))
+    count += fans
+    del fans
     first = np.cumsum(count) - count  # each given vertex's first output vertex
     output = first[flat_corners]
     del first
-    rank = np.arange(len(key_vertex)) - np.searchsorted(key_vertex, key_vertex)  # fan's place among its vertex's
-    del key_vertex
-    output[in_several] += rank[inverse.reshape(-1)]
-    del rank, inverse, in_several
+    for low, high in ranges:
+        chosen, keys = _range_keys(corner_vertex, label, in_several, low, high, len(table))
+        unique_keys, inverse = kept if kept is not None else np.unique(keys, return_inverse=True)
+        del keys
+        key_vertex = unique_keys // len(table)
+        rank = np.arange(len(key_vertex)) - np.searchsorted(key_vertex, key_vertex)  # fan's place among its vertex's
+        output[in_several[chosen]] += rank[inverse.reshape(-1)]
+    del corner_vertex, in_several, kept
     output_label = np.empty(int(count.sum()), np.int64)
     output_label[output] = label
     faces = output.reshape(-1, 3).astype(np.uint32)
@@ -290,6 +305,22 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
     normals = table[output_label]
     del output_label
     return np.repeat(np.arange(len(vertex_fan)), count), faces, normals
+
+
+def _vertex_ranges(corner_vertex: np.ndarray, vertex_count: int) -> list[tuple[int, int]]:
+    """Ranges of vertex ids [low, high) with about SPLIT_CORNERS of the corners each."""
+    if len(corner_vertex) <= SPLIT_CORNERS:
+        return [(0, vertex_count)]
+    corners_to = np.cumsum(np.bincount(corner_vertex, minlength=vertex_count))
+    cuts = np.searchsorted(corners_to, np.arange(SPLIT_CORNERS, corners_to[-1], SPLIT_CORNERS), side="right")
+    bounds = [0, *np.unique(cuts).tolist(), vertex_count]
+    return [(low, high) for low, high in zip(bounds[:-1], bounds[1:]) if high > low]
+
+
+def _range_keys(corner_vertex, label, in_several, low: int, high: int, labels: int):
+    """(which of the corners, their keys vertex·labels + label) for the vertices [low, high)."""
+    chosen = np.flatnonzero((corner_vertex >= low) & (corner_vertex < high))
+    return chosen, corner_vertex[chosen].astype(np.int64) * labels + label[in_several[chosen]]
 
 
 def _uint32(faces: np.ndarray) -> np.ndarray:
