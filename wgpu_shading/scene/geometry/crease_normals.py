@@ -160,17 +160,15 @@ def _fan_normals(labels, corner_faces, normals: FaceNormals, count: int) -> np.n
         unit, area = normals.of(corner_faces)
         summed = np.stack([np.bincount(labels, weights=unit[:, k], minlength=count) for k in range(3)], axis=1)
         adjacent = np.bincount(labels, weights=(area > 0).astype(float), minlength=count)
-    else:
-        columns, adjacent = np.zeros((3, count)), np.zeros(count)
+    else:  # (summed in place, a component at a time: no second array of every fan's sums)
+        summed, adjacent = np.zeros((count, 3)), np.zeros(count)
         for start in range(0, len(labels), FACE_BLOCK):
             block = slice(start, start + FACE_BLOCK)
             unit, area = normals.of(corner_faces[block])
             block_labels = labels[block].astype(np.intp)
             for k in range(3):
-                np.add.at(columns[k], block_labels, np.ascontiguousarray(unit[:, k]))
+                np.add.at(summed[:, k], block_labels, np.ascontiguousarray(unit[:, k]))
             np.add.at(adjacent, block_labels, (area > 0).astype(float))
-        summed = np.ascontiguousarray(columns.T)
-        del columns
     result, _, cancelled = _normalized(summed, adjacent)
     if cancelled.any():
         _largest_face_normals(result, cancelled, labels, corner_faces, normals)
