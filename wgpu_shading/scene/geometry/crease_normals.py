@@ -27,6 +27,7 @@ from .face_normals import FACE_BLOCK, FaceNormals, float_positions
 
 ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (_mean_normals)
 SPLIT_CORNERS = 1 << 20  # corners on creases whose keys split_vertices sorts at a time
+SPLIT_RANGES = 16  # at most: more corners make larger ranges, not more passes over them all
 
 
 def _indices(faces) -> np.ndarray:
@@ -278,8 +279,9 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
         keys = _range_keys(corner_vertex, label, in_several, low, high, len(table))[1]
         if len(ranges) == 1:
             kept = unique_keys, _ = np.unique(keys, return_inverse=True)
-        else:
-            unique_keys = np.unique(keys)
+        else:  # (sorted and compared: np.unique without an inverse hashes, 5x slower here)
+            keys.sort()
+            unique_keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
         fans += np.bincount(unique_keys // len(table), minlength=len(vertex_fan))
     count = (vertex_fan >= 0).astype(np.int64)
     count[several] = 0
@@ -306,11 +308,13 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
 
 
 def _vertex_ranges(corner_vertex: np.ndarray, vertex_count: int) -> list[tuple[int, int]]:
-    """Ranges of vertex ids [low, high) with about SPLIT_CORNERS of the corners each."""
+    """Ranges of vertex ids [low, high) with about SPLIT_CORNERS of the corners each, at
+    most SPLIT_RANGES of them: each range is a pass over every corner (finding its own)."""
     if len(corner_vertex) <= SPLIT_CORNERS:
         return [(0, vertex_count)]
+    per_range = max(SPLIT_CORNERS, -(-len(corner_vertex) // SPLIT_RANGES))
     corners_to = np.cumsum(np.bincount(corner_vertex, minlength=vertex_count))
-    cuts = np.searchsorted(corners_to, np.arange(SPLIT_CORNERS, corners_to[-1], SPLIT_CORNERS), side="right")
+    cuts = np.searchsorted(corners_to, np.arange(per_range, corners_to[-1], per_range), side="right")
     bounds = [0, *np.unique(cuts).tolist(), vertex_count]
     return [(low, high) for low, high in zip(bounds[:-1], bounds[1:]) if high > low]
 
