@@ -233,3 +233,21 @@ def test_split_vertices_gives_np_unique_of_vertex_and_fan(monkeypatch, seed, ran
     np.testing.assert_array_equal(faces, inverse.reshape(-1, 3))
     assert faces.dtype == np.uint32
     np.testing.assert_array_equal(normals, table[unique_keys % table_size])
+
+
+def test_split_vertices_with_vertices_without_corners_between_ranges(monkeypatch):
+    """Ranges are cut by the corners' counts, about 2 corners each here: vertices 1-8 have
+    none, so the ranges are uneven; still np.unique's vertices and inverse."""
+    from wgpu_shading.scene.geometry import crease_normals as creases
+
+    monkeypatch.setattr(creases, "SPLIT_CORNERS", 2)
+    flat_corners = np.array([0, 0, 0, 9, 9, 9, 0, 9, 0])
+    label = np.array([1, 2, 1, 3, 4, 3, 2, 4, 1])
+    vertex_fan = np.full(10, -1)
+    vertex_fan[flat_corners] = label
+    table = np.random.default_rng(0).normal(size=(5, 3))
+    source, faces, normals = split_vertices(flat_corners, label, vertex_fan, table)
+    unique_keys, inverse = np.unique(flat_corners * 5 + label, return_inverse=True)
+    np.testing.assert_array_equal(source, unique_keys // 5)
+    np.testing.assert_array_equal(faces, inverse.reshape(-1, 3))
+    np.testing.assert_array_equal(normals, table[unique_keys % 5])
