@@ -13,8 +13,8 @@ import importlib.util
 import os
 import stat
 from functools import lru_cache
-from typing import Iterator
 from pathlib import Path
+from typing import Iterator
 
 from ..errors import WgpuShadingError
 

@@ -17,6 +17,7 @@ import numpy as np
 
 # float type → (the unsigned integer of its bits, the same big-endian: compared bytewise in order)
 _BITS = {np.dtype(np.float32): (np.uint32, ">u4"), np.dtype(np.float64): (np.uint64, ">u8")}
+RENUMBER_BLOCK = 3 << 18  # ids renumbered at a time by finish()
 
 
 class CornerJoin:
@@ -50,14 +51,19 @@ class CornerJoin:
         self._index_ids = np.insert(index_ids, at[fresh], ids[fresh])
         return ids[inverse]
 
-    def finish(self) -> tuple[np.ndarray, np.ndarray]:
-        """(positions (V, 3) sorted by their bits (x, then y, then z, as unsigned integers),
-        rank (V,) uint32: the row of the vertex each id names)."""
+    def finish(self, ids: np.ndarray) -> np.ndarray:
+        """The vertices (V, 3), sorted by their bits (x, then y, then z, as unsigned
+        integers); `ids` (every id add() gave, a C-contiguous uint32 array of any shape)
+        renumbered in place to those rows, a block at a time: no second array of every
+        corner."""
         rank = np.empty(len(self._index), np.uint32)
         rank[self._index_ids] = np.arange(len(self._index), dtype=np.uint32)
         positions = self._index.view(self._big_endian).reshape(-1, 3).astype(self._bits).view(self.dtype)
         self._index, self._index_ids = np.empty(0, self._key), np.empty(0, np.uint32)
-        return positions, rank
+        flat = ids.reshape(-1)  # (a view: renumbered in place)
+        for start in range(0, len(flat), RENUMBER_BLOCK):
+            flat[start : start + RENUMBER_BLOCK] = rank[flat[start : start + RENUMBER_BLOCK]]
+        return positions
 
 
 def _join_equal(bits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -100,9 +100,7 @@ def read_binary_stl(path: Path, count: int) -> tuple[np.ndarray, np.ndarray]:
             records = np.fromfile(file, dtype=RECORD, count=min(BLOCK, count - start))
             ids = join.add(records["corners"].reshape(-1, 3))
             corner_ids[start * 3 : start * 3 + len(ids)] = ids
-    positions, rank = join.finish()
-    for start in range(0, len(corner_ids), BLOCK * 3):  # in place: no second array of every corner
-        corner_ids[start : start + BLOCK * 3] = rank[corner_ids[start : start + BLOCK * 3]]
+    positions = join.finish(corner_ids)
     return positions, corner_ids.reshape(-1, 3)
 
 

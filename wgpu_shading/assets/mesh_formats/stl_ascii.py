@@ -65,7 +65,7 @@ def _read(path: Path, where: str) -> MeshPiece | None:
     join = CornerJoin(np.float64)
     ids: list[np.ndarray] = []  # each corner's vertex id (order met), a joined block at a time
     pending: list[np.ndarray] = []  # corners read, not yet joined
-    triangles = 0
+    pending_corners = triangles = 0
     rest = b""  # the lines after the last whole facet read, not yet a facet
     for number, block in enumerate(text_line_blocks(path, where, MeshError, BLOCK_BYTES, LONGEST_LINE)):
         text = rest + block
@@ -85,19 +85,19 @@ def _read(path: Path, where: str) -> MeshPiece | None:
         if triangles > MAX_TRIANGLES:
             raise MeshError(f"{where}: more than {MAX_TRIANGLES} triangles; at most {MAX_TRIANGLES} are supported")
         pending.append(corners)
-        if sum(len(c) for c in pending) >= JOIN_CORNERS:  # joined in large blocks: each join copies the index once
+        pending_corners += len(corners)
+        if pending_corners >= JOIN_CORNERS:  # joined in large blocks: each join copies the index once
             ids.append(join.add(np.concatenate(pending)).reshape(-1, 3))
             pending.clear()
+            pending_corners = 0
     last = rest.strip()
     if not triangles or not last.lower().startswith(b"endsolid") or b"\n" in last:
         return None  # (no facet, or something after them other than one `endsolid` line)
     if pending:
         ids.append(join.add(np.concatenate(pending)).reshape(-1, 3))
     del pending
-    positions, rank = join.finish()
     faces = joined(ids, np.uint32)
-    for start in range(0, len(faces), JOIN_CORNERS):  # in place: no second array of every corner
-        faces[start : start + JOIN_CORNERS] = rank[faces[start : start + JOIN_CORNERS]]
+    positions = join.finish(faces)  # (the faces renumbered to the sorted vertices)
     return MeshPiece(positions, faces, parts=[(0, triangles, None, path.name)])
 
 

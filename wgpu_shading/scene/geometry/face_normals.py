@@ -45,12 +45,16 @@ def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
     # In blocks of faces: the temporaries stay ~25 MB however big the mesh (a 10M-triangle
     # scan needed 1 GB for them at once; docs/reliability.md).
     positions = float_positions(positions)
-    scale = _scale(positions)
-    unit = np.empty((len(faces), 3))
-    area = np.empty(len(faces))
-    for start in range(0, len(faces), FACE_BLOCK):
+    return _in_blocks(positions, len(faces), lambda block: faces[block], _scale(positions))
+
+
+def _in_blocks(positions: np.ndarray, count: int, faces_of, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """(unit, area) of `count` faces, FACE_BLOCK at a time into the result: faces_of(block)
+    gives the (k, 3) faces of a slice of them."""
+    unit, area = np.empty((count, 3)), np.empty(count)
+    for start in range(0, count, FACE_BLOCK):
         block = slice(start, start + FACE_BLOCK)
-        unit[block], area[block] = _normals_of(positions, faces[block], scale)
+        unit[block], area[block] = _normals_of(positions, faces_of(block), scale)
     return unit, area
 
 
@@ -74,11 +78,7 @@ class FaceNormals:
             return self.kept[0][face_ids], self.kept[1][face_ids]
         if isinstance(face_ids, slice) or len(face_ids) <= FACE_BLOCK:
             return _normals_of(self.positions, self.faces[face_ids], self.scale)
-        unit, area = np.empty((len(face_ids), 3)), np.empty(len(face_ids))
-        for start in range(0, len(face_ids), FACE_BLOCK):
-            block = slice(start, start + FACE_BLOCK)
-            unit[block], area[block] = _normals_of(self.positions, self.faces[face_ids[block]], self.scale)
-        return unit, area
+        return _in_blocks(self.positions, len(face_ids), lambda block: self.faces[face_ids[block]], self.scale)
 
 
 def float_positions(positions) -> np.ndarray:
