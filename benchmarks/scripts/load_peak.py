@@ -5,6 +5,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.stl --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/points10m.ply
     python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.ply --triangles --render 512
+    python benchmarks/scripts/load_peak.py 2000000 /tmp/torus2m.stl --crease-angle 0 --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -18,6 +19,8 @@ torus as a binary glTF with float32 normals (as Blender exports one). Then loads
 memory after imports (with --render: after the device and a small render too), its peak
 (VmHWM), and the peak above that baseline as a multiple of the mesh's arrays; with --render
 also the peak of the load alone, then the mesh rendered as `wgpu-shading render` frames it.
+`--crease-angle A` loads it with that crease angle (0: every edge sharp, every vertex through
+the crease analysis; docs/performance.md, "Loading a large mesh").
 docs/reliability.md, docs/primitives.md and the memory table of `python -m benchmarks`
 (benchmarks/memory.py) quote the result.
 """
@@ -151,6 +154,7 @@ def status(key: str) -> int:
 def main() -> None:
     count, path = int(sys.argv[1]), Path(sys.argv[2])
     render_size = int(sys.argv[sys.argv.index("--render") + 1]) if "--render" in sys.argv else None
+    crease = {"crease_angle": float(sys.argv[sys.argv.index("--crease-angle") + 1])} if "--crease-angle" in sys.argv else {}
     if not path.exists():
         (write_torus_ply if "--triangles" in sys.argv else WRITERS[path.suffix.lower()])(path, count)
     import trimesh  # noqa: F401  - imported by load_mesh; counted in the baseline
@@ -167,7 +171,7 @@ def main() -> None:
         file.write("5")  # reset the peak mark (VmHWM) to the current resident size
     baseline = status("VmRSS")
     start, cpu = time.perf_counter(), time.process_time()
-    mesh = load_mesh(path)
+    mesh = load_mesh(path, **crease)
     seconds, cpu_seconds = time.perf_counter() - start, time.process_time() - cpu
     arrays = sum(array.nbytes for array in (mesh.positions, mesh.normals, mesh.indices, mesh.colors) if array is not None)
     load_peak = status("VmHWM")
