@@ -117,6 +117,77 @@ def test_an_obj_with_more_vertices_than_supported_is_refused_before_parsing(tmp_
         load_mesh(path)
 
 
+
+def test_an_obj_face_of_more_corners_than_supported_is_refused_from_its_bytes(tmp_path, monkeypatch, capsys):
+    """One face line of millions of corners (a 48 MB line took 5.2 GB and 17 s to become
+    triangles before its mesh was refused): counted on the line's bytes, before it is split
+    into words, and refused naming the line. Long lines of few corners still read."""
+    from wgpu_shading.assets.mesh_formats import obj_faces
+
+    monkeypatch.setattr(obj_faces, "MAX_FACE_CORNERS", 8)  # lines over 16 bytes are counted
+    vertices = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+    allowed = tmp_path / "padded.obj"
+    allowed.write_text(vertices + "f 0001 0002 0003 0004 0001 0002 0003 0004\n")  # 8 corners, 41 bytes
+    assert load_mesh(allowed).triangle_count == 6
+    path = tmp_path / "long_face.obj"
+    path.write_text(vertices + "f 1 2 3\nf 1 2 3 4 1 2 3 4 1\n")
+    with pytest.raises(MeshError, match=r"long_face\.obj:6: a face of 9 corners; at most 8 are supported"):
+        load_mesh(path)
+    assert main(["render", str(path), "-o", str(tmp_path / "out.png"), "--size", "16"]) == 2
+    error = capsys.readouterr().err
+    assert error.count("\n") == 1 and "a face of 9 corners" in error and "Traceback" not in error
+    assert not (tmp_path / "out.png").exists()
+
+
+@pytest.mark.parametrize("limit, at_least", [(344, 354), (170, 174)])
+def test_a_polygon_of_repeated_corners_is_refused_before_its_creases_are_split(tmp_path, monkeypatch, limit, at_least):
+    """The hostile OBJ's other shape: faces of repeated corners, whose fans hold triangles
+    without area, every corner a vertex of its own once split at creases (354 here). Refused
+    as soon as the crease normals can count more than the limit, not after the split: from
+    the fans (all 354), or before the edge analysis from the 58 triangles without area
+    (3 × 58 = 174). A 48 MB file of 24 such faces took 5.3 GB and 34 s; ~1 GB and 18 s now
+    (docs/reliability.md)."""
+    from wgpu_shading.assets import mesh_pieces
+    from wgpu_shading.scene.geometry import crease_normals as creases
+
+    path = tmp_path / "repeated.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n" + "f" + " 1 2 3 4" * 30 + "\n")
+    whole = load_mesh(path)  # 118 triangles, half without area: every corner its own vertex
+    assert whole.vertex_count == 3 * whole.triangle_count == 354
+    monkeypatch.setattr(mesh_pieces, "MAX_VERTICES", limit)
+    monkeypatch.setattr(creases, "split_vertices", lambda *args: pytest.fail("split after the limit was seen"))
+    with pytest.raises(MeshError, match=rf"repeated\.obj: at least {at_least} vertices once split at creases .*; at most {limit} are supported"):
+        load_mesh(path)
+
+
+def test_flat_faces_and_crease_splits_count_against_the_vertex_limit(tmp_path, monkeypatch):
+    """Vertices made by the normals count too: an OBJ whose faces are all flat (`s off`:
+    every corner a vertex) is refused before the split, a glTF primitive without normals
+    (drawn flat) before its corners are copied, and Mesh.from_arrays with a crease angle
+    refuses a split past the limit (the cube: 8 given vertices, 24 once each face keeps
+    its own normal)."""
+    from wgpu_shading.assets import mesh_pieces
+    from wgpu_shading.scene import Mesh
+    from wgpu_shading.scene.geometry import mesh as mesh_module
+
+    path = tmp_path / "flat.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\ns off\nf 1 2 3\nf 1 3 4\nf 1 2 4\nf 2 3 4\n")
+    assert load_mesh(path).vertex_count == 12
+    monkeypatch.setattr(mesh_pieces, "MAX_VERTICES", 11)
+    with pytest.raises(MeshError, match=r"flat\.obj: at least 12 vertices once split at creases .*; at most 11 are supported"):
+        load_mesh(path)
+    positions = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], np.float32)
+    faces = np.array([[0, 1, 2], [0, 2, 3], [0, 1, 3], [1, 2, 3]], np.uint32)
+    piece = mesh_pieces.MeshPiece(positions, faces, all_flat=True, parts=[(0, 4, None, "flat")])
+    with pytest.raises(MeshError, match=r"flat\.glb: 12 vertices once every flat face's corners are split; at most 11 are supported"):
+        mesh_pieces.assemble([piece], "flat.glb", 60.0)
+    corners = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
+    faces = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1], [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+    assert Mesh.from_arrays(corners, faces, crease_angle=30.0).vertex_count == 24
+    monkeypatch.setattr(mesh_module, "MAX_VERTICES", 23)
+    with pytest.raises(MeshError, match=r"cube: (at least )?24 vertices once split at creases.*; at most 23 are supported"):
+        Mesh.from_arrays(corners, faces, crease_angle=30.0, name="cube")
+
 # --------------------------------------------------------------------------- scene files
 
 

@@ -251,3 +251,42 @@ def test_split_vertices_with_vertices_without_corners_between_ranges(monkeypatch
     np.testing.assert_array_equal(source, unique_keys // 5)
     np.testing.assert_array_equal(faces, inverse.reshape(-1, 3))
     np.testing.assert_array_equal(normals, table[unique_keys % 5])
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("block", [7, 1 << 16])
+@pytest.mark.parametrize("given_faces", [False, True])
+def test_largest_face_normals_where_sums_cancel_follow_the_whole_array_rule(monkeypatch, seed, block, given_faces):
+    """Where the faces' normals around a label sum to nothing (faces there twice, wound both
+    ways), its normal is its largest face's; of equal areas (a face and its mirror) the last
+    corner's; faces without area never. The whole-array formulation that this blockwise one
+    replaced is the reference: every corner's face at once, stably sorted by area, written
+    in that order (blocks of 7 corners here too)."""
+    from wgpu_shading.scene.geometry import fan_normals
+    from wgpu_shading.scene.geometry.face_normals import FaceNormals
+
+    monkeypatch.setattr(fan_normals, "FACE_BLOCK", block)
+    rng = np.random.default_rng(seed)
+    positions = rng.normal(size=(25, 3))
+    faces = rng.integers(0, 25, (80, 3))
+    faces = np.concatenate([faces, faces[:, ::-1], faces[:10]])  # mirrors (equal areas), repeats
+    faces[:5, 1] = faces[:5, 0]  # triangles without area
+    rng.shuffle(faces)
+    normals = FaceNormals(positions, faces)
+    labels = faces.reshape(-1)
+    corner_faces = None
+    if given_faces:  # fans (fan_normals): labels of their own, each corner's face given
+        labels = rng.integers(0, 40, len(labels))
+        corner_faces = np.arange(len(labels)) // 3
+    cancelled = rng.random(labels.max() + 1) < 0.7
+    result = np.zeros((len(cancelled), 3))
+    fan_normals.largest_face_normals(result, cancelled, labels, corner_faces, normals)
+
+    expected = np.zeros((len(cancelled), 3))
+    corners = np.flatnonzero(cancelled[labels])
+    unit, area = normals.of(corners // 3)
+    order = np.argsort(area, kind="stable")
+    keep = area[order] > 0
+    expected[labels[corners[order]][keep]] = unit[order][keep]
+    np.testing.assert_array_equal(result, expected)
+    assert (np.abs(expected).sum(axis=1) > 0).sum() > 5  # labels that took a face's normal

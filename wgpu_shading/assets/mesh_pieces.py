@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import MeshError
-from ..scene.geometry.mesh import Mesh, MeshPart, face_normals
+from ..scene.geometry.mesh import MAX_VERTICES, Mesh, MeshPart, face_normals
 from ..scene.geometry.crease_normals import crease_normals
 
 
@@ -88,7 +88,7 @@ def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:
     )
 
 
-def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
+def _piece_normals(piece: MeshPiece, crease_angle: float, name: str) -> MeshPiece:
     """The piece with normals: the file's, flat, or welded and creased. Lines and points
     without normals get zero normals (drawn unlit: docs/primitives.md)."""
     if piece.normals is not None:
@@ -96,6 +96,10 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
     if piece.primitive != "triangles":
         return replace(piece, normals=np.zeros((len(piece.positions), 3), np.float32))
     if piece.all_flat:  # every corner its own vertex, with its face's normal
+        if 3 * len(piece.faces) > MAX_VERTICES:  # (said before the corners' copies are made)
+            raise MeshError(
+                f"{name}: {3 * len(piece.faces)} vertices once every flat face's corners are split; at most {MAX_VERTICES} are supported"
+            )
         corners = piece.faces.reshape(-1)
         unit, _ = face_normals(piece.positions, piece.faces)
         return replace(
@@ -107,7 +111,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float) -> MeshPiece:
             colors=None if piece.colors is None else piece.colors[corners],
             extra_uvs=None if piece.extra_uvs is None else piece.extra_uvs[corners],
         )
-    source, faces, normals = crease_normals(piece.positions, piece.faces, crease_angle, piece.flat)
+    source, faces, normals = crease_normals(piece.positions, piece.faces, crease_angle, piece.flat, MAX_VERTICES, name)
     if source is None:
         return replace(piece, normals=normals)
     return replace(
@@ -156,7 +160,7 @@ def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
     triangles, segments and points of each piece numbered after the earlier pieces')."""
     for piece in pieces:
         _check_piece(piece, name)
-    pieces = [_piece_normals(piece, crease_angle) for piece in pieces]
+    pieces = [_piece_normals(piece, crease_angle, name) for piece in pieces]
     any_uvs = any(p.uvs is not None for p in pieces)
     any_colors = any(p.colors is not None for p in pieces)
     any_tangents = any(p.tangents is not None for p in pieces)

@@ -20,7 +20,7 @@ import numpy as np
 from ...errors import MeshError
 from .line_sections import joined
 from .number_text import parse_floats, read_in_blocks
-from .obj_faces import FaceRun, run_corners, triangles_only
+from .obj_faces import FaceRun, check_face_sizes, run_corners, triangles_only
 
 NUMBER_LINES_AT_ONCE = 1 << 16  # v/vt/vn lines read together: bounded temporaries (a few bytes a character)
 KINDS = (("v ", 3), ("vt", 2), ("vn", 3))  # the number lines: keyword, numbers kept
@@ -82,6 +82,11 @@ class ObjContent:
         offset, self.lines = self.lines, self.lines + len(starts)
         if self.over_limit:  # counted, never split into lines (obj.py raises with the totals)
             return
+        if "f" not in self.errors:
+            try:
+                check_face_sizes(data, starts, np.flatnonzero(is_f), self.name, offset + 1)
+            except MeshError as error:
+                self.errors["f"] = error
         lines = data.decode("utf-8", errors="replace").split("\n")[: len(starts)]
         changes = self._state(lines, np.flatnonzero((first == ord("u")) | (first == ord("s")) | (first == ord("m"))))
         change_at = np.array([index for index, _, _ in changes], np.int64)

@@ -79,6 +79,24 @@ def run_corners(run: FaceRun, path: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 FACE_LINES_AT_ONCE = 1 << 16  # lines read together: bounded temporaries (~40 bytes a line, a few arrays of them)
+# Corners of one face line. Text blocks bound the corners read at once (4 MiB of lines:
+# files.text_line_blocks), except a single line longer than a block, which is a block of
+# its own: a 48 MB line of 24M corners took 5.2 GB and 17 s to read into triangles before
+# its mesh was refused. A real polygon (an n-gon from Blender, a CAD outline) has far fewer.
+MAX_FACE_CORNERS = 1 << 20
+
+
+def check_face_sizes(data: bytes, starts: np.ndarray, face_lines: np.ndarray, path: str, first_line: int) -> None:
+    """A MeshError naming the first face line of the block (`data`, its lines beginning at
+    `starts`) with more than MAX_FACE_CORNERS corners. Only lines long enough to hold that
+    many (two bytes a corner at least) are counted, on their bytes."""
+    ends = np.append(starts[1:], len(data))
+    for index in face_lines[ends[face_lines] - starts[face_lines] > 2 * MAX_FACE_CORNERS].tolist():
+        text = np.frombuffer(data, np.uint8, ends[index] - starts[index], starts[index])
+        filled = ~BLANK_BYTES[text]
+        words = int(filled[0]) + int(np.count_nonzero(filled[1:] & ~filled[:-1]))
+        if words - 1 > MAX_FACE_CORNERS:  # (the `f` is a word too)
+            raise MeshError(f"{path}:{first_line + index}: a face of {words - 1} corners; at most {MAX_FACE_CORNERS} are supported")
 
 
 def fans_at_once(lines: list[str]) -> tuple[np.ndarray, np.ndarray] | None:

@@ -23,9 +23,10 @@ import math
 
 import numpy as np
 
+from ...errors import MeshError
 from .face_normals import FACE_BLOCK, FaceNormals, float_positions
+from .fan_normals import fan_normals, mean_normals
 
-ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (_mean_normals)
 SPLIT_CORNERS = 1 << 20  # corners on creases whose keys split_vertices sorts at a time
 SPLIT_RANGES = 16  # at most: more corners make larger ranges, not more passes over them all
 
@@ -82,106 +83,18 @@ def _components(count: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
             label = jumped
 
 
-def _normalized(summed: np.ndarray, adjacent: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(unit sums, their lengths, cancelled), normalized in place: a sum of k unit vectors
-    shorter than 1e-6·k has cancelled, its direction is noise (left zero here)."""
-    length = np.sqrt(np.einsum("ij,ij->i", summed, summed))
-    good = length > 1e-6 * np.maximum(adjacent, 1.0)
-    np.divide(summed, length[:, None], out=summed, where=good[:, None])
-    summed[~good] = 0.0
-    return summed, length, ~good & (adjacent > 0)
-
-
-def _largest_face_normals(result, cancelled, labels, corner_faces, normals: FaceNormals) -> None:
-    """Where the sum cancelled, the normal of the largest face around it (the seeds' rule):
-    the corners of those labels sorted by area (stable), larger ones overwriting smaller."""
-    corners = np.flatnonzero(cancelled[labels])
-    face_ids = corners // 3 if corner_faces is None else corner_faces[corners]
-    unit, area = normals.of(face_ids)
-    order = np.argsort(area, kind="stable")
-    keep = area[order] > 0
-    result[labels[corners[order]][keep]] = unit[order][keep]
-
-
-def _mean_normals(normals: FaceNormals, welded_faces, count: int):
-    """Per welded vertex: the normalized sum of its faces' unit normals (the seeds' rule),
-    k − |sum| (how far its k unit normals are from all being equal), and the faces without
-    area. One pass over blocks of faces: no per-face array is kept.
-
-    The sums are bit for bit those of summing every face in order per corner slot k, then
-    the three slots (np.add.at continues a block where the last one stopped, exactly as one
-    np.bincount over all faces would): the normals do not depend on the block size."""
-    adjacent = np.zeros(count)
-    degenerate = []
-    # Slot 0 sums straight into `summed` (0 + its sum is its sum); slot 1, then slot 2, are
-    # added to it when complete. Slots 0 and 1 take one pass over the faces and slot 2 a
-    # second (face normals computed twice): six per-vertex arrays alive at most, not nine.
-    # Small meshes, whose sums cost little memory, take all three slots in one pass.
-    passes = ((0, 1, 2),) if count * 72 <= ONE_PASS_BYTES else ((0, 1), (2,))
-    summed = np.zeros((3, count))  # component j of the sum: summed[j]
-    # A small mesh keeps its face normals: all faces are one block, and a bincount is the
-    # same sum as add.at into zeros, and faster.
-    block = max(len(welded_faces), 1) if normals.kept is not None else FACE_BLOCK
-    if block >= len(welded_faces):
-        def add_at(sums, labels, weights):
-            sums += np.bincount(labels, weights=weights, minlength=count)
-    else:
-        add_at = np.add.at
-    for slots in passes:
-        sums = {k: summed if k == 0 else np.zeros((3, count)) for k in slots}
-        for start in range(0, len(welded_faces), block):
-            unit, area = normals.of(slice(start, start + block))
-            unit = [np.ascontiguousarray(unit[:, j]) for j in range(3)]  # add.at's fast path: contiguous, same types
-            labels = welded_faces[start : start + block].astype(np.intp)
-            for k in slots:
-                corner_labels = np.ascontiguousarray(labels[:, k])
-                for j in range(3):
-                    add_at(sums[k][j], corner_labels, unit[j])
-            if 0 in slots:  # faces with area around each vertex: whole numbers, exact in any order
-                has_area = (area > 0).astype(np.float64)
-                for slot in range(3):
-                    add_at(adjacent, np.ascontiguousarray(labels[:, slot]), has_area)
-                degenerate.append(np.flatnonzero(area <= 0) + start)
-        for k in slots:  # ((slot 0) + slot 1) + slot 2: one bincount per slot, added in turn
-            if k:
-                summed += sums.pop(k)
-    summed = np.ascontiguousarray(summed.T)
-    mean_normal, length, cancelled = _normalized(summed, adjacent)
-    if cancelled.any():
-        _largest_face_normals(mean_normal, cancelled, welded_faces.reshape(-1), None, normals)
-    return mean_normal, adjacent - length, np.concatenate(degenerate)
-
-
-def _fan_normals(labels, corner_faces, normals: FaceNormals, count: int) -> np.ndarray:
-    """Per fan label (0..count-1): the normalized sum of the unit normals of the faces of
-    its corners; where it cancels, the largest face's normal. Many corners (every vertex on
-    a crease) are summed FACE_BLOCK at a time with np.add.at, which goes on where the last
-    block stopped: the same sums, in the same order, as one np.bincount (_mean_normals)."""
-    if len(labels) <= FACE_BLOCK:
-        unit, area = normals.of(corner_faces)
-        summed = np.stack([np.bincount(labels, weights=unit[:, k], minlength=count) for k in range(3)], axis=1)
-        adjacent = np.bincount(labels, weights=(area > 0).astype(float), minlength=count)
-    else:  # (summed in place, a component at a time: no second array of every fan's sums)
-        summed, adjacent = np.zeros((count, 3)), np.zeros(count)
-        for start in range(0, len(labels), FACE_BLOCK):
-            block = slice(start, start + FACE_BLOCK)
-            unit, area = normals.of(corner_faces[block])
-            block_labels = labels[block].astype(np.intp)
-            for k in range(3):
-                np.add.at(summed[:, k], block_labels, np.ascontiguousarray(unit[:, k]))
-            np.add.at(adjacent, block_labels, (area > 0).astype(float))
-    result, _, cancelled = _normalized(summed, adjacent)
-    if cancelled.any():
-        _largest_face_normals(result, cancelled, labels, corner_faces, normals)
-    return result
-
-
-def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float, flat_faces: np.ndarray | None = None):
+def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float, flat_faces: np.ndarray | None = None,
+                   vertex_limit: int | None = None, name: str = "mesh"):
     """Normals welded by position and split at creases sharper than `crease_angle` degrees.
 
     Returns (source, faces, normals): source (M,) is the given vertex each output vertex
     copies (None when no vertex had to be split: then faces are the given ones and
     normals are per given vertex), faces (F, 3) uint32 and normals (M, 3) float64 unit.
+
+    `vertex_limit`: a MeshError naming `name` as soon as the fans show that more output
+    vertices than that would be made, before their normals and the split (most of the
+    work and memory where every corner is on a crease: a 48 MB OBJ of one face of 24M
+    repeated corners reached its error at 6.7 GB and 77 s, after the whole split).
 
     Speed: the edge analysis (a sort of half-edges) runs only around vertices where some
     face normal is more than half the crease angle from the vertex's mean normal; at all
@@ -201,7 +114,7 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     welded_faces = faces if welded_count == vertex_count else welded[faces]
     corner_welded = welded_faces.reshape(-1)
     normals = FaceNormals(positions, faces)
-    mean_normal, spread, degenerate = _mean_normals(normals, welded_faces, welded_count)
+    mean_normal, spread, degenerate = mean_normals(normals, welded_faces, welded_count)
     flat = None if flat_faces is None or not np.any(flat_faces) else np.asarray(flat_faces, bool)
     label = corner_welded  # a fan per welded vertex (index into `table`)
     table = mean_normal
@@ -223,6 +136,10 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
                 unit, _ = normals.of(block // 3)
                 lean = np.einsum("ij,ij->i", mean_normal[corner_vertex], unit)
                 near_crease[corner_vertex[lean < math.cos(half) - 1e-9]] = True
+        # Every corner of a face without area or flagged flat is a fan of its own (no smooth
+        # edge): three output vertices each, known before the edge analysis.
+        alone = len(degenerate) if flat is None else int(flat.sum()) + int(np.count_nonzero(~flat[degenerate]))
+        _check_vertex_limit(3 * alone, vertex_limit, name)
         if len(degenerate):
             near_crease[welded_faces[degenerate].reshape(-1)] = True
         if flat is not None:
@@ -230,12 +147,14 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         if near_crease.any():
             label = _fan_labels(welded_faces, near_crease, normals, crease_angle, flat, welded_count)
             extra = int(label.max()) + 1 - welded_count
+            # Each crease fan (labels from welded_count on, numbered densely) becomes at least one output vertex.
+            _check_vertex_limit(extra, vertex_limit, name)
             if extra > 0:
                 crease_corners = np.flatnonzero(label >= welded_count)
-                fan_normals = _fan_normals(label[crease_corners] - welded_count, crease_corners // 3, normals, extra)
+                per_fan = fan_normals(label[crease_corners] - welded_count, crease_corners // 3, normals, extra)
                 del crease_corners
-                table = np.vstack([mean_normal, fan_normals])
-                del fan_normals, mean_normal  # (per fan and per vertex: table holds both now)
+                table = np.vstack([mean_normal, per_fan])
+                del per_fan, mean_normal  # (per fan and per vertex: table holds both now)
     if label is corner_welded:  # one fan per welded vertex: every given vertex takes its vertex's
         return None, _uint32(faces), table if welded_count == vertex_count else table[welded]  # welded: the identity, or not
     flat_corners = faces.reshape(-1)
@@ -249,6 +168,14 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         normals[used] = table[vertex_fan[used]]
         return None, _uint32(faces), normals
     return split_vertices(flat_corners, label, vertex_fan, table, split)
+
+
+def _check_vertex_limit(at_least: int, vertex_limit: int | None, name: str) -> None:
+    if vertex_limit is not None and at_least > vertex_limit:
+        raise MeshError(
+            f"{name}: at least {at_least} vertices once split at creases (sharp edges, flat faces or "
+            f"triangles without area, around most vertices); at most {vertex_limit} are supported"
+        )
 
 
 def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.ndarray, table: np.ndarray,

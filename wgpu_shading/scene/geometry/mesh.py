@@ -296,8 +296,10 @@ class Mesh:
             if not np.isfinite(extra_uvs).all():
                 raise MeshError(f"{name}: extra_uvs contain NaN or infinite values")
         if normals is None and crease_angle is not None and len(faces):
-            source, faces, unit_normals = crease_normals(positions, faces, crease_angle, flat_faces)
+            source, faces, unit_normals = crease_normals(positions, faces, crease_angle, flat_faces, MAX_VERTICES, name)
             if source is not None:
+                if len(source) > MAX_VERTICES:  # (crease_normals refuses what it can see sooner)
+                    raise MeshError(f"{name}: {len(source)} vertices once split at creases; at most {MAX_VERTICES} are supported")
                 source, segments, parts = kept_for_lines_and_points(source, segments, parts)
                 unit_normals = np.concatenate([unit_normals, np.zeros((len(source) - len(unit_normals), 3))])
                 positions = positions[source]

@@ -1,0 +1,127 @@
+"""Normals summed around a vertex or a fan of faces (crease_normals.py): the normalized sum
+of the faces' unit normals (the seeds' rule), and where that sum cancels the largest face's
+normal. Faces' normals are computed a block at a time (face_normals.py), never kept per face:
+the sums are bit for bit those of one np.bincount over every face, in any block size."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .face_normals import FACE_BLOCK, FaceNormals
+
+ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (mean_normals)
+
+
+def _normalized(summed: np.ndarray, adjacent: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(unit sums, their lengths, cancelled), normalized in place: a sum of k unit vectors
+    shorter than 1e-6·k has cancelled, its direction is noise (left zero here)."""
+    length = np.sqrt(np.einsum("ij,ij->i", summed, summed))
+    good = length > 1e-6 * np.maximum(adjacent, 1.0)
+    np.divide(summed, length[:, None], out=summed, where=good[:, None])
+    summed[~good] = 0.0
+    return summed, length, ~good & (adjacent > 0)
+
+
+def largest_face_normals(result, cancelled, labels, corner_faces, normals: FaceNormals) -> None:
+    """Where the sum cancelled, the normal of the largest face around it (the seeds' rule;
+    of equal areas, the last corner's; faces without area never). The corners are looked
+    at FACE_BLOCK at a time, each label keeping its best face so far: where every vertex
+    cancels (a hostile OBJ of one face of repeated corners), all corners' normals at once
+    were ~200 bytes a corner."""
+    wanted = np.flatnonzero(cancelled)
+    slot = np.full(len(cancelled), -1, np.int64)  # label → its place among `wanted`
+    slot[wanted] = np.arange(len(wanted))
+    best_area = np.zeros(len(wanted))
+    best_face = np.full(len(wanted), -1, np.int64)
+    for start in range(0, len(labels), FACE_BLOCK):
+        block_slots = slot[labels[start : start + FACE_BLOCK]]
+        corners = np.flatnonzero(block_slots >= 0)
+        if not len(corners):
+            continue
+        slots = block_slots[corners]
+        corners += start
+        face_ids = corners // 3 if corner_faces is None else corner_faces[corners]
+        _, area = normals.of(face_ids)
+        order = np.lexsort((corners, area, slots))  # by label, then area, then corner
+        last = np.append(slots[order][1:] != slots[order][:-1], True)
+        pick = order[last]  # each label's largest face of the block, the last corner of equal ones
+        better = (area[pick] > 0) & (area[pick] >= best_area[slots[pick]])
+        best_area[slots[pick][better]] = area[pick][better]
+        best_face[slots[pick][better]] = face_ids[pick][better]
+    found = best_face >= 0
+    if found.any():
+        unit, _ = normals.of(best_face[found])
+        result[wanted[found]] = unit
+
+
+def mean_normals(normals: FaceNormals, welded_faces, count: int):
+    """Per welded vertex: the normalized sum of its faces' unit normals (the seeds' rule),
+    k − |sum| (how far its k unit normals are from all being equal), and the faces without
+    area. One pass over blocks of faces: no per-face array is kept.
+
+    The sums are bit for bit those of summing every face in order per corner slot k, then
+    the three slots (np.add.at continues a block where the last one stopped, exactly as one
+    np.bincount over all faces would): the normals do not depend on the block size."""
+    adjacent = np.zeros(count)
+    degenerate = []
+    # Slot 0 sums straight into `summed` (0 + its sum is its sum); slot 1, then slot 2, are
+    # added to it when complete. Slots 0 and 1 take one pass over the faces and slot 2 a
+    # second (face normals computed twice): six per-vertex arrays alive at most, not nine.
+    # Small meshes, whose sums cost little memory, take all three slots in one pass.
+    passes = ((0, 1, 2),) if count * 72 <= ONE_PASS_BYTES else ((0, 1), (2,))
+    summed = np.zeros((3, count))  # component j of the sum: summed[j]
+    # A small mesh keeps its face normals: all faces are one block, and a bincount is the
+    # same sum as add.at into zeros, and faster.
+    block = max(len(welded_faces), 1) if normals.kept is not None else FACE_BLOCK
+    if block >= len(welded_faces):
+        def add_at(sums, labels, weights):
+            sums += np.bincount(labels, weights=weights, minlength=count)
+    else:
+        add_at = np.add.at
+    for slots in passes:
+        sums = {k: summed if k == 0 else np.zeros((3, count)) for k in slots}
+        for start in range(0, len(welded_faces), block):
+            unit, area = normals.of(slice(start, start + block))
+            unit = [np.ascontiguousarray(unit[:, j]) for j in range(3)]  # add.at's fast path: contiguous, same types
+            labels = welded_faces[start : start + block].astype(np.intp)
+            for k in slots:
+                corner_labels = np.ascontiguousarray(labels[:, k])
+                for j in range(3):
+                    add_at(sums[k][j], corner_labels, unit[j])
+            if 0 in slots:  # faces with area around each vertex: whole numbers, exact in any order
+                has_area = (area > 0).astype(np.float64)
+                for slot in range(3):
+                    add_at(adjacent, np.ascontiguousarray(labels[:, slot]), has_area)
+                degenerate.append(np.flatnonzero(area <= 0) + start)
+        for k in slots:  # ((slot 0) + slot 1) + slot 2: one bincount per slot, added in turn
+            if k:
+                summed += sums.pop(k)
+    summed = np.ascontiguousarray(summed.T)
+    mean_normal, length, cancelled = _normalized(summed, adjacent)
+    if cancelled.any():
+        largest_face_normals(mean_normal, cancelled, welded_faces.reshape(-1), None, normals)
+    return mean_normal, adjacent - length, np.concatenate(degenerate)
+
+
+def fan_normals(labels, corner_faces, normals: FaceNormals, count: int) -> np.ndarray:
+    """Per fan label (0..count-1): the normalized sum of the unit normals of the faces of
+    its corners; where it cancels, the largest face's normal. Many corners (every vertex on
+    a crease) are summed FACE_BLOCK at a time with np.add.at, which goes on where the last
+    block stopped: the same sums, in the same order, as one np.bincount (mean_normals)."""
+    if len(labels) <= FACE_BLOCK:
+        unit, area = normals.of(corner_faces)
+        summed = np.stack([np.bincount(labels, weights=unit[:, k], minlength=count) for k in range(3)], axis=1)
+        adjacent = np.bincount(labels, weights=(area > 0).astype(float), minlength=count)
+    else:  # (summed in place, a component at a time: no second array of every fan's sums)
+        summed, adjacent = np.zeros((count, 3)), np.zeros(count)
+        for start in range(0, len(labels), FACE_BLOCK):
+            block = slice(start, start + FACE_BLOCK)
+            unit, area = normals.of(corner_faces[block])
+            block_labels = labels[block].astype(np.intp)
+            for k in range(3):
+                np.add.at(summed[:, k], block_labels, np.ascontiguousarray(unit[:, k]))
+            np.add.at(adjacent, block_labels, (area > 0).astype(float))
+    result, _, cancelled = _normalized(summed, adjacent)
+    if cancelled.any():
+        largest_face_normals(result, cancelled, labels, corner_faces, normals)
+    return result
