@@ -168,3 +168,32 @@ def test_mesh_from_arrays_builds_point_clouds_and_line_sets():
     # welding at a crease keeps the lines on vertices of their own
     mixed = Mesh.from_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5], [6, 5, 5]], [[0, 1, 2]], lines=[[3, 4]], crease_angle=30)
     np.testing.assert_allclose(mixed.world_positions()[mixed.line_indices[0]], [[5, 5, 5], [6, 5, 5]])
+
+
+def test_a_long_obj_line_record_is_read_in_c_with_its_relative_indices(tmp_path):
+    """One `l` record of 600,000 vertices, a third of them relative and some `v/vt` tokens:
+    the segments join consecutive vertices as the tokens say (read one by one here), and
+    the record costs a few tens of bytes a vertex (42 here, and a fixed ~17 MB of reading
+    a file), not a Python list of its tokens (144: a 48 MB record of 24M vertices took
+    3.3 GB to load, now ~1 GB)."""
+    import tracemalloc
+
+    rng = np.random.default_rng(3)
+    count = 600_000
+    vertex = rng.integers(1, 11, count)  # 1-based, of 10 `v` lines
+    relative, with_uv = rng.random(count) < 0.3, rng.random(count) < 0.2
+    words = [(str(v - 11) if r else str(v)) + ("/1" if u else "") for v, r, u in zip(vertex.tolist(), relative.tolist(), with_uv.tolist())]
+    positions = rng.normal(size=(10, 3))
+    path = tmp_path / "track.obj"
+    path.write_text("".join(f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in positions) + "vt 0 0\nl " + " ".join(words) + "\n")
+    tracemalloc.start()
+    try:
+        mesh = load_mesh(path)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert mesh.line_count == count - 1
+    ends = mesh.world_positions()[np.asarray(mesh.line_indices)]
+    np.testing.assert_allclose(ends[:, 0], positions[vertex[:-1] - 1], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(ends[:, 1], positions[vertex[1:] - 1], rtol=1e-6, atol=1e-6)
+    assert peak < 70 * count, f"{peak / count:.0f} bytes a vertex"
