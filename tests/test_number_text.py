@@ -106,3 +106,15 @@ def test_tokens_are_read_as_numpy_reads_them():
         tokens_as_numbers(["1.5", "x"], np.float64)
     with pytest.raises(ValueError):
         tokens_as_numbers(["1", "2.0"], np.int64)
+
+
+def test_bytes_read_as_their_text_does():
+    """A reader's block of bytes (never decoded: obj_blocks.py) gives what its text gives,
+    bit for bit, including numbers read by float() one by one; bytes beyond ASCII refuse."""
+    rng = np.random.default_rng(18)
+    tokens = _random_decimals(rng, 5_000, exponents=True) + ["8.266366e-17", "12345678901234567", "-0.0"]
+    text = " ".join(tokens)
+    from_text, from_bytes = parse_decimals(text), parse_decimals(text.encode())
+    assert from_text is not None and np.array_equal(_bits(from_bytes), _bits(from_text))
+    assert np.array_equal(_bits(parse_floats(b"1 2.5\n-3e400")[:2]), _bits([1.0, 2.5]))  # (the usual way for inf)
+    assert parse_decimals("1 2 é".encode()) is None and parse_decimals("1 2 é") is None

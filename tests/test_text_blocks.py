@@ -3,6 +3,7 @@ reads and of the blocks, refused at a NUL byte with its offset."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from wgpu_shading.assets import files
@@ -69,3 +70,32 @@ def test_a_line_longer_than_told_stops_the_reading_at_once(tmp_path, monkeypatch
         list(text_line_blocks(path, "text", MeshError, 1 << 10, longest_line=1 << 13))
     assert len(reads) < 8  # a few chunks of 4 KiB, not the 25 of the whole line
     assert list(text_line_blocks(path, "text", MeshError, 1 << 10))[-1].startswith(b"1 1 ")  # without: one block
+
+
+def test_block_lines_are_the_blocks_split_lines_decoded_when_asked():
+    """BlockLines gives the strings `data.decode("utf-8", errors="replace").split("\\n")`
+    gives (the OBJ reader's lines before), line by line, sliced, as sub-ranges and as lines
+    taken out of order's way (`take`), over random blocks of CR, LF, bytes beyond ASCII and
+    broken UTF-8; `text` is their bytes joined by newlines."""
+    import random
+
+    from wgpu_shading.assets.mesh_formats.line_sections import BlockLines
+
+    rng = random.Random(5)
+    pieces = [b"v 1", b"a", b"\n", b"\n", b"\r", b" ", b"\xe2\x82", b"\xac", b"\xff", b"\xc3\xa9"]
+    for _ in range(1500):
+        data = b"".join(rng.choice(pieces) for _ in range(rng.randint(1, 12)))
+        ends = [index + 1 for index, byte in enumerate(data) if byte == 10]
+        starts = np.array([0] + [end for end in ends if end < len(data)])
+        expected = data.decode("utf-8", errors="replace").split("\n")[: len(starts)]
+        lines = BlockLines(data, starts)
+        assert len(lines) == len(expected) and list(lines) == expected
+        assert [lines[k] for k in range(len(lines))] == expected and lines[-1] == expected[-1]
+        first = rng.randrange(len(expected))
+        stop = rng.randint(first + 1, len(expected))
+        assert lines[first:stop] == expected[first:stop]
+        assert list(lines.sub(first, stop)) == expected[first:stop]
+        assert lines.text(first, stop).decode("utf-8", errors="replace") == "\n".join(expected[first:stop])
+        chosen = np.array(sorted(rng.sample(range(len(expected)), rng.randint(1, len(expected)))))
+        assert list(lines.take(chosen)) == [expected[k] for k in chosen]
+        assert list(lines.sub(first, stop).take(np.array([0]))) == [expected[first]]

@@ -23,7 +23,7 @@ usual way.
 from __future__ import annotations
 
 import warnings
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -45,7 +45,7 @@ _KIND[ord("-")] = _MINUS
 _KIND[ord("+")] = _PLUS
 
 
-def parse_numbers(text: str, dtype) -> np.ndarray | None:
+def parse_numbers(text: str | bytes, dtype) -> np.ndarray | None:
     """Whitespace-separated numbers parsed in C; None when some token is not a number."""
     with warnings.catch_warnings():
         warnings.simplefilter("error", DeprecationWarning)  # "could not be read to its end"
@@ -55,7 +55,7 @@ def parse_numbers(text: str, dtype) -> np.ndarray | None:
             return None
 
 
-def parse_floats(text: str) -> np.ndarray | None:
+def parse_floats(text: str | bytes) -> np.ndarray | None:
     """float64 numbers of `text` (exponents, nan and inf too); None when some token is not one."""
     values = parse_decimals(text)
     return values if values is not None else parse_numbers(text, np.float64)
@@ -64,7 +64,7 @@ def parse_floats(text: str) -> np.ndarray | None:
 TOKENS_AT_ONCE = 1 << 18  # tokens joined and read together: bounded temporaries
 
 
-def read_in_blocks(pieces: list[str], per_block: int, read: Callable[[list[str]], np.ndarray | None], dtype=np.float64) -> np.ndarray | None:
+def read_in_blocks(pieces: Sequence, per_block: int, read: Callable[[Sequence], np.ndarray | None], dtype=np.float64) -> np.ndarray | None:
     """read(block) for each block of `per_block` pieces (lines or words), concatenated: the
     temporaries of reading text in C (a few bytes a character) stay bounded however big the
     file. None as soon as one block gives None."""
@@ -92,17 +92,20 @@ def tokens_as_numbers(tokens: list[str], dtype) -> np.ndarray:
     return read_in_blocks(tokens, TOKENS_AT_ONCE, read, dtype)
 
 
-def parse_decimals(text: str) -> np.ndarray | None:
+def parse_decimals(text: str | bytes) -> np.ndarray | None:
     """The whitespace-separated numbers of `text` as float64, equal bit for bit to what
     float() gives each (the sign of a zero too), when every one is a plain decimal: an
     optional sign, 1 to INTEGER_DIGITS digits with at most one dot, and optionally an
     exponent (`e` or `E`, an optional sign, 1 to 4 digits) (`6.14986e-005`, as C++ streams
     write small numbers). Those with more than EXACT_DIGITS digits or a power of ten beyond
-    ±EXACT_POWER are read by float() one by one, when they are few. None otherwise."""
-    try:
-        data = np.frombuffer(text.encode("ascii"), np.uint8)
-    except UnicodeEncodeError:
-        return None
+    ±EXACT_POWER are read by float() one by one, when they are few. None otherwise.
+    `text` may be bytes (a reader's block, not decoded: any byte beyond ASCII gives None)."""
+    if isinstance(text, str):
+        try:
+            text = text.encode("ascii")
+        except UnicodeEncodeError:
+            return None
+    data = np.frombuffer(text, np.uint8)
     kind = np.take(_KIND, data)
     if kind.max(initial=_BLANK) == _OTHER:
         return None
@@ -155,9 +158,9 @@ def parse_decimals(text: str) -> np.ndarray | None:
             return None
     # The digits as integers, base 10 whatever the leading zeros (`-.5` → `-5`); an exponent
     # becomes a second integer after its number's.
-    cleaned = text.replace(".", "") if len(dots) else text
+    cleaned = text.replace(b".", b"") if len(dots) else text
     if len(exponents_at):
-        cleaned = cleaned.replace("e", " ").replace("E", " ")
+        cleaned = cleaned.replace(b"e", b" ").replace(b"E", b" ")
     integers = parse_numbers(cleaned, np.int64)
     if integers is None or integers.size != count + len(exponents_at):
         return None

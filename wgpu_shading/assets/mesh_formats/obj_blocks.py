@@ -14,11 +14,12 @@ coordinates, normals, faces), whichever line came first.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Sequence
 
 import numpy as np
 
 from ...errors import MeshError
-from .line_sections import joined
+from .line_sections import BlockLines, joined
 from .number_text import parse_floats, read_in_blocks
 from .obj_faces import FaceRun, check_face_sizes, run_corners, triangles_only
 
@@ -87,7 +88,7 @@ class ObjContent:
                 check_face_sizes(data, starts, np.flatnonzero(is_f), self.name, offset + 1)
             except MeshError as error:
                 self.errors["f"] = error
-        lines = data.decode("utf-8", errors="replace").split("\n")[: len(starts)]
+        lines = BlockLines(data, starts)  # (each decoded only when asked for: most are read from the bytes)
         changes = self._state(lines, np.flatnonzero((first == ord("u")) | (first == ord("s")) | (first == ord("m"))))
         change_at = np.array([index for index, _, _ in changes], np.int64)
 
@@ -99,7 +100,8 @@ class ObjContent:
             rows = np.flatnonzero(kinds[keyword])
             if len(rows) and keyword not in self.errors:
                 try:
-                    self.numbers[keyword].append(_floats(_slices(lines, rows), keyword, width, self.name, offset + rows + 1))
+                    run = lines.sub(int(rows[0]), int(rows[-1]) + 1) if rows[-1] - rows[0] + 1 == len(rows) else lines.take(rows)
+                    self.numbers[keyword].append(_floats(run, keyword, width, self.name, offset + rows + 1))
                 except MeshError as error:
                     self.errors[keyword] = error
         for kind, letter in (("lines", "l"), ("points", "p")):
@@ -114,7 +116,7 @@ class ObjContent:
             index = int(face_lines[a])
             material, flat = state_at(index)
             run = FaceRun(material, flat, *(before[keyword] + int(counts[keyword][index]) for keyword, _ in KINDS),
-                          offset + index + 1, lines[index : int(face_lines[b - 1]) + 1])
+                          offset + index + 1, lines.sub(index, int(face_lines[b - 1]) + 1))
             try:
                 corners, polygon = run_corners(run, self.name)
             except MeshError as error:
@@ -122,7 +124,7 @@ class ObjContent:
                 return
             self.runs.append(FaceRunCorners(material, flat, _compact(corners), None if triangles_only(polygon) else polygon))
 
-    def _state(self, lines: list[str], state_lines: np.ndarray) -> list[tuple[int, str | None, bool]]:
+    def _state(self, lines: BlockLines, state_lines: np.ndarray) -> list[tuple[int, str | None, bool]]:
         """The block's state changes in order, (line index, material, flat) from there on,
         after the state the block starts in (index −1); `mtllib` names are kept."""
         changes = [(-1, self.material, self.flat)]
@@ -158,14 +160,19 @@ def _compact(corners: np.ndarray) -> np.ndarray:
     return corners.astype(np.int32)
 
 
-def _numbers(lines: list[str], prefix: str) -> np.ndarray | None:
+def _numbers(lines: Sequence[str], prefix: str) -> np.ndarray | None:
     """Every number of the lines (their `v`/`vt`/`vn` left out), NUMBER_LINES_AT_ONCE lines at
-    a time: the reading's temporaries stay a few MB however big the file, and in cache."""
+    a time: the reading's temporaries stay a few MB however big the file, and in cache.
+    Consecutive lines of a block are read from its bytes, never decoded."""
     keyword = prefix.strip()
+    if isinstance(lines, BlockLines):
+        key = keyword.encode()
+        return read_in_blocks(range(len(lines)), NUMBER_LINES_AT_ONCE,
+                              lambda block: parse_floats(lines.text(block.start, block.stop).replace(key, b" ")))
     return read_in_blocks(lines, NUMBER_LINES_AT_ONCE, lambda block: parse_floats(" ".join(block).replace(keyword, " ")))
 
 
-def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
+def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
     """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array; `numbers`
     are their 1-based line numbers (for errors)."""
     values = _numbers(lines, prefix)
@@ -192,19 +199,6 @@ def _floats(lines: list[str], prefix: str, width: int, path: str, numbers: np.nd
         ordinal = int(np.flatnonzero(bad)[0])
         raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has a NaN or infinite coordinate: {lines[ordinal].strip()[len(prefix.strip()):].strip()!r}")
     return array
-
-
-def _slices(lines: list[str], indices: np.ndarray) -> list[str]:
-    """lines[i] for each i, taken as list slices of consecutive runs (fast for blocks)."""
-    if not len(indices):
-        return []
-    breaks = np.flatnonzero(np.diff(indices) != 1) + 1
-    starts = np.concatenate([[0], breaks])
-    ends = np.concatenate([breaks, [len(indices)]])
-    out: list[str] = []
-    for a, b in zip(starts.tolist(), ends.tolist()):
-        out.extend(lines[indices[a] : indices[b - 1] + 1])
-    return out
 
 
 def _without_indentation(data: bytes) -> bytes:

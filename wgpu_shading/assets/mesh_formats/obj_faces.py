@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
+from typing import Sequence
 
 import numpy as np
 
 from ...errors import MeshError
+from .line_sections import BlockLines
 from .number_text import BLANK_BYTES, parse_numbers
 
 
@@ -24,7 +26,7 @@ class FaceRun:
     uv_count: int
     normal_count: int
     first_line: int
-    lines: list[str] = field(default_factory=list)
+    lines: Sequence[str] = field(default_factory=list)  # a BlockLines (line_sections.py): read from its bytes
 
 
 def run_corners(run: FaceRun, path: str) -> tuple[np.ndarray, np.ndarray]:
@@ -99,7 +101,7 @@ def check_face_sizes(data: bytes, starts: np.ndarray, face_lines: np.ndarray, pa
             raise MeshError(f"{path}:{first_line + index}: a face of {words - 1} corners; at most {MAX_FACE_CORNERS} are supported")
 
 
-def fans_at_once(lines: list[str]) -> tuple[np.ndarray, np.ndarray] | None:
+def fans_at_once(lines: Sequence[str]) -> tuple[np.ndarray, np.ndarray] | None:
     """The fan triangles of face lines (each starting with `f`) read in numpy, the same as the
     line-by-line reading gives: (T, 3, 3) one-based (v, vt, vn), 0 where absent, and each
     triangle's line. Any polygon sizes (an exporter's quads among triangles: Blender's) and
@@ -109,7 +111,10 @@ def fans_at_once(lines: list[str]) -> tuple[np.ndarray, np.ndarray] | None:
     of its 5 ms load.) In blocks of FACE_LINES_AT_ONCE lines."""
     raws, polygons, per_corner = [], [], None
     for start in range(0, len(lines), FACE_LINES_AT_ONCE):
-        block = _block_fans(lines[start : start + FACE_LINES_AT_ONCE], per_corner)
+        stop = min(start + FACE_LINES_AT_ONCE, len(lines))
+        # The lines' bytes as the block holds them (a BlockLines), never decoded; text otherwise.
+        text = lines.text(start, stop) if isinstance(lines, BlockLines) else "\n".join(lines[start:stop]).encode()
+        block = _block_fans(text, stop - start, per_corner)
         if block is None:
             return None
         raw, polygon, per_corner = block
@@ -120,28 +125,28 @@ def fans_at_once(lines: list[str]) -> tuple[np.ndarray, np.ndarray] | None:
     return np.concatenate(raws), np.concatenate(polygons)
 
 
-def _block_fans(lines: list[str], per_corner: int | None) -> tuple[np.ndarray, np.ndarray, int] | None:
-    """fans_at_once for one block; `per_corner`: the numbers a corner has in the blocks before."""
-    text = "\n".join(lines)
-    if "/" in text and "//" in text:  # (one character is found with memchr: 0.01 ms; "//" took 0.5 ms a block)
-        text = text.replace("//", "/0/")
-    data = np.frombuffer(text.encode(), np.uint8)
+def _block_fans(text: bytes, line_count: int, per_corner: int | None) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """fans_at_once for one block of `line_count` lines (`text`, joined by newlines);
+    `per_corner`: the numbers a corner has in the blocks before."""
+    if b"/" in text and b"//" in text:  # (one character is found with memchr: 0.01 ms; "//" took 0.5 ms a block)
+        text = text.replace(b"//", b"/0/")
+    data = np.frombuffer(text, np.uint8)
     filled = np.zeros(len(data) + 1, bool)  # a blank before the text
     np.logical_not(np.take(BLANK_BYTES, data), out=filled[1:])
     starts = np.flatnonzero(filled[1:] > filled[:-1])  # where each token begins (the first line's `f` at 0)
     newlines = np.flatnonzero(data == 10)
     slash_at = np.flatnonzero(data == 47)
     line_starts = np.concatenate([[0], newlines + 1])
-    if not len(slash_at) and len(starts) == 4 * len(lines) and np.array_equal(starts[::4], line_starts):
+    if not len(slash_at) and len(starts) == 4 * line_count and np.array_equal(starts[::4], line_starts):
         # Every line `f a b c` (most scans' files): four tokens a line, each line's first at
         # its start, so no token's line need be looked up (a third of this function's time).
         if per_corner not in (None, 1):  # the run's earlier blocks had v/vt corners: not one form
             return None
-        corners, per_corner = np.full(len(lines), 3), 1
+        corners, per_corner = np.full(line_count, 3), 1
     else:
         token_line = np.searchsorted(newlines, starts)  # the newlines before a token: its line
-        corners = np.bincount(token_line, minlength=len(lines)) - 1  # the `f` is a token too
-        if len(corners) != len(lines) or corners.min(initial=3) < 3:
+        corners = np.bincount(token_line, minlength=line_count) - 1  # the `f` is a token too
+        if len(corners) != line_count or corners.min(initial=3) < 3:
             return None
         slashes = np.bincount(np.searchsorted(starts, slash_at, "right") - 1, minlength=len(starts))
         if per_corner is None:
@@ -150,16 +155,16 @@ def _block_fans(lines: list[str], per_corner: int | None) -> tuple[np.ndarray, n
         expected[np.cumsum(corners + 1) - (corners + 1)] = 0  # each line's `f`
         if per_corner > 3 or not np.array_equal(slashes, expected):
             return None
-    values = parse_numbers(text.replace("f", " ").replace("/", " "), np.int64)
+    values = parse_numbers(text.replace(b"f", b" ").replace(b"/", b" "), np.int64)
     total = int(corners.sum())
     if values is None or values.size != total * per_corner:
         return None  # (a token with an empty number has fewer: every token has per_corner exactly)
     corner_values = np.zeros((total, 3), np.int64)
     corner_values[:, :per_corner] = values.reshape(total, per_corner)
     if (corners == 3).all():  # triangles only (most files): no fans to cut
-        return corner_values.reshape(-1, 3, 3), np.arange(len(lines)), per_corner
+        return corner_values.reshape(-1, 3, 3), np.arange(line_count), per_corner
     fans = corners - 2
-    polygon = np.repeat(np.arange(len(lines)), fans)
+    polygon = np.repeat(np.arange(line_count), fans)
     first = (np.cumsum(corners) - corners)[polygon]  # each triangle's polygon's first corner
     k = np.arange(len(polygon)) - np.repeat(np.cumsum(fans) - fans, fans) + 1  # triangle (0, k, k + 1) of its fan
     return corner_values[np.stack([first, first + k, first + k + 1], axis=1)], polygon, per_corner
