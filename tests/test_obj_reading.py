@@ -389,3 +389,24 @@ def test_a_big_obj_is_read_in_a_few_times_its_arrays(tmp_path, monkeypatch):
     np.testing.assert_array_equal(piece.positions, [[float(f"{x:.6f}") for x in row] for row in positions])
     arrays = piece.positions.nbytes + piece.faces.nbytes
     assert peak < 2.5 * arrays, f"peak {peak / arrays:.2f}x the arrays"
+
+
+def test_a_concave_face_through_one_point_again_and_again_keeps_its_fan(tmp_path, monkeypatch):
+    """Ear clipping is for real polygons: mapbox_earcut on a ring that comes back to one point
+    again and again took 63 s at 8,000 corners (a 60 KB file). Such a face, and any face
+    over EAR_CLIP_CORNERS corners, keeps its fan (corners − 2 triangles) with a warning;
+    a slit's two visits to a point (test_concave_obj_polygon_leaves_its_notch_open) and an
+    L still cut by ear clipping."""
+    from wgpu_shading.assets.mesh_formats import obj_faces
+
+    (tmp_path / "loops.obj").write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1" + " 2 3 4 2" * 750 + "\n")
+    with pytest.warns(UserWarning, match=r"loops\.obj: 1 concave face passes more than twice through one point .*drawn as its fan"):
+        mesh = load_mesh(tmp_path / "loops.obj")
+    assert mesh.triangle_count == 3001 - 2
+    l_shape = "v 0.8 0 0\nv 0 0 0\nv 0 0.8 0\nv -0.8 0.8 0\nv -0.8 -0.8 0\nv 0.8 -0.8 0\nf 1 2 3 4 5 6\n"
+    (tmp_path / "l.obj").write_text(l_shape)
+    cut = load_mesh(tmp_path / "l.obj").indices.copy()
+    monkeypatch.setattr(obj_faces, "EAR_CLIP_CORNERS", 5)
+    with pytest.warns(UserWarning, match=r"l\.obj: 1 concave face .*over 5 corners"):
+        fan = load_mesh(tmp_path / "l.obj").indices
+    assert len(fan) == len(cut) == 4 and not np.array_equal(fan, cut)  # the fan covers the notch, ear clipping did not

@@ -64,6 +64,9 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
         content.read_block(_with_newlines(_without_byte_order_mark(block)) if blocks == 1 else block)
     vertices, polygons = content.counts["v "], content.polygons
     if content.over_limit:  # (each block past the limit only counted)
+        if content.triangles > MAX_TRIANGLES:  # few polygons of many corners: refused before the rest is cut into triangles
+            raise MeshError(f"mesh file {name!r}: its faces cut into triangles make more than {MAX_TRIANGLES} (the limit is passed "
+                            f"at line {content.triangle_line}); at most {MAX_TRIANGLES} triangles are supported")
         raise MeshError(f"mesh file {name!r}: {vertices} vertices and {polygons} faces; at most {MAX_VERTICES} of each are supported")
     if not vertices:
         raise MeshError(f"mesh file {name!r} contains no triangles, lines or points (no vertices)")
@@ -86,7 +89,7 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     vt, vn = content.vertex_numbers("vt"), content.vertex_numbers("vn")
     for run in content.runs:  # concave polygons cut again (a degenerate one may give fewer triangles)
         if run.polygon is not None:
-            run.corners, run.polygon = ear_clip_concave(run.corners, run.polygon, v[:, :3]), None
+            run.corners, run.polygon = ear_clip_concave(run.corners, run.polygon, v[:, :3], name), None
     run_triangles = [len(run.corners) for run in content.runs]
     run_materials = [run.material or "" for run in content.runs]
     flat_faces = np.repeat([run.flat for run in content.runs], run_triangles).astype(bool)

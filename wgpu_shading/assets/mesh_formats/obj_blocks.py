@@ -50,6 +50,8 @@ class ObjContent:
     lines: int = 0  # lines read so far
     counts: dict = field(default_factory=lambda: {keyword: 0 for keyword, _ in KINDS})  # v/vt/vn lines so far
     polygons: int = 0  # face lines so far
+    triangles: int = 0  # their fans' triangles so far (the blocks read whole)
+    triangle_line: int = 0  # the line whose face took the triangles past the limit
     numbers: dict = field(default_factory=lambda: {keyword: [] for keyword, _ in KINDS})  # keyword → (n, w) float64 blocks
     runs: list[FaceRunCorners] = field(default_factory=list)
     libraries: list[str] = field(default_factory=list)
@@ -62,7 +64,7 @@ class ObjContent:
     @property
     def over_limit(self) -> bool:
         """More vertices or faces than supported: the rest is only counted (obj.py says how many)."""
-        return self.counts["v "] > self.vertex_limit or self.polygons > self.triangle_limit
+        return self.counts["v "] > self.vertex_limit or self.polygons > self.triangle_limit or self.triangles > self.triangle_limit
 
     def read_block(self, data: bytes) -> None:
         """One block of whole lines (the file's first: its byte-order mark and line ends
@@ -123,6 +125,10 @@ class ObjContent:
                 self.errors["f"] = error
                 return
             self.runs.append(FaceRunCorners(material, flat, _compact(corners), None if triangles_only(polygon) else polygon))
+            self.triangles += len(corners)
+            if self.triangles > self.triangle_limit:  # polygons cut into more triangles than supported: the rest is only counted
+                self.triangle_line = offset + index + 1 + int(polygon[self.triangle_limit - (self.triangles - len(corners))])
+                return
 
     def _state(self, lines: BlockLines, state_lines: np.ndarray) -> list[tuple[int, str | None, bool]]:
         """The block's state changes in order, (line index, material, flat) from there on,
