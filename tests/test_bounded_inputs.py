@@ -155,6 +155,21 @@ def test_an_obj_whose_polygons_make_too_many_triangles_is_refused_as_they_are_re
     path.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1.5 0\nv 0 1 0\n" + "f 1 2 3 4 5\n" * 33)  # 99 triangles
     assert load_mesh(path).triangle_count == 99
 
+def test_a_mesh_file_over_the_triangle_limit_is_refused_before_its_normals(tmp_path, monkeypatch):
+    """Whatever the format (an OFF here: 40 faces of a thousand corners, 39,920 triangles),
+    the Mesh's limits are checked on the file's pieces before they are welded and creased,
+    which for a file of few huge polygons was most of the time and memory."""
+    from wgpu_shading.assets import mesh_pieces
+
+    path = tmp_path / "polygons.off"
+    ring = np.linspace(0, 2 * np.pi, 1000, endpoint=False)
+    path.write_text("OFF\n1000 40 0\n" + "".join(f"{np.cos(a):.6f} {np.sin(a):.6f} 0\n" for a in ring.tolist())
+                    + ("1000 " + " ".join(map(str, range(1000))) + "\n") * 40)
+    monkeypatch.setattr(mesh_pieces, "MAX_TRIANGLES", 39_919)
+    monkeypatch.setattr(mesh_pieces, "crease_normals", lambda *args: pytest.fail("creased past the limit"))
+    with pytest.raises(MeshError, match=r"polygons\.off: 1000 vertices, 39920 triangles and 0 line segments; at most"):
+        load_mesh(path)
+
 @pytest.mark.parametrize("limit, at_least", [(344, 354), (170, 174)])
 def test_a_polygon_of_repeated_corners_is_refused_before_its_creases_are_split(tmp_path, monkeypatch, limit, at_least):
     """The hostile OBJ's other shape: faces of repeated corners, whose fans hold triangles

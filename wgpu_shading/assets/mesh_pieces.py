@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import MeshError
-from ..scene.geometry.mesh import MAX_VERTICES, Mesh, MeshPart, face_normals
+from ..scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES, Mesh, MeshPart, face_normals
 from ..scene.geometry.crease_normals import crease_normals
 
 
@@ -155,11 +155,25 @@ def _check_piece(piece: MeshPiece, name: str) -> None:
         )
 
 
+def _check_counts(pieces: list[MeshPiece], name: str) -> None:
+    """The Mesh's own limits, before the normals: a file of few polygons of many corners
+    (an OFF, a PLY through trimesh) gave triangles past the limit that were all welded and
+    creased before the Mesh refused them."""
+    count = {kind: sum(len(piece.faces) for piece in pieces if piece.primitive == kind) for kind in ("triangles", "lines")}
+    vertices = sum(len(piece.positions) for piece in pieces)
+    if vertices > MAX_VERTICES or count["triangles"] > MAX_TRIANGLES or count["lines"] > MAX_TRIANGLES:
+        raise MeshError(
+            f"{name}: {vertices} vertices, {count['triangles']} triangles and {count['lines']} line segments; "
+            f"at most {MAX_VERTICES} of each are supported"
+        )
+
+
 def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
     """The pieces as one Mesh: each with its normals, then joined, parts in order (the
     triangles, segments and points of each piece numbered after the earlier pieces')."""
     for piece in pieces:
         _check_piece(piece, name)
+    _check_counts(pieces, name)
     pieces = [_piece_normals(piece, crease_angle, name) for piece in pieces]
     any_uvs = any(p.uvs is not None for p in pieces)
     any_colors = any(p.colors is not None for p in pieces)
