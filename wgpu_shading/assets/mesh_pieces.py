@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import MeshError
-from ..scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES, Mesh, MeshPart, face_normals
+from ..scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES, Mesh, MeshPart, check_counts, face_normals
 from ..scene.geometry.crease_normals import crease_normals
 
 
@@ -160,12 +160,7 @@ def _check_counts(pieces: list[MeshPiece], name: str) -> None:
     (an OFF, a PLY through trimesh) gave triangles past the limit that were all welded and
     creased before the Mesh refused them."""
     count = {kind: sum(len(piece.faces) for piece in pieces if piece.primitive == kind) for kind in ("triangles", "lines")}
-    vertices = sum(len(piece.positions) for piece in pieces)
-    if vertices > MAX_VERTICES or count["triangles"] > MAX_TRIANGLES or count["lines"] > MAX_TRIANGLES:
-        raise MeshError(
-            f"{name}: {vertices} vertices, {count['triangles']} triangles and {count['lines']} line segments; "
-            f"at most {MAX_VERTICES} of each are supported"
-        )
+    check_counts(sum(len(piece.positions) for piece in pieces), count["triangles"], count["lines"], name, MAX_VERTICES, MAX_TRIANGLES)
 
 
 def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:

@@ -31,7 +31,7 @@ from .line_sections import joined
 from .mtl import read_mtl_files
 from .obj_blocks import ObjContent
 from .obj_elements import bare_points, obj_elements
-from .obj_faces import ear_clip_concave
+from .obj_faces import ear_clip_concave, warn_kept_fans
 
 
 def _without_byte_order_mark(data: bytes) -> bytes:
@@ -87,9 +87,13 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
         if keyword in content.errors:
             raise content.errors[keyword]
     vt, vn = content.vertex_numbers("vt"), content.vertex_numbers("vn")
+    kept_fans = 0
     for run in content.runs:  # concave polygons cut again (a degenerate one may give fewer triangles)
         if run.polygon is not None:
-            run.corners, run.polygon = ear_clip_concave(run.corners, run.polygon, v[:, :3], name), None
+            (run.corners, kept), run.polygon = ear_clip_concave(run.corners, run.polygon, v[:, :3]), None
+            kept_fans += kept
+    if kept_fans:
+        warn_kept_fans(name, kept_fans)
     run_triangles = [len(run.corners) for run in content.runs]
     run_materials = [run.material or "" for run in content.runs]
     flat_faces = np.repeat([run.flat for run in content.runs], run_triangles).astype(bool)

@@ -176,7 +176,7 @@ def _block_fans(text: bytes, line_count: int, per_corner: int | None) -> tuple[n
 EAR_CLIP_CORNERS = 1 << 16  # a 100,000-corner star took 4.7 s
 
 
-def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.ndarray, path: str = "mesh") -> np.ndarray:
+def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.ndarray) -> tuple[np.ndarray, int]:
     """Concave polygons triangulated again by ear clipping; the fan is kept for the rest.
 
     A fan from the first corner is right only when every fan triangle faces the polygon's
@@ -184,16 +184,17 @@ def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.nda
     around the first one. Otherwise (an L, a ring cut open by a slit, letters) the fan covers
     the concave notches, which f3d, Blender and assimp leave open. A ring that comes back
     more than twice to one point (a slit comes back once), or of more than EAR_CLIP_CORNERS
-    corners, keeps its fan, with a warning naming `path`."""
+    corners, keeps its fan. Returns the triangles and how many faces kept their fans that
+    way (warn_kept_fans: one warning for the file, not one per run of face lines)."""
     if len(corners) == 0 or triangles_only(polygon):
-        return corners
+        return corners, 0
     points = positions[corners[:, :, 0]]
     areas = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
     count = int(polygon.max()) + 1
     normal_of = np.stack([np.bincount(polygon, areas[:, k], count) for k in range(3)], axis=1)
     backwards = np.einsum("ij,ij->i", areas, normal_of[polygon]) < 0.0
     if not backwards.any():
-        return corners
+        return corners, 0
     import mapbox_earcut
 
     pieces, start, kept_fans = [], 0, 0
@@ -216,11 +217,15 @@ def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.nda
         pieces.append(triangles)
         start = stop
     pieces.append(corners[start:])
-    if kept_fans:
-        warnings.warn(f"{path}: {kept_fans} concave {'face passes' if kept_fans == 1 else 'faces pass'} more than twice through "
-                      f"one point or {'has' if kept_fans == 1 else 'have'} over {EAR_CLIP_CORNERS} corners: drawn as "
-                      f"{'its fan' if kept_fans == 1 else 'their fans'} from the first corner, not cut by ear clipping", stacklevel=2)
-    return np.concatenate(pieces)
+    return np.concatenate(pieces), kept_fans
+
+
+def warn_kept_fans(path: str, count: int) -> None:
+    """The warning for `count` concave faces that ear_clip_concave left as their fans."""
+    one = count == 1
+    warnings.warn(f"{path}: {count} concave {'face passes' if one else 'faces pass'} more than twice through one point or "
+                  f"{'has' if one else 'have'} over {EAR_CLIP_CORNERS} corners: drawn as {'its fan' if one else 'their fans'} "
+                  "from the first corner, not cut by ear clipping", stacklevel=3)
 
 
 def triangles_only(polygon: np.ndarray) -> bool:

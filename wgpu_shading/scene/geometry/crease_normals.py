@@ -139,7 +139,7 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         # Every corner of a face without area or flagged flat is a fan of its own (no smooth
         # edge): three output vertices each, known before the edge analysis.
         alone = len(degenerate) if flat is None else int(flat.sum()) + int(np.count_nonzero(~flat[degenerate]))
-        _check_vertex_limit(3 * alone, vertex_limit, name)
+        check_split_count(3 * alone, vertex_limit, name)
         if len(degenerate):
             near_crease[welded_faces[degenerate].reshape(-1)] = True
         if flat is not None:
@@ -148,7 +148,7 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
             label = _fan_labels(welded_faces, near_crease, normals, crease_angle, flat, welded_count)
             extra = int(label.max()) + 1 - welded_count
             # Each crease fan (labels from welded_count on, numbered densely) becomes at least one output vertex.
-            _check_vertex_limit(extra, vertex_limit, name)
+            check_split_count(extra, vertex_limit, name)
             if extra > 0:
                 crease_corners = np.flatnonzero(label >= welded_count)
                 per_fan = fan_normals(label[crease_corners] - welded_count, crease_corners // 3, normals, extra)
@@ -170,7 +170,8 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     return split_vertices(flat_corners, label, vertex_fan, table, split)
 
 
-def _check_vertex_limit(at_least: int, vertex_limit: int | None, name: str) -> None:
+def check_split_count(at_least: int, vertex_limit: int | None, name: str) -> None:
+    """A MeshError when the split makes (at least) `at_least` vertices, over `vertex_limit`."""
     if vertex_limit is not None and at_least > vertex_limit:
         raise MeshError(
             f"{name}: at least {at_least} vertices once split at creases (sharp edges, flat faces or "
@@ -201,15 +202,17 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
     # each corner's place among them.
     ranges = _vertex_ranges(corner_vertex, len(vertex_fan))
     fans = np.zeros(len(vertex_fan), np.int64)
-    kept = None  # one range (few corners on creases: most meshes): its np.unique, for the second pass
+    kept = None  # one range (few corners on creases: most meshes): its corners and np.unique, for the second pass
     for low, high in ranges:
-        keys = _range_keys(corner_vertex, label, in_several, low, high, len(table))[1]
+        chosen, keys = _range_keys(corner_vertex, label, in_several, low, high, len(table))
         if len(ranges) == 1:
-            kept = unique_keys, _ = np.unique(keys, return_inverse=True)
+            unique_keys, inverse = np.unique(keys, return_inverse=True)
+            kept = chosen, unique_keys, inverse
         else:  # (sorted and compared: np.unique without an inverse hashes, 5x slower here)
             keys.sort()
             unique_keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
         fans += np.bincount(unique_keys // len(table), minlength=len(vertex_fan))
+    del chosen, keys
     count = (vertex_fan >= 0).astype(np.int64)
     count[several] = 0
     count += fans
@@ -218,9 +221,12 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
     output = first[flat_corners]
     del first
     for low, high in ranges:
-        chosen, keys = _range_keys(corner_vertex, label, in_several, low, high, len(table))
-        unique_keys, inverse = kept if kept is not None else np.unique(keys, return_inverse=True)
-        del keys
+        if kept is not None:
+            chosen, unique_keys, inverse = kept
+        else:
+            chosen, keys = _range_keys(corner_vertex, label, in_several, low, high, len(table))
+            unique_keys, inverse = np.unique(keys, return_inverse=True)
+            del keys
         key_vertex = unique_keys // len(table)
         rank = np.arange(len(key_vertex)) - np.searchsorted(key_vertex, key_vertex)  # fan's place among its vertex's
         output[in_several[chosen]] += rank[inverse.reshape(-1)]

@@ -23,13 +23,13 @@ import numpy as np
 
 from ...errors import MeshError
 from .mesh_parts import PRIMITIVES, MeshPart, check_parts, default_parts, kept_for_lines_and_points, triangle_edges, valid_elements
-from .crease_normals import crease_normals
+from .crease_normals import check_split_count, crease_normals
 from .face_normals import face_normals
 from .solids import solid_orientation
 from .vertex_normals import validated_normals, vertex_normals
 from .vertex_arrays import bounds, relative_positions, unit_colors, unit_or_zero_normals
 
-__all__ = ["MAX_VERTICES", "MAX_TRIANGLES", "Mesh", "MeshPart", "PRIMITIVES", "face_normals", "owned", "vertex_normals"]
+__all__ = ["MAX_VERTICES", "MAX_TRIANGLES", "Mesh", "check_counts", "MeshPart", "PRIMITIVES", "face_normals", "owned", "vertex_normals"]
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..material import Material
@@ -64,6 +64,17 @@ def _private(array: np.ndarray | None, *inputs: object) -> np.ndarray | None:
         array.setflags(write=False)
     return array
 
+
+
+def check_counts(vertices: int, triangles: int, segments: int, name: str,
+                 max_vertices: int = MAX_VERTICES, max_triangles: int = MAX_TRIANGLES) -> None:
+    """The Mesh's size limits, one message: checked by Mesh.from_arrays, and by the file
+    readers before they make normals (assets/mesh_pieces.py)."""
+    if vertices > max_vertices or triangles > max_triangles or segments > max_triangles:
+        raise MeshError(
+            f"{name}: {vertices} vertices, {triangles} triangles and {segments} line segments; "
+            f"at most {max_vertices} of each are supported"
+        )
 
 @dataclass(frozen=True, eq=False)
 class Mesh:
@@ -269,11 +280,7 @@ class Mesh:
         point_parts = [part for part in parts if part.primitive == "points"]
         if len(positions) == 0 or not (len(faces) or line_count or point_parts or not parts):
             raise MeshError(f"{name}: the mesh is empty ({len(positions)} vertices, {len(faces)} triangles)")
-        if len(positions) > MAX_VERTICES or len(faces) > MAX_TRIANGLES or line_count > MAX_TRIANGLES:
-            raise MeshError(
-                f"{name}: {len(positions)} vertices, {len(faces)} triangles and {line_count} line segments; "
-                f"at most {MAX_VERTICES} of each are supported"
-            )
+        check_counts(len(positions), len(faces), line_count, name)
         bad = ~np.isfinite(positions).all(axis=1)
         if bad.any():
             first = int(np.flatnonzero(bad)[0])
@@ -298,8 +305,7 @@ class Mesh:
         if normals is None and crease_angle is not None and len(faces):
             source, faces, unit_normals = crease_normals(positions, faces, crease_angle, flat_faces, MAX_VERTICES, name)
             if source is not None:
-                if len(source) > MAX_VERTICES:  # (crease_normals refuses what it can see sooner)
-                    raise MeshError(f"{name}: {len(source)} vertices once split at creases; at most {MAX_VERTICES} are supported")
+                check_split_count(len(source), MAX_VERTICES, name)  # (crease_normals refuses what it can see sooner)
                 source, segments, parts = kept_for_lines_and_points(source, segments, parts)
                 unit_normals = np.concatenate([unit_normals, np.zeros((len(source) - len(unit_normals), 3))])
                 positions = positions[source]
