@@ -6,6 +6,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/points10m.ply
     python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.ply --triangles --render 512
     python benchmarks/scripts/load_peak.py 2000000 /tmp/torus2m.stl --crease-angle 0 --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/exported10m.obj --exported --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -101,6 +102,24 @@ def write_torus_obj(path: Path, triangles: int) -> None:
         np.savetxt(file, faces + 1, fmt="f %d %d %d")
 
 
+def write_torus_obj_exported(path: Path, triangles: int) -> None:
+    """The torus as an OBJ as Blender, Maya and Cinema 4D write one: `v`, `vt` and `vn` lines
+    numbered on their own (the `vt` lines in another order, the `vn` lines reversed), so
+    that each `f v/vt/vn` corner's three numbers differ."""
+    positions, faces = torus(triangles)
+    count = len(positions)
+    uv_line = (np.arange(count, dtype=np.int64) * 7919) % count  # vertex → its vt line (7919 is prime: a permutation)
+    vertex_of_uv = np.empty(count, np.int64)
+    vertex_of_uv[uv_line] = np.arange(count)
+    normals = positions / np.linalg.norm(positions, axis=1, keepdims=True)
+    with open(path, "w") as file:
+        np.savetxt(file, positions, fmt="v %.6f %.6f %.6f")
+        np.savetxt(file, positions[vertex_of_uv][:, :2], fmt="vt %.6f %.6f")
+        np.savetxt(file, normals[::-1], fmt="vn %.4f %.4f %.4f")
+        corners = np.stack([faces + 1, uv_line[faces] + 1, count - faces], axis=2).reshape(len(faces), 9)
+        np.savetxt(file, corners, fmt="f %d/%d/%d %d/%d/%d %d/%d/%d")
+
+
 def write_torus_glb(path: Path, triangles: int) -> None:
     """The torus as a binary glTF (GLB) as exporters write one: float32 POSITION and NORMAL,
     uint32 indices, one node without a transform."""
@@ -156,7 +175,9 @@ def main() -> None:
     render_size = int(sys.argv[sys.argv.index("--render") + 1]) if "--render" in sys.argv else None
     crease = {"crease_angle": float(sys.argv[sys.argv.index("--crease-angle") + 1])} if "--crease-angle" in sys.argv else {}
     if not path.exists():
-        (write_torus_ply if "--triangles" in sys.argv else WRITERS[path.suffix.lower()])(path, count)
+        writer = WRITERS[path.suffix.lower()]
+        writer = write_torus_ply if "--triangles" in sys.argv else write_torus_obj_exported if "--exported" in sys.argv else writer
+        writer(path, count)
     import trimesh  # noqa: F401  - imported by load_mesh; counted in the baseline
 
     from wgpu_shading import load_mesh

@@ -10,6 +10,8 @@ from typing import Iterable, Iterator, Sequence
 
 import numpy as np
 
+from ...scene.freed_memory import return_freed_memory
+
 
 class BlockLines(Sequence[str]):
     """The lines of a block of bytes (files.text_line_blocks: whole lines), each decoded
@@ -109,6 +111,11 @@ def vertex_and_face_lines(texts: Iterable[str | None], vertices: int, faces: int
         yield None
 
 
+# Blocks freed while joining, then handed back (return_freed_memory): glibc keeps freed blocks
+# of a few MB on its heap, so without it the copy and the freed blocks were both resident.
+GIVE_BACK_BYTES = 32 << 20
+
+
 def joined(blocks: list[np.ndarray], dtype, fill=0) -> np.ndarray:
     """The blocks' rows in one array, their last axis as wide as the widest block's (`fill`
     in the columns a block lacks), each block let go once copied: the rows are never all
@@ -116,7 +123,7 @@ def joined(blocks: list[np.ndarray], dtype, fill=0) -> np.ndarray:
     copied in, while the blocks' are given back.)"""
     width = max(block.shape[-1] for block in blocks)
     out = np.empty((sum(len(block) for block in blocks), *blocks[0].shape[1:-1], width), dtype)
-    start = 0
+    start, since_given_back = 0, 0
     blocks.reverse()
     while blocks:
         block = blocks.pop()
@@ -124,5 +131,9 @@ def joined(blocks: list[np.ndarray], dtype, fill=0) -> np.ndarray:
         out[rows, ..., : block.shape[-1]] = block
         out[rows, ..., block.shape[-1] :] = fill
         start += len(block)
+        since_given_back += block.nbytes
         del block
+        if since_given_back >= GIVE_BACK_BYTES:  # blocks of a few MB sit on glibc's heap once freed: hand them back
+            return_freed_memory()
+            since_given_back = 0
     return out

@@ -32,6 +32,7 @@ from .mtl import read_mtl_files
 from .obj_blocks import ObjContent
 from .obj_elements import bare_points, obj_elements
 from .obj_faces import ear_clip_concave, warn_kept_fans
+from .obj_vertices import distinct_triples
 
 
 def _without_byte_order_mark(data: bytes) -> bytes:
@@ -104,24 +105,20 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     # Distinct (v, vt, vn) combinations become vertices.
     has_uv = bool(len(vt)) and corners.shape[2] > 1 and bool((corners[:, :, 1] >= 0).all())
     has_normal = bool(len(vn)) and corners.shape[2] > 1 and bool((corners[:, :, 2] >= 0).all())
-    columns = [corners[:, :, 0].reshape(-1)]
-    if has_uv:
-        columns.append(corners[:, :, 1].reshape(-1))
-    if has_normal:
-        columns.append(corners[:, :, 2].reshape(-1))
-    same = all(np.array_equal(columns[0], column) for column in columns[1:])
+    columns = [0] + ([1] if has_uv else []) + ([2] if has_normal else [])
+    same = all(np.array_equal(corners[:, :, 0], corners[:, :, column]) for column in columns[1:])
     # One index per corner for every attribute (exporters that write per-vertex uvs and
     # normals, and scans with neither): the vertices are the v lines, in order.
     if same and (not has_uv or len(vt) == len(v)) and (not has_normal or len(vn) == len(v)):
-        faces = columns[0].reshape(-1, 3)
-        del columns, corners
+        faces = np.ascontiguousarray(corners[:, :, 0])
+        del corners
         positions = np.ascontiguousarray(v[:, :3])
         colors = np.ascontiguousarray(v[:, 3:6]) if v.shape[1] == 6 else None
         uvs = np.ascontiguousarray(vt[: len(v), :2]) if has_uv else None
         normals = np.ascontiguousarray(vn[: len(v)]) if has_normal else None
-    else:
-        combos, inverse = np.unique(np.stack(columns, axis=1), axis=0, return_inverse=True)
-        faces = inverse.reshape(-1, 3)
+    else:  # a vertex per distinct (v, vt, vn): exporters number vt and vn on their own
+        combos, faces = distinct_triples(corners, columns, len(v))
+        del corners
         positions = v[combos[:, 0], :3]
         colors = v[combos[:, 0], 3:6] if v.shape[1] == 6 else None
         uvs = vt[combos[:, 1], :2] if has_uv else None
@@ -150,7 +147,7 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     if len(faces) and int(faces.min()) >= 0:  # (always, once resolved: _check_piece names a stray one)
         # uint32 and read-only, owning its memory: what a Mesh keeps as its indices without
         # a copy (scene/geometry/mesh.py, owned), 120 MB less at the peak of a 10M-triangle load.
-        faces = faces.astype(np.uint32)
+        faces = faces.astype(np.uint32, copy=False)
         faces.setflags(write=False)
     if blocks > 1:  # the blocks' text and temporaries, freed between the arrays kept: given back
         return_freed_memory()
