@@ -1,6 +1,6 @@
 """Memory: peak RSS of rendering the 1.3M-triangle sphere, against 3× its arrays + baseline;
 and of loading a 10M-triangle mesh file and rendering it, as a binary STL, a binary PLY, an
-OBJ and a binary glTF (FILE_FORMATS).
+OBJ (plain, and as Blender writes one) and a binary glTF (FILE_FORMATS).
 
 Measured in fresh processes (scripts/memory_peak.py, scripts/load_peak.py). Besides the
 default run, one with LP_NUM_THREADS=0 (llvmpipe rasterizing on the driver's thread,
@@ -31,8 +31,12 @@ SCRIPT = Path(__file__).resolve().parent / "scripts" / "memory_peak.py"
 FILE_SCRIPT = Path(__file__).resolve().parent / "scripts" / "load_peak.py"
 
 
-# The big files measured: suffix → what it is and load_peak.py's options to write it
-FILE_FORMATS = {"stl": ("binary STL", []), "ply": ("binary PLY", ["--triangles"]), "obj": ("OBJ", []), "glb": ("glTF (GLB)", [])}
+# The big files measured: file name suffix → what it is and load_peak.py's options to write it
+FILE_FORMATS = {
+    "stl": ("binary STL", []), "ply": ("binary PLY", ["--triangles"]), "obj": ("OBJ", []),
+    "exported.obj": ("OBJ, `vt` and `vn` numbered on their own (as Blender writes it)", ["--exported"]),
+    "glb": ("glTF (GLB)", []),
+}
 
 
 @dataclass

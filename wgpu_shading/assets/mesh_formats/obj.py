@@ -31,8 +31,7 @@ from .line_sections import joined
 from .mtl import read_mtl_files
 from .obj_blocks import ObjContent
 from .obj_elements import bare_points, obj_elements
-from .obj_faces import ear_clip_concave, warn_kept_fans
-from .obj_vertices import distinct_triples
+from .obj_faces import ear_clip_concave, has_concave, warn_kept_fans
 
 
 def _without_byte_order_mark(data: bytes) -> bytes:
@@ -63,6 +62,8 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     blocks = 0
     for blocks, block in enumerate(text_line_blocks(path, f"mesh file {name!r}", MeshError), 1):
         content.read_block(_with_newlines(_without_byte_order_mark(block)) if blocks == 1 else block)
+    if blocks > 1:  # the blocks' text and temporaries, freed among the arrays kept: given back before the rest
+        return_freed_memory()
     vertices, polygons = content.counts["v "], content.polygons
     if content.over_limit:  # (each block past the limit only counted)
         if content.triangles > MAX_TRIANGLES:  # few polygons of many corners: refused before the rest is cut into triangles
@@ -88,41 +89,46 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
         if keyword in content.errors:
             raise content.errors[keyword]
     vt, vn = content.vertex_numbers("vt"), content.vertex_numbers("vn")
-    kept_fans = 0
+    kept_fans, triples = 0, content.triples
     for run in content.runs:  # concave polygons cut again (a degenerate one may give fewer triangles)
-        if run.polygon is not None:
-            (run.corners, kept), run.polygon = ear_clip_concave(run.corners, run.polygon, v[:, :3]), None
+        if run.polygon is not None and has_concave(run.corners.vertices, run.polygon, v[:, :3]):
+            corners, kept = ear_clip_concave(triples.whole(run.corners), run.polygon, v[:, :3])
+            run.corners = triples.split(corners, len(v))
             kept_fans += kept
+        run.polygon = None
     if kept_fans:
         warn_kept_fans(name, kept_fans)
-    run_triangles = [len(run.corners) for run in content.runs]
+    runs = [run.corners for run in content.runs]
+    run_triangles = [len(corners) for corners in runs]
     run_materials = [run.material or "" for run in content.runs]
     flat_faces = np.repeat([run.flat for run in content.runs], run_triangles).astype(bool)
-    # Every run's corners in one array, each let go once copied (−1: a run without vt and vn)
-    corner_blocks = [run.corners for run in content.runs]
-    content.runs.clear()  # (so that joined() lets each go once copied)
-    corners = joined(corner_blocks, np.int32, fill=-1)
+    content.runs.clear()
     # Distinct (v, vt, vn) combinations become vertices.
-    has_uv = bool(len(vt)) and corners.shape[2] > 1 and bool((corners[:, :, 1] >= 0).all())
-    has_normal = bool(len(vn)) and corners.shape[2] > 1 and bool((corners[:, :, 2] >= 0).all())
+    has_uv = bool(len(vt)) and all(corners.all_uv for corners in runs)
+    has_normal = bool(len(vn)) and all(corners.all_normal for corners in runs)
     columns = [0] + ([1] if has_uv else []) + ([2] if has_normal else [])
-    same = all(np.array_equal(corners[:, :, 0], corners[:, :, column]) for column in columns[1:])
+    same = all((not has_uv or corners.same_uv) and (not has_normal or corners.same_normal) for corners in runs)
     # One index per corner for every attribute (exporters that write per-vertex uvs and
     # normals, and scans with neither): the vertices are the v lines, in order.
     if same and (not has_uv or len(vt) == len(v)) and (not has_normal or len(vn) == len(v)):
-        faces = np.ascontiguousarray(corners[:, :, 0])
-        del corners
+        vertex_blocks = [corners.vertices for corners in runs]
+        del runs
+        faces = joined(vertex_blocks, np.int32)  # (each let go once copied)
         positions = np.ascontiguousarray(v[:, :3])
         colors = np.ascontiguousarray(v[:, 3:6]) if v.shape[1] == 6 else None
         uvs = np.ascontiguousarray(vt[: len(v), :2]) if has_uv else None
         normals = np.ascontiguousarray(vn[: len(v)]) if has_normal else None
     else:  # a vertex per distinct (v, vt, vn): exporters number vt and vn on their own
-        combos, faces = distinct_triples(corners, columns, len(v))
-        del corners
+        combos, faces = triples.distinct(runs, columns, len(v))
+        del runs
+        # each file's numbers let go once gathered: they and the vertices' are never all resident
         positions = v[combos[:, 0], :3]
         colors = v[combos[:, 0], 3:6] if v.shape[1] == 6 else None
+        del v
         uvs = vt[combos[:, 1], :2] if has_uv else None
+        del vt
         normals = vn[combos[:, -1]] if has_normal else None
+        del vn, combos
     # Group faces by material (stable: file order within a material) so each part is one
     # range. A run's faces share its material, so the materials are listed per run (a list
     # of every face's material cost the bunny 8 of its 36 ms of reading).

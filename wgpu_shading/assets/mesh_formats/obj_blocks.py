@@ -22,6 +22,7 @@ from ...errors import MeshError
 from .line_sections import BlockLines, joined
 from .number_text import parse_floats, read_in_blocks
 from .obj_faces import FaceRun, check_face_sizes, run_corners, triangles_only
+from .obj_vertices import CornerTriples, RunCorners
 
 NUMBER_LINES_AT_ONCE = 1 << 16  # v/vt/vn lines read together: bounded temporaries (a few bytes a character)
 KINDS = (("v ", 3), ("vt", 2), ("vn", 3))  # the number lines: keyword, numbers kept
@@ -29,14 +30,14 @@ KINDS = (("v ", 3), ("vt", 2), ("vn", 3))  # the number lines: keyword, numbers 
 
 @dataclass
 class FaceRunCorners:
-    """A run of face lines, read: its state, its triangles' resolved (v, vt, vn) corners
-    (int32, −1 for absent; (T, 3, 1) when the run has neither vt nor vn) and, when some
-    face is a polygon, each triangle's polygon (for ear clipping once the positions are
-    known); None when every face is a triangle."""
+    """A run of face lines, read: its state, its triangles' corners (obj_vertices.py: each
+    corner's v, and its vt and vn only where they are not its v's own) and, when some face
+    is a polygon, each triangle's polygon (for ear clipping once the positions are known);
+    None when every face is a triangle."""
 
     material: str | None
     flat: bool
-    corners: np.ndarray
+    corners: RunCorners
     polygon: np.ndarray | None
 
 
@@ -54,6 +55,7 @@ class ObjContent:
     triangle_line: int = 0  # the line whose face took the triangles past the limit
     numbers: dict = field(default_factory=lambda: {keyword: [] for keyword, _ in KINDS})  # keyword → (n, w) float64 blocks
     runs: list[FaceRunCorners] = field(default_factory=list)
+    triples: CornerTriples = field(default_factory=CornerTriples)  # each v's own (vt, vn), for the runs' corners
     libraries: list[str] = field(default_factory=list)
     material: str | None = None  # the state the next line is in
     flat: bool = False
@@ -124,7 +126,8 @@ class ObjContent:
             except MeshError as error:
                 self.errors["f"] = error
                 return
-            self.runs.append(FaceRunCorners(material, flat, _compact(corners), None if triangles_only(polygon) else polygon))
+            split = self.triples.split(corners, self.counts["v "])
+            self.runs.append(FaceRunCorners(material, flat, split, None if triangles_only(polygon) else polygon))
             self.triangles += len(corners)
             if self.triangles > self.triangle_limit:  # polygons cut into more triangles than supported: the rest is only counted
                 self.triangle_line = offset + index + 1 + int(polygon[self.triangle_limit - (self.triangles - len(corners))])
@@ -156,14 +159,6 @@ class ObjContent:
         if not blocks:
             return np.zeros((0, dict(KINDS)[keyword]))
         return blocks.pop() if len(blocks) == 1 else joined(blocks, np.float64, fill=1.0)  # (1.0: white)
-
-
-def _compact(corners: np.ndarray) -> np.ndarray:
-    """Resolved corners as int32 (every index is below MAX_VERTICES), without the vt and vn
-    columns when the run has neither: a scan's faces are a third of the size."""
-    if (corners[:, :, 1:] == -1).all():
-        return corners[:, :, :1].astype(np.int32)
-    return corners.astype(np.int32)
 
 
 def _numbers(lines: Sequence[str], prefix: str) -> np.ndarray | None:

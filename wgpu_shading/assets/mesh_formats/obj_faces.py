@@ -188,11 +188,7 @@ def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.nda
     way (warn_kept_fans: one warning for the file, not one per run of face lines)."""
     if len(corners) == 0 or triangles_only(polygon):
         return corners, 0
-    points = positions[corners[:, :, 0]]
-    areas = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
-    count = int(polygon.max()) + 1
-    normal_of = np.stack([np.bincount(polygon, areas[:, k], count) for k in range(3)], axis=1)
-    backwards = np.einsum("ij,ij->i", areas, normal_of[polygon]) < 0.0
+    backwards, normal_of = _backwards(corners[:, :, 0], polygon, positions)
     if not backwards.any():
         return corners, 0
     import mapbox_earcut
@@ -218,6 +214,21 @@ def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.nda
         start = stop
     pieces.append(corners[start:])
     return np.concatenate(pieces), kept_fans
+
+
+def has_concave(vertices: np.ndarray, polygon: np.ndarray, positions: np.ndarray) -> bool:
+    """Whether ear_clip_concave would cut some polygon again: `vertices`, the triangles' v (T, 3)."""
+    return len(vertices) > 0 and not triangles_only(polygon) and bool(_backwards(vertices, polygon, positions)[0].any())
+
+
+def _backwards(vertices: np.ndarray, polygon: np.ndarray, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each fan triangle facing against its polygon's normal (the vector area, the sum of
+    the fan's), and those normals."""
+    points = positions[vertices]
+    areas = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
+    count = int(polygon.max()) + 1
+    normal_of = np.stack([np.bincount(polygon, areas[:, k], count) for k in range(3)], axis=1)
+    return np.einsum("ij,ij->i", areas, normal_of[polygon]) < 0.0, normal_of
 
 
 def warn_kept_fans(path: str, count: int) -> None:
