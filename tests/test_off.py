@@ -191,3 +191,48 @@ def test_a_plain_off_read_a_block_of_lines_at_a_time_is_the_file_read_whole(tmp_
             assert "vertex 99" in str(error)
         assert whole_reads
         whole_reads.clear()
+
+
+@pytest.mark.parametrize("colour_width", [3, 4])
+@pytest.mark.parametrize("as_floats", [False, True])
+def test_face_colours_of_a_plain_off_are_read_a_block_at_a_time_as_the_token_reader_reads_them(tmp_path, monkeypatch, colour_width, as_floats):
+    """Faces with a colour each (`4 a b c d 255 0 0`, as MeshLab writes them, or 0..1 floats,
+    as Geomview's examples) are read a block of lines at a time (off_faces.py): the same
+    triangles and per-triangle colours as the reader of tokens, which took 34 s for a
+    2M-triangle file. An index written as a float, or a face with one colour value more,
+    still goes to the reader of tokens, which refuses the one and reads the other as before."""
+    from wgpu_shading.assets import files
+    from wgpu_shading.assets.files import read_text_bytes
+    from wgpu_shading.assets.mesh_formats import off
+
+    rng = np.random.default_rng(colour_width + 10 * as_floats)
+    vertices = rng.uniform(-1, 1, (30, 3))
+    lines = ["OFF", "30 40 0"] + [f"{x:.6f} {y:.6f} {z:.6f}" for x, y, z in vertices]
+    for _ in range(40):
+        colour = [f"{c:.3f}" for c in rng.random(colour_width)] if as_floats else [str(c) for c in rng.integers(0, 256, colour_width)]
+        lines.append(" ".join(["4", *map(str, rng.choice(30, 4, replace=False)), *colour]))
+    path = tmp_path / "coloured.off"
+
+    def read(text_lines, block_bytes, whole=False):
+        path.write_text("\n".join(text_lines) + "\n")
+        monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
+        with monkeypatch.context() as patched:
+            if whole:
+                patched.setattr(off, "text_line_blocks", lambda *arguments: iter(()))  # no blocks: the reader of tokens
+            return load_mesh(path)
+
+    expected = read(lines, 1 << 22, whole=True)
+    whole_reads = []
+    monkeypatch.setattr(off, "read_text_bytes", lambda *arguments: whole_reads.append(arguments) or read_text_bytes(*arguments))
+    for block_bytes in (2, 60, 1 << 22):
+        mesh = read(lines, block_bytes)
+        np.testing.assert_array_equal(mesh.positions, expected.positions)
+        np.testing.assert_array_equal(mesh.indices, expected.indices)
+        np.testing.assert_array_equal(mesh.colors, expected.colors)
+    assert not whole_reads and len(mesh.colors) == 40 * 2 * 3  # a vertex per corner of each face's two triangles
+    float_index = lines[:-1] + [lines[-1].replace(" ", " 1.0 ", 1)]
+    with pytest.raises(MeshError, match="expected an integer"):
+        read(float_index, 60)
+    one_more = lines[:-1] + [lines[-1] + " 1"]  # five values: no colour there, to the reader of tokens
+    np.testing.assert_array_equal(read(one_more, 60).colors, read(one_more, 1 << 22, whole=True).colors)
+    assert len(whole_reads) == 3

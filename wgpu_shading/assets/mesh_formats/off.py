@@ -32,8 +32,9 @@ from ...scene.freed_memory import return_freed_memory
 from ..files import TEXT_BLOCK_BYTES, read_text_bytes, text_line_blocks
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import check_declared_counts
-from .line_sections import ascii_texts, joined, vertex_and_face_lines
-from .number_text import parse_floats, parse_numbers, tokens_as_numbers
+from .line_sections import ascii_texts, vertex_and_face_lines
+from .number_text import parse_floats, tokens_as_numbers
+from .off_faces import PlainFaces, unit_colors
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
 
@@ -96,7 +97,7 @@ def _read_arrays(path: Path, file_size: int) -> _OffArrays:
     if has_normals:
         normals, column = vertices[:, 3:6], 6
     if has_colors or vertices.shape[1] > width:  # COFF, or a plain OFF with colours after x y z
-        colors = _unit_colors(vertices[:, column : column + 4])
+        colors = unit_colors(vertices[:, column : column + 4])
         column += 4
     if has_uvs:
         uvs = vertices[:, column : column + 2]
@@ -143,16 +144,6 @@ def _count(token: str, what: str, line: int, where: str) -> int:
     return value
 
 
-def _unit_colors(colors: np.ndarray) -> np.ndarray:
-    """RGB or RGBA rows, 0..255 integers or 0..1 floats (told apart by the largest value),
-    as RGBA in [0, 1]."""
-    if colors.shape[1] == 3:
-        colors = np.concatenate([colors, np.full((len(colors), 1), 255.0 if colors.max(initial=0.0) > 1.0 else 1.0)], axis=1)
-    if colors.max(initial=0.0) > 1.0:  # integer colours 0..255
-        colors = colors / 255.0
-    return np.clip(colors, 0.0, 1.0)
-
-
 HEADER_BYTES = 1 << 16  # the most text before the counts (comments) read here; more, and the whole text is read
 
 
@@ -160,11 +151,11 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
     """The commonest OFF read a block of lines at a time (files.text_line_blocks), without
     the whole text: its tokens are never all Python strings at once (a 2M-triangle OFF
     split into tokens peaked at 22x its arrays). Plain `OFF`, no comments, a vertex a line
-    (x y z), then a face a line, every face the same polygon without a colour, as
-    `_uniform_faces` reads them (numbers read in C, polygons fanned from their first
-    corner). None for anything else, and for a file that turns out otherwise on the way (a
-    blank line, a colour, a comment, a bad index): the whole-text readers below then read
-    it, and name what is wrong."""
+    (x y z), then a face a line, every face the same polygon, with or without a colour of
+    as many values on every line (off_faces.py), as the readers below read them (numbers
+    read in C, polygons fanned from their first corner). None for anything else, and for a
+    file that turns out otherwise on the way (a blank line, a comment, a bad index): the
+    whole-text readers below then read it, and name what is wrong."""
     blocks = text_line_blocks(path, where, MeshError)
     first, header = b"", None
     while header is None and len(first) <= HEADER_BYTES:  # the blocks up to the counts' line
@@ -185,8 +176,7 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
         return None
     check_declared_counts(where, header.vertex_count, header.face_count, 6 * header.vertex_count + 8 * header.face_count, file_size)
     vertices = np.empty((header.vertex_count, 3))
-    triangles: list[np.ndarray] = []
-    corners = None  # the polygon size, from the first face
+    faces = PlainFaces(header.vertex_count)
     read_vertices = 0
     texts = ascii_texts(itertools.chain([first], blocks), skip=header.offset)
     for section in vertex_and_face_lines(texts, header.vertex_count, header.face_count):
@@ -200,22 +190,10 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
                 return None
             vertices[read_vertices : read_vertices + len(vertex_lines)] = values.reshape(-1, 3)
             read_vertices += len(vertex_lines)
-        if not face_lines:
-            continue
-        text = "\n".join(face_lines)
-        numbers = None if "#" in text else parse_numbers(text, np.int64)
-        if numbers is None or not numbers.size:
+        if face_lines and not faces.read(face_lines):
             return None
-        corners = int(numbers[0]) if corners is None else corners
-        if not 3 <= corners <= header.vertex_count or numbers.size != (corners + 1) * len(face_lines):
-            return None
-        polygons = numbers.reshape(len(face_lines), corners + 1)
-        if (polygons[:, 0] != corners).any() or polygons[:, 1:].min() < 0 or polygons[:, 1:].max() >= header.vertex_count:
-            return None
-        fan = np.arange(1, corners - 1)  # triangle (0, k, k + 1) of each polygon, k = 1 .. corners - 2
-        first_corner = np.broadcast_to(polygons[:, 1:2], (len(polygons), len(fan)))
-        triangles.append(np.stack([first_corner, polygons[:, fan + 1], polygons[:, fan + 2]], axis=2).reshape(-1, 3).astype(np.int32))
-    arrays = _OffArrays(vertices, joined(triangles, np.int32), None, None, None)
+    triangles, face_colors = faces.finish()
+    arrays = _OffArrays(vertices, triangles, None, None, None, face_colors)
     if file_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return arrays
@@ -339,7 +317,7 @@ def _face_colors(colors: list[list[str]], where: str) -> np.ndarray | None:
     rows = np.array([row + [full] * (4 - len(row)) if row else [full] * 4 for row in values])
     if not np.isfinite(rows).all():
         raise MeshError(f"{where}: a face colour is not finite")
-    return _unit_colors(rows)
+    return unit_colors(rows)
 
 
 def _checked(faces: np.ndarray, vertex_count: int, where: str) -> np.ndarray:
