@@ -108,6 +108,10 @@ LAYOUTS = {
     "MeshLab's flags and quality": {"extras": (("flags", "int"), ("quality", "double")), "colors": ("red", "green", "blue")},
     "uint indices, int counts": {"index": "uint", "count": "int"},
     "uint8/int32 spelling": {"index": "int32", "count": "uint8"},
+    "quads": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5], [2, 4, 3, 5]]},  # cut as trimesh cuts them: every (a, b, c), then every (c, d, a)
+    "quads, int counts and uint indices": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]], "count": "int", "index": "uint"},
+    "pentagons": {"faces": [[0, 2, 1, 3, 4], [5, 0, 4, 1, 2]]},  # fans, one polygon after the other
+    "hexagons, big-endian": {"faces": [[0, 2, 1, 3, 4, 5], [5, 4, 3, 2, 1, 0]], "order": ">"},
 }
 
 
@@ -119,7 +123,6 @@ def test_each_layout_read_here_gives_trimeshs_mesh(tmp_path, options):
 
 
 OTHERS = {
-    "quads": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]]},
     "mixed polygons": {"faces": [[0, 2, 4], [2, 1, 4, 3]]},
     "texture coordinates": {"vertex_names": ("u", "v")},
     "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
@@ -230,6 +233,8 @@ ASCII_LAYOUTS = {
     "normals and RGBA": {"normals": "float", "colors": ("red", "green", "blue", "alpha")},
     "MeshLab's flags and quality": {"extras": (("flags", "int"), ("quality", "double")), "colors": ("red", "green", "blue")},
     "blank lines at the end": {"after": "\n  \n"},
+    "quads": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5], [2, 4, 3, 5]]},
+    "pentagons, CR LF": {"faces": [[0, 2, 1, 3, 4], [5, 0, 4, 1, 2]], "ending": "\r\n"},
 }
 
 
@@ -252,7 +257,7 @@ def test_ascii_ply_meshes_read_in_blocks_of_lines_give_trimeshs_mesh(tmp_path, m
 
 
 ASCII_OTHERS = {
-    "quads": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]]},
+    "mixed polygons": {"faces": [[0, 2, 4], [2, 1, 4, 3]]},
     "a blank line among the rows": {"between": " "},
     "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
 }
@@ -265,3 +270,20 @@ def test_other_ascii_plys_still_go_to_trimesh(tmp_path, options):
     path = write_ascii_ply(tmp_path / "mesh.ply", **options)
     assert ply_ascii_triangles.read_ascii_triangles(path, read_ply_header(path, "mesh"), "mesh") is None
     _assert_same_outcome(path, _through_trimesh_ascii)
+
+
+def test_a_file_of_one_huge_face_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    """A face of more than MAX_FACE_CORNERS corners (the limit an OBJ line has): a 48 MB
+    PLY of one face of 12M corners took trimesh 2.4 GB and 11 s to reach its error. Faces
+    of one size whose fans pass the triangle limit are refused before any array is made.
+    (The limits made small here, the files small.)"""
+    monkeypatch.setattr(ply_triangles, "MAX_FACE_CORNERS", 5)
+    path = write_ply(tmp_path / "huge.ply", faces=[[0, 1, 2, 3, 4, 5]], count="int")
+    with pytest.raises(MeshError, match="a face of 6 corners; at most 5"):
+        load_mesh(path)
+    counted_otherwise = write_ply(tmp_path / "counted.ply", faces=[[0, 1, 2, 3, 4, 5]], counts=[7], count="int")
+    assert read_triangles(counted_otherwise, _layout(counted_otherwise), "mesh") is None  # to trimesh, which says what is wrong
+    monkeypatch.setattr(ply_triangles, "MAX_TRIANGLES", 5)
+    path = write_ply(tmp_path / "many.ply", faces=[[0, 2, 1, 3], [0, 4, 1, 5], [2, 4, 3, 5]])
+    with pytest.raises(MeshError, match="3 faces of 4 corners make 6 triangles; at most 5"):
+        load_mesh(path)

@@ -17,6 +17,10 @@ from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 
 MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format
+# The corners of one polygon (an OBJ `f` line, a PLY face): a 48 MB OBJ line of 24M corners
+# took 5.2 GB and 17 s to become triangles before its mesh was refused; Blender's n-gons
+# and CAD outlines have far fewer (docs/valid-ranges.md).
+MAX_FACE_CORNERS = 1 << 20
 _TEXT_FORMATS = (".obj",)  # always text: decoded here, handed to trimesh as UTF-8
 
 

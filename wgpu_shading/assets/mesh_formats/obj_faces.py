@@ -12,6 +12,7 @@ from typing import Sequence
 import numpy as np
 
 from ...errors import MeshError
+from .checks import MAX_FACE_CORNERS
 from .line_sections import BlockLines
 from .number_text import BLANK_BYTES, parse_numbers
 
@@ -81,11 +82,9 @@ def run_corners(run: FaceRun, path: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 FACE_LINES_AT_ONCE = 1 << 16  # lines read together: bounded temporaries (~40 bytes a line, a few arrays of them)
-# Corners of one face line. Text blocks bound the corners read at once (4 MiB of lines:
-# files.text_line_blocks), except a single line longer than a block, which is a block of
-# its own: a 48 MB line of 24M corners took 5.2 GB and 17 s to read into triangles before
-# its mesh was refused. A real polygon (an n-gon from Blender, a CAD outline) has far fewer.
-MAX_FACE_CORNERS = 1 << 20
+# Corners of one face line (checks.MAX_FACE_CORNERS). Text blocks bound the corners read at
+# once (4 MiB of lines: files.text_line_blocks), except a single line longer than a block,
+# which is a block of its own: such lines are counted on their bytes first.
 
 
 def check_face_sizes(data: bytes, starts: np.ndarray, face_lines: np.ndarray, path: str, first_line: int) -> None:

@@ -5,8 +5,9 @@ A binary PLY whose only non-empty element is `vertex` with scalar properties (wh
 scanners, Open3D, MeshLab and point-cloud-utils write) is read here in blocks of rows
 straight into the arrays a Mesh keeps: trimesh reads the whole file into memory, then makes
 float64 copies of it (a 10M-point cloud peaked at 2.5 GB; docs/primitives.md). A binary
-triangle mesh is read the same way by ply_triangles.py, an ASCII one a block of lines at a
-time by ply_ascii_triangles.py; any other PLY by trimesh (trimesh_reader.py).
+mesh of faces of one size (triangles, quads, ...) is read the same way by ply_triangles.py,
+an ASCII triangle mesh a block of lines at a time by ply_ascii_triangles.py; any other PLY
+by trimesh (trimesh_reader.py).
 """
 
 from __future__ import annotations
@@ -86,7 +87,7 @@ def read_binary_point_cloud(path: Path, header: PlyHeader, where: str) -> PlyPoi
 
 def read_ply(path: Path, file_size: int) -> MeshFile:
     """A PLY file (assets/meshes.py's reader for .ply): a binary point cloud read here, a
-    binary triangle mesh by ply_triangles.py, any other PLY through trimesh
+    binary mesh of faces of one size by ply_triangles.py, any other PLY through trimesh
     (trimesh_reader.py); the header's counts are checked against the file's size first."""
     where = f"mesh file {str(path)!r}"
     header = read_ply_header(path, where)

@@ -16,9 +16,13 @@ compares the two on real files and on every case below); any other PLY goes to t
   confidence) are skipped, as trimesh skips them. Texture coordinates, which trimesh reads
   under several names and splits vertices for, go to trimesh;
 - face: one list property, vertex_indices or vertex_index, and nothing else (face colours
-  and texcoord lists go to trimesh); every face a triangle: the file is exactly as long as
-  that makes it, and every count read is 3 (a file of quads, or of mixed polygons, goes to
-  trimesh, which cuts them into triangles).
+  and texcoord lists go to trimesh); every face a polygon of the same size (triangles,
+  quads as quad-remeshers write them, ...): the file is exactly as long as that makes it,
+  and every count read is that size (a file of mixed polygons goes to trimesh). Polygons
+  are cut into triangles as trimesh cuts them (trimesh.geometry.triangulate_quads): a quad
+  (a, b, c, d) into (a, b, c), then after every quad's first, (c, d, a); a larger one into
+  its fan from its first corner, one polygon after the other. A 2M-triangle file of quads
+  through trimesh peaked at 4.7x its mesh's arrays.
 """
 
 from __future__ import annotations
@@ -29,7 +33,9 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
+from ...scene.geometry.mesh import MAX_TRIANGLES
 from ..mesh_pieces import MeshPiece
+from .checks import MAX_FACE_CORNERS
 from .ply_header import PLY_TYPES, PlyHeader
 
 # The names trimesh reads texture coordinates under (trimesh/exchange/ply.py, _elements_to_kwargs)
@@ -41,34 +47,52 @@ BLOCK_ROWS = 1 << 18  # vertices or faces read at a time: a few MB of records
 
 @dataclass(frozen=True)
 class TriangleLayout:
-    """Where a binary PLY's vertices and triangles are, and their record types."""
+    """Where a binary PLY's vertices and faces are, and their record types."""
 
     vertex: np.dtype  # one vertex row (structured: the file's properties)
-    face: np.dtype  # one face row: ("count", its type), ("corners", index type, (3,))
+    face: np.dtype  # one face row: ("count", its type), ("corners", index type, (corners,))
     vertices: int
     faces: int
     offset: int  # the first vertex row's byte
 
+    @property
+    def corners(self) -> int:
+        """Every face's size."""
+        return self.face.fields["corners"][0].shape[0]
+
 
 def triangle_layout(header: PlyHeader, file_size: int) -> TriangleLayout | None:
     """The layout of a binary PLY this module reads (the module docstring), or None for any
-    other PLY."""
+    other PLY. The faces' size is the one that makes the file exactly as long as it is."""
     if header.format not in ("binary_little_endian", "binary_big_endian"):
         return None
-    rows = mesh_rows(header, "<" if header.format == "binary_little_endian" else ">")
+    order = "<" if header.format == "binary_little_endian" else ">"
+    rows = mesh_rows(header, order)
     if rows is None:
         return None
     vertex_row, face_row = rows
     vertices, faces = header.count("vertex"), header.count("face")
-    if header.header_bytes + vertices * vertex_row.itemsize + faces * face_row.itemsize != file_size:
-        return None  # not triangles only (or truncated, or more after them): trimesh says which
+    face_bytes = file_size - header.header_bytes - vertices * vertex_row.itemsize
+    count_bytes, index_bytes = face_row.fields["count"][0].itemsize, face_row.fields["corners"][0].base.itemsize
+    if faces <= 0 or face_bytes % faces or (face_bytes // faces - count_bytes) % index_bytes:
+        return None  # not faces of one size (or truncated, or more after them): trimesh says which
+    corners = (face_bytes // faces - count_bytes) // index_bytes
+    if corners < 3:
+        return None
+    if corners != 3:
+        face_row = mesh_rows(header, order, corners)[1]
     return TriangleLayout(vertex_row, face_row, vertices, faces, header.header_bytes)
 
 
-def mesh_rows(header: PlyHeader, order: str) -> tuple[np.dtype, np.dtype] | None:
-    """A vertex row's and a triangle's record types (byte order `order`) when the header's
-    elements and properties are of the layout this module reads (the module docstring,
-    binary or not), else None."""
+def fan_count(corners: int, faces: int) -> int:
+    """The triangles `faces` polygons of `corners` corners are cut into."""
+    return faces * (corners - 2)
+
+
+def mesh_rows(header: PlyHeader, order: str, corners: int = 3) -> tuple[np.dtype, np.dtype] | None:
+    """A vertex row's and a face's record types (byte order `order`, faces of `corners`
+    corners) when the header's elements and properties are of the layout this module reads
+    (the module docstring, binary or not), else None."""
     filled = [element for element in header.elements if element.count]
     if [element.name for element in filled] != ["vertex", "face"]:
         return None
@@ -92,15 +116,26 @@ def mesh_rows(header: PlyHeader, order: str) -> tuple[np.dtype, np.dtype] | None
     if PLY_TYPES[index_kind][0] not in "iu" or PLY_TYPES[count_kind][0] not in "iu":
         return None
     vertex_row = np.dtype([(name, order + kind) for name, kind in kinds.items()])
-    face_row = np.dtype([("count", order + PLY_TYPES[count_kind]), ("corners", order + PLY_TYPES[index_kind], (3,))])
+    face_row = np.dtype([("count", order + PLY_TYPES[count_kind]), ("corners", order + PLY_TYPES[index_kind], (corners,))])
     return vertex_row, face_row
 
 
 def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece | None:
-    """The mesh of a PLY in `layout`, or None when some face turns out not to be a triangle
-    (then trimesh reads the file). Indices are checked later, with every other reader's
-    (mesh_pieces.py)."""
-    positions, normals, colors, faces = mesh_arrays(layout.vertex, layout.face, layout.vertices, layout.faces)
+    """The mesh of a PLY in `layout`, or None when some face turns out to be of another
+    size (then trimesh reads the file). Indices are checked later, with every other
+    reader's (mesh_pieces.py)."""
+    corners = layout.corners
+    if corners > MAX_FACE_CORNERS:  # refused when the first face says so, as an OBJ's (trimesh took 2.4 GB to one of 12M)
+        with open(path, "rb") as file:
+            file.seek(layout.offset + layout.vertices * layout.vertex.itemsize)
+            count = np.fromfile(file, layout.face.fields["count"][0], 1)
+        if len(count) and int(count[0]) == corners:
+            raise MeshError(f"{where}: a face of {corners} corners; at most {MAX_FACE_CORNERS} are supported")
+        return None
+    if fan_count(corners, layout.faces) > MAX_TRIANGLES:  # (before the arrays are made)
+        raise MeshError(f"{where}: {layout.faces} faces of {corners} corners make {fan_count(corners, layout.faces)} triangles; "
+                        f"at most {MAX_TRIANGLES} are supported")
+    positions, normals, colors, faces = mesh_arrays(layout.vertex, layout.face, layout.vertices, fan_count(corners, layout.faces))
     channels = [name for name in COLOR_NAMES if name in layout.vertex.fields]
     try:
         with open(path, "rb") as file:
@@ -117,19 +152,36 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
                     colors[rows, column] = block[channel]
             for start in range(0, layout.faces, BLOCK_ROWS):
                 block = _rows(file, layout.face, min(BLOCK_ROWS, layout.faces - start), where)
-                if (block["count"] != 3).any():
+                if (block["count"] != corners).any():
                     return None
-                faces[start : start + len(block)] = block["corners"]
+                cut_polygons(block["corners"], start, layout.faces, faces)
     except OSError as error:
         raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {layout.vertices} vertices and {layout.faces} faces") from None
-    return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, layout.faces, None, path.name)])
+    return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
+
+
+def cut_polygons(polygons: np.ndarray, start: int, count: int, triangles: np.ndarray) -> None:
+    """Polygons start .. start + len(polygons) of `count`, all of one size, cut into their
+    rows of `triangles` as trimesh cuts them (trimesh.geometry.triangulate_quads; the module
+    docstring)."""
+    corners = polygons.shape[1]
+    if corners == 3:
+        triangles[start : start + len(polygons)] = polygons
+    elif corners == 4:  # every quad's (a, b, c), then every quad's (c, d, a)
+        triangles[start : start + len(polygons)] = polygons[:, [0, 1, 2]]
+        triangles[count + start : count + start + len(polygons)] = polygons[:, [2, 3, 0]]
+    else:  # each polygon's fan (a, k, k + 1), one polygon after the other
+        fan = np.arange(1, corners - 1)
+        cut = np.stack([np.broadcast_to(polygons[:, :1], (len(polygons), len(fan))), polygons[:, fan], polygons[:, fan + 1]], axis=2)
+        triangles[start * (corners - 2) : (start + len(polygons)) * (corners - 2)] = cut.reshape(-1, 3)
 
 
 def mesh_arrays(vertex_row: np.dtype, face_row: np.dtype, vertices: int, faces: int):
-    """The arrays a mesh of these records is read into: positions and normals as float32
-    where the file's values are float32 (or small integers), else float64; RGB(A) uint8;
+    """The arrays a mesh of these records is read into (`faces` triangles): positions and
+    normals as float32 where the file's values are float32 (or small integers), else
+    float64; RGB(A) uint8;
     the faces' indices 32-bit, unsigned when the file's are (normals, colours None when
     the file has none)."""
     fields = vertex_row.fields
