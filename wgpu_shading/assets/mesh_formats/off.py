@@ -88,20 +88,34 @@ def _read_arrays(path: Path, file_size: int) -> _OffArrays:
     numbered += [(n, line.split("#", 1)[0].split()) for n, line in enumerate(text[header.offset :].splitlines(), header.line + 1)]
     numbered = [(n, words) for n, words in numbered if words]
     tokens = _Tokens([words for _, words in numbered], [n for n, _ in numbered], where)
-    has_normals, has_colors, has_uvs = (bool(header.keyword.group(k)) for k in (3, 2, 1))
-    width = 3 + 3 * has_normals + 4 * has_colors + 2 * has_uvs
-    vertices = tokens.numbers(header.vertex_count, width, "vertices", extra_widths=() if width > 3 else (6, 7))
+    width = _vertex_width(header)
+    vertices = tokens.numbers(header.vertex_count, width, "vertices", extra_widths=() if width > 3 else PLAIN_COLOUR_WIDTHS)
     faces, face_colors = _faces(tokens, header.face_count, header.vertex_count, where)
+    return _OffArrays(*_vertex_columns(vertices, header, faces, face_colors))
+
+
+PLAIN_COLOUR_WIDTHS = (6, 7)  # a plain OFF's vertex lines of x y z r g b [a] (Online3DViewer reads them)
+
+
+def _vertex_width(header: _Header) -> int:
+    """The numbers of a vertex, by the keyword: x y z [nx ny nz] [r g b a] [s t]."""
+    has_normals, has_colors, has_uvs = (bool(header.keyword.group(k)) for k in (3, 2, 1))
+    return 3 + 3 * has_normals + 4 * has_colors + 2 * has_uvs
+
+
+def _vertex_columns(vertices: np.ndarray, header: _Header, faces: np.ndarray, face_colors: np.ndarray | None) -> tuple:
+    """_OffArrays' fields from the vertices' numbers (V, width or a plain OFF's colour widths)."""
+    has_normals, has_colors, has_uvs = (bool(header.keyword.group(k)) for k in (3, 2, 1))
     column = 3
     normals = colors = uvs = None
     if has_normals:
         normals, column = vertices[:, 3:6], 6
-    if has_colors or vertices.shape[1] > width:  # COFF, or a plain OFF with colours after x y z
+    if has_colors or vertices.shape[1] > _vertex_width(header):  # COFF, or a plain OFF with colours after x y z
         colors = unit_colors(vertices[:, column : column + 4])
         column += 4
     if has_uvs:
         uvs = vertices[:, column : column + 2]
-    return _OffArrays(vertices[:, :3], faces, normals, colors, uvs, face_colors if colors is None else None)
+    return vertices[:, :3], faces, normals, colors, uvs, face_colors if colors is None else None
 
 
 def _header(text: str, where: str) -> _Header:
@@ -150,10 +164,11 @@ HEADER_BYTES = 1 << 16  # the most text before the counts (comments) read here; 
 def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | None:
     """The commonest OFF read a block of lines at a time (files.text_line_blocks), without
     the whole text: its tokens are never all Python strings at once (a 2M-triangle OFF
-    split into tokens peaked at 22x its arrays). Plain `OFF`, no comments, a vertex a line
-    (x y z), then a face a line, every face the same polygon, with or without a colour of
-    as many values on every line (off_faces.py), as the readers below read them (numbers
-    read in C, polygons fanned from their first corner). None for anything else, and for a
+    split into tokens peaked at 22x its arrays). No comments, a vertex a line (x y z and
+    what the keyword adds, `COFF`, `NOFF`, `STOFF`..., or a plain OFF's r g b [a]), then a
+    face a line, every face the same polygon, with or without a colour of as many values on
+    every line (off_faces.py), as the readers below read them (numbers read in C, polygons
+    fanned from their first corner). None for anything else, and for a
     file that turns out otherwise on the way (a blank line, a comment, a bad index): the
     whole-text readers below then read it, and name what is wrong."""
     blocks = text_line_blocks(path, where, MeshError)
@@ -172,10 +187,11 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
                 return None
     if header is None:
         return None
-    if header.keyword.group(0) != "OFF" or header.rest or not header.face_count:
+    if header.rest or not header.face_count:
         return None
     check_declared_counts(where, header.vertex_count, header.face_count, 6 * header.vertex_count + 8 * header.face_count, file_size)
-    vertices = np.empty((header.vertex_count, 3))
+    width = _vertex_width(header)
+    vertices = None  # (V, the first vertex line's width), once it is read
     faces = PlainFaces(header.vertex_count)
     read_vertices = 0
     texts = ascii_texts(itertools.chain([first], blocks), skip=header.offset)
@@ -186,14 +202,20 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
         if vertex_lines:
             text = "\n".join(vertex_lines)
             values = None if "#" in text else parse_floats(text)
-            if values is None or values.size != 3 * len(vertex_lines):
+            if vertices is None and values is not None:
+                line_width = values.size // len(vertex_lines)
+                if line_width != width and not (width == 3 and line_width in PLAIN_COLOUR_WIDTHS):
+                    return None
+                vertices = np.empty((header.vertex_count, line_width))
+            if values is None or values.size != vertices.shape[1] * len(vertex_lines):
                 return None
-            vertices[read_vertices : read_vertices + len(vertex_lines)] = values.reshape(-1, 3)
+            vertices[read_vertices : read_vertices + len(vertex_lines)] = values.reshape(len(vertex_lines), -1)
             read_vertices += len(vertex_lines)
         if face_lines and not faces.read(face_lines):
             return None
-    triangles, face_colors = faces.finish()
-    arrays = _OffArrays(vertices, triangles, None, None, None, face_colors)
+    if vertices is None:  # (no vertex lines: the counts say otherwise, or none)
+        vertices = np.empty((header.vertex_count, width))
+    arrays = _OffArrays(*_vertex_columns(vertices, header, *faces.finish()))
     if file_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return arrays
