@@ -4,10 +4,9 @@ numbers vt and vn on their own (Blender, Maya, Cinema 4D)."""
 
 from __future__ import annotations
 
-import tracemalloc
-
 import numpy as np
 import pytest
+from test_obj_reading import read_in_small_blocks
 
 
 @pytest.mark.parametrize("seed", range(40))
@@ -97,20 +96,10 @@ def test_an_exported_obj_makes_one_vertex_per_distinct_corner(tmp_path, monkeypa
     (v, vt, vn) and no more (a seam's corners two); read in blocks of 64 KiB, tracemalloc's
     peak of the reading stays a few times the arrays it gives: 2.4x here, 5.7x when every
     corner's indices were kept and their rows went through np.unique (docs/performance.md)."""
-    from wgpu_shading.assets import files
-    from wgpu_shading.assets.mesh_formats.obj import read_obj
-
     text, expected = _exported_grid(side=120, seam_every=10)
     path = tmp_path / "exported.obj"
     path.write_text(text)
-    monkeypatch.setattr(files, "TEXT_CHUNK", 1 << 18)
-    monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", 1 << 16)
-    tracemalloc.start()
-    try:
-        (piece,) = read_obj(path).pieces
-        _, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
+    piece, peak = read_in_small_blocks(path, monkeypatch)
     corners = np.array(expected, dtype=object)
     np.testing.assert_array_equal(piece.positions[piece.faces], np.array(corners[:, :, 0].tolist()))
     np.testing.assert_array_equal(piece.uvs[piece.faces], np.array(corners[:, :, 1].tolist()))
