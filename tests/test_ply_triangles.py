@@ -274,7 +274,8 @@ def test_other_ascii_plys_still_go_to_trimesh(tmp_path, options):
 
 def test_a_file_of_one_huge_face_is_refused_before_it_is_read(tmp_path, monkeypatch):
     """A face of more than MAX_FACE_CORNERS corners (the limit an OBJ line has): a 48 MB
-    PLY of one face of 12M corners took trimesh 2.4 GB and 11 s to reach its error. Faces
+    PLY of one face of 12M corners took trimesh 2.4 GB and 11 s to reach its error (ASCII:
+    1.7 GB and 19 s). Faces
     of one size whose fans pass the triangle limit are refused before any array is made.
     (The limits made small here, the files small.)"""
     monkeypatch.setattr(ply_triangles, "MAX_FACE_CORNERS", 5)
@@ -283,6 +284,12 @@ def test_a_file_of_one_huge_face_is_refused_before_it_is_read(tmp_path, monkeypa
         load_mesh(path)
     counted_otherwise = write_ply(tmp_path / "counted.ply", faces=[[0, 1, 2, 3, 4, 5]], counts=[7], count="int")
     assert read_triangles(counted_otherwise, _layout(counted_otherwise), "mesh") is None  # to trimesh, which says what is wrong
+    from wgpu_shading.assets.mesh_formats import ply_ascii_triangles
+
+    monkeypatch.setattr(ply_ascii_triangles, "MAX_FACE_CORNERS", 5)  # an ASCII face: from its line's count (trimesh: 1.7 GB, 19 s)
+    path = write_ascii_ply(tmp_path / "huge_ascii.ply", faces=[[0, 1, 2, 3, 4, 5]])
+    with pytest.raises(MeshError, match="a face of 6 corners; at most 5"):
+        load_mesh(path)
     monkeypatch.setattr(ply_triangles, "MAX_TRIANGLES", 5)
     path = write_ply(tmp_path / "many.ply", faces=[[0, 2, 1, 3], [0, 4, 1, 5], [2, 4, 3, 5]])
     with pytest.raises(MeshError, match="3 faces of 4 corners make 6 triangles; at most 5"):
