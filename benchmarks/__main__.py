@@ -73,7 +73,7 @@ SMOKE_SCRIPTS = {
     "ab_issue29_poll_gap": ("scripts/ab_issue29.py", "poll-gap", "--smoke"),
     "ab_issue29_vertex_cache": ("scripts/ab_issue29.py", "vertex-cache", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
-    "hostile_obj": ("scripts/hostile_obj.py", "--smoke"),  # (its full run feeds docs/reliability.md: by hand)
+    "hostile_files": ("scripts/hostile_files.py", "--smoke"),  # (its full run feeds docs/reliability.md: by hand)
 }
 # A real run also runs the standalone benchmarks whose figures docs/performance.md quotes,
 # with their own default sizes, so that one command gives every figure of that page

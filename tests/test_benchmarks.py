@@ -83,7 +83,7 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 
 SMOKE_STEPS = (
     "warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference",
-    "golden_noise", "gif_palette", "loading", "antialiasing", "live", "callgrind", "ab_issue21", "ab_issue29", "ab_issue29_start_up", "ab_issue29_frame_plans", "ab_issue29_turned_away", "ab_issue29_chunks", "ab_issue29_batch_parts", "ab_issue29_kept_frames", "ab_issue29_fresh_meshes", "ab_issue29_frames_in_flight", "ab_issue29_chunk_order", "ab_issue29_thread_cpu", "ab_issue29_output_folders", "ab_issue29_crease_split", "ab_issue29_encoder_threads", "ab_issue29_dask_saturation", "ab_issue29_dask_client", "ab_issue29_per_mesh", "ab_issue29_files_beside", "ab_issue29_spread_folders", "ab_issue29_poll_gap", "ab_issue29_vertex_cache", "frame_timeline", "hostile_obj", "shadows",
+    "golden_noise", "gif_palette", "loading", "antialiasing", "live", "callgrind", "ab_issue21", "ab_issue29", "ab_issue29_start_up", "ab_issue29_frame_plans", "ab_issue29_turned_away", "ab_issue29_chunks", "ab_issue29_batch_parts", "ab_issue29_kept_frames", "ab_issue29_fresh_meshes", "ab_issue29_frames_in_flight", "ab_issue29_chunk_order", "ab_issue29_thread_cpu", "ab_issue29_output_folders", "ab_issue29_crease_split", "ab_issue29_encoder_threads", "ab_issue29_dask_saturation", "ab_issue29_dask_client", "ab_issue29_per_mesh", "ab_issue29_files_beside", "ab_issue29_spread_folders", "ab_issue29_poll_gap", "ab_issue29_vertex_cache", "frame_timeline", "hostile_files", "shadows",
     "report",
 )
 
@@ -276,8 +276,8 @@ def test_smoke_runs_the_standalone_benchmarks(smoke):
     assert re.search(r"first 20 frames of a drag.*\n  wall ms: median \d+, worst \d+", live)
     assert re.search(r"during the build: median \d+\.\d+ ms", live)
 
-    (hostile,) = _tables(_section(smoke, "hostile_obj"))  # a thousandth of each file: read and drawn
-    assert len(hostile) == 5 and all(row["exit"] == "0" and row["last line"].startswith("wrote ") for row in hostile)
+    (hostile,) = _tables(_section(smoke, "hostile_files"))  # a thousandth of each file: read and drawn
+    assert len(hostile) == 7 and all(row["exit"] == "0" and row["last line"].startswith("wrote ") for row in hostile)
 
     (gif,) = _tables(_section(smoke, "gif_palette"))
     assert len(gif) == 7 and gif[-1]["method"].startswith("**chosen")
