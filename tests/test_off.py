@@ -278,3 +278,13 @@ def test_coff_noff_and_coloured_plain_offs_are_read_a_block_at_a_time_as_the_tok
     assert not whole_reads
     assert (piece.colors is not None) == ("C" in keyword or keyword == "OFF")
     assert (piece.normals is not None) == ("N" in keyword) and (piece.uvs is not None) == (keyword == "STOFF")
+
+
+def test_a_first_face_of_more_corners_than_vertices_is_refused_before_its_numbers_are_read(tmp_path):
+    """A 48 MB OFF of one face of 24M corners over 4 vertices went to the reader of tokens
+    (a Python string a number: 520 MB and 1.8 s) to be refused; the block reader says the
+    same from the face line's count (0.4 s)."""
+    path = tmp_path / "one_face.off"
+    path.write_text("OFF\n4 1 0\n" + SQUARE + "2400" + " 0 1 2 3" * 600 + "\n")
+    with pytest.raises(MeshError, match=r"face 0 has 2400 vertices \(the file has 4\)"):
+        load_mesh(path)

@@ -192,7 +192,7 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
     check_declared_counts(where, header.vertex_count, header.face_count, 6 * header.vertex_count + 8 * header.face_count, file_size)
     width = _vertex_width(header)
     vertices = None  # (V, the first vertex line's width), once it is read
-    faces = PlainFaces(header.vertex_count)
+    faces = PlainFaces(header.vertex_count, where)
     read_vertices = 0
     texts = ascii_texts(itertools.chain([first], blocks), skip=header.offset)
     for section in vertex_and_face_lines(texts, header.vertex_count, header.face_count):

@@ -12,19 +12,24 @@ file and names what is wrong.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
+
+from ...errors import MeshError
 
 from .line_sections import joined
 from .number_text import BLANK_BYTES, parse_floats, parse_numbers
 
 COLOUR_WIDTHS = (0, 3, 4)  # values after a face's indices: none, RGB, RGBA
+_LEADING_COUNT = re.compile(r"[ \t]*(\d+)")  # a face line's corner count
 
 
 class PlainFaces:
     """The fans of a plain OFF's faces and their colours, read a block of face lines at a time."""
 
-    def __init__(self, vertex_count: int):
-        self.vertex_count = vertex_count
+    def __init__(self, vertex_count: int, where: str):
+        self.vertex_count, self.where = vertex_count, where
         self.corners: int | None = None  # the polygon size, from the first face
         self.colour_width: int | None = None  # values after the indices, from the first face
         self.triangles: list[np.ndarray] = []  # (t, 3) int32 a block
@@ -32,6 +37,10 @@ class PlainFaces:
 
     def read(self, face_lines: list[str]) -> bool:
         """One block's face lines; False when they are not of this layout."""
+        if self.corners is None and face_lines:  # the first face's size, before any number is read
+            first = _LEADING_COUNT.match(face_lines[0])
+            if first is not None and int(first.group(1)) > self.vertex_count:  # as the reader of tokens says it
+                raise MeshError(f"{self.where}: face 0 has {int(first.group(1))} vertices (the file has {self.vertex_count})")
         text = "\n".join(face_lines)
         if "#" in text or not face_lines:
             return False
