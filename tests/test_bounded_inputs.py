@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from wgpu_shading import load_mesh, load_scene
+from wgpu_shading import Mesh, load_mesh, load_scene
 from wgpu_shading.assets.mesh_formats.checks import describe_load_error
 from wgpu_shading.assets.textures import decoding_limits, load_texture
 from wgpu_shading.cli.main import main
@@ -367,3 +367,15 @@ def test_pillow_warnings_about_a_texture_are_one_line_naming_it(tmp_path, capsys
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1, err
     assert err[0].startswith("wgpu-shading: warning: texture ") and "bad_exif.jpg" in err[0] and "read anyway" in err[0]
+
+
+def test_texture_coordinates_beyond_float32_are_refused_not_drawn_as_infinite(tmp_path):
+    """A uv of 1e39 is finite as float64 and infinite as the float32 the GPU reads: the OBJ
+    reader (which keeps `vt` numbers as float32) names its line, and a caller's arrays are
+    refused by the Mesh. (Before, the Mesh kept an infinite uv.)"""
+    path = tmp_path / "big_uv.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1e39 0\nvt 0 1\nf 1/1 2/2 3/3\n")
+    with pytest.raises(MeshError, match=r"big_uv.obj:5: 'vt' line has a number beyond float32's range: '1e39 0'"):
+        load_mesh(path)
+    with pytest.raises(MeshError, match="uvs beyond float32's range"):
+        Mesh.from_arrays(np.eye(3), np.array([[0, 1, 2]]), uvs=np.array([[0, 0], [1e39, 0], [0, 1]]))

@@ -26,6 +26,11 @@ from .obj_vertices import CornerTriples, RunCorners
 
 NUMBER_LINES_AT_ONCE = 1 << 16  # v/vt/vn lines read together: bounded temporaries (a few bytes a character)
 KINDS = (("v ", 3), ("vt", 2), ("vn", 3))  # the number lines: keyword, numbers kept
+# The type each kind's numbers are kept in: texture coordinates only ever become the Mesh's
+# float32 uvs, so they are kept as float32 (the same values, half the memory; and one too
+# large for float32 is infinite here, refused by the Mesh, not drawn as infinite). Positions
+# and normals stay float64: the crease normals and the normals' check work from them.
+NUMBER_TYPES = {"v ": np.float64, "vt": np.float32, "vn": np.float64}
 
 
 @dataclass
@@ -53,7 +58,7 @@ class ObjContent:
     polygons: int = 0  # face lines so far
     triangles: int = 0  # their fans' triangles so far (the blocks read whole)
     triangle_line: int = 0  # the line whose face took the triangles past the limit
-    numbers: dict = field(default_factory=lambda: {keyword: [] for keyword, _ in KINDS})  # keyword → (n, w) float64 blocks
+    numbers: dict = field(default_factory=lambda: {keyword: [] for keyword, _ in KINDS})  # keyword → (n, w) blocks (NUMBER_TYPES)
     runs: list[FaceRunCorners] = field(default_factory=list)
     triples: CornerTriples = field(default_factory=CornerTriples)  # each v's own (vt, vn), for the runs' corners
     libraries: list[str] = field(default_factory=list)
@@ -105,7 +110,14 @@ class ObjContent:
             if len(rows) and keyword not in self.errors:
                 try:
                     run = lines.sub(int(rows[0]), int(rows[-1]) + 1) if rows[-1] - rows[0] + 1 == len(rows) else lines.take(rows)
-                    self.numbers[keyword].append(_floats(run, keyword, width, self.name, offset + rows + 1))
+                    numbers = _floats(run, keyword, width, self.name, offset + rows + 1)
+                    kept = numbers.astype(NUMBER_TYPES[keyword], copy=False)
+                    beyond = ~np.isfinite(kept[:, :width]).all(axis=1) if kept is not numbers else np.zeros(0, bool)
+                    if beyond.any():  # (a float32 too large: infinite, never drawn; _floats checked the float64 ones)
+                        ordinal = int(np.flatnonzero(beyond)[0])
+                        raise MeshError(f"{self.name}:{offset + rows[ordinal] + 1}: {keyword.strip()!r} line has a number beyond "
+                                        f"float32's range: {run[ordinal].strip()[len(keyword.strip()):].strip()!r}")
+                    self.numbers[keyword].append(kept)
                 except MeshError as error:
                     self.errors[keyword] = error
         for kind, letter in (("lines", "l"), ("points", "p")):
@@ -152,13 +164,13 @@ class ObjContent:
         return changes
 
     def vertex_numbers(self, keyword: str) -> np.ndarray:
-        """Every `keyword` line's numbers, (n, width) float64; `v` lines with colours (x y z
+        """Every `keyword` line's numbers, (n, width) of NUMBER_TYPES; `v` lines with colours (x y z
         r g b) in some blocks give every vertex a colour (white where a line had none), as
         the line-by-line reading does (_floats)."""
         blocks = self.numbers[keyword]
         if not blocks:
-            return np.zeros((0, dict(KINDS)[keyword]))
-        return blocks.pop() if len(blocks) == 1 else joined(blocks, np.float64, fill=1.0)  # (1.0: white)
+            return np.zeros((0, dict(KINDS)[keyword]), NUMBER_TYPES[keyword])
+        return blocks.pop() if len(blocks) == 1 else joined(blocks, NUMBER_TYPES[keyword], fill=1.0)  # (1.0: white)
 
 
 def _numbers(lines: Sequence[str], prefix: str) -> np.ndarray | None:

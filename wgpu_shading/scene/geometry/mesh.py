@@ -332,6 +332,8 @@ class Mesh:
             if not np.isfinite(uvs).all():
                 raise MeshError(f"{name}: uvs contain NaN or infinite values")
             uvs = np.ascontiguousarray(uvs, dtype=np.float32)
+            if not np.isfinite(uvs).all():  # (finite in float64, infinite as the float32 the GPU reads)
+                raise MeshError(f"{name}: uvs beyond float32's range (|value| up to {float(np.finfo(np.float32).max):.3g})")
         lower, upper = bounds(positions)
         extent = float(np.linalg.norm(upper - lower))
         # A point cloud whose points all lie at one place (a single point) has no extent and
