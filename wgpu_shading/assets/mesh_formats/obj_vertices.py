@@ -113,12 +113,7 @@ class CornerTriples:
                 v = run.vertices.reshape(-1)
                 pairs = np.stack([v, v], axis=1) if run.paired else np.full((len(v), 2), -1, np.int32)
                 run.odd, run.odd_pairs = self._odd(v, pairs, vertex_count)
-        # v's whose own pair some corner still has (ear clipping may drop triangles)
-        own_used = np.zeros(vertex_count, bool)
-        for run in runs:
-            plain = np.ones(len(run) * 3, bool)
-            plain[run.odd] = False
-            own_used[run.vertices.reshape(-1)[plain]] = True
+        own_used = _own_used(runs, vertex_count)
         # The odd corners' triples, sorted by (v, pair), each distinct one kept once.
         odd_v = np.concatenate([run.vertices.reshape(-1)[run.odd] for run in runs] + [np.empty(0, np.int32)])
         odd_key = np.concatenate([_pair_key(run.odd_pairs[:, kept]) for run in runs] + [np.empty(0, np.int64)])
@@ -164,23 +159,38 @@ class CornerTriples:
         corner_rank = np.empty(len(order), np.uint32)  # each odd corner's row, in the runs' order
         corner_rank[order] = odd_rank[row_of]
         del order, row_of, odd_rank
-        # Every corner takes its v's vertex, then the odd ones their own; each run's arrays
-        # let go once numbered (uint32 and owning its memory: a Mesh keeps it without a copy).
-        faces = np.empty((sum(len(run) for run in runs), 3), np.uint32)
-        row, odd_start, let_go = 0, 0, 0
-        for run in runs:
-            ids = faces[row : row + len(run)]
-            np.take(vertex_of, run.vertices, out=ids)
-            ids.reshape(-1)[run.odd] = corner_rank[odd_start : odd_start + len(run.odd)]
-            row, odd_start, let_go = row + len(run), odd_start + len(run.odd), let_go + run.vertices.nbytes
-            run.vertices = run.odd = run.odd_pairs = _NONE
-            if let_go >= GIVE_BACK_BYTES:  # (as line_sections.joined does: glibc keeps the runs' arrays resident)
-                return_freed_memory()
-                let_go = 0
-        return triples, faces
+        return triples, _numbered_faces(runs, vertex_of, corner_rank)
 
 
 _NONE = np.empty(0, np.int32)  # a used-up run's arrays
+
+
+def _own_used(runs: list[RunCorners], vertex_count: int) -> np.ndarray:
+    """Each v whose own pair some corner still has (ear clipping may drop triangles)."""
+    own_used = np.zeros(vertex_count, bool)
+    for run in runs:
+        plain = np.ones(len(run) * 3, bool)
+        plain[run.odd] = False
+        own_used[run.vertices.reshape(-1)[plain]] = True
+    return own_used
+
+
+def _numbered_faces(runs: list[RunCorners], vertex_of: np.ndarray, odd_rows: np.ndarray) -> np.ndarray:
+    """Every corner numbered as its v's own vertex (`vertex_of`), then the odd ones as their
+    own (`odd_rows`, in the runs' order): (T, 3) uint32, owning its memory (a Mesh keeps it
+    without a copy). Each run's arrays are let go once numbered."""
+    faces = np.empty((sum(len(run) for run in runs), 3), np.uint32)
+    row, odd_start, let_go = 0, 0, 0
+    for run in runs:
+        ids = faces[row : row + len(run)]
+        np.take(vertex_of, run.vertices, out=ids)
+        ids.reshape(-1)[run.odd] = odd_rows[odd_start : odd_start + len(run.odd)]
+        row, odd_start, let_go = row + len(run), odd_start + len(run.odd), let_go + run.vertices.nbytes
+        run.vertices = run.odd = run.odd_pairs = _NONE
+        if let_go >= GIVE_BACK_BYTES:  # (as line_sections.joined does: glibc keeps the runs' arrays resident)
+            return_freed_memory()
+            let_go = 0
+    return faces
 
 
 def _pair_key(pairs: np.ndarray) -> np.ndarray:
