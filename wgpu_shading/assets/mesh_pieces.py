@@ -125,6 +125,14 @@ def _piece_normals(piece: MeshPiece, crease_angle: float, name: str) -> MeshPiec
     )
 
 
+def polygon_fans(polygons: np.ndarray) -> np.ndarray:
+    """(n, k) polygons of one size as (n·(k − 2), 3) triangles: each polygon's fan from its
+    first corner, (a, k, k + 1), one polygon after the other (the OFF and PLY readers')."""
+    fan = np.arange(1, polygons.shape[1] - 1)
+    first = np.broadcast_to(polygons[:, :1], (len(polygons), len(fan)))
+    return np.stack([first, polygons[:, fan], polygons[:, fan + 1]], axis=2).reshape(-1, 3)
+
+
 def numbered_corners(count: int) -> np.ndarray:
     """(count, 3) triangles 0 1 2, 3 4 5, ...: uint32, read-only and owning its memory,
     which a Mesh keeps as its indices without a copy (scene/geometry/mesh.py, owned)."""

@@ -22,6 +22,7 @@ usual way.
 
 from __future__ import annotations
 
+import re
 import warnings
 from typing import Callable, Sequence
 
@@ -61,6 +62,7 @@ def parse_floats(text: str | bytes) -> np.ndarray | None:
     return values if values is not None else parse_numbers(text, np.float64)
 
 
+LEADING_COUNT = re.compile(r"[ \t]*(\d+)")  # a line's first number, a count (a PLY or OFF face's corners)
 TOKENS_AT_ONCE = 1 << 18  # tokens joined and read together: bounded temporaries
 
 

@@ -110,14 +110,7 @@ class ObjContent:
             if len(rows) and keyword not in self.errors:
                 try:
                     run = lines.sub(int(rows[0]), int(rows[-1]) + 1) if rows[-1] - rows[0] + 1 == len(rows) else lines.take(rows)
-                    numbers = _floats(run, keyword, width, self.name, offset + rows + 1)
-                    kept = numbers.astype(NUMBER_TYPES[keyword], copy=False)
-                    beyond = ~np.isfinite(kept[:, :width]).all(axis=1) if kept is not numbers else np.zeros(0, bool)
-                    if beyond.any():  # (a float32 too large: infinite, never drawn; _floats checked the float64 ones)
-                        ordinal = int(np.flatnonzero(beyond)[0])
-                        raise MeshError(f"{self.name}:{offset + rows[ordinal] + 1}: {keyword.strip()!r} line has a number beyond "
-                                        f"float32's range: {run[ordinal].strip()[len(keyword.strip()):].strip()!r}")
-                    self.numbers[keyword].append(kept)
+                    self.numbers[keyword].append(_floats(run, keyword, width, self.name, offset + rows + 1))
                 except MeshError as error:
                     self.errors[keyword] = error
         for kind, letter in (("lines", "l"), ("points", "p")):
@@ -186,8 +179,8 @@ def _numbers(lines: Sequence[str], prefix: str) -> np.ndarray | None:
 
 
 def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
-    """The numbers of `v` / `vt` / `vn` lines as an (n, columns) float64 array; `numbers`
-    are their 1-based line numbers (for errors)."""
+    """The numbers of `v` / `vt` / `vn` lines as an (n, columns) array of the kind's
+    NUMBER_TYPES; `numbers` are their 1-based line numbers (for errors)."""
     values = _numbers(lines, prefix)
     if values is not None and values.size == width * len(lines):
         array = values.reshape(-1, width)
@@ -207,11 +200,13 @@ def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: n
         if prefix == "v " and any(len(r) == 6 for r in rows):
             rows = [r if len(r) == 6 else r[:3] + [1.0, 1.0, 1.0] for r in rows]
         array = np.array(rows, dtype=np.float64).reshape(len(rows), -1)
-    bad = ~np.isfinite(array[:, :width]).all(axis=1)
-    if bad.any():
-        ordinal = int(np.flatnonzero(bad)[0])
-        raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has a NaN or infinite coordinate: {lines[ordinal].strip()[len(prefix.strip()):].strip()!r}")
-    return array
+    kept = array.astype(NUMBER_TYPES[prefix], copy=False)
+    for checked, what in ((array, "a NaN or infinite coordinate"), (kept, "a number beyond float32's range")):  # (the second: a float32 too large, infinite)
+        bad = ~np.isfinite(checked[:, :width]).all(axis=1)
+        if bad.any():
+            ordinal = int(np.flatnonzero(bad)[0])
+            raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has {what}: {lines[ordinal].strip()[len(prefix.strip()):].strip()!r}")
+    return kept
 
 
 def _without_indentation(data: bytes) -> bytes:

@@ -30,11 +30,11 @@ import numpy as np
 from ...errors import MeshError
 from ...scene.freed_memory import return_freed_memory
 from ..files import TEXT_BLOCK_BYTES, read_text_bytes, text_line_blocks
-from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
+from ..mesh_pieces import MeshFile, MeshPiece, point_piece, polygon_fans, with_face_colors
 from .checks import check_declared_counts
 from .line_sections import ascii_texts, vertex_and_face_lines
 from .number_text import parse_floats, tokens_as_numbers
-from .off_faces import PlainFaces, unit_colors
+from .off_faces import PlainFaces, unit_colors_by_largest
 
 _KEYWORD = re.compile(r"(ST)?(C)?(N)?(4)?(n)?OFF(\d*)")
 
@@ -111,7 +111,7 @@ def _vertex_columns(vertices: np.ndarray, header: _Header, faces: np.ndarray, fa
     if has_normals:
         normals, column = vertices[:, 3:6], 6
     if has_colors or vertices.shape[1] > _vertex_width(header):  # COFF, or a plain OFF with colours after x y z
-        colors = unit_colors(vertices[:, column : column + 4])
+        colors = unit_colors_by_largest(vertices[:, column : column + 4])
         column += 4
     if has_uvs:
         uvs = vertices[:, column : column + 2]
@@ -243,9 +243,7 @@ def _uniform_faces(text: str, header: _Header) -> _OffArrays | None:
         return None
     if polygons.min() < 0 or polygons.max() >= vertex_count:
         return None
-    fan = np.arange(1, corners - 1)  # triangle (0, k, k + 1) of each polygon, k = 1 .. corners - 2
-    triangles = np.stack([np.broadcast_to(polygons[:, :1], (face_count, len(fan))), polygons[:, fan], polygons[:, fan + 1]], axis=2)
-    return _OffArrays(vertices, triangles.reshape(-1, 3), None, None, None)
+    return _OffArrays(vertices, polygon_fans(polygons), None, None, None)
 
 
 class _Tokens:
@@ -339,7 +337,7 @@ def _face_colors(colors: list[list[str]], where: str) -> np.ndarray | None:
     rows = np.array([row + [full] * (4 - len(row)) if row else [full] * 4 for row in values])
     if not np.isfinite(rows).all():
         raise MeshError(f"{where}: a face colour is not finite")
-    return unit_colors(rows)
+    return unit_colors_by_largest(rows)
 
 
 def _checked(faces: np.ndarray, vertex_count: int, where: str) -> np.ndarray:

@@ -12,17 +12,14 @@ file and names what is wrong.
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 
 from ...errors import MeshError
-
+from ..mesh_pieces import polygon_fans
 from .line_sections import joined
-from .number_text import BLANK_BYTES, parse_floats, parse_numbers
+from .number_text import BLANK_BYTES, LEADING_COUNT, parse_floats, parse_numbers
 
 COLOUR_WIDTHS = (0, 3, 4)  # values after a face's indices: none, RGB, RGBA
-_LEADING_COUNT = re.compile(r"[ \t]*(\d+)")  # a face line's corner count
 
 
 class PlainFaces:
@@ -38,7 +35,7 @@ class PlainFaces:
     def read(self, face_lines: list[str]) -> bool:
         """One block's face lines; False when they are not of this layout."""
         if self.corners is None and face_lines:  # the first face's size, before any number is read
-            first = _LEADING_COUNT.match(face_lines[0])
+            first = LEADING_COUNT.match(face_lines[0])
             if first is not None and int(first.group(1)) > self.vertex_count:  # as the reader of tokens says it
                 raise MeshError(f"{self.where}: face 0 has {int(first.group(1))} vertices (the file has {self.vertex_count})")
         text = "\n".join(face_lines)
@@ -67,10 +64,7 @@ class PlainFaces:
             if not np.isfinite(colours).all():
                 return False
             self.colours.append(colours)
-        polygons = polygons[:, 1:].astype(np.int64)
-        fan = np.arange(1, corners - 1)  # triangle (0, k, k + 1) of each polygon, k = 1 .. corners - 2
-        first_corner = np.broadcast_to(polygons[:, :1], (len(polygons), len(fan)))
-        self.triangles.append(np.stack([first_corner, polygons[:, fan], polygons[:, fan + 1]], axis=2).reshape(-1, 3).astype(np.int32))
+        self.triangles.append(polygon_fans(polygons[:, 1:]).astype(np.int32))
         return True
 
     def _indices_and_floats(self, text: str, lines: int) -> np.ndarray | None:
@@ -102,13 +96,10 @@ class PlainFaces:
             return triangles, None
         colours = np.concatenate(self.colours)
         self.colours.clear()
-        full = 255.0 if colours.max(initial=0.0) > 1.0 else 1.0
-        if colours.shape[1] == 3:
-            colours = np.concatenate([colours, np.full((len(colours), 1), full)], axis=1)
-        return triangles, np.repeat(unit_colors(colours), self.corners - 2, axis=0)
+        return triangles, np.repeat(unit_colors_by_largest(colours), self.corners - 2, axis=0)
 
 
-def unit_colors(colors: np.ndarray) -> np.ndarray:
+def unit_colors_by_largest(colors: np.ndarray) -> np.ndarray:
     """RGB or RGBA rows, 0..255 integers or 0..1 floats (told apart by the largest value),
     as RGBA in [0, 1]."""
     if colors.shape[1] == 3:

@@ -14,7 +14,6 @@ it as before.
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import numpy as np
@@ -26,12 +25,9 @@ from ..files import TEXT_BLOCK_BYTES, text_line_blocks
 from ..mesh_pieces import MeshPiece
 from .checks import MAX_FACE_CORNERS
 from .line_sections import ascii_texts, vertex_and_face_lines
-from .number_text import parse_floats, parse_numbers
+from .number_text import LEADING_COUNT, parse_floats, parse_numbers
 from .ply_header import PlyHeader
 from .ply_triangles import COLOR_NAMES, cut_polygons, fan_count, mesh_arrays, mesh_rows
-
-
-_LEADING_COUNT = re.compile(r"[ \t]*(\d+)")  # a face line's corner count
 
 
 def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece | None:
@@ -71,7 +67,7 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
             vertices_read += len(vertex_lines)
         if not face_lines:
             continue
-        first = _LEADING_COUNT.match(face_lines[0]) if corners is None else None
+        first = LEADING_COUNT.match(face_lines[0]) if corners is None else None
         if first is not None and int(first.group(1)) > MAX_FACE_CORNERS:  # before its numbers are read (trimesh: 1.7 GB for 12M)
             raise MeshError(f"{where}: a face of {int(first.group(1))} corners; at most {MAX_FACE_CORNERS} are supported")
         numbers = parse_numbers("\n".join(face_lines), np.int64)

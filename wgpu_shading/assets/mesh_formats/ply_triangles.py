@@ -34,7 +34,7 @@ import numpy as np
 
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES
-from ..mesh_pieces import MeshPiece
+from ..mesh_pieces import MeshPiece, polygon_fans
 from .checks import MAX_FACE_CORNERS
 from .ply_header import PLY_TYPES, PlyHeader
 
@@ -173,9 +173,7 @@ def cut_polygons(polygons: np.ndarray, start: int, count: int, triangles: np.nda
         triangles[start : start + len(polygons)] = polygons[:, [0, 1, 2]]
         triangles[count + start : count + start + len(polygons)] = polygons[:, [2, 3, 0]]
     else:  # each polygon's fan (a, k, k + 1), one polygon after the other
-        fan = np.arange(1, corners - 1)
-        cut = np.stack([np.broadcast_to(polygons[:, :1], (len(polygons), len(fan))), polygons[:, fan], polygons[:, fan + 1]], axis=2)
-        triangles[start * (corners - 2) : (start + len(polygons)) * (corners - 2)] = cut.reshape(-1, 3)
+        triangles[start * (corners - 2) : (start + len(polygons)) * (corners - 2)] = polygon_fans(polygons)
 
 
 def mesh_arrays(vertex_row: np.dtype, face_row: np.dtype, vertices: int, faces: int):
