@@ -213,9 +213,9 @@ def test_split_vertices_gives_np_unique_of_vertex_and_fan(monkeypatch, seed, ran
     only the corners of vertices in several fans, a range of vertices at a time: ranges of
     ~7 corners here). Random corners: unused vertices, vertices in one fan, vertices in up
     to four."""
-    from wgpu_shading.scene.geometry import crease_normals as creases
+    from wgpu_shading.scene.geometry import corner_ids
 
-    monkeypatch.setattr(creases, "SPLIT_CORNERS", range_corners)
+    monkeypatch.setattr(corner_ids, "RANGE_IDS", range_corners)
     rng = np.random.default_rng(seed)
     vertex_count, table_size = int(rng.integers(1, 60)), int(rng.integers(1, 90))
     flat_corners = rng.integers(0, vertex_count, 3 * int(rng.integers(1, 80)))
@@ -238,9 +238,9 @@ def test_split_vertices_gives_np_unique_of_vertex_and_fan(monkeypatch, seed, ran
 def test_split_vertices_with_vertices_without_corners_between_ranges(monkeypatch):
     """Ranges are cut by the corners' counts, about 2 corners each here: vertices 1-8 have
     none, so the ranges are uneven; still np.unique's vertices and inverse."""
-    from wgpu_shading.scene.geometry import crease_normals as creases
+    from wgpu_shading.scene.geometry import corner_ids
 
-    monkeypatch.setattr(creases, "SPLIT_CORNERS", 2)
+    monkeypatch.setattr(corner_ids, "RANGE_IDS", 2)
     flat_corners = np.array([0, 0, 0, 9, 9, 9, 0, 9, 0])
     label = np.array([1, 2, 1, 3, 4, 3, 2, 4, 1])
     vertex_fan = np.full(10, -1)

@@ -7,6 +7,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/torus10m.ply --triangles --render 512
     python benchmarks/scripts/load_peak.py 2000000 /tmp/torus2m.stl --crease-angle 0 --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/exported10m.obj --exported --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/cubes10m.stl --cubes --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -15,7 +16,10 @@ little-endian PLY (float x y z, float nx ny nz, uchar red green blue: 27 bytes a
 scanners write them), or with --triangles the same torus as the STL's as a binary
 little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and MeshLab
 write a scan); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
-torus as a binary glTF with float32 normals (as Blender exports one). Then loads it and prints one JSON object: the mesh's arrays
+torus as a binary glTF with float32 normals (as Blender exports one); with --cubes an STL of
+about COUNT/12 separate unit cubes on a grid (a voxel model, or a CAD part: every vertex on
+a 90° crease, split into its three faces' normals, so the Mesh has twice the STL's
+vertices). Then loads it and prints one JSON object: the mesh's arrays
 (positions + normals + indices + colours, what a Renderer uploads), the process's resident
 memory after imports (with --render: after the device and a small render too), its peak
 (VmHWM), and the peak above that baseline as a multiple of the mesh's arrays; with --render
@@ -57,6 +61,25 @@ def write_torus_stl(path: Path, triangles: int) -> None:
     with open(path, "wb") as file:
         file.write(b"torus".ljust(80, b" ") + np.uint32(len(faces)).tobytes())
         records.tofile(file)
+
+
+def write_cubes_stl(path: Path, triangles: int) -> None:
+    """About `triangles` / 12 separate unit cubes, 1.5 apart on a grid, as a binary STL
+    (written a block of cubes at a time: the writer itself stays small)."""
+    count = max(1, triangles // 12)
+    side = math.ceil(count ** (1 / 3))
+    corner = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.float32)
+    cube = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                     [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])  # outward
+    record = np.dtype([("normal", "<f4", (3,)), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+    with open(path, "wb") as file:
+        file.write(b"cubes".ljust(80, b" ") + np.uint32(12 * count).tobytes())
+        for start in range(0, count, 1 << 16):
+            ids = np.arange(start, min(start + (1 << 16), count))
+            origins = 1.5 * np.stack([ids % side, ids // side % side, ids // (side * side)], -1).astype(np.float32)
+            records = np.zeros(12 * len(ids), record)
+            records["corners"] = (origins[:, None, None] + corner[cube]).reshape(-1, 3, 3)
+            records.tofile(file)
 
 
 def write_point_ply(path: Path, count: int) -> None:
@@ -176,7 +199,12 @@ def main() -> None:
     crease = {"crease_angle": float(sys.argv[sys.argv.index("--crease-angle") + 1])} if "--crease-angle" in sys.argv else {}
     if not path.exists():
         writer = WRITERS[path.suffix.lower()]
-        writer = write_torus_ply if "--triangles" in sys.argv else write_torus_obj_exported if "--exported" in sys.argv else writer
+        if "--triangles" in sys.argv:
+            writer = write_torus_ply
+        elif "--exported" in sys.argv:
+            writer = write_torus_obj_exported
+        elif "--cubes" in sys.argv:
+            writer = write_cubes_stl
         writer(path, count)
     import trimesh  # noqa: F401  - imported by load_mesh; counted in the baseline
 

@@ -112,6 +112,7 @@ def _piece_normals(piece: MeshPiece, crease_angle: float, name: str) -> MeshPiec
             extra_uvs=None if piece.extra_uvs is None else piece.extra_uvs[corners],
         )
     source, faces, normals = crease_normals(piece.positions, piece.faces, crease_angle, piece.flat, MAX_VERTICES, name)
+    normals.setflags(write=False)  # unit float32, ours: the Mesh keeps them without a copy (mesh.py, owned)
     if source is None:
         return replace(piece, normals=normals)
     return replace(

@@ -9,8 +9,7 @@ STL as faceted. So, when the file has no normals:
 2. Per welded vertex, its faces form *fans*: two faces around the vertex are in one fan
    when they share an edge through it that is smooth — exactly two faces meet there, both
    with area, not flagged flat, and their unit normals within the crease angle. Boundary
-   and non-manifold edges are sharp. A fan is a connected component of corners, found by
-   hook-and-jump label propagation (scipy is not a dependency).
+   and non-manifold edges are sharp (crease_fans.py).
 3. Each fan's normal is the normalized sum of its faces' unit normals (the seeds' rule);
    where the sum cancels, the largest face's normal.
 4. One output vertex per (given vertex, fan): UV seams and vertex colors stay split, and
@@ -24,11 +23,10 @@ import math
 import numpy as np
 
 from ...errors import MeshError
+from .corner_ids import SCAN_BLOCK, id_type, ids_where, vertex_counts, vertex_ranges
+from .crease_fans import fan_labels
 from .face_normals import FACE_BLOCK, FaceNormals, float_positions
 from .fan_normals import fan_normals, mean_normals
-
-SPLIT_CORNERS = 1 << 20  # corners on creases whose keys split_vertices sorts at a time
-SPLIT_RANGES = 16  # at most: more corners make larger ranges, not more passes over them all
 
 
 def _indices(faces) -> np.ndarray:
@@ -63,33 +61,14 @@ def weld_by_position(positions: np.ndarray) -> np.ndarray:
     return welded
 
 
-def _components(count: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
-    """Connected components of `count` nodes joined by the pairs: the smallest node id of
-    each node's component (hook the larger root onto the smaller, then pointer-jump)."""
-    label = np.arange(count, dtype=np.int64)
-    while True:
-        root_left, root_right = label[left], label[right]
-        differ = root_left != root_right
-        if not differ.any():
-            return label
-        root_left, root_right = root_left[differ], root_right[differ]
-        left, right = left[differ], right[differ]
-        smaller = np.minimum(root_left, root_right)
-        np.minimum.at(label, np.maximum(root_left, root_right), smaller)
-        while True:  # pointer jumping: every node straight to its root
-            jumped = label[label]
-            if np.array_equal(jumped, label):
-                break
-            label = jumped
-
-
 def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float, flat_faces: np.ndarray | None = None,
                    vertex_limit: int | None = None, name: str = "mesh"):
     """Normals welded by position and split at creases sharper than `crease_angle` degrees.
 
     Returns (source, faces, normals): source (M,) is the given vertex each output vertex
     copies (None when no vertex had to be split: then faces are the given ones and
-    normals are per given vertex), faces (F, 3) uint32 and normals (M, 3) float64 unit.
+    normals are per given vertex), faces (F, 3) uint32 and normals (M, 3) float32: each the
+    float32 nearest a float64 unit normal (a Mesh keeps them as they are).
 
     `vertex_limit`: a MeshError naming `name` as soon as the fans show that more output
     vertices than that would be made, before their normals and the split (most of the
@@ -128,8 +107,10 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         maybe = spread > (1.0 - math.cos(half)) - 1e-9
         del spread
         near_crease = np.zeros(welded_count, bool)
-        if maybe.any():
-            corners = np.flatnonzero(maybe[corner_welded])  # only their corners: the exact test
+        # Only their corners take the exact test (a block of corners at a time: where every
+        # vertex may be near a crease, all their ids at once were 8 bytes a corner).
+        for scan in range(0, len(corner_welded) if maybe.any() else 0, SCAN_BLOCK):
+            corners = np.flatnonzero(maybe[corner_welded[scan : scan + SCAN_BLOCK]]) + scan
             for start in range(0, len(corners), FACE_BLOCK):
                 block = corners[start : start + FACE_BLOCK]
                 corner_vertex = corner_welded[block]
@@ -145,25 +126,31 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         if flat is not None:
             near_crease[welded_faces[flat].reshape(-1)] = True
         if near_crease.any():
-            label = _fan_labels(welded_faces, near_crease, normals, crease_angle, flat, welded_count)
+            label = fan_labels(welded_faces, near_crease, normals, crease_angle, flat, welded_count)
             extra = int(label.max()) + 1 - welded_count
             # Each crease fan (labels from welded_count on, numbered densely) becomes at least one output vertex.
             check_split_count(extra, vertex_limit, name)
             if extra > 0:
-                crease_corners = np.flatnonzero(label >= welded_count)
-                per_fan = fan_normals(label[crease_corners] - welded_count, crease_corners // 3, normals, extra)
+                # The table of normals, per welded vertex then per fan, in float32: what a
+                # Mesh keeps (each the float32 nearest its float64 unit normal, as a Mesh's
+                # conversion of float64 normals gives), half the memory.
+                table = np.empty((welded_count + extra, 3), np.float32)
+                table[:welded_count] = mean_normal
+                del mean_normal
+                crease_corners = ids_where(label >= welded_count)
+                fan_normals(label[crease_corners] - welded_count, crease_corners // 3, normals, table[welded_count:])
                 del crease_corners
-                table = np.vstack([mean_normal, per_fan])
-                del per_fan, mean_normal  # (per fan and per vertex: table holds both now)
     if label is corner_welded:  # one fan per welded vertex: every given vertex takes its vertex's
+        table = table.astype(np.float32)
         return None, _uint32(faces), table if welded_count == vertex_count else table[welded]  # welded: the identity, or not
     flat_corners = faces.reshape(-1)
     # Does every given vertex lie in exactly one fan? Then no vertex needs splitting.
-    vertex_fan = np.full(vertex_count, -1, np.int64)
+    vertex_fan = np.full(vertex_count, -1, id_type(len(table)))
     vertex_fan[flat_corners] = label
     split = vertex_fan[flat_corners] != label  # a corner whose vertex also lies in another fan
+    table = table.astype(np.float32, copy=False)
     if not split.any():
-        normals = np.zeros((vertex_count, 3))
+        normals = np.zeros((vertex_count, 3), np.float32)
         used = vertex_fan >= 0
         normals[used] = table[vertex_fan[used]]
         return None, _uint32(faces), normals
@@ -193,14 +180,18 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
         split = vertex_fan[flat_corners] != label
     several = np.zeros(len(vertex_fan), bool)
     several[flat_corners[split]] = True
-    in_several = np.flatnonzero(several[flat_corners])
-    corner_vertex = flat_corners[in_several]
+    in_several = several[flat_corners]  # the corners of those vertices: all of them where every vertex is on a crease
+    if in_several.all():
+        in_several, corner_vertex = None, flat_corners  # (then their ids would be 0..n-1: no copies of every corner)
+    else:
+        in_several = ids_where(in_several)
+        corner_vertex = flat_corners[in_several]
     # The keys a range of vertices at a time (every key of a vertex in its range): np.unique
     # of each range is the global one's part for those vertices, and where every vertex is
     # on a crease the keys of every corner at once were ~200 bytes a corner of temporaries
     # (docs/performance.md, "Loading a large mesh"). Two passes: the fans a vertex has, then
     # each corner's place among them.
-    ranges = _vertex_ranges(corner_vertex, len(vertex_fan))
+    ranges = vertex_ranges(vertex_counts(corner_vertex, len(vertex_fan)))
     fans = np.zeros(len(vertex_fan), np.int64)
     kept = None  # one range (few corners on creases: most meshes): its corners and np.unique, for the second pass
     for low, high in ranges:
@@ -217,8 +208,13 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
     count[several] = 0
     count += fans
     del fans
-    first = np.cumsum(count) - count  # each given vertex's first output vertex
-    output = first[flat_corners]
+    # Each corner's output vertex, numbered straight into the faces (uint32, every output
+    # vertex below the corners' count): from its vertex's first output vertex, then, for
+    # the vertices in several fans, its fan's place among that vertex's.
+    first = (np.cumsum(count) - count).astype(np.uint32)  # each given vertex's first output vertex
+    faces = np.empty((len(flat_corners) // 3, 3), np.uint32)
+    output = faces.reshape(-1)
+    np.take(first, flat_corners, out=output)
     del first
     for low, high in ranges:
         if kept is not None:
@@ -229,103 +225,26 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
             del keys
         key_vertex = unique_keys // len(table)
         rank = np.arange(len(key_vertex)) - np.searchsorted(key_vertex, key_vertex)  # fan's place among its vertex's
-        output[in_several[chosen]] += rank[inverse.reshape(-1)]
+        output[_corner_ids(in_several, chosen)] += rank[inverse.reshape(-1)].astype(np.uint32)
     del corner_vertex, in_several, kept
-    output_label = np.empty(int(count.sum()), np.int64)
+    output_label = np.empty(int(count.sum()), id_type(len(table)))
     output_label[output] = label
-    faces = output.reshape(-1, 3).astype(np.uint32)
     del output
     normals = table[output_label]
     del output_label
-    return np.repeat(np.arange(len(vertex_fan)), count), faces, normals
-
-
-def _vertex_ranges(corner_vertex: np.ndarray, vertex_count: int) -> list[tuple[int, int]]:
-    """Ranges of vertex ids [low, high) with about SPLIT_CORNERS of the corners each, at
-    most SPLIT_RANGES of them: each range is a pass over every corner (finding its own)."""
-    if len(corner_vertex) <= SPLIT_CORNERS:
-        return [(0, vertex_count)]
-    per_range = max(SPLIT_CORNERS, -(-len(corner_vertex) // SPLIT_RANGES))
-    corners_to = np.cumsum(np.bincount(corner_vertex, minlength=vertex_count))
-    cuts = np.searchsorted(corners_to, np.arange(per_range, corners_to[-1], per_range), side="right")
-    bounds = [0, *np.unique(cuts).tolist(), vertex_count]
-    return [(low, high) for low, high in zip(bounds[:-1], bounds[1:]) if high > low]
+    return np.repeat(np.arange(len(vertex_fan), dtype=id_type(len(vertex_fan))), count), faces, normals
 
 
 def _range_keys(corner_vertex, label, in_several, low: int, high: int, labels: int):
     """(which of the corners, their keys vertex·labels + label) for the vertices [low, high)."""
     chosen = np.flatnonzero((corner_vertex >= low) & (corner_vertex < high))
-    return chosen, corner_vertex[chosen].astype(np.int64) * labels + label[in_several[chosen]]
+    return chosen, corner_vertex[chosen].astype(np.int64) * labels + label[_corner_ids(in_several, chosen)]
+
+
+def _corner_ids(in_several: np.ndarray | None, chosen: np.ndarray) -> np.ndarray:
+    """The ids of the `chosen` ones of the corners in several fans (None: every corner)."""
+    return chosen if in_several is None else in_several[chosen]
 
 
 def _uint32(faces: np.ndarray) -> np.ndarray:
     return faces if faces.dtype == np.uint32 else faces.astype(np.uint32)
-
-
-def _fan_labels(welded_faces, near_crease, normals: FaceNormals, crease_angle, flat, welded_count) -> np.ndarray:
-    """Per corner: its welded vertex where that vertex is far from creases, else
-    welded_count + a compact id of its fan (connected corners around the vertex)."""
-    corner_welded = welded_faces.reshape(-1)
-    start = corner_welded
-    end = welded_faces[:, [1, 2, 0]].reshape(-1)
-    involved = np.flatnonzero(near_crease[start] | near_crease[end])  # half-edges touching such a vertex
-    cos_crease = math.cos(math.radians(max(crease_angle, 0.0)))
-    if crease_angle <= 0.0:
-        cos_crease = 1.0 - 1e-12  # 0°: only (numerically) coplanar neighbours join
-    left, right = _smooth_corner_pairs_of(involved, start, end, normals, cos_crease, flat)
-    del involved, end
-    keep = near_crease[start[left]]  # join corners only at the vertices being analysed
-    analysed = np.flatnonzero(near_crease[corner_welded])
-    compact = np.full(len(corner_welded), -1, np.int64)
-    compact[analysed] = np.arange(len(analysed))
-    left, right = compact[left[keep]], compact[right[keep]]
-    del compact, keep
-    roots = _components(len(analysed), left, right)
-    del left, right
-    # Each root's rank among the roots present: np.unique(roots, return_inverse=True)[1],
-    # without sorting every corner (roots are ids below len(analysed)).
-    present = np.zeros(len(analysed), bool)
-    present[roots] = True
-    rank = np.cumsum(present) - 1
-    del present
-    label = corner_welded.copy()
-    label[analysed] = welded_count + rank[roots]
-    return label
-
-
-def _smooth_corner_pairs_of(halfedges, start, end, normals: FaceNormals, cos_crease, flat):
-    """Pairs of corners (3·face + k) joined by the smooth edges among `halfedges`."""
-    # (Each temporary let go once used: where every vertex is on a crease, these arrays are
-    # per half-edge of the whole mesh.)
-    low, high = np.minimum(start[halfedges], end[halfedges]), np.maximum(start[halfedges], end[halfedges])
-    key = low.astype(np.int64) * (int(high.max()) + 1 if len(high) else 1) + high  # ids are 32-bit: the product is not
-    del low, high
-    order = np.argsort(key, kind="stable")
-    sorted_key = key[order]
-    del key
-    run_start = np.ones(len(sorted_key), bool)
-    run_start[1:] = sorted_key[1:] != sorted_key[:-1]
-    del sorted_key
-    starts = np.flatnonzero(run_start)
-    del run_start
-    first = starts[np.diff(starts, append=len(order)) == 2]  # manifold: exactly two
-    del starts
-    h1, h2 = halfedges[order[first]], halfedges[order[first + 1]]
-    del order, first
-    f1, f2 = h1 // 3, h2 // 3
-    smooth = np.empty(len(f1), bool)
-    for block_start in range(0, len(f1), FACE_BLOCK):  # the two faces' normals a block at a time
-        block = slice(block_start, block_start + FACE_BLOCK)
-        unit1, area1 = normals.of(f1[block])
-        unit2, area2 = normals.of(f2[block])
-        smooth[block] = (area1 > 0) & (area2 > 0) & (f1[block] != f2[block])
-        smooth[block] &= np.einsum("ij,ij->i", unit1, unit2) >= cos_crease
-    if flat is not None:
-        smooth &= ~(flat[f1] | flat[f2])
-    h1, h2 = h1[smooth], h2[smooth]
-    f1, f2, k1, k2 = h1 // 3, h2 // 3, h1 % 3, h2 % 3
-    a1, b1 = 3 * f1 + k1, 3 * f1 + (k1 + 1) % 3  # the corners at the edge's two ends in face 1
-    a2, b2 = 3 * f2 + k2, 3 * f2 + (k2 + 1) % 3
-    consistent = start[a2] == start[b1]  # opposite direction: face 2's start is face 1's end
-    a2, b2 = np.where(consistent, b2, a2), np.where(consistent, a2, b2)
-    return np.concatenate([a1, b1]), np.concatenate([a2, b2])

@@ -7,9 +7,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .corner_ids import MAX_RANGES, ids_where
 from .face_normals import FACE_BLOCK, FaceNormals
 
 ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (mean_normals)
+FAN_RANGE = 1 << 21  # fans summed at a time (fan_normals): 64 MB of float64 sums
 
 
 def _normalized(summed: np.ndarray, adjacent: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -103,11 +105,27 @@ def mean_normals(normals: FaceNormals, welded_faces, count: int):
     return mean_normal, adjacent - length, np.concatenate(degenerate)
 
 
-def fan_normals(labels, corner_faces, normals: FaceNormals, count: int) -> np.ndarray:
-    """Per fan label (0..count-1): the normalized sum of the unit normals of the faces of
-    its corners; where it cancels, the largest face's normal. Many corners (every vertex on
-    a crease) are summed FACE_BLOCK at a time with np.add.at, which goes on where the last
-    block stopped: the same sums, in the same order, as one np.bincount (mean_normals)."""
+def fan_normals(labels, corner_faces, normals: FaceNormals, out: np.ndarray) -> None:
+    """Per fan label (0..len(out)-1), into `out` (float32 rows: what a Mesh keeps): the
+    normalized sum of the unit normals of the faces of its corners; where it cancels, the
+    largest face's normal. Many corners (every vertex on a crease) are summed FACE_BLOCK at
+    a time with np.add.at, which goes on where the last block stopped: the same sums, in
+    the same order, as one np.bincount (mean_normals). Many fans are summed a range of
+    FAN_RANGE or more at a time, each range's corners in their order: float64 sums of every fan at once were 32
+    bytes a fan, as much as the Mesh's arrays of a mesh whose every vertex is on a crease."""
+    count = len(out)
+    if count <= FAN_RANGE:
+        out[:] = _fan_range_normals(labels, corner_faces, normals, count)
+        return
+    per_range = max(FAN_RANGE, -(-count // MAX_RANGES))  # (each range a pass over every label)
+    for low in range(0, count, per_range):
+        high = min(low + per_range, count)
+        chosen = ids_where((labels >= low) & (labels < high))
+        out[low:high] = _fan_range_normals(labels[chosen] - low, corner_faces[chosen], normals, high - low)
+
+
+def _fan_range_normals(labels, corner_faces, normals: FaceNormals, count: int) -> np.ndarray:
+    """fan_normals of labels 0..count-1, as float64 rows."""
     if len(labels) <= FACE_BLOCK:
         unit, area = normals.of(corner_faces)
         summed = np.stack([np.bincount(labels, weights=unit[:, k], minlength=count) for k in range(3)], axis=1)

@@ -307,7 +307,7 @@ class Mesh:
             if source is not None:
                 check_split_count(len(source), MAX_VERTICES, name)  # (crease_normals refuses what it can see sooner)
                 source, segments, parts = kept_for_lines_and_points(source, segments, parts)
-                unit_normals = np.concatenate([unit_normals, np.zeros((len(source) - len(unit_normals), 3))])
+                unit_normals = np.concatenate([unit_normals, np.zeros((len(source) - len(unit_normals), 3), np.float32)])
                 positions = positions[source]
                 uvs = None if uvs is None else np.asarray(uvs)[source]
                 colors = None if colors is None else colors[source]

@@ -13,6 +13,10 @@ from ...errors import MeshError
 from .face_normals import face_normals
 from .vertex_arrays import row_blocks
 
+# How far from 1 the squared length of a unit vector rounded to float32 can be: each
+# component moves by at most 2^-24 of itself, so |n|^2 by at most 2·2^-24 + 2^-48.
+FLOAT32_UNIT = 2.0**-22
+
 
 def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """Normalized sum of the unit normals of the faces around each vertex (the seeds' rule, docs/conventions.md#vertex-normals).
@@ -51,20 +55,29 @@ def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 
 def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndarray, name: str) -> np.ndarray:
-    """The given (N, 3) normals as float32 unit vectors: already unit ones (within 1e-9, all
-    of them: computed ones, most files) as given, otherwise each made unit length in float64,
-    with computed ones where a given one has no direction. Converted a block of rows at a
-    time: a float64 copy of 10M vertices' normals would be half the mesh again."""
+    """The given (N, 3) normals as float32 unit vectors: already unit ones (all of them:
+    computed ones, most files) as given, otherwise each made unit length in float64, with
+    computed ones where a given one has no direction. "Unit" is to the precision of the
+    normals' type: within 1e-9 for float64, and for float32 within what rounding a unit
+    vector's components to float32 can move its length (FLOAT32_UNIT): renormalizing those
+    would move ~1 % of their rows by one float32 step, and none closer to unit. Converted a
+    block of rows at a time: a float64 copy of 10M vertices' normals would be half the mesh
+    again; float32 normals that are unit are the result itself (a Mesh copies them unless
+    they are read-only and own their memory, as the file readers' crease normals are)."""
     if normals.shape != positions.shape:
         raise MeshError(f"{name}: normals must have shape {positions.shape}, got {normals.shape}")
     if normals.dtype.kind not in "iuf":
         normals = np.asarray(normals, dtype=np.float64)  # what cannot be a number fails here, as before
+    tolerance = FLOAT32_UNIT if normals.dtype == np.float32 else 1e-9
     blocks = list(row_blocks(len(normals)))
-    out = np.empty(normals.shape, np.float32)
-    if all(_all_unit(normals[rows].astype(np.float64, copy=False)) for rows in blocks):
+    if all(_all_unit(normals[rows].astype(np.float64, copy=False), tolerance) for rows in blocks):
+        if normals.dtype == np.float32:
+            return np.ascontiguousarray(normals)
+        out = np.empty(normals.shape, np.float32)
         for rows in blocks:
             out[rows] = normals[rows].astype(np.float64, copy=False)
         return out
+    out = np.empty(normals.shape, np.float32)
     usable = np.empty(len(normals), bool)
     for rows in blocks:
         block = normals[rows].astype(np.float64, copy=False)
@@ -73,6 +86,9 @@ def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndar
         usable[rows] = finite & (length > 1e-20)
         unit = np.zeros_like(block)
         unit[usable[rows]] = block[usable[rows]] / length[usable[rows], None]
+        if normals.dtype == np.float32:  # (unit ones as given, as above)
+            as_given = finite & (np.abs(np.einsum("ij,ij->i", block, block) - 1.0) < tolerance)
+            unit[as_given] = block[as_given]
         out[rows] = unit
     if not usable.all():
         # Zero-length or NaN normals in the input: replace those with computed ones
@@ -82,6 +98,6 @@ def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndar
     return out
 
 
-def _all_unit(normals: np.ndarray) -> bool:
+def _all_unit(normals: np.ndarray, tolerance: float) -> bool:
     squared = np.einsum("ij,ij->i", normals, normals)
-    return bool(np.all(np.abs(squared - 1.0) < 1e-9))
+    return bool(np.all(np.abs(squared - 1.0) < tolerance))
