@@ -8,6 +8,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 2000000 /tmp/torus2m.stl --crease-angle 0 --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/exported10m.obj --exported --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/cubes10m.stl --cubes --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed10m.ply --mixed --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -15,7 +16,9 @@ order of the torus's grid); `.ply`, a point cloud of COUNT points on a sphere as
 little-endian PLY (float x y z, float nx ny nz, uchar red green blue: 27 bytes a point, as
 scanners write them), or with --triangles the same torus as the STL's as a binary
 little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and MeshLab
-write a scan); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
+write a scan), or with --mixed as Blender's PLY exporter writes a mesh it does not
+triangulate (float x y z, nx ny nz, s t; `list uchar uint`; the torus's quads, every tenth
+as two triangles: faces of two sizes); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
 torus as a binary glTF with float32 normals (as Blender exports one); with --cubes an STL of
 about COUNT/12 separate unit cubes on a grid (a voxel model, or a CAD part: every vertex on
 a 90° crease, split into its three faces' normals, so the Mesh has twice the STL's
@@ -117,6 +120,37 @@ def write_torus_ply(path: Path, triangles: int) -> None:
         records.tofile(file)
 
 
+def write_torus_ply_mixed(path: Path, triangles: int) -> None:
+    """The torus as Blender writes a PLY: normals and texture coordinates per vertex, quads
+    and triangles (every tenth quad as two), written a block of quads at a time."""
+    positions, faces = torus(triangles)
+    side = int(round(math.sqrt(len(positions))))
+    normals = positions / np.linalg.norm(positions, axis=1, keepdims=True)
+    quads = np.concatenate([faces[: len(faces) // 2], faces[len(faces) // 2 :, 2:]], axis=1).astype("<u4")  # a b d c
+    halved = np.arange(len(quads)) % 10 == 0
+    header = (
+        "ply\nformat binary_little_endian 1.0\ncomment Created by Blender (load_peak.py)\n"
+        f"element vertex {len(positions)}\n" + "".join(f"property float {name}\n" for name in ("x", "y", "z", "nx", "ny", "nz", "s", "t"))
+        + f"element face {len(quads) + int(halved.sum())}\nproperty list uchar uint vertex_indices\nend_header\n"
+    )
+    uvs = np.stack([np.arange(len(positions)) % side, np.arange(len(positions)) // side], 1) / side
+    with open(path, "wb") as file:
+        file.write(header.encode("ascii"))
+        np.concatenate([positions, normals, uvs], axis=1).astype("<f4").tofile(file)
+        for start in range(0, len(quads), 1 << 16):
+            block, halves = quads[start : start + (1 << 16)], halved[start : start + (1 << 16)]
+            sizes = np.where(halves, 26, 17)  # a quad's record, or two triangles' records
+            at = np.cumsum(sizes) - sizes
+            out = np.zeros(int(sizes.sum()), np.uint8)
+            whole, cut = at[~halves], at[halves]
+            out[whole] = 4
+            out[whole[:, None] + 1 + np.arange(16)] = block[~halves].view(np.uint8).reshape(-1, 16)
+            for first, corners in ((0, [0, 1, 2]), (13, [0, 2, 3])):
+                out[cut + first] = 3
+                out[cut[:, None] + first + 1 + np.arange(12)] = np.ascontiguousarray(block[halves][:, corners]).view(np.uint8).reshape(-1, 12)
+            out.tofile(file)
+
+
 def write_torus_obj(path: Path, triangles: int) -> None:
     """The torus as an OBJ of `v x y z` lines (6 decimals, as MeshLab writes them) and `f a b c` lines."""
     positions, faces = torus(triangles)
@@ -205,6 +239,8 @@ def main() -> None:
             writer = write_torus_obj_exported
         elif "--cubes" in sys.argv:
             writer = write_cubes_stl
+        elif "--mixed" in sys.argv:
+            writer = write_torus_ply_mixed
         writer(path, count)
     import trimesh  # noqa: F401  - imported by load_mesh; counted in the baseline
 

@@ -22,6 +22,7 @@ from ..mesh_pieces import MeshFile, point_piece
 from .ply_ascii_triangles import read_ascii_triangles
 from .ply_edges import renamed_edge_file
 from .ply_header import PLY_TYPES, PlyHeader, ply_declared_counts, read_ply_header
+from .ply_polygons import read_polygons
 from .ply_triangles import read_triangles, triangle_layout
 from .trimesh_reader import read_with_trimesh
 
@@ -95,6 +96,8 @@ def read_ply(path: Path, file_size: int) -> MeshFile:
     if not is_binary_point_cloud(header):
         layout = triangle_layout(header, file_size)
         triangles = read_triangles(path, layout, where) if layout is not None else read_ascii_triangles(path, header, where)
+        if triangles is None:  # a binary mesh of faces of several sizes (trimesh reads only one size)
+            triangles = read_polygons(path, header, file_size, where)
         if triangles is not None:
             return MeshFile([triangles])
         edges = renamed_edge_file(path, header.header_bytes) if header.count("edge") else None

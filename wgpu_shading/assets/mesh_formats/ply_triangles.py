@@ -13,12 +13,12 @@ compares the two on real files and on every case below); any other PLY goes to t
 - binary (either byte order), its non-empty elements `vertex` then `face`;
 - vertex: scalar properties with x, y, z; nx, ny, nz are its normals and red, green, blue
   (alpha) its colours when they are uchar; others (MeshLab's flags and quality, a scanner's
-  confidence) are skipped, as trimesh skips them. Texture coordinates, which trimesh reads
-  under several names and splits vertices for, go to trimesh;
+  confidence) are skipped, as trimesh skips them. Texture coordinates (trimesh's names for
+  them: TEXTURE_PAIRS) are read by ply_polygons.py, a pair per vertex;
 - face: one list property, vertex_indices or vertex_index, and nothing else (face colours
   and texcoord lists go to trimesh); every face a polygon of the same size (triangles,
   quads as quad-remeshers write them, ...): the file is exactly as long as that makes it,
-  and every count read is that size (a file of mixed polygons goes to trimesh). Polygons
+  and every count read is that size (a file of mixed polygons: ply_polygons.py). Polygons
   are cut into triangles as trimesh cuts them (trimesh.geometry.triangulate_quads): a quad
   (a, b, c, d) into (a, b, c), then after every quad's first, (c, d, a); a larger one into
   its fan from its first corner, one polygon after the other. A 2M-triangle file of quads
@@ -39,7 +39,8 @@ from .checks import MAX_FACE_CORNERS
 from .ply_header import PLY_TYPES, PlyHeader
 
 # The names trimesh reads texture coordinates under (trimesh/exchange/ply.py, _elements_to_kwargs)
-TEXTURE_NAMES = frozenset({"texture_u", "texture_v", "u", "v", "s", "t"})
+TEXTURE_PAIRS = (("texture_u", "texture_v"), ("u", "v"), ("s", "t"))
+TEXTURE_NAMES = frozenset(name for pair in TEXTURE_PAIRS for name in pair)
 INDEX_NAMES = ("vertex_indices", "vertex_index")
 COLOR_NAMES = ("red", "green", "blue", "alpha")
 BLOCK_ROWS = 1 << 18  # vertices or faces read at a time: a few MB of records
@@ -89,16 +90,19 @@ def fan_count(corners: int, faces: int) -> int:
     return faces * (corners - 2)
 
 
-def mesh_rows(header: PlyHeader, order: str, corners: int = 3) -> tuple[np.dtype, np.dtype] | None:
+def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = False) -> tuple[np.dtype, np.dtype] | None:
     """A vertex row's and a face's record types (byte order `order`, faces of `corners`
     corners) when the header's elements and properties are of the layout this module reads
-    (the module docstring, binary or not), else None."""
+    (the module docstring, binary or not), else None. `texture`: vertex texture coordinates
+    too, a pair of texture_pair()'s (ply_polygons.py reads them; here they go to trimesh)."""
     filled = [element for element in header.elements if element.count]
     if [element.name for element in filled] != ["vertex", "face"]:
         return None
     vertex, face = filled
     names = [name for name, _, _ in vertex.properties]
-    if len(set(names)) != len(names) or not {"x", "y", "z"} <= set(names) or TEXTURE_NAMES & set(names):
+    if len(set(names)) != len(names) or not {"x", "y", "z"} <= set(names):
+        return None
+    if TEXTURE_NAMES & set(names) and (not texture or texture_pair(names) is None):
         return None
     if any(count is not None or kind not in PLY_TYPES for _, kind, count in vertex.properties):
         return None
@@ -136,20 +140,10 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
         raise MeshError(f"{where}: {layout.faces} faces of {corners} corners make {fan_count(corners, layout.faces)} triangles; "
                         f"at most {MAX_TRIANGLES} are supported")
     positions, normals, colors, faces = mesh_arrays(layout.vertex, layout.face, layout.vertices, fan_count(corners, layout.faces))
-    channels = [name for name in COLOR_NAMES if name in layout.vertex.fields]
     try:
         with open(path, "rb") as file:
             file.seek(layout.offset)
-            for start in range(0, layout.vertices, BLOCK_ROWS):
-                block = _rows(file, layout.vertex, min(BLOCK_ROWS, layout.vertices - start), where)
-                rows = slice(start, start + len(block))
-                for column, axis in enumerate("xyz"):
-                    positions[rows, column] = block[axis]
-                if normals is not None:
-                    for column, axis in enumerate(("nx", "ny", "nz")):
-                        normals[rows, column] = block[axis]
-                for column, channel in enumerate(channels):
-                    colors[rows, column] = block[channel]
+            read_vertices(file, layout.vertex, positions, normals, colors, where)
             for start in range(0, layout.faces, BLOCK_ROWS):
                 block = _rows(file, layout.face, min(BLOCK_ROWS, layout.faces - start), where)
                 if (block["count"] != corners).any():
@@ -160,6 +154,31 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {layout.vertices} vertices and {layout.faces} faces") from None
     return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
+
+
+def texture_pair(names) -> tuple[str, str] | None:
+    """The vertex properties that are texture coordinates, in trimesh's order of preference
+    (trimesh/exchange/ply.py, _elements_to_kwargs), or None."""
+    return next(((u, v) for u, v in TEXTURE_PAIRS if u in names and v in names), None)
+
+
+def read_vertices(file, vertex_row: np.dtype, positions, normals, colors, where: str, uvs=None) -> None:
+    """The vertex rows at the file's position, a block at a time, into the arrays made by
+    mesh_arrays (normals, colours and texture coordinates None where the file has none)."""
+    channels = [name for name in COLOR_NAMES if name in vertex_row.fields]
+    pair = texture_pair(vertex_row.names) if uvs is not None else None
+    for start in range(0, len(positions), BLOCK_ROWS):
+        block = _rows(file, vertex_row, min(BLOCK_ROWS, len(positions) - start), where)
+        rows = slice(start, start + len(block))
+        for column, axis in enumerate("xyz"):
+            positions[rows, column] = block[axis]
+        if normals is not None:
+            for column, axis in enumerate(("nx", "ny", "nz")):
+                normals[rows, column] = block[axis]
+        for column, channel in enumerate(channels):
+            colors[rows, column] = block[channel]
+        for column, name in enumerate(pair or ()):
+            uvs[rows, column] = block[name]
 
 
 def cut_polygons(polygons: np.ndarray, start: int, count: int, triangles: np.ndarray) -> None:
@@ -183,8 +202,8 @@ def mesh_arrays(vertex_row: np.dtype, face_row: np.dtype, vertices: int, faces: 
     the faces' indices 32-bit, unsigned when the file's are (normals, colours None when
     the file has none)."""
     fields = vertex_row.fields
-    positions = np.empty((vertices, 3), _float_type(fields, "xyz"))
-    normals = np.empty((vertices, 3), _float_type(fields, ("nx", "ny", "nz"))) if "nx" in fields else None
+    positions = np.empty((vertices, 3), float_type(fields, "xyz"))
+    normals = np.empty((vertices, 3), float_type(fields, ("nx", "ny", "nz"))) if "nx" in fields else None
     channels = [name for name in COLOR_NAMES if name in fields]
     colors = np.empty((vertices, len(channels)), np.uint8) if channels else None
     index_kind = face_row.fields["corners"][0].base
@@ -199,7 +218,7 @@ def _rows(file, row: np.dtype, count: int, where: str) -> np.ndarray:
     return block
 
 
-def _float_type(fields, names) -> type:
+def float_type(fields, names) -> type:
     """float32 where the file's values are float32 (or small integers): exact, half the
     memory of float64; float64 for doubles and 32-bit integers."""
     small = all(fields[name][0].kind == "f" and fields[name][0].itemsize == 4

@@ -57,20 +57,21 @@ def vertex_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndarray, name: str) -> np.ndarray:
     """The given (N, 3) normals as float32 unit vectors: already unit ones (all of them:
     computed ones, most files) as given, otherwise each made unit length in float64, with
-    computed ones where a given one has no direction. "Unit" is to the precision of the
-    normals' type: within 1e-9 for float64, and for float32 within what rounding a unit
-    vector's components to float32 can move its length (FLOAT32_UNIT): renormalizing those
-    would move ~1 % of their rows by one float32 step, and none closer to unit. Converted a
-    block of rows at a time: a float64 copy of 10M vertices' normals would be half the mesh
-    again; float32 normals that are unit are the result itself (a Mesh copies them unless
-    they are read-only and own their memory, as the file readers' crease normals are)."""
+    computed ones where a given one has no direction. "Unit" is to the precision the
+    normals are stored in (_unit_rows): within 1e-9 for float64 values, and for float32
+    values (float32 arrays, or float64 ones that hold float32 numbers, as trimesh's reading of
+    a float32 file does) within what rounding a unit vector to float32 can move its length
+    (FLOAT32_UNIT): renormalizing those would move ~1 % of their rows by one float32 step,
+    and none closer to unit. Converted a block of rows at a time: a float64 copy of 10M
+    vertices' normals would be half the mesh again; float32 normals that are unit are the
+    result itself (a Mesh copies them unless they are read-only and own their memory, as
+    the file readers' crease normals are)."""
     if normals.shape != positions.shape:
         raise MeshError(f"{name}: normals must have shape {positions.shape}, got {normals.shape}")
     if normals.dtype.kind not in "iuf":
         normals = np.asarray(normals, dtype=np.float64)  # what cannot be a number fails here, as before
-    tolerance = FLOAT32_UNIT if normals.dtype == np.float32 else 1e-9
     blocks = list(row_blocks(len(normals)))
-    if all(_all_unit(normals[rows].astype(np.float64, copy=False), tolerance) for rows in blocks):
+    if all(_unit_rows(normals[rows]).all() for rows in blocks):
         if normals.dtype == np.float32:
             return np.ascontiguousarray(normals)
         out = np.empty(normals.shape, np.float32)
@@ -86,9 +87,8 @@ def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndar
         usable[rows] = finite & (length > 1e-20)
         unit = np.zeros_like(block)
         unit[usable[rows]] = block[usable[rows]] / length[usable[rows], None]
-        if normals.dtype == np.float32:  # (unit ones as given, as above)
-            as_given = finite & (np.abs(np.einsum("ij,ij->i", block, block) - 1.0) < tolerance)
-            unit[as_given] = block[as_given]
+        as_given = _unit_rows(normals[rows]) & _float32_values(block)  # (float64 ones: normalized, as before)
+        unit[as_given] = block[as_given]
         out[rows] = unit
     if not usable.all():
         # Zero-length or NaN normals in the input: replace those with computed ones
@@ -98,6 +98,15 @@ def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndar
     return out
 
 
-def _all_unit(normals: np.ndarray, tolerance: float) -> bool:
-    squared = np.einsum("ij,ij->i", normals, normals)
-    return bool(np.all(np.abs(squared - 1.0) < tolerance))
+def _float32_values(block: np.ndarray) -> np.ndarray:
+    """Per row of a float64 block: are its values float32 numbers (stored as float32)?"""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return (block == block.astype(np.float32)).all(axis=1)
+
+
+def _unit_rows(rows: np.ndarray) -> np.ndarray:
+    """Per row: unit to the precision it is stored in (validated_normals); NaN rows are not."""
+    block = rows.astype(np.float64, copy=False)
+    squared = np.einsum("ij,ij->i", block, block)
+    stored_as_float32 = np.ones(len(block), bool) if rows.dtype == np.float32 else _float32_values(block)
+    return np.abs(squared - 1.0) < np.where(stored_as_float32, FLOAT32_UNIT, 1e-9)
