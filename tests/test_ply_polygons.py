@@ -1,7 +1,8 @@
-"""Binary PLY meshes of polygons of several sizes (assets/mesh_formats/ply_polygons.py), as
-Blender writes them: trimesh's binary reader refuses them ("PLY is unexpected length!"),
-so the reference is trimesh's reading of the same mesh written as ASCII, which it reads
-and cuts into triangles (trimesh.geometry.triangulate_quads)."""
+"""PLY meshes of polygons of several sizes (assets/mesh_formats/ply_polygons.py, and
+ply_ascii_triangles.py for ASCII ones), as Blender writes them: trimesh's binary reader
+refuses them ("PLY is unexpected length!"), so the reference is trimesh's reading of the
+same mesh written as ASCII, which it reads whole and cuts into triangles
+(trimesh.geometry.triangulate_quads)."""
 
 from __future__ import annotations
 
@@ -173,3 +174,28 @@ def test_reading_a_big_mesh_of_mixed_polygons_takes_little_more_than_its_arrays(
     arrays = piece.positions.nbytes + piece.faces.nbytes
     assert len(piece.faces) == 2 * len(quads)
     assert peak < 1.25 * arrays, f"peak {peak / arrays:.2f}x the arrays"
+
+
+@pytest.mark.parametrize("block_bytes", [2, 40, 1 << 22])
+@pytest.mark.parametrize("faces", [FACES, [[0, 3], *FACES], [FACES[1]] * 3 + FACES], ids=["mixed", "a two-corner face first", "triangles first"])
+def test_ascii_mixed_polygons_are_read_in_blocks_of_lines_as_trimesh_reads_them(tmp_path, monkeypatch, faces, block_bytes):
+    """Two passes over the lines: the faces' kinds counted, then cut (trimesh held the
+    whole text: a 2M-triangle ASCII PLY of mixed polygons peaked at 22x its arrays)."""
+    from wgpu_shading.assets import files
+    from wgpu_shading.assets.mesh_formats import ply_ascii_triangles
+    from wgpu_shading.assets.mesh_formats.ply_header import read_ply_header
+
+    path = write_mesh(tmp_path / "ascii.ply", ascii=True, normals=True, colors=True, faces=faces)
+    monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
+    assert ply_ascii_triangles.read_ascii_triangles(path, read_ply_header(path, "mesh"), "mesh") is not None
+    _assert_same_mesh(load_mesh(path), _through_trimesh(path))
+
+
+def test_ascii_faces_whose_lines_do_not_hold_their_counts_go_to_trimesh(tmp_path):
+    from wgpu_shading.assets.mesh_formats import ply_ascii_triangles
+    from wgpu_shading.assets.mesh_formats.ply_header import read_ply_header
+
+    path = write_mesh(tmp_path / "ascii.ply", ascii=True)
+    text = path.read_text().replace("\n4 0 1 4 3\n", "\n4 0 1 4\n3\n")  # a face cut over two lines
+    path.write_text(text)
+    assert ply_ascii_triangles.read_ascii_triangles(path, read_ply_header(path, "mesh"), "mesh") is None

@@ -255,8 +255,7 @@ def test_ascii_ply_meshes_read_in_blocks_of_lines_give_trimeshs_mesh(tmp_path, m
     _assert_same_mesh(load_mesh(path), _through_trimesh_ascii(path))
 
 
-ASCII_OTHERS = {
-    "mixed polygons": {"faces": [[0, 2, 4], [2, 1, 4, 3]]},
+ASCII_OTHERS = {  # (mixed polygons: read here too, tests/test_ply_polygons.py)
     "a blank line among the rows": {"between": " "},
     "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
 }

@@ -1,15 +1,17 @@
 """ASCII PLY meshes read a block of lines at a time (files.text_line_blocks), in the layout
-ply_triangles.py reads in binary: a vertex a line, then a face a line, every face of one size
-(`3 a b c`, `4 a b c d`, ...), cut into triangles as trimesh cuts them.
+ply_triangles.py reads in binary: a vertex a line, then a face a line (`3 a b c`, `4 a b c d`,
+...), cut into triangles as trimesh cuts them.
 
 trimesh reads an ASCII PLY as a Python string per line and a numpy array per line: a
 2M-triangle ASCII PLY peaked at 28x its mesh's arrays and took 7 s. Here each block's
 numbers are read in C (number_text.py), exactly as strtod reads them, then given each
 property's type, as trimesh gives them (every value through float64, then the property's
 type: `float` coordinates are float32), so the Mesh is the same (tests/test_ply_triangles.py).
-Anything else in the data (a blank line, a row of another length, a colour outside
-0..255, faces of several sizes, rows after the faces) sends the file to trimesh, which reads
-it as before.
+Faces of several sizes are counted by kind in a first pass (each line's numbers must be its
+count and that many indices), then read again and cut as ply_polygons.py cuts a binary
+file's, as trimesh cuts this one. Anything else in the data (a blank line, a row of another
+length, a colour outside 0..255, rows after the faces) sends the file to trimesh, which
+reads it as before.
 """
 
 from __future__ import annotations
@@ -25,7 +27,8 @@ from ..files import TEXT_BLOCK_BYTES, text_line_blocks
 from ..mesh_pieces import MeshPiece
 from .checks import MAX_FACE_CORNERS
 from .line_sections import ascii_texts, vertex_and_face_lines
-from .number_text import LEADING_COUNT, parse_floats, parse_numbers
+from .number_text import BLANK_BYTES, LEADING_COUNT, parse_floats, parse_numbers
+from .ply_polygons import MixedCut, kind_counts
 from .ply_header import PlyHeader
 from .ply_triangles import COLOR_NAMES, cut_polygons, fan_count, mesh_arrays, mesh_rows
 
@@ -38,7 +41,7 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
     vertex_row, face_row = rows
     vertex_count, face_count = header.count("vertex"), header.count("face")
     positions, normals, colors, faces = mesh_arrays(vertex_row, face_row, vertex_count, 0)  # (faces: once their size is read)
-    corners = None
+    corners = mixed = None  # every face's size; or, once faces of several sizes are met, their kind_counts
     names = list(vertex_row.names)
     columns = {name: names.index(name) for name in names}
     channels = [name for name in COLOR_NAMES if name in columns]
@@ -73,19 +76,79 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
         numbers = parse_numbers("\n".join(face_lines), np.int64)
         if numbers is None or not numbers.size:
             return None
-        if corners is None:  # every face the first one's size, or trimesh reads the file
-            corners = int(numbers[0])
-            if not 3 <= corners <= MAX_FACE_CORNERS or fan_count(corners, face_count) > MAX_TRIANGLES:
-                return None
-            faces = np.empty((fan_count(corners, face_count), 3), faces.dtype)
-        if numbers.size != (corners + 1) * len(face_lines):
-            return None
-        polygons = numbers.reshape(len(face_lines), corners + 1)
         info = np.iinfo(faces.dtype)
-        if (polygons[:, 0] != corners).any() or polygons[:, 1:].min() < info.min or polygons[:, 1:].max() > info.max:
+        if numbers.min() < info.min or numbers.max() > info.max:
             return None
-        cut_polygons(polygons[:, 1:], faces_read, face_count, faces)
+        if mixed is None and corners is None:  # every face the first one's size, or faces of several sizes
+            corners = int(numbers[0])
+            if 3 <= corners <= MAX_FACE_CORNERS and fan_count(corners, face_count) <= MAX_TRIANGLES:
+                faces = np.empty((fan_count(corners, face_count), 3), faces.dtype)
+            else:
+                corners = -1  # (no face of that size: the faces' own counts decide, below)
+        if mixed is None and numbers.size == (corners + 1) * len(face_lines):
+            polygons = numbers.reshape(len(face_lines), corners + 1)
+            if (polygons[:, 0] == corners).all():
+                cut_polygons(polygons[:, 1:], faces_read, face_count, faces)
+                faces_read += len(face_lines)
+                continue
+        records = line_records(face_lines, numbers)  # faces of several sizes: counted now, cut in a second pass
+        if records is None:
+            return None
+        if mixed is None:  # the blocks before were all faces of `corners` corners
+            faces = np.empty((0, 3), faces.dtype)
+            mixed = kind_counts(np.full(faces_read, corners))
+        counts, _ = records
+        if counts.max() > MAX_FACE_CORNERS:
+            raise MeshError(f"{where}: face {faces_read + int(np.argmax(counts > MAX_FACE_CORNERS))} has "
+                            f"{int(counts.max())} corners; at most {MAX_FACE_CORNERS} are supported")
+        mixed = tuple(total + more for total, more in zip(mixed, kind_counts(counts)))
         faces_read += len(face_lines)
+    if mixed is not None:
+        faces = _mixed_faces(path, header, where, mixed, faces.dtype)
     if path.stat().st_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
+
+
+def line_records(face_lines: list[str], numbers: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """Per face line: its count and where it is among `numbers` (the lines' numbers, in
+    order), or None when a line holds other than its count and that many indices (trimesh
+    then reads the file, or says what is wrong)."""
+    data = np.frombuffer("\n".join(face_lines).encode("latin-1"), np.uint8)
+    blank = BLANK_BYTES[data]
+    starts = ~blank
+    starts[1:] &= blank[:-1]  # the first byte of each number
+    numbers_to = np.cumsum(starts, dtype=np.int64)  # numbers begun up to each byte
+    through = np.append(numbers_to[data == 10], numbers_to[-1:])  # ... up to each line's end
+    if len(through) != len(face_lines) or (len(through) and through[-1] != numbers.size):
+        return None
+    per_line = np.diff(through, prepend=0)
+    first = through - per_line
+    counts = numbers[np.minimum(first, max(numbers.size - 1, 0))]
+    if (per_line != counts + 1).any() or (counts < 0).any():
+        return None
+    return counts, first
+
+
+def _mixed_faces(path: Path, header: PlyHeader, where: str, sizes: tuple[int, int, int], index_type) -> np.ndarray:
+    """The second pass over an ASCII PLY of faces of several sizes: its face lines read
+    again, a block at a time, and cut as ply_polygons.py cuts a binary file's (as trimesh
+    cuts this one)."""
+    triangles = sizes[0] + 2 * sizes[1] + sizes[2]
+    if triangles > MAX_TRIANGLES:
+        raise MeshError(f"{where}: its {header.count('face')} faces make {triangles} triangles; at most {MAX_TRIANGLES} are supported")
+    faces = np.empty((triangles, 3), index_type)
+    placed = MixedCut(faces, sizes)
+    texts = ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes)
+    for section in vertex_and_face_lines(texts, header.count("vertex"), header.count("face")):
+        if section is None or not section[1]:
+            if section is None:
+                raise MeshError(f"{where}: changed while it was read")
+            continue
+        numbers = parse_numbers("\n".join(section[1]), np.int64)
+        records = None if numbers is None else line_records(section[1], numbers)
+        if records is None:
+            raise MeshError(f"{where}: changed while it was read")
+        counts, first = records
+        placed.add(counts, lambda chosen, size: numbers[first[chosen][:, None] + 1 + np.arange(size)])
+    return faces

@@ -22,6 +22,7 @@ trimesh leaves them out.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -117,37 +118,16 @@ class FaceRecords:
 
     def sizes(self, file) -> tuple[int, int, int]:
         """The first pass: (triangles, quads, the triangles of larger polygons)."""
-        totals = [0, 0, 0]
+        totals = (0, 0, 0)
         for _, _, counts in self._blocks(file):
-            totals[0] += int(np.count_nonzero(counts == 3))
-            totals[1] += int(np.count_nonzero(counts == 4))
-            larger = counts[counts > 4]
-            totals[2] += int((larger - 2).sum())
-        return totals[0], totals[1], totals[2]
+            totals = tuple(total + more for total, more in zip(totals, kind_counts(counts)))
+        return totals
 
     def cut(self, file, out: np.ndarray, sizes: tuple[int, int, int]) -> None:
         """The second pass: every face cut into its rows of `out` (the module docstring)."""
-        triangle_count, quad_count, _ = sizes
-        done = {3: 0, 4: 0, "larger": 2 * quad_count + triangle_count}  # where each kind goes next
+        placed = MixedCut(out, sizes)
         for data, starts, counts in self._blocks(file):
-            for size in (3, 4):
-                polygons = self._indices(data, starts[counts == size], size)
-                at = done[size]
-                if size == 3:
-                    out[at : at + len(polygons)] = polygons
-                else:
-                    out[triangle_count + at : triangle_count + at + len(polygons)] = polygons[:, [0, 1, 2]]
-                    out[triangle_count + quad_count + at : triangle_count + quad_count + at + len(polygons)] = polygons[:, [2, 3, 0]]
-                done[size] += len(polygons)
-            larger = counts > 4
-            if larger.any():  # fans in file order: each polygon's rows after the one before
-                first_row = done["larger"] + np.cumsum(counts[larger] - 2) - (counts[larger] - 2)
-                for size in np.unique(counts[larger]):
-                    chosen = counts[larger] == size
-                    fans = polygon_fans(self._indices(data, starts[larger][chosen], int(size)))
-                    rows = (first_row[chosen][:, None] + np.arange(size - 2)).reshape(-1)
-                    out[rows] = fans
-                done["larger"] += int((counts[larger] - 2).sum())
+            placed.add(counts, lambda chosen, size: self._indices(data, starts[chosen], size))
 
     def _indices(self, data: np.ndarray, starts: np.ndarray, size: int) -> np.ndarray:
         """(len(starts), size) indices of the records at `starts`, each `size` corners."""
@@ -157,3 +137,43 @@ class FaceRecords:
         width = size * index_bytes
         windows = np.lib.stride_tricks.sliding_window_view(data, width)
         return np.ascontiguousarray(windows[starts + count_bytes]).view(self.index_type).reshape(len(starts), size)
+
+
+def kind_counts(counts: np.ndarray) -> tuple[int, int, int]:
+    """(triangles, quads, the triangles of larger polygons) of faces of these corner counts."""
+    larger = counts[counts > 4]
+    return int(np.count_nonzero(counts == 3)), int(np.count_nonzero(counts == 4)), int((larger - 2).sum())
+
+
+class MixedCut:
+    """Faces of several sizes placed as trimesh cuts them (the module docstring), a block of
+    faces at a time, into `out`, whose size the totals of kind_counts over every face give."""
+
+    def __init__(self, out: np.ndarray, sizes: tuple[int, int, int]):
+        self.out, (self.triangles, self.quads, _) = out, sizes
+        self.done = {3: 0, 4: 0, "larger": self.triangles + 2 * self.quads}  # where each kind goes next
+
+    def add(self, counts: np.ndarray, polygons_of: Callable[[np.ndarray, int], np.ndarray]) -> None:
+        """The next faces, of these corner counts: polygons_of(chosen, size) gives the
+        (n, size) indices of the chosen ones (a boolean mask over them), all of that size."""
+        out, triangles, quads = self.out, self.triangles, self.quads
+        for size in (3, 4):
+            polygons, at = polygons_of(counts == size, size), self.done[size]
+            if size == 3:
+                out[at : at + len(polygons)] = polygons
+            else:
+                out[triangles + at : triangles + at + len(polygons)] = polygons[:, [0, 1, 2]]
+                out[triangles + quads + at : triangles + quads + at + len(polygons)] = polygons[:, [2, 3, 0]]
+            self.done[size] += len(polygons)
+        larger = counts > 4
+        if larger.any():  # fans in file order: each polygon's rows after the one before
+            fan_rows = counts[larger] - 2
+            first_row = self.done["larger"] + np.cumsum(fan_rows) - fan_rows
+            chosen_larger = np.flatnonzero(larger)
+            for size in np.unique(counts[larger]):
+                mine = counts[larger] == size
+                chosen = np.zeros(len(counts), bool)
+                chosen[chosen_larger[mine]] = True
+                fans = polygon_fans(polygons_of(chosen, int(size)))
+                out[(first_row[mine][:, None] + np.arange(size - 2)).reshape(-1)] = fans
+            self.done["larger"] += int(fan_rows.sum())
