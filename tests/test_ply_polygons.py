@@ -13,12 +13,12 @@ from unittest import mock
 import numpy as np
 import pytest
 
+from ply_reference import assert_same_mesh, through_trimesh
 from wgpu_shading import load_mesh
 from wgpu_shading.assets.mesh_formats import ply, ply_polygons, ply_triangles
 from wgpu_shading.assets.mesh_formats.ply_header import PLY_TYPES
 from wgpu_shading.errors import MeshError
 
-ARRAYS = ("positions", "normals", "indices", "colors", "uvs", "origin")
 # A square of 3 × 3 vertices (and one more off it), faces of every kind: triangles, quads,
 # a pentagon, a hexagon, and a two-corner face (left out, as trimesh leaves it out)
 POSITIONS = np.array([[x, y, 0.25 * x * y] for y in range(3) for x in range(3)] + [[3.0, 1.0, 0.5]], np.float32) * 0.37
@@ -60,26 +60,9 @@ def write_mesh(path: Path, *, ascii=False, order="<", count="uchar", index="int"
         for number, face in enumerate(faces):
             body += np.array(len(face) if counts is None else counts[number], order + PLY_TYPES[count]).tobytes()
             body += np.array(face, order + PLY_TYPES[index]).tobytes()
+    path.parent.mkdir(exist_ok=True)
     path.write_bytes(header.encode() + bytes(body) + tail)
     return path
-
-
-def _through_trimesh(path: Path):
-    """trimesh's reading (the numpy readers of this package out of its way)."""
-    with mock.patch.object(ply, "triangle_layout", lambda header, size: None), \
-            mock.patch.object(ply, "read_ascii_triangles", lambda *args: None), \
-            mock.patch.object(ply, "read_polygons", lambda *args: None):
-        return load_mesh(path)
-
-
-def _assert_same_mesh(mesh, expected) -> None:
-    for name in ARRAYS:
-        ours, theirs = getattr(mesh, name), getattr(expected, name)
-        assert (ours is None) == (theirs is None), name
-        if ours is not None:
-            assert np.asarray(ours).dtype == np.asarray(theirs).dtype, name
-            np.testing.assert_array_equal(ours, theirs, err_msg=name)
-    assert [(p.first, p.count) for p in mesh.parts] == [(p.first, p.count) for p in expected.parts]
 
 
 LAYOUTS = {
@@ -98,10 +81,10 @@ def test_mixed_polygons_give_trimeshs_mesh_of_the_same_file_in_ascii(tmp_path, m
     monkeypatch.setattr(ply_polygons, "BLOCK_BYTES", block_bytes)  # records cut across blocks
     binary = write_mesh(tmp_path / "mesh.ply", **options)
     with pytest.raises(MeshError, match="unexpected length"):  # what users got before
-        _through_trimesh(binary)
-    expected = _through_trimesh(write_mesh(tmp_path / "ascii.ply", ascii=True, **options))
+        through_trimesh(binary)
+    expected = through_trimesh(write_mesh(tmp_path / "ascii" / "mesh.ply", ascii=True, **options))  # (the same name: the part's)
     mesh = load_mesh(binary)
-    _assert_same_mesh(mesh, expected)
+    assert_same_mesh(mesh, expected)
     assert mesh.triangle_count == 3 + 2 * 2 + 3 + 4  # three triangles, two quads, a pentagon and a hexagon
     if "uvs" in options and options.get("normals"):  # (the file's normals: no vertex split, the file's order)
         columns, values = _vertex_columns(False, False, options["uvs"])
@@ -115,7 +98,7 @@ def test_mixed_polygons_give_trimeshs_mesh_of_the_same_file_in_ascii(tmp_path, m
 def test_faces_of_one_size_with_texture_coordinates_give_trimeshs_mesh(tmp_path, faces):
     """Texture coordinates sent a binary PLY to trimesh: now they are read here (the same mesh)."""
     path = write_mesh(tmp_path / "mesh.ply", uvs=("u", "v"), faces=faces)
-    _assert_same_mesh(load_mesh(path), _through_trimesh(path))
+    assert_same_mesh(load_mesh(path), through_trimesh(path))
 
 
 @pytest.mark.parametrize("options, message", [
@@ -188,7 +171,7 @@ def test_ascii_mixed_polygons_are_read_in_blocks_of_lines_as_trimesh_reads_them(
     path = write_mesh(tmp_path / "ascii.ply", ascii=True, normals=True, colors=True, faces=faces)
     monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
     assert ply_ascii_triangles.read_ascii_triangles(path, read_ply_header(path, "mesh"), "mesh") is not None
-    _assert_same_mesh(load_mesh(path), _through_trimesh(path))
+    assert_same_mesh(load_mesh(path), through_trimesh(path))
 
 
 def test_ascii_faces_whose_lines_do_not_hold_their_counts_go_to_trimesh(tmp_path):

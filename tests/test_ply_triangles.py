@@ -11,6 +11,7 @@ from unittest import mock
 import numpy as np
 import pytest
 
+from ply_reference import assert_same_mesh, through_trimesh
 from wgpu_shading import load_mesh
 from wgpu_shading.assets.mesh_formats import ply, ply_triangles
 from wgpu_shading.assets.mesh_formats.ply_header import read_ply_header
@@ -23,24 +24,6 @@ REAL_FILES = SHARED / "corpora" / "realworld2" / "ply" if SHARED is not None els
 # The binary triangle meshes of the corpus (MeshLab with flags and RGBA, a big-endian scan
 # with confidence, VTK's Lucy, MeshLab's doubles with quality): all read here.
 READ_HERE = ("bone_meshlab.ply", "horse_bigendian_rgb.ply", "lucy.ply", "cube_meshlab_binary.ply", "colored_airplane_meshlab.ply")
-ARRAYS = ("positions", "normals", "indices", "colors", "uvs", "origin")
-
-
-def _through_trimesh(path: Path):
-    with mock.patch.object(ply, "triangle_layout", lambda header, size: None), \
-            mock.patch.object(ply, "read_polygons", lambda *args: None):
-        return load_mesh(path)
-
-
-def _assert_same_mesh(mesh, expected) -> None:
-    for name in ARRAYS:
-        ours, theirs = getattr(mesh, name), getattr(expected, name)
-        assert (ours is None) == (theirs is None), name
-        if ours is not None:
-            ours, theirs = np.asarray(ours), np.asarray(theirs)
-            assert ours.dtype == theirs.dtype, name
-            np.testing.assert_array_equal(ours, theirs, err_msg=name)
-    assert [(p.first, p.count, p.name) for p in mesh.parts] == [(p.first, p.count, p.name) for p in expected.parts]
 
 
 def _layout(path: Path):
@@ -53,7 +36,7 @@ def test_real_binary_ply_meshes_are_read_as_trimesh_reads_them(name):
         pytest.skip("the shared corpus is not beside the project")
     path = REAL_FILES / name
     assert _layout(path) is not None
-    _assert_same_mesh(load_mesh(path), _through_trimesh(path))
+    assert_same_mesh(load_mesh(path), through_trimesh(path))
 
 
 def _octahedron() -> tuple[np.ndarray, np.ndarray]:
@@ -120,7 +103,7 @@ LAYOUTS = {
 def test_each_layout_read_here_gives_trimeshs_mesh(tmp_path, options):
     path = write_ply(tmp_path / "mesh.ply", **options)
     assert _layout(path) is not None
-    _assert_same_mesh(load_mesh(path), _through_trimesh(path))
+    assert_same_mesh(load_mesh(path), through_trimesh(path))
 
 
 OTHERS = {  # (mixed polygons, and vertex texture coordinates: ply_polygons.py, tests/test_ply_polygons.py)
@@ -136,7 +119,7 @@ def test_other_layouts_still_go_to_trimesh(tmp_path, options):
     read by ply_polygons.py, the same mesh too), or trimesh's error."""
     path = write_ply(tmp_path / "mesh.ply", **options)
     assert _layout(path) is None
-    _assert_same_outcome(path, _through_trimesh)
+    _assert_same_outcome(path, through_trimesh)
 
 
 def _assert_same_outcome(path: Path, through_trimesh) -> None:
@@ -148,7 +131,7 @@ def _assert_same_outcome(path: Path, through_trimesh) -> None:
             load_mesh(path)
         assert str(raised.value) == str(error)
         return
-    _assert_same_mesh(load_mesh(path), expected)
+    assert_same_mesh(load_mesh(path), expected)
 
 
 def test_a_face_that_is_not_a_triangle_sends_the_file_to_trimesh(tmp_path):
@@ -237,11 +220,6 @@ ASCII_LAYOUTS = {
 }
 
 
-def _through_trimesh_ascii(path: Path):
-    with mock.patch.object(ply, "read_ascii_triangles", lambda path, header, where: None):
-        return load_mesh(path)
-
-
 @pytest.mark.parametrize("block_bytes", [2, 1 << 22])
 @pytest.mark.parametrize("options", ASCII_LAYOUTS.values(), ids=ASCII_LAYOUTS.keys())
 def test_ascii_ply_meshes_read_in_blocks_of_lines_give_trimeshs_mesh(tmp_path, monkeypatch, options, block_bytes):
@@ -252,7 +230,7 @@ def test_ascii_ply_meshes_read_in_blocks_of_lines_give_trimeshs_mesh(tmp_path, m
     monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
     header = read_ply_header(path, "mesh")
     assert ply_ascii_triangles.read_ascii_triangles(path, header, "mesh") is not None
-    _assert_same_mesh(load_mesh(path), _through_trimesh_ascii(path))
+    assert_same_mesh(load_mesh(path), through_trimesh(path))
 
 
 ASCII_OTHERS = {  # (mixed polygons: read here too, tests/test_ply_polygons.py)
@@ -267,7 +245,7 @@ def test_other_ascii_plys_still_go_to_trimesh(tmp_path, options):
 
     path = write_ascii_ply(tmp_path / "mesh.ply", **options)
     assert ply_ascii_triangles.read_ascii_triangles(path, read_ply_header(path, "mesh"), "mesh") is None
-    _assert_same_outcome(path, _through_trimesh_ascii)
+    _assert_same_outcome(path, through_trimesh)
 
 
 def test_a_file_of_one_huge_face_is_refused_before_it_is_read(tmp_path, monkeypatch):
