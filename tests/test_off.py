@@ -288,3 +288,41 @@ def test_a_first_face_of_more_corners_than_vertices_is_refused_before_its_number
     path.write_text("OFF\n4 1 0\n" + SQUARE + "2400" + " 0 1 2 3" * 600 + "\n")
     with pytest.raises(MeshError, match=r"face 0 has 2400 vertices \(the file has 4\)"):
         load_mesh(path)
+
+
+@pytest.mark.parametrize("block_bytes", [2, 50, 1 << 22])
+def test_faces_of_several_sizes_are_read_a_block_of_lines_at_a_time_as_the_token_reader_reads_them(tmp_path, monkeypatch, block_bytes):
+    """Triangles, quads, a pentagon and faces of fewer than 3 corners (no triangles), as
+    quad-dominant exporters write an OFF: each line's numbers counted (off_faces.py), each
+    face fanned in file order, the reader of tokens' triangles (it held the whole text: a
+    2M-triangle file peaked at 36x its arrays and took 19 s). With colours they still go to
+    the reader of tokens."""
+    from wgpu_shading.assets import files
+    from wgpu_shading.assets.files import read_text_bytes
+    from wgpu_shading.assets.mesh_formats import off
+
+    rng = np.random.default_rng(4)
+    vertices = rng.uniform(-1, 1, (30, 3))
+    sizes = [3, 4, 4, 5, 3, 2, 4, 3, 0, 6] * 4
+    lines = ["OFF", f"30 {len(sizes)} 0"] + [f"{x:.6f} {y:.6f} {z:.6f}" for x, y, z in vertices]
+    lines += [" ".join(map(str, [size, *rng.choice(30, size, replace=False)])) for size in sizes]
+    path = tmp_path / "mixed.off"
+
+    def read(text_lines, block, whole=False):
+        path.write_text("\n".join(text_lines) + "\n")
+        monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block)
+        with monkeypatch.context() as patched:
+            if whole:
+                patched.setattr(off, "text_line_blocks", lambda *arguments: iter(()))  # no blocks: the reader of tokens
+            return off.read_off(path, path.stat().st_size).pieces[0]
+
+    expected = read(lines, 1 << 22, whole=True)
+    whole_reads = []
+    monkeypatch.setattr(off, "read_text_bytes", lambda *arguments: whole_reads.append(arguments) or read_text_bytes(*arguments))
+    piece = read(lines, block_bytes)
+    np.testing.assert_array_equal(piece.positions, expected.positions)
+    np.testing.assert_array_equal(piece.faces, expected.faces)
+    assert not whole_reads and len(piece.faces) == 4 * (1 + 2 + 2 + 3 + 1 + 2 + 1 + 4)
+    coloured = lines[:-1] + [lines[-1] + " 255 0 0"]  # one face with a colour: the reader of tokens
+    np.testing.assert_array_equal(read(coloured, block_bytes).colors, read(coloured, 1 << 22, whole=True).colors)
+    assert whole_reads

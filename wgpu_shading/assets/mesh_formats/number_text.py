@@ -186,3 +186,24 @@ def parse_decimals(text: str | bytes) -> np.ndarray | None:
             return None  # (many: np.fromstring reads them all faster)
         values[slow] = [float(text[start:end]) for start, end in zip(starts[slow].tolist(), ends[slow].tolist())]
     return values
+
+
+def leading_counts(lines: list[str], numbers: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """Per line: its first number, a count, and where that is among `numbers` (the lines'
+    numbers, in order), or None when a line holds other than its count and that many
+    numbers after it (a face line of a PLY or an OFF: `4 a b c d`). Each line's numbers are
+    counted from the bytes where numbers begin."""
+    data = np.frombuffer("\n".join(lines).encode("latin-1"), np.uint8)
+    blank = BLANK_BYTES[data]
+    starts = ~blank
+    starts[1:] &= blank[:-1]  # the first byte of each number
+    numbers_to = np.cumsum(starts, dtype=np.int64)  # numbers begun up to each byte
+    through = np.append(numbers_to[data == 10], numbers_to[-1:])  # ... up to each line's end
+    if len(through) != len(lines) or (len(through) and through[-1] != numbers.size):
+        return None
+    per_line = np.diff(through, prepend=0)
+    first = through - per_line
+    counts = numbers[np.minimum(first, max(numbers.size - 1, 0))]
+    if (per_line != counts + 1).any() or (counts < 0).any():
+        return None
+    return counts, first

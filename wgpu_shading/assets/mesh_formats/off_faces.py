@@ -1,12 +1,14 @@
 """The face lines of a plain OFF read a block at a time (off.py, `_plain_in_blocks`): every
 line `n i1 .. in`, the same polygon size n in every line, and optionally the same number of
 colour values after the indices on every line (`r g b` or `r g b a`, 0..255 integers as
-MeshLab writes them or 0..1 floats as Geomview's examples do), read in C.
+MeshLab writes them or 0..1 floats as Geomview's examples do), read in C; or polygons of
+several sizes without colours (triangles and quads), each line's numbers counted.
 
 Face colours sent a file to the reader of tokens (off.py, `_Tokens`), a Python call or more
 a word: a 2M-triangle OFF with a colour a face took 34 s and 12.9x its arrays to load
-(docs/performance.md, "Loading a large mesh"). Anything else (a polygon of another size, a
-colour-map index, a comment, a bad number) gives False, and the reader of tokens reads the
+(docs/performance.md, "Loading a large mesh"), and so did faces of several sizes (22x).
+Anything else (faces of several sizes with colours, a colour-map index, a comment, a bad
+number) gives False, and the reader of tokens reads the
 file and names what is wrong.
 """
 
@@ -17,7 +19,7 @@ import numpy as np
 from ...errors import MeshError
 from ..mesh_pieces import polygon_fans
 from .line_sections import joined
-from .number_text import BLANK_BYTES, LEADING_COUNT, parse_floats, parse_numbers
+from .number_text import BLANK_BYTES, LEADING_COUNT, leading_counts, parse_floats, parse_numbers
 
 COLOUR_WIDTHS = (0, 3, 4)  # values after a face's indices: none, RGB, RGBA
 
@@ -29,6 +31,7 @@ class PlainFaces:
         self.vertex_count, self.where = vertex_count, where
         self.corners: int | None = None  # the polygon size, from the first face
         self.colour_width: int | None = None  # values after the indices, from the first face
+        self.mixed = False  # whether faces of several sizes were met (then no colours)
         self.triangles: list[np.ndarray] = []  # (t, 3) int32 a block
         self.colours: list[np.ndarray] = []  # (faces, colour width) float64 a block
 
@@ -46,18 +49,16 @@ class PlainFaces:
             numbers = self._indices_and_floats(text, len(face_lines))
             if numbers is None:
                 return False
-        if not numbers.size or numbers.size % len(face_lines):
+        if not numbers.size:
             return False
-        width = numbers.size // len(face_lines)
-        if self.corners is None:
-            self.corners = int(numbers[0])
-            self.colour_width = width - self.corners - 1
-        corners = self.corners
-        if not 3 <= corners <= self.vertex_count or self.colour_width not in COLOUR_WIDTHS or width != corners + 1 + self.colour_width:
-            return False
+        if not self._uniform(numbers, len(face_lines)):
+            return self._mixed(face_lines, numbers)
+        corners, width = self.corners, numbers.size // len(face_lines)
         rows = numbers.reshape(len(face_lines), width)
         polygons = rows[:, : corners + 1]
-        if (polygons[:, 0] != corners).any() or polygons[:, 1:].min() < 0 or polygons[:, 1:].max() >= self.vertex_count:
+        if (polygons[:, 0] != corners).any():  # (as many numbers a line, by chance)
+            return self._mixed(face_lines, numbers)
+        if polygons[:, 1:].min() < 0 or polygons[:, 1:].max() >= self.vertex_count:
             return False
         if self.colour_width:
             colours = rows[:, corners + 1 :].astype(np.float64)
@@ -65,6 +66,48 @@ class PlainFaces:
                 return False
             self.colours.append(colours)
         self.triangles.append(polygon_fans(polygons[:, 1:]).astype(np.int32))
+        return True
+
+    def _uniform(self, numbers: np.ndarray, lines: int) -> bool:
+        """Whether the block's lines are each a face of the first face's size with as many
+        colour values as it (taking those from this block when it is the first)."""
+        if numbers.size % lines:
+            return False
+        width = numbers.size // lines
+        if self.corners is None:
+            self.corners = int(numbers[0])
+            self.colour_width = width - self.corners - 1
+        corners = self.corners
+        if self.mixed and self.colour_width:  # (no colours once faces of several sizes were met)
+            return False
+        return 3 <= corners <= self.vertex_count and self.colour_width in COLOUR_WIDTHS and width == corners + 1 + self.colour_width
+
+    def _mixed(self, face_lines: list[str], numbers: np.ndarray) -> bool:
+        """A block of faces of several sizes without colours, each fanned from its first
+        corner, one after the other, as the reader of tokens fans them (faces of fewer than
+        3 corners give none); False for anything else (colours, a bad index: the reader of
+        tokens reads or names it)."""
+        if self.colours or numbers.dtype != np.int64:
+            return False
+        records = leading_counts(face_lines, numbers)
+        if records is None:
+            return False
+        counts, first = records
+        if counts.max() > self.vertex_count:
+            return False
+        fan_rows = np.maximum(counts - 2, 0)
+        first_row = np.cumsum(fan_rows) - fan_rows
+        triangles = np.empty((int(fan_rows.sum()), 3), np.int32)
+        for size in np.unique(counts[counts >= 3]):
+            chosen = counts == size
+            polygons = numbers[first[chosen][:, None] + 1 + np.arange(size)]
+            if polygons.min() < 0 or polygons.max() >= self.vertex_count:
+                return False
+            triangles[(first_row[chosen][:, None] + np.arange(size - 2)).reshape(-1)] = polygon_fans(polygons)
+        self.triangles.append(triangles)
+        self.mixed = True
+        if self.corners is None:  # (a later block of one size is read as such, without colours)
+            self.corners, self.colour_width = int(counts[0]), 0
         return True
 
     def _indices_and_floats(self, text: str, lines: int) -> np.ndarray | None:

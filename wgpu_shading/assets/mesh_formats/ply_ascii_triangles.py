@@ -27,7 +27,7 @@ from ..files import TEXT_BLOCK_BYTES, text_line_blocks
 from ..mesh_pieces import MeshPiece
 from .checks import MAX_FACE_CORNERS
 from .line_sections import ascii_texts, vertex_and_face_lines
-from .number_text import BLANK_BYTES, LEADING_COUNT, parse_floats, parse_numbers
+from .number_text import LEADING_COUNT, leading_counts, parse_floats, parse_numbers
 from .ply_polygons import MixedCut, kind_counts
 from .ply_header import PlyHeader
 from .ply_triangles import COLOR_NAMES, cut_polygons, fan_count, mesh_arrays, mesh_rows
@@ -91,7 +91,7 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
                 cut_polygons(polygons[:, 1:], faces_read, face_count, faces)
                 faces_read += len(face_lines)
                 continue
-        records = line_records(face_lines, numbers)  # faces of several sizes: counted now, cut in a second pass
+        records = leading_counts(face_lines, numbers)  # faces of several sizes: counted now, cut in a second pass
         if records is None:
             return None
         if mixed is None:  # the blocks before were all faces of `corners` corners
@@ -110,26 +110,6 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
     return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
 
 
-def line_records(face_lines: list[str], numbers: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-    """Per face line: its count and where it is among `numbers` (the lines' numbers, in
-    order), or None when a line holds other than its count and that many indices (trimesh
-    then reads the file, or says what is wrong)."""
-    data = np.frombuffer("\n".join(face_lines).encode("latin-1"), np.uint8)
-    blank = BLANK_BYTES[data]
-    starts = ~blank
-    starts[1:] &= blank[:-1]  # the first byte of each number
-    numbers_to = np.cumsum(starts, dtype=np.int64)  # numbers begun up to each byte
-    through = np.append(numbers_to[data == 10], numbers_to[-1:])  # ... up to each line's end
-    if len(through) != len(face_lines) or (len(through) and through[-1] != numbers.size):
-        return None
-    per_line = np.diff(through, prepend=0)
-    first = through - per_line
-    counts = numbers[np.minimum(first, max(numbers.size - 1, 0))]
-    if (per_line != counts + 1).any() or (counts < 0).any():
-        return None
-    return counts, first
-
-
 def _mixed_faces(path: Path, header: PlyHeader, where: str, sizes: tuple[int, int, int], index_type) -> np.ndarray:
     """The second pass over an ASCII PLY of faces of several sizes: its face lines read
     again, a block at a time, and cut as ply_polygons.py cuts a binary file's (as trimesh
@@ -146,7 +126,7 @@ def _mixed_faces(path: Path, header: PlyHeader, where: str, sizes: tuple[int, in
                 raise MeshError(f"{where}: changed while it was read")
             continue
         numbers = parse_numbers("\n".join(section[1]), np.int64)
-        records = None if numbers is None else line_records(section[1], numbers)
+        records = None if numbers is None else leading_counts(section[1], numbers)
         if records is None:
             raise MeshError(f"{where}: changed while it was read")
         counts, first = records
