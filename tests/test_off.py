@@ -201,7 +201,6 @@ def test_face_colours_of_a_plain_off_are_read_a_block_at_a_time_as_the_token_rea
     triangles and per-triangle colours as the reader of tokens, which took 34 s for a
     2M-triangle file. An index written as a float, or a face with one colour value more,
     still goes to the reader of tokens, which refuses the one and reads the other as before."""
-    from wgpu_shading.assets import files
     from wgpu_shading.assets.files import read_text_bytes
     from wgpu_shading.assets.mesh_formats import off
 
@@ -214,12 +213,7 @@ def test_face_colours_of_a_plain_off_are_read_a_block_at_a_time_as_the_token_rea
     path = tmp_path / "coloured.off"
 
     def read(text_lines, block_bytes, whole=False):
-        path.write_text("\n".join(text_lines) + "\n")
-        monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
-        with monkeypatch.context() as patched:
-            if whole:
-                patched.setattr(off, "text_line_blocks", lambda *arguments: iter(()))  # no blocks: the reader of tokens
-            return load_mesh(path)
+        return _written_and_read(monkeypatch, path, text_lines, block_bytes, whole, load_mesh)
 
     expected = read(lines, 1 << 22, whole=True)
     whole_reads = []
@@ -297,7 +291,6 @@ def test_faces_of_several_sizes_are_read_a_block_of_lines_at_a_time_as_the_token
     face fanned in file order, the reader of tokens' triangles (it held the whole text: a
     2M-triangle file peaked at 36x its arrays and took 19 s). With colours they still go to
     the reader of tokens."""
-    from wgpu_shading.assets import files
     from wgpu_shading.assets.files import read_text_bytes
     from wgpu_shading.assets.mesh_formats import off
 
@@ -309,12 +302,7 @@ def test_faces_of_several_sizes_are_read_a_block_of_lines_at_a_time_as_the_token
     path = tmp_path / "mixed.off"
 
     def read(text_lines, block, whole=False):
-        path.write_text("\n".join(text_lines) + "\n")
-        monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block)
-        with monkeypatch.context() as patched:
-            if whole:
-                patched.setattr(off, "text_line_blocks", lambda *arguments: iter(()))  # no blocks: the reader of tokens
-            return off.read_off(path, path.stat().st_size).pieces[0]
+        return _written_and_read(monkeypatch, path, text_lines, block, whole, lambda path: off.read_off(path, path.stat().st_size).pieces[0])
 
     expected = read(lines, 1 << 22, whole=True)
     whole_reads = []
@@ -326,3 +314,17 @@ def test_faces_of_several_sizes_are_read_a_block_of_lines_at_a_time_as_the_token
     coloured = lines[:-1] + [lines[-1] + " 255 0 0"]  # one face with a colour: the reader of tokens
     np.testing.assert_array_equal(read(coloured, block_bytes).colors, read(coloured, 1 << 22, whole=True).colors)
     assert whole_reads
+
+
+def _written_and_read(monkeypatch, path, text_lines, block_bytes, whole, load):
+    """`text_lines` written to `path`, then load(path) with text blocks of `block_bytes`, or
+    (whole) through the reader of tokens."""
+    from wgpu_shading.assets import files
+    from wgpu_shading.assets.mesh_formats import off
+
+    path.write_text("\n".join(text_lines) + "\n")
+    monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", block_bytes)
+    with monkeypatch.context() as patched:
+        if whole:
+            patched.setattr(off, "text_line_blocks", lambda *arguments: iter(()))  # no blocks: the reader of tokens
+        return load(path)
