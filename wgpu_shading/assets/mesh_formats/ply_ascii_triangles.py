@@ -121,14 +121,15 @@ def _mixed_faces(path: Path, header: PlyHeader, where: str, sizes: tuple[int, in
     placed = MixedCut(faces, sizes)
     texts = ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes)
     for section in vertex_and_face_lines(texts, header.count("vertex"), header.count("face")):
-        if section is None or not section[1]:
-            if section is None:
-                raise MeshError(f"{where}: changed while it was read")
+        if section is None:  # (the first pass read it: the file changed since)
+            raise MeshError(f"{where}: changed while it was read")
+        face_lines = section[1]
+        if not face_lines:
             continue
-        numbers = parse_numbers("\n".join(section[1]), np.int64)
-        records = None if numbers is None else leading_counts(section[1], numbers)
+        numbers = parse_numbers("\n".join(face_lines), np.int64)
+        records = None if numbers is None else leading_counts(face_lines, numbers)
         if records is None:
             raise MeshError(f"{where}: changed while it was read")
         counts, first = records
-        placed.add(counts, lambda chosen, size: numbers[first[chosen][:, None] + 1 + np.arange(size)])
+        placed.add(counts, lambda chosen, size, numbers=numbers, first=first: numbers[first[chosen][:, None] + 1 + np.arange(size)])
     return faces

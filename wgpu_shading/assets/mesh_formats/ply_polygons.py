@@ -127,7 +127,7 @@ class FaceRecords:
         """The second pass: every face cut into its rows of `out` (the module docstring)."""
         placed = MixedCut(out, sizes)
         for data, starts, counts in self._blocks(file):
-            placed.add(counts, lambda chosen, size: self._indices(data, starts[chosen], size))
+            placed.add(counts, lambda chosen, size, data=data, starts=starts: self._indices(data, starts[chosen], size))
 
     def _indices(self, data: np.ndarray, starts: np.ndarray, size: int) -> np.ndarray:
         """(len(starts), size) indices of the records at `starts`, each `size` corners."""
