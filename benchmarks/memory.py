@@ -1,7 +1,7 @@
 """Memory: peak RSS of rendering the 1.3M-triangle sphere, against 3× its arrays + baseline;
 and of loading a 10M-triangle mesh file and rendering it, as a binary STL, a binary PLY, an
 OBJ (plain, and as Blender writes one), a binary glTF, a binary STL whose every vertex is on
-a crease, and a binary PLY of faces of two sizes (FILE_FORMATS).
+a crease, and binary and ASCII PLY and OFF files of faces of two sizes (FILE_FORMATS).
 
 Measured in fresh processes (scripts/memory_peak.py, scripts/load_peak.py). Besides the
 default run, one with LP_NUM_THREADS=0 (llvmpipe rasterizing on the driver's thread,
@@ -39,6 +39,8 @@ FILE_FORMATS = {
     "glb": ("glTF (GLB)", []),
     "cubes.stl": ("binary STL of separate cubes, every vertex on a crease (a voxel model)", ["--cubes"]),
     "mixed.ply": ("binary PLY of quads and triangles, with texture coordinates (as Blender writes it)", ["--mixed"]),
+    "mixed-ascii.ply": ("ASCII PLY of quads and triangles", ["--mixed", "--ascii"]),
+    "mixed.off": ("OFF of quads and triangles", ["--mixed"]),
 }
 
 

@@ -9,6 +9,8 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/exported10m.obj --exported --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/cubes10m.stl --cubes --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed10m.ply --mixed --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed10m.off --mixed --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed-ascii10m.ply --mixed --ascii --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -18,7 +20,8 @@ scanners write them), or with --triangles the same torus as the STL's as a binar
 little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and MeshLab
 write a scan), or with --mixed as Blender's PLY exporter writes a mesh it does not
 triangulate (float x y z, nx ny nz, s t; `list uchar uint`; the torus's quads, every tenth
-as two triangles: faces of two sizes); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
+as two triangles: faces of two sizes), with --mixed --ascii the same faces in an ASCII PLY;
+`.off`, with --mixed, those faces as a plain OFF; `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
 torus as a binary glTF with float32 normals (as Blender exports one); with --cubes an STL of
 about COUNT/12 separate unit cubes on a grid (a voxel model, or a CAD part: every vertex on
 a 90° crease, split into its three faces' normals, so the Mesh has twice the STL's
@@ -123,11 +126,10 @@ def write_torus_ply(path: Path, triangles: int) -> None:
 def write_torus_ply_mixed(path: Path, triangles: int) -> None:
     """The torus as Blender writes a PLY: normals and texture coordinates per vertex, quads
     and triangles (every tenth quad as two), written a block of quads at a time."""
-    positions, faces = torus(triangles)
+    positions, quads, halved = torus_quads(triangles)
+    quads = quads.astype("<u4")
     side = int(round(math.sqrt(len(positions))))
     normals = positions / np.linalg.norm(positions, axis=1, keepdims=True)
-    quads = np.concatenate([faces[: len(faces) // 2], faces[len(faces) // 2 :, 2:]], axis=1).astype("<u4")  # a b d c
-    halved = np.arange(len(quads)) % 10 == 0
     header = (
         "ply\nformat binary_little_endian 1.0\ncomment Created by Blender (load_peak.py)\n"
         f"element vertex {len(positions)}\n" + "".join(f"property float {name}\n" for name in ("x", "y", "z", "nx", "ny", "nz", "s", "t"))
@@ -149,6 +151,43 @@ def write_torus_ply_mixed(path: Path, triangles: int) -> None:
                 out[cut + first] = 3
                 out[cut[:, None] + first + 1 + np.arange(12)] = np.ascontiguousarray(block[halves][:, corners]).view(np.uint8).reshape(-1, 12)
             out.tofile(file)
+
+
+def torus_quads(triangles: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The torus's positions, its quads (a b d c of each grid cell) and which of them are
+    written as two triangles (every tenth): faces of two sizes, as a quad-dominant exporter
+    writes them."""
+    positions, faces = torus(triangles)
+    quads = np.concatenate([faces[: len(faces) // 2], faces[len(faces) // 2 :, 2:]], axis=1)
+    return positions, quads, np.arange(len(quads)) % 10 == 0
+
+
+def mixed_face_text(quads: np.ndarray, halved: np.ndarray):
+    """The face lines (`4 a b c d`, or `3 a b c` twice) a block of quads at a time."""
+    for start in range(0, len(quads), 1 << 16):
+        lines = []
+        for quad, halve in zip(quads[start : start + (1 << 16)].tolist(), halved[start : start + (1 << 16)].tolist()):
+            if halve:
+                lines += ["3 %d %d %d" % (quad[0], quad[1], quad[2]), "3 %d %d %d" % (quad[0], quad[2], quad[3])]
+            else:
+                lines.append("4 %d %d %d %d" % tuple(quad))
+        yield "\n".join(lines) + "\n"
+
+
+def write_torus_text_mixed(path: Path, triangles: int) -> None:
+    """The torus as a text file of faces of two sizes (torus_quads): a plain OFF, or an
+    ASCII PLY (float x y z; `list uchar int vertex_indices`)."""
+    positions, quads, halved = torus_quads(triangles)
+    faces = len(quads) + int(halved.sum())
+    with open(path, "w") as file:
+        if path.suffix.lower() == ".off":
+            file.write(f"OFF\n{len(positions)} {faces} 0\n")
+        else:
+            file.write(f"ply\nformat ascii 1.0\ncomment load_peak.py\nelement vertex {len(positions)}\nproperty float x\n"
+                       f"property float y\nproperty float z\nelement face {faces}\nproperty list uchar int vertex_indices\nend_header\n")
+        np.savetxt(file, positions, fmt="%.6f")
+        for text in mixed_face_text(quads, halved):
+            file.write(text)
 
 
 def write_torus_obj(path: Path, triangles: int) -> None:
@@ -216,7 +255,7 @@ def write_torus_glb(path: Path, triangles: int) -> None:
         file.write(b"\0" * (binary_length - offset))
 
 
-WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj, ".glb": write_torus_glb}
+WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj, ".glb": write_torus_glb, ".off": write_torus_text_mixed}
 
 
 def status(key: str) -> int:
@@ -240,7 +279,7 @@ def main() -> None:
         elif "--cubes" in sys.argv:
             writer = write_cubes_stl
         elif "--mixed" in sys.argv:
-            writer = write_torus_ply_mixed
+            writer = write_torus_text_mixed if "--ascii" in sys.argv or path.suffix.lower() == ".off" else write_torus_ply_mixed
         writer(path, count)
     import trimesh  # noqa: F401  - imported by load_mesh; counted in the baseline
 
