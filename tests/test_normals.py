@@ -235,6 +235,29 @@ def test_split_vertices_gives_np_unique_of_vertex_and_fan(monkeypatch, seed, ran
     np.testing.assert_array_equal(normals, table[unique_keys % table_size])
 
 
+@pytest.mark.parametrize("seed", range(8))
+def test_split_vertices_where_each_fan_has_one_vertex_gives_np_unique_of_vertex_and_fan(seed):
+    """Where every label's corners share one given vertex (a welded mesh: each fan lies
+    around one vertex), the labels are sorted by vertex once (crease_normals._split_by_label):
+    still np.unique's vertices, order and inverse."""
+    rng = np.random.default_rng(seed)
+    vertex_count = int(rng.integers(1, 60))
+    fans_of = [rng.choice(5, int(rng.choice([1, 1, 2, 3])), replace=False) + 5 * v for v in range(vertex_count)]
+    flat_corners = rng.integers(0, vertex_count, 3 * int(rng.integers(1, 80)))
+    label = np.array([rng.choice(fans_of[v]) for v in flat_corners], np.int64)
+    vertex_fan = np.full(vertex_count, -1, np.int64)
+    vertex_fan[flat_corners] = label
+    table = rng.normal(size=(5 * vertex_count, 3))
+
+    source, faces, normals = split_vertices(flat_corners, label, vertex_fan, table)
+
+    unique_keys, inverse = np.unique(flat_corners * len(table) + label, return_inverse=True)
+    np.testing.assert_array_equal(source, unique_keys // len(table))
+    np.testing.assert_array_equal(faces, inverse.reshape(-1, 3))
+    assert faces.dtype == np.uint32
+    np.testing.assert_array_equal(normals, table[unique_keys % len(table)])
+
+
 def test_split_vertices_with_vertices_without_corners_between_ranges(monkeypatch):
     """Ranges are cut by the corners' counts, about 2 corners each here: vertices 1-8 have
     none, so the ranges are uneven; still np.unique's vertices and inverse."""

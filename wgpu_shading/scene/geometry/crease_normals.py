@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from ...errors import MeshError
+from ..freed_memory import return_freed_memory
 from .corner_ids import SCAN_BLOCK, id_type, ids_where, vertex_counts, vertex_ranges
 from .crease_fans import fan_labels
 from .face_normals import FACE_BLOCK, FaceNormals, float_positions
@@ -154,7 +155,10 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         used = vertex_fan >= 0
         normals[used] = table[vertex_fan[used]]
         return None, _uint32(faces), normals
-    return split_vertices(flat_corners, label, vertex_fan, table, split)
+    result = split_vertices(flat_corners, label, vertex_fan, table, split)
+    if len(flat_corners) > SCAN_BLOCK:  # a big mesh's per-corner temporaries handed back: the render's peak comes next
+        return_freed_memory()
+    return result
 
 
 def check_split_count(at_least: int, vertex_limit: int | None, name: str) -> None:
@@ -178,6 +182,9 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
     caller has it. Returns (source, faces, normals) as crease_normals does."""
     if split is None:
         split = vertex_fan[flat_corners] != label
+    by_label = _split_by_label(flat_corners, label, table, len(vertex_fan))
+    if by_label is not None:
+        return by_label
     several = np.zeros(len(vertex_fan), bool)
     several[flat_corners[split]] = True
     in_several = several[flat_corners]  # the corners of those vertices: all of them where every vertex is on a crease
@@ -233,6 +240,39 @@ def split_vertices(flat_corners: np.ndarray, label: np.ndarray, vertex_fan: np.n
     normals = table[output_label]
     del output_label
     return np.repeat(np.arange(len(vertex_fan), dtype=id_type(len(vertex_fan))), count), faces, normals
+
+
+def _split_by_label(flat_corners: np.ndarray, label: np.ndarray, table: np.ndarray, vertex_count: int):
+    """split_vertices where every label's corners share one given vertex (a welded mesh, as an
+    STL's soup is once its corners are joined: each fan lies around one vertex), else None.
+    Then the (vertex, label) pairs are the labels used, and np.unique's order is theirs by
+    vertex, then label: one sort of a key a label, where every corner of a vertex in several
+    fans (all of them in a voxel or CAD mesh) was sorted twice by key (10M triangles of
+    cubes: 2.7 s instead of 8.8)."""
+    # Corners a block at a time: numpy indexes with a 64-bit copy of a 32-bit index array.
+    blocks = [slice(start, start + SCAN_BLOCK) for start in range(0, len(label), SCAN_BLOCK)]
+    fan_vertex = np.full(len(table), -1, id_type(vertex_count))
+    for block in blocks:
+        fan_vertex[label[block]] = flat_corners[block]
+    if not all(np.array_equal(fan_vertex[label[block]], flat_corners[block]) for block in blocks):
+        return None
+    used = ids_where(fan_vertex >= 0)  # the labels used, in order
+    keys = fan_vertex[used].astype(np.int64)
+    del fan_vertex
+    keys *= len(table)
+    keys += used
+    del used
+    keys.sort()  # by vertex, then label: distinct keys, so any sort gives np.unique's order
+    output_label = (keys % len(table)).astype(id_type(len(table)))
+    source = (keys // len(table)).astype(id_type(vertex_count))
+    del keys
+    output_of = np.empty(len(table), np.uint32)  # each label's output vertex
+    output_of[output_label] = np.arange(len(output_label), dtype=np.uint32)
+    faces = np.empty((len(flat_corners) // 3, 3), np.uint32)
+    for block in blocks:
+        np.take(output_of, label[block], out=faces.reshape(-1)[block])
+    del output_of
+    return source, faces, table[output_label]
 
 
 def _range_keys(corner_vertex, label, in_several, low: int, high: int, labels: int):
