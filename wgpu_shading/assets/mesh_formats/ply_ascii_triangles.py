@@ -96,7 +96,7 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
             return None
         if mixed is None:  # the blocks before were all faces of `corners` corners
             faces = np.empty((0, 3), faces.dtype)
-            mixed = kind_counts(np.full(faces_read, corners))
+            mixed = tuple(faces_read * kind for kind in kind_counts(np.array([corners])))
         counts, _ = records
         if counts.max() > MAX_FACE_CORNERS:
             raise MeshError(f"{where}: face {faces_read + int(np.argmax(counts > MAX_FACE_CORNERS))} has "

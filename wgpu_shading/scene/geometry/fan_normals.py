@@ -111,8 +111,9 @@ def fan_normals(labels, corner_faces, normals: FaceNormals, out: np.ndarray) -> 
     largest face's normal. Many corners (every vertex on a crease) are summed FACE_BLOCK at
     a time with np.add.at, which goes on where the last block stopped: the same sums, in
     the same order, as one np.bincount (mean_normals). Many fans are summed a range of
-    FAN_RANGE or more at a time, each range's corners in their order: float64 sums of every fan at once were 32
-    bytes a fan, as much as the Mesh's arrays of a mesh whose every vertex is on a crease."""
+    FAN_RANGE or more at a time, each range's corners in their order: float64 sums of every
+    fan at once were 32 bytes a fan, as much as the Mesh's arrays of a mesh whose every
+    vertex is on a crease."""
     count = len(out)
     if count <= FAN_RANGE:
         out[:] = _fan_range_normals(labels, corner_faces, normals, count)

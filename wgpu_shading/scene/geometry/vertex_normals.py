@@ -87,7 +87,7 @@ def validated_normals(normals: np.ndarray, positions: np.ndarray, faces: np.ndar
         usable[rows] = finite & (length > 1e-20)
         unit = np.zeros_like(block)
         unit[usable[rows]] = block[usable[rows]] / length[usable[rows], None]
-        as_given = _unit_rows(normals[rows]) & _float32_values(block)  # (float64 ones: normalized, as before)
+        as_given = _unit_rows(normals[rows], float32_only=True)  # (unit float64 ones: normalized, as before)
         unit[as_given] = block[as_given]
         out[rows] = unit
     if not usable.all():
@@ -104,9 +104,12 @@ def _float32_values(block: np.ndarray) -> np.ndarray:
         return (block == block.astype(np.float32)).all(axis=1)
 
 
-def _unit_rows(rows: np.ndarray) -> np.ndarray:
-    """Per row: unit to the precision it is stored in (validated_normals); NaN rows are not."""
+def _unit_rows(rows: np.ndarray, float32_only: bool = False) -> np.ndarray:
+    """Per row: unit to the precision it is stored in (validated_normals); NaN rows are not.
+    `float32_only`: only rows stored as float32 count."""
     block = rows.astype(np.float64, copy=False)
-    squared = np.einsum("ij,ij->i", block, block)
+    off_unit = np.abs(np.einsum("ij,ij->i", block, block) - 1.0)
     stored_as_float32 = np.ones(len(block), bool) if rows.dtype == np.float32 else _float32_values(block)
-    return np.abs(squared - 1.0) < np.where(stored_as_float32, FLOAT32_UNIT, 1e-9)
+    if float32_only:
+        return stored_as_float32 & (off_unit < FLOAT32_UNIT)
+    return off_unit < np.where(stored_as_float32, FLOAT32_UNIT, 1e-9)
