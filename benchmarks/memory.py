@@ -37,6 +37,7 @@ FILE_FORMATS = {
     "stl": ("binary STL", []), "ply": ("binary PLY", ["--triangles"]), "obj": ("OBJ", []),
     "exported.obj": ("OBJ, `vt` and `vn` numbered on their own (as Blender writes it)", ["--exported"]),
     "glb": ("glTF (GLB)", []),
+    "gltf": ("glTF, its buffer embedded as base64 (a `glTF-Embedded` file)", []),
     "cubes.stl": ("binary STL of separate cubes, every vertex on a crease (a voxel model)", ["--cubes"]),
     "mixed.ply": ("binary PLY of quads and triangles, with texture coordinates (as Blender writes it)", ["--mixed"]),
     "mixed-ascii.ply": ("ASCII PLY of quads and triangles", ["--mixed", "--ascii"]),

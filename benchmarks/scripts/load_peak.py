@@ -11,6 +11,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed10m.ply --mixed --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed10m.off --mixed --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed-ascii10m.ply --mixed --ascii --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/embedded10m.gltf --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -22,7 +23,8 @@ write a scan), or with --mixed as Blender's PLY exporter writes a mesh it does n
 triangulate (float x y z, nx ny nz, s t; `list uchar uint`; the torus's quads, every tenth
 as two triangles: faces of two sizes), with --mixed --ascii the same faces in an ASCII PLY;
 `.off`, with --mixed, those faces as a plain OFF; `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
-torus as a binary glTF with float32 normals (as Blender exports one); with --cubes an STL of
+torus as a binary glTF with float32 normals (as Blender exports one); `.gltf`, the same glTF
+with its buffer embedded as a base64 data: URI (a `glTF-Embedded` file); with --cubes an STL of
 about COUNT/12 separate unit cubes on a grid (a voxel model, or a CAD part: every vertex on
 a 90° crease, split into its three faces' normals, so the Mesh has twice the STL's
 vertices). Then loads it and prints one JSON object: the mesh's arrays
@@ -216,11 +218,9 @@ def write_torus_obj_exported(path: Path, triangles: int) -> None:
         np.savetxt(file, corners, fmt="f %d/%d/%d %d/%d/%d %d/%d/%d")
 
 
-def write_torus_glb(path: Path, triangles: int) -> None:
-    """The torus as a binary glTF (GLB) as exporters write one: float32 POSITION and NORMAL,
-    uint32 indices, one node without a transform."""
-    import json
-
+def torus_gltf(triangles: int) -> tuple[dict, list[np.ndarray]]:
+    """The torus as a glTF document as exporters write one (float32 POSITION and NORMAL,
+    uint32 indices, one node without a transform) and the arrays of its one buffer, in order."""
     positions, faces = torus(triangles)
     ring = positions.astype(np.float64)
     ring[:, :2] /= np.linalg.norm(ring[:, :2], axis=1, keepdims=True)  # the point of the ring the tube is around
@@ -243,6 +243,15 @@ def write_torus_glb(path: Path, triangles: int) -> None:
             {"bufferView": 2, "componentType": 5125, "count": len(indices), "type": "SCALAR"},
         ],
     }
+    return document, [positions, normals, indices]
+
+
+def write_torus_glb(path: Path, triangles: int) -> None:
+    """The torus as a binary glTF (GLB), as Blender exports one (torus_gltf)."""
+    import json
+
+    document, arrays = torus_gltf(triangles)
+    offset = document["buffers"][0]["byteLength"]
     text = json.dumps(document).encode()
     text += b" " * (-len(text) % 4)
     binary_length = offset + (-offset % 4)
@@ -250,12 +259,26 @@ def write_torus_glb(path: Path, triangles: int) -> None:
         file.write(np.array([0x46546C67, 2, 12 + 8 + len(text) + 8 + binary_length], "<u4").tobytes())
         file.write(np.array([len(text), 0x4E4F534A], "<u4").tobytes() + text)
         file.write(np.array([binary_length, 0x004E4942], "<u4").tobytes())
-        for array in (positions, normals, indices):
+        for array in arrays:
             array.tofile(file)
         file.write(b"\0" * (binary_length - offset))
 
 
-WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj, ".glb": write_torus_glb, ".off": write_torus_text_mixed}
+def write_torus_gltf_embedded(path: Path, triangles: int) -> None:
+    """The torus as a .gltf whose buffer is a base64 data: URI (torus_gltf), as the Khronos
+    sample models' `glTF-Embedded` variants and Blender's "glTF Embedded" export hold theirs."""
+    import base64
+    import json
+
+    document, arrays = torus_gltf(triangles)
+    head, tail = json.dumps(document | {"buffers": [{"byteLength": document["buffers"][0]["byteLength"], "uri": "@"}]}).split('"@"')
+    with open(path, "w") as file:
+        file.write(head + '"data:application/octet-stream;base64,')
+        file.write(base64.b64encode(b"".join(array.tobytes() for array in arrays)).decode())
+        file.write('"' + tail)
+
+
+WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj, ".glb": write_torus_glb, ".gltf": write_torus_gltf_embedded, ".off": write_torus_text_mixed}
 
 
 def status(key: str) -> int:

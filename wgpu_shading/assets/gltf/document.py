@@ -4,7 +4,8 @@ Read by our own code (not trimesh) so that every count and offset is checked aga
 file and the documented limits before anything is allocated (docs/reliability.md,
 "glTF files"): an 831-byte file whose accessor claimed 2²⁶ zero vertices took 30 s and
 6.2 GB through trimesh. Sparse accessors (glTF 2.0 §3.6.2.3) are applied; URIs are
-percent-decoded (§3.1: URIs are RFC 3986 references) and data: URIs decoded; buffers and
+percent-decoded (§3.1: URIs are RFC 3986 references) and data: URIs decoded (large base64
+ones straight from the file's bytes: data_uris.py); buffers and
 images named by a URI must be regular files (a FIFO would block the reader forever).
 """
 
@@ -23,6 +24,7 @@ from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_VERTICES
 from ..files import check_regular_file
 from . import meshopt
+from .data_uris import decode_data_uris
 
 MAX_GLTF_ITEMS = 1 << 20  # nodes, meshes, accessors, ... in one file (each list)
 MAX_ACCESSOR_COUNT = MAX_VERTICES  # elements of one accessor (2^25)
@@ -95,17 +97,20 @@ class GltfData:
         """json_only: read a GLB's JSON chunk alone (for its lights); buffers are then absent."""
         self.path = path
         regular_file_size(path, f"mesh file {str(path)!r}")
-        with open(path, "rb") as file:
+        with open(path, "rb", buffering=0) as file:  # unbuffered: read() below is one piece
             raw = file.read(20)
             if json_only and raw[:4] == b"glTF" and len(raw) == 20:
                 raw += file.read(struct.unpack_from("<I", raw, 12)[0])
-            else:
-                raw += file.read()
+            else:  # the whole file in one piece: `raw += file.read()` held it twice
+                file.seek(0)
+                raw = file.read()
         self.binary: memoryview | None = None
+        self._data_uris: dict[str, bytes | None] = {}  # marker → a large data: URI's bytes (data_uris.py)
         if raw[:4] == b"glTF":
             text, self.binary = split_glb(raw, path)
         else:
-            text = raw
+            text, self._data_uris = decode_data_uris(raw, decode=not json_only)
+        del raw  # an embedded glTF's text: its buffers are decoded now
         self.document = parse_json(text, path)
         self.notes: list[str] = []  # warnings for the user, said once the file is read (meshes.py)
         self._buffers: dict[int, bytes] = {}
@@ -151,6 +156,11 @@ class GltfData:
         (percent-decoded), at most `limit` bytes."""
         if not isinstance(uri, str):
             raise gltf_error(self.path, field, f"expected a URI string, got {_short(uri)}")
+        if uri in self._data_uris:
+            data = self._data_uris[uri]
+            if data is None:
+                raise RuntimeError(f"{self.path}: read for its JSON alone (json_only) before {field} was read")
+            return data
         if uri.startswith("data:"):
             header, _, payload = uri.partition(",")
             try:
@@ -240,6 +250,7 @@ class GltfData:
         self._accessors.clear()
         self._buffers.clear()
         self._decoded_views.clear()
+        self._data_uris.clear()
         self.binary = None
         self._forgotten = True
 
