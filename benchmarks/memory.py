@@ -42,6 +42,7 @@ FILE_FORMATS = {
     "mixed.ply": ("binary PLY of quads and triangles, with texture coordinates (as Blender writes it)", ["--mixed"]),
     "mixed-ascii.ply": ("ASCII PLY of quads and triangles", ["--mixed", "--ascii"]),
     "mixed.off": ("OFF of quads and triangles", ["--mixed"]),
+    "coloured.off": ("COFF: an OFF with a colour on every vertex line (as MeshLab writes it)", ["--colours"]),
 }
 
 

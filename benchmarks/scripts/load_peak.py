@@ -12,6 +12,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed10m.off --mixed --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed-ascii10m.ply --mixed --ascii --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/embedded10m.gltf --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/coloured10m.off --colours --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -22,7 +23,8 @@ little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and M
 write a scan), or with --mixed as Blender's PLY exporter writes a mesh it does not
 triangulate (float x y z, nx ny nz, s t; `list uchar uint`; the torus's quads, every tenth
 as two triangles: faces of two sizes), with --mixed --ascii the same faces in an ASCII PLY;
-`.off`, with --mixed, those faces as a plain OFF; `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
+`.off`, with --mixed, those faces as a plain OFF, with --colours the torus as a COFF (an
+RGBA colour on every vertex line, as MeshLab writes one); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
 torus as a binary glTF with float32 normals (as Blender exports one); `.gltf`, the same glTF
 with its buffer embedded as a base64 data: URI (a `glTF-Embedded` file); with --cubes an STL of
 about COUNT/12 separate unit cubes on a grid (a voxel model, or a CAD part: every vertex on
@@ -192,6 +194,17 @@ def write_torus_text_mixed(path: Path, triangles: int) -> None:
             file.write(text)
 
 
+def write_torus_coff(path: Path, triangles: int) -> None:
+    """The torus as a COFF, as MeshLab writes an OFF with vertex colours: `x y z r g b a` a
+    vertex line (0..255), then `3 a b c` a face line."""
+    positions, faces = torus(triangles)
+    colours = np.abs(positions / np.abs(positions).max(axis=0)) * 255
+    with open(path, "w") as file:
+        file.write(f"COFF\n{len(positions)} {len(faces)} 0\n")
+        np.savetxt(file, np.concatenate([positions, colours, np.full((len(positions), 1), 255.0)], axis=1), fmt="%.6f %.6f %.6f %d %d %d %d")
+        np.savetxt(file, faces, fmt="3 %d %d %d")
+
+
 def write_torus_obj(path: Path, triangles: int) -> None:
     """The torus as an OBJ of `v x y z` lines (6 decimals, as MeshLab writes them) and `f a b c` lines."""
     positions, faces = torus(triangles)
@@ -301,6 +314,8 @@ def main() -> None:
             writer = write_torus_obj_exported
         elif "--cubes" in sys.argv:
             writer = write_cubes_stl
+        elif "--colours" in sys.argv:
+            writer = write_torus_coff
         elif "--mixed" in sys.argv:
             writer = write_torus_text_mixed if "--ascii" in sys.argv or path.suffix.lower() == ".off" else write_torus_ply_mixed
         writer(path, count)

@@ -91,7 +91,7 @@ def _read_arrays(path: Path, file_size: int) -> _OffArrays:
     width = _vertex_width(header)
     vertices = tokens.numbers(header.vertex_count, width, "vertices", extra_widths=() if width > 3 else PLAIN_COLOUR_WIDTHS)
     faces, face_colors = _faces(tokens, header.face_count, header.vertex_count, where)
-    return _OffArrays(*_vertex_columns(vertices, header, faces, face_colors))
+    return _OffArrays(*_vertex_columns(vertices[:, :3], vertices[:, 3:], header, faces, face_colors))
 
 
 PLAIN_COLOUR_WIDTHS = (6, 7)  # a plain OFF's vertex lines of x y z r g b [a] (Online3DViewer reads them)
@@ -103,19 +103,21 @@ def _vertex_width(header: _Header) -> int:
     return 3 + 3 * has_normals + 4 * has_colors + 2 * has_uvs
 
 
-def _vertex_columns(vertices: np.ndarray, header: _Header, faces: np.ndarray, face_colors: np.ndarray | None) -> tuple:
-    """_OffArrays' fields from the vertices' numbers (V, width or a plain OFF's colour widths)."""
+def _vertex_columns(positions: np.ndarray, extra: np.ndarray, header: _Header, faces: np.ndarray, face_colors: np.ndarray | None) -> tuple:
+    """_OffArrays' fields from the vertices' x y z and their other numbers (V, width - 3,
+    or a plain OFF's colour widths - 3). Colours become float32 here, the precision the Mesh
+    keeps, so that a COFF's colours are not held in float64 beside the crease analysis."""
     has_normals, has_colors, has_uvs = (bool(header.keyword.group(k)) for k in (3, 2, 1))
-    column = 3
+    column = 0
     normals = colors = uvs = None
     if has_normals:
-        normals, column = vertices[:, 3:6], 6
-    if has_colors or vertices.shape[1] > _vertex_width(header):  # COFF, or a plain OFF with colours after x y z
-        colors = unit_colors_by_largest(vertices[:, column : column + 4])
+        normals, column = extra[:, 0:3], 3
+    if has_colors or 3 + extra.shape[1] > _vertex_width(header):  # COFF, or a plain OFF with colours after x y z
+        colors = unit_colors_by_largest(extra[:, column : column + 4]).astype(np.float32)
         column += 4
     if has_uvs:
-        uvs = vertices[:, column : column + 2]
-    return vertices[:, :3], faces, normals, colors, uvs, face_colors if colors is None else None
+        uvs = extra[:, column : column + 2]
+    return positions, faces, normals, colors, uvs, face_colors if colors is None else None
 
 
 def _header(text: str, where: str) -> _Header:
@@ -191,7 +193,9 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
         return None
     check_declared_counts(where, header.vertex_count, header.face_count, 6 * header.vertex_count + 8 * header.face_count, file_size)
     width = _vertex_width(header)
-    vertices = None  # (V, the first vertex line's width), once it is read
+    # x y z and the vertex lines' other numbers (the first line's width - 3), once it is read:
+    # apart, so that a COFF's colours are not kept beside its positions in one wide array
+    positions = extra = None
     faces = PlainFaces(header.vertex_count, where)
     read_vertices = 0
     texts = ascii_texts(itertools.chain([first], blocks), skip=header.offset)
@@ -202,20 +206,22 @@ def _plain_in_blocks(path: Path, file_size: int, where: str) -> _OffArrays | Non
         if vertex_lines:
             text = "\n".join(vertex_lines)
             values = None if "#" in text else parse_floats(text)
-            if vertices is None and values is not None:
+            if positions is None and values is not None:
                 line_width = values.size // len(vertex_lines)
                 if line_width != width and not (width == 3 and line_width in PLAIN_COLOUR_WIDTHS):
                     return None
-                vertices = np.empty((header.vertex_count, line_width))
-            if values is None or values.size != vertices.shape[1] * len(vertex_lines):
+                positions, extra = np.empty((header.vertex_count, 3)), np.empty((header.vertex_count, line_width - 3))
+            if values is None or values.size != (3 + extra.shape[1]) * len(vertex_lines):
                 return None
-            vertices[read_vertices : read_vertices + len(vertex_lines)] = values.reshape(len(vertex_lines), -1)
-            read_vertices += len(vertex_lines)
+            rows = values.reshape(len(vertex_lines), -1)
+            positions[read_vertices : read_vertices + len(rows)] = rows[:, :3]
+            extra[read_vertices : read_vertices + len(rows)] = rows[:, 3:]
+            read_vertices += len(rows)
         if face_lines and not faces.read(face_lines):
             return None
-    if vertices is None:  # (no vertex lines: the counts say otherwise, or none)
-        vertices = np.empty((header.vertex_count, width))
-    arrays = _OffArrays(*_vertex_columns(vertices, header, *faces.finish()))
+    if positions is None:  # (no vertex lines: the counts say otherwise, or none)
+        positions, extra = np.empty((header.vertex_count, 3)), np.empty((header.vertex_count, width - 3))
+    arrays = _OffArrays(*_vertex_columns(positions, extra, header, *faces.finish()))
     if file_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return arrays
