@@ -24,10 +24,13 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MeshError
+from ...scene.freed_memory import return_freed_memory
 from ...scene.geometry.mesh import MAX_VERTICES
 from ..mesh_pieces import MeshFile, point_piece
+from .number_text import parse_floats
 
-_BLOCK_BYTES = 4 << 20
+_BLOCK_BYTES = 1 << 20  # text read at a time: parse_floats' temporaries are ~20 bytes a character
+RETURNED_BYTES = 64 << 20  # blocks of numbers let go between two calls of return_freed_memory
 _SEPARATORS = bytes.maketrans(b",;\t\r", b"    ")
 _COLOR_NAMES = {"r": 0, "red": 0, "g": 1, "green": 1, "b": 2, "blue": 2}
 _NORMAL_NAMES = {"nx": 0, "ny": 1, "nz": 2}
@@ -78,15 +81,13 @@ class _Lines:
         if b"\x00" in data:
             number = first_line + data[: data.index(b"\x00")].count(b"\n")
             raise MeshError(f"{self.path}:{number}: a NUL byte; not a text file")
-        tokens = data.split()
         lines = data.count(b"\n") + (not data.endswith(b"\n"))
-        if self.width and len(tokens) == self.width * lines and b"#" not in data and b"/" not in data:
-            try:
-                rows = np.array(tokens, dtype=np.float64).reshape(-1, self.width)
-                if np.isfinite(rows).all():
-                    return rows
-            except ValueError:
-                pass
+        if self.width and b"#" not in data and b"/" not in data:
+            # read in C (number_text.py: what float() gives each); a blank line, a count or
+            # a line of another width leaves the numbers short or long of width × lines
+            values = parse_floats(data)
+            if values is not None and values.size == self.width * lines and np.isfinite(values).all():
+                return values.reshape(-1, self.width)
         return self._rows_one_by_one(data, first_line)
 
     def _rows_one_by_one(self, data: bytes, first_line: int) -> np.ndarray:
@@ -140,9 +141,13 @@ def _read(path: Path, counts: bool) -> MeshFile:
     positions = np.empty((total, 3))
     normals = None if normals_at is None else np.empty((total, 3), np.float32)
     colors = None if colors_at is None else np.empty((total, 3))
-    start = 0
+    start = freed = 0
     while blocks:  # each block copied once, then let go: the file's numbers are never held twice
         rows = blocks.pop(0)
+        freed += rows.nbytes
+        if freed >= RETURNED_BYTES:  # the blocks are small: glibc keeps them on its heap unless asked
+            return_freed_memory()
+            freed = 0
         end = start + len(rows)
         positions[start:end] = rows[:, axes]
         if normals is not None:
