@@ -359,14 +359,17 @@ def test_a_file_read_in_blocks_of_a_few_bytes_is_the_file_read_whole(tmp_path, s
 
 def read_in_small_blocks(path, monkeypatch):
     """read_obj's one piece and tracemalloc's peak while it reads, the file read in chunks
-    of 256 KiB and blocks of 64 KiB (16 MiB and 4 MiB scaled to a test's few MB)."""
+    of 256 KiB and blocks of 64 KiB (16 MiB and 4 MiB scaled to a test's few MB), an
+    exported OBJ's vertices gathered 1000 rows at a time."""
     import tracemalloc
 
     from wgpu_shading.assets import files
+    from wgpu_shading.assets.mesh_formats import obj
     from wgpu_shading.assets.mesh_formats.obj import read_obj
 
     monkeypatch.setattr(files, "TEXT_CHUNK", 1 << 18)
     monkeypatch.setattr(files, "TEXT_BLOCK_BYTES", 1 << 16)
+    monkeypatch.setattr(obj, "GATHER_ROWS", 1000)
     tracemalloc.start()
     try:
         (piece,) = read_obj(path).pieces
