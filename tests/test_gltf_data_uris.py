@@ -87,15 +87,18 @@ def test_base64_text_the_strict_decoder_refuses_is_read_as_before(tmp_path, how)
 
 
 def test_a_uri_key_inside_a_string_is_not_taken_for_one(tmp_path):
-    # The text `"uri": "data:…;base64,…"` inside a name is escaped (`\"uri\"`): it stays the
-    # name, every character of it, and the buffer still comes from its own URI.
+    # `\"uri\": \"data:…` inside a name is text, and so is the key `a"uri` (written
+    # `"a\"uri"`) of a large data: URI: both stay as they are, every character, and the
+    # buffer still comes from its own URI.
     text, payload, twin = _embedded_text(tmp_path)
-    decoy = f'\\"uri\\": \\"data:application/octet-stream;base64,{payload[: MIN_DECODED_TEXT + 8]}\\"'
-    text = text.replace('"@URI@"', f'"data:application/octet-stream;base64,{payload}"')
-    text = text.replace('"asset": {', f'"asset": {{"extras": {{"note": "{decoy}"}}, ', 1)
+    big = f"data:application/octet-stream;base64,{payload}"
+    note = f'\\"uri\\": \\"{big}\\"'
+    text = text.replace('"@URI@"', f'"{big}"')
+    text = text.replace('"asset": {', f'"asset": {{"extras": {{"note": "{note}", "a\\"uri": "{big}"}}, ', 1)
     (tmp_path / "embedded.gltf").write_text(text)
     _same_mesh(load_mesh(tmp_path / "embedded.gltf"), twin)
-    assert GltfData(tmp_path / "embedded.gltf").document["asset"]["extras"]["note"] == json.loads(f'"{decoy}"')
+    extras = GltfData(tmp_path / "embedded.gltf").document["asset"]["extras"]
+    assert extras == {"note": f'"uri": "{big}"', 'a"uri': big}
     assert len(_decoded(tmp_path / "embedded.gltf")) == 1
 
 
