@@ -199,8 +199,9 @@ def test_face_colours_of_a_plain_off_are_read_a_block_at_a_time_as_the_token_rea
     """Faces with a colour each (`4 a b c d 255 0 0`, as MeshLab writes them, or 0..1 floats,
     as Geomview's examples) are read a block of lines at a time (off_faces.py): the same
     triangles and per-triangle colours as the reader of tokens, which took 34 s for a
-    2M-triangle file. An index written as a float, or a face with one colour value more,
-    still goes to the reader of tokens, which refuses the one and reads the other as before."""
+    2M-triangle file. An index written as a float still goes to the reader of tokens, which
+    refuses it; a face with one colour value more is read in blocks since the twenty-first
+    pass (faces of several widths: `_mixed`), its colour none, as that reader reads it."""
     from wgpu_shading.assets.files import read_text_bytes
     from wgpu_shading.assets.mesh_formats import off
 
@@ -227,9 +228,9 @@ def test_face_colours_of_a_plain_off_are_read_a_block_at_a_time_as_the_token_rea
     float_index = lines[:-1] + [lines[-1].replace(" ", " 1.0 ", 1)]
     with pytest.raises(MeshError, match="expected an integer"):
         read(float_index, 60)
-    one_more = lines[:-1] + [lines[-1] + " 1"]  # five values: no colour there, to the reader of tokens
+    one_more = lines[:-1] + [lines[-1] + " 1"]  # four or five values: no colour there (white)
     np.testing.assert_array_equal(read(one_more, 60).colors, read(one_more, 1 << 22, whole=True).colors)
-    assert len(whole_reads) == 3
+    assert len(whole_reads) == 2  # the float index, and the whole read of one_more
 
 
 @pytest.mark.parametrize("keyword, extra", [("COFF", 4), ("NOFF", 3), ("CNOFF", 7), ("STOFF", 2), ("OFF", 3), ("OFF", 4)])
@@ -289,8 +290,9 @@ def test_faces_of_several_sizes_are_read_a_block_of_lines_at_a_time_as_the_token
     """Triangles, quads, a pentagon and faces of fewer than 3 corners (no triangles), as
     quad-dominant exporters write an OFF: each line's numbers counted (off_faces.py), each
     face fanned in file order, the reader of tokens' triangles (it held the whole text: a
-    2M-triangle file peaked at 36x its arrays and took 19 s). With colours they still go to
-    the reader of tokens."""
+    2M-triangle file peaked at 36x its arrays and took 19 s). With colours after some of
+    them: the same, with the reader of tokens' colours (10x and 42 s at 2M triangles before
+    the twenty-first pass)."""
     from wgpu_shading.assets.files import read_text_bytes
     from wgpu_shading.assets.mesh_formats import off
 
@@ -311,9 +313,17 @@ def test_faces_of_several_sizes_are_read_a_block_of_lines_at_a_time_as_the_token
     np.testing.assert_array_equal(piece.positions, expected.positions)
     np.testing.assert_array_equal(piece.faces, expected.faces)
     assert not whole_reads and len(piece.faces) == 4 * (1 + 2 + 2 + 3 + 1 + 2 + 1 + 4)
-    coloured = lines[:-1] + [lines[-1] + " 255 0 0"]  # one face with a colour: the reader of tokens
-    np.testing.assert_array_equal(read(coloured, block_bytes).colors, read(coloured, 1 << 22, whole=True).colors)
-    assert whole_reads
+    for colour in ("255 0 0", "0.5 0.25 1", "0 128 255 64", "0.5 0.5 0.5 0.5", "7"):  # RGB, RGBA, a colour-map index
+        coloured = lines[:-1] + [lines[-1] + " " + colour]  # the last face's colour; the others none (white)
+        theirs = read(coloured, 1 << 22, whole=True)
+        ours = read(coloured, block_bytes)
+        np.testing.assert_array_equal(ours.faces, theirs.faces)
+        assert (ours.colors is None) == (theirs.colors is None) == (colour == "7")
+        if ours.colors is not None:
+            np.testing.assert_array_equal(ours.colors, theirs.colors)
+    mixed_colours = lines[:2 + 30] + [f"{line} {k % 256} {(3 * k) % 256} 9" + (" 200" * (k % 2)) for k, line in enumerate(lines[2 + 30 :])]
+    np.testing.assert_array_equal(read(mixed_colours, block_bytes).colors, read(mixed_colours, 1 << 22, whole=True).colors)
+    assert len(whole_reads) == 6  # the whole=True reads only
 
 
 def _written_and_read(monkeypatch, path, text_lines, block_bytes, whole, load):

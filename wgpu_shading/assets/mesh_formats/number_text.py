@@ -191,8 +191,19 @@ def parse_decimals(text: str | bytes) -> np.ndarray | None:
 def leading_counts(lines: list[str], numbers: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
     """Per line: its first number, a count, and where that is among `numbers` (the lines'
     numbers, in order), or None when a line holds other than its count and that many
-    numbers after it (a face line of a PLY or an OFF: `4 a b c d`). Each line's numbers are
-    counted from the bytes where numbers begin."""
+    numbers after it (a face line of a PLY or an OFF: `4 a b c d`)."""
+    records = counted_lines(lines, numbers)
+    if records is None or (records[2] != records[0] + 1).any():
+        return None
+    return records[0], records[1]
+
+
+def counted_lines(lines: list[str], numbers: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Per line: its first number, a count (int64), where that is among `numbers` (the
+    lines' numbers, in order, int64 or float64), and how many numbers the line holds; None
+    when a line's first number is not a whole count or the line holds fewer numbers than
+    its count and the count itself (an OFF face line and what follows its indices: `4 a b c d
+    r g b`). Each line's numbers are counted from the bytes where numbers begin."""
     data = np.frombuffer("\n".join(lines).encode("latin-1"), np.uint8)
     blank = BLANK_BYTES[data]
     starts = ~blank
@@ -203,7 +214,13 @@ def leading_counts(lines: list[str], numbers: np.ndarray) -> tuple[np.ndarray, n
         return None
     per_line = np.diff(through, prepend=0)
     first = through - per_line
-    counts = numbers[np.minimum(first, max(numbers.size - 1, 0))]
-    if (per_line != counts + 1).any() or (counts < 0).any():
+    if (per_line < 1).any():
         return None
-    return counts, first
+    counts = numbers[first]
+    if counts.dtype != np.int64:
+        if not (np.isfinite(counts) & (counts == np.floor(counts)) & (np.abs(counts) < 2**62)).all():
+            return None
+        counts = counts.astype(np.int64)
+    if (per_line < counts + 1).any() or (counts < 0).any():
+        return None
+    return counts, first, per_line

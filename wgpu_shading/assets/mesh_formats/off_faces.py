@@ -2,14 +2,17 @@
 line `n i1 .. in`, the same polygon size n in every line, and optionally the same number of
 colour values after the indices on every line (`r g b` or `r g b a`, 0..255 integers as
 MeshLab writes them or 0..1 floats as Geomview's examples do), read in C; or polygons of
-several sizes without colours (triangles and quads), each line's numbers counted.
+several sizes (triangles and quads), each line's numbers counted, each with its own colour
+or none.
 
 Face colours sent a file to the reader of tokens (off.py, `_Tokens`), a Python call or more
 a word: a 2M-triangle OFF with a colour a face took 34 s and 12.9x its arrays to load
-(docs/performance.md, "Loading a large mesh"), and so did faces of several sizes (22x).
-Anything else (faces of several sizes with colours, a colour-map index, a comment, a bad
-number) gives False, and the reader of tokens reads the
-file and names what is wrong.
+(docs/performance.md, "Loading a large mesh"), and so did faces of several sizes (22x), and
+faces of several sizes with colours (10x and 42 s, until the twenty-first pass). A face's
+colour is what follows its indices on its line, as the reader of tokens takes it: 3 or 4
+values (RGB, RGBA), anything else none (a colour-map index: white). Anything else (a
+comment, a face over several lines, a bad number) gives False, and the reader of tokens
+reads the file and names what is wrong.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ import numpy as np
 from ...errors import MeshError
 from ..mesh_pieces import polygon_fans
 from .line_sections import joined
-from .number_text import BLANK_BYTES, LEADING_COUNT, leading_counts, parse_floats, parse_numbers
+from .number_text import BLANK_BYTES, LEADING_COUNT, counted_lines, parse_floats, parse_numbers
 
 COLOUR_WIDTHS = (0, 3, 4)  # values after a face's indices: none, RGB, RGBA
 
@@ -31,9 +34,13 @@ class PlainFaces:
         self.vertex_count, self.where = vertex_count, where
         self.corners: int | None = None  # the polygon size, from the first face
         self.colour_width: int | None = None  # values after the indices, from the first face
-        self.mixed = False  # whether faces of several sizes were met (then no colours)
+        self.mixed = False  # whether faces of several sizes were met: every block is then _mixed's
         self.triangles: list[np.ndarray] = []  # (t, 3) int32 a block
-        self.colours: list[np.ndarray] = []  # (faces, colour width) float64 a block
+        self.colours: list[np.ndarray] = []  # (faces, colour width) float64 a block, faces of one size
+        # Once mixed, each block's faces: (their colours (faces, 4) float64, NaN where a face
+        # has none or only RGB, and each face's count of triangles), or the block's count of
+        # triangles when none of its faces has a colour.
+        self.mixed_colours: list[tuple[np.ndarray, np.ndarray] | int] = []
 
     def read(self, face_lines: list[str]) -> bool:
         """One block's face lines; False when they are not of this layout."""
@@ -46,18 +53,18 @@ class PlainFaces:
             return False
         numbers = parse_numbers(text, np.int64)
         if numbers is None:  # colours as floats (or not numbers at all)
-            numbers = self._indices_and_floats(text, len(face_lines))
+            numbers = None if self.mixed else self._indices_and_floats(text, len(face_lines))
             if numbers is None:
-                return False
+                return self._mixed(face_lines, text, None)
         if not numbers.size:
             return False
-        if not self._uniform(numbers, len(face_lines)):
-            return self._mixed(face_lines, numbers)
+        if self.mixed or not self._uniform(numbers, len(face_lines)):
+            return self._mixed(face_lines, text, numbers)
         corners, width = self.corners, numbers.size // len(face_lines)
         rows = numbers.reshape(len(face_lines), width)
         polygons = rows[:, : corners + 1]
         if (polygons[:, 0] != corners).any():  # (as many numbers a line, by chance)
-            return self._mixed(face_lines, numbers)
+            return self._mixed(face_lines, text, numbers)
         if polygons[:, 1:].min() < 0 or polygons[:, 1:].max() >= self.vertex_count:
             return False
         if self.colour_width:
@@ -78,36 +85,43 @@ class PlainFaces:
             self.corners = int(numbers[0])
             self.colour_width = width - self.corners - 1
         corners = self.corners
-        if self.mixed and self.colour_width:  # (no colours once faces of several sizes were met)
-            return False
         return 3 <= corners <= self.vertex_count and self.colour_width in COLOUR_WIDTHS and width == corners + 1 + self.colour_width
 
-    def _mixed(self, face_lines: list[str], numbers: np.ndarray) -> bool:
-        """A block of faces of several sizes without colours, each fanned from its first
-        corner, one after the other, as the reader of tokens fans them (faces of fewer than
-        3 corners give none); False for anything else (colours, a bad index: the reader of
-        tokens reads or names it)."""
-        if self.colours or numbers.dtype != np.int64:
-            return False
-        records = leading_counts(face_lines, numbers)
+    def _mixed(self, face_lines: list[str], text: str, numbers: np.ndarray | None) -> bool:
+        """A block of faces of several sizes, each fanned from its first corner, one after the
+        other, as the reader of tokens fans them (faces of fewer than 3 corners give none),
+        with the colour after its indices (`numbers` None: some are floats, read here);
+        False for anything else (a bad index or number: the reader of tokens reads or names it)."""
+        values = numbers if numbers is not None else parse_floats(text)
+        if values is None or not values.size or (numbers is None and not np.isfinite(values).all()):
+            return False  # (a NaN or infinite colour: the reader of tokens names it)
+        records = counted_lines(face_lines, values)
         if records is None:
             return False
-        counts, first = records
+        counts, first, per_line = records
         if counts.max() > self.vertex_count:
             return False
+        if numbers is None and not _integers_only(text, _index_tokens(counts, per_line)):
+            return False  # `3.0` or `1e0` as a count or an index: the reader of tokens refuses it, naming the line
         fan_rows = np.maximum(counts - 2, 0)
         first_row = np.cumsum(fan_rows) - fan_rows
         triangles = np.empty((int(fan_rows.sum()), 3), np.int32)
         for size in np.unique(counts[counts >= 3]):
             chosen = counts == size
-            polygons = numbers[first[chosen][:, None] + 1 + np.arange(size)]
+            polygons = values[first[chosen][:, None] + 1 + np.arange(size)]
             if polygons.min() < 0 or polygons.max() >= self.vertex_count:
                 return False
-            triangles[(first_row[chosen][:, None] + np.arange(size - 2)).reshape(-1)] = polygon_fans(polygons)
+            triangles[(first_row[chosen][:, None] + np.arange(size - 2)).reshape(-1)] = polygon_fans(polygons.astype(np.int64))
+        colours = _trailing_colours(values, counts, first, per_line - counts - 1)
+        if not self.mixed:  # the blocks of one size before: their colours as this one keeps them
+            if self.colours:  # (one a block, each of its faces self.corners - 2 triangles)
+                self.mixed_colours = [(_padded(rows), np.full(len(rows), self.corners - 2)) for rows in self.colours]
+            else:
+                self.mixed_colours = [len(block) for block in self.triangles]
+            self.colours.clear()
+            self.mixed = True
         self.triangles.append(triangles)
-        self.mixed = True
-        if self.corners is None:  # (a later block of one size is read as such, without colours)
-            self.corners, self.colour_width = int(counts[0]), 0
+        self.mixed_colours.append(len(triangles) if colours is None else (colours, fan_rows))
         return True
 
     def _indices_and_floats(self, text: str, lines: int) -> np.ndarray | None:
@@ -121,25 +135,87 @@ class PlainFaces:
         corners = int(values[0]) if float(values[0]).is_integer() else -1
         if not 0 <= corners < width:
             return None
-        data = np.frombuffer(text.encode("ascii"), np.uint8)
-        filled = ~BLANK_BYTES[data]
-        starts = filled.copy()
-        starts[1:] &= ~filled[:-1]
-        token = np.cumsum(starts, dtype=np.int64) - 1  # each byte's token (blanks: the one before)
-        in_index = filled & (token % width <= corners)  # the count and the indices of each line
-        digit = (data >= ord("0")) & (data <= ord("9"))
-        sign = starts & ((data == ord("-")) | (data == ord("+")))
-        return None if (in_index & ~digit & ~sign).any() else values
+        return values if _integers_only(text, np.arange(values.size) % width <= corners) else None
 
     def finish(self) -> tuple[np.ndarray, np.ndarray | None]:
         """The triangles (T, 3) int32 and each triangle's RGBA in [0, 1] (its face's), or None
         without colours, as the reader of tokens reads them (off.py, `_face_colors`)."""
         triangles = joined(self.triangles, np.int32) if self.triangles else np.empty((0, 3), np.int32)
+        if self.mixed:
+            colours = _mixed_face_colours(self.mixed_colours)
+            self.mixed_colours.clear()
+            return triangles, colours
         if not self.colours:
             return triangles, None
         colours = np.concatenate(self.colours)
         self.colours.clear()
         return triangles, np.repeat(unit_colors_by_largest(colours), self.corners - 2, axis=0)
+
+
+def _trailing_colours(values: np.ndarray, counts: np.ndarray, first: np.ndarray, rest: np.ndarray) -> np.ndarray | None:
+    """Each face's RGBA from the values after its indices (`rest` of them), NaN where absent:
+    3 or 4 values are a colour, any other number none (the reader of tokens' rule). None
+    when no face of the block has one."""
+    if not ((rest == 3) | (rest == 4)).any():
+        return None
+    rows = np.full((len(counts), 4), np.nan)
+    for width in (3, 4):
+        chosen = rest == width
+        if chosen.any():
+            rows[chosen, :width] = values[(first[chosen] + 1 + counts[chosen])[:, None] + np.arange(width)]
+    return rows
+
+
+def _padded(rows: np.ndarray) -> np.ndarray:
+    """(faces, 3 or 4) colours as (faces, 4), NaN where there is no alpha."""
+    padded = np.full((len(rows), 4), np.nan)
+    padded[:, : rows.shape[1]] = rows
+    return padded
+
+
+def _mixed_face_colours(blocks: list[tuple[np.ndarray, np.ndarray] | int]) -> np.ndarray | None:
+    """Each triangle's RGBA in [0, 1] from PlainFaces._mixed's blocks, as the reader of
+    tokens makes them (off.py, `_face_colors`): its face's colour; the alpha of an RGB one,
+    and the whole of a face without one, `full` (white, opaque): 255 where some triangle's
+    value is above 1 (0..255 integers), else 1; then every value divided by 255 where the
+    largest is above 1 (unit_colors_by_largest). None when no triangle has a colour."""
+    coloured = [rows[fans > 0] for rows, fans in (block for block in blocks if not isinstance(block, int))]
+    present = [rows[~np.isnan(rows)] for rows in coloured]
+    if not any(values.size for values in present):
+        return None
+    largest = max(float(values.max(initial=0.0)) for values in present)
+    full = 255.0 if largest > 1.0 else 1.0
+    scale = 255.0 if max(largest, full) > 1.0 else 1.0
+    parts = []
+    for block in blocks:
+        if isinstance(block, int):
+            parts.append(np.full((block, 4), full / scale))
+        else:
+            rows, fans = block
+            parts.append(np.repeat(np.clip(np.where(np.isnan(rows), full, rows) / scale, 0.0, 1.0), fans, axis=0))
+    return np.concatenate(parts)
+
+
+def _index_tokens(counts: np.ndarray, per_line: np.ndarray) -> np.ndarray:
+    """Per number of the lines: whether it is a line's count or one of its indices."""
+    line_start = np.cumsum(per_line) - per_line
+    position = np.arange(int(per_line.sum())) - np.repeat(line_start, per_line)
+    return position <= np.repeat(counts, per_line)
+
+
+def _integers_only(text: str, is_index: np.ndarray) -> bool:
+    """Whether every number `is_index` marks (one flag a number of `text`, in order) is
+    written as a plain integer: the reader of tokens reads counts and indices with int(),
+    which refuses `3.0` or `1e0`."""
+    data = np.frombuffer(text.encode("latin-1"), np.uint8)
+    filled = ~BLANK_BYTES[data]
+    starts = filled.copy()
+    starts[1:] &= ~filled[:-1]
+    token = np.maximum(np.cumsum(starts, dtype=np.int64) - 1, 0)  # each byte's number (blanks: the one before)
+    in_index = filled & is_index[np.minimum(token, len(is_index) - 1)]
+    digit = (data >= ord("0")) & (data <= ord("9"))
+    sign = starts & ((data == ord("-")) | (data == ord("+")))
+    return not (in_index & ~digit & ~sign).any()
 
 
 def unit_colors_by_largest(colors: np.ndarray) -> np.ndarray:
