@@ -95,6 +95,33 @@ def test_an_ascii_stl_beyond_its_limit_is_refused_before_trimesh_reads_it(tmp_pa
         load_mesh(tmp_path / "big.stl")
 
 
+def test_an_stl_may_be_bigger_than_other_mesh_files(tmp_path):
+    """ASCII STL spends ~270 bytes a triangle: a 10M-triangle file is ~2.6 GB, over the 2 GiB
+    of every other format, and is read a block of lines at a time. So .stl files are allowed
+    up to MAX_STL_FILE_BYTES (2^25 facets of 288 bytes); the size check lets a 3 GiB one
+    through to the reader (which finds the NULs after its facets), and
+    refuses a 10 GiB one, and a 3 GiB PLY, before reading a byte (sparse files: nothing is
+    written to disk)."""
+    from wgpu_shading.assets.mesh_formats.checks import MAX_MESH_FILE_BYTES, MAX_STL_FILE_BYTES
+
+    assert MAX_STL_FILE_BYTES == 9 << 30 and MAX_MESH_FILE_BYTES == 2 << 30
+
+    def sparse(name: str, size: int, start: bytes = b"") -> object:
+        path = tmp_path / name
+        with open(path, "wb") as file:
+            file.write(start)
+            file.truncate(size)
+        return path
+
+    facets = b"solid big\n" + b"facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n" * 30
+    with pytest.raises(MeshError, match=rf"big.stl': not a text file \(a NUL byte at offset {len(facets)}\)"):
+        load_mesh(sparse("big.stl", 3 << 30, facets))
+    with pytest.raises(MeshError, match=r"huge.stl': 10.0 GiB; STL files up to 9 GiB are supported"):
+        load_mesh(sparse("huge.stl", 10 << 30, facets))
+    with pytest.raises(MeshError, match=r"big.ply': 3.0 GiB; mesh files up to 2 GiB are supported"):
+        load_mesh(sparse("big.ply", 3 << 30, b"ply\n"))
+
+
 # --------------------------------------------------------------------------- text meshes
 
 

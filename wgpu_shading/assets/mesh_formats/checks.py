@@ -16,7 +16,13 @@ from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES
 from ..files import read_text_bytes
 
-MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: far beyond MAX_TRIANGLES of any format
+MAX_MESH_FILE_BYTES = 2 << 30  # 2 GiB: beyond MAX_TRIANGLES of every format but ASCII STL
+# ASCII STL spends ~270 bytes a triangle (seven lines of %e numbers, as SolidWorks writes
+# them): a 10M-triangle file is ~2.6 GB. The plain layout is read a block of lines at a time
+# (stl_ascii.py: memory bound by the triangles read, refused past MAX_TRIANGLES), any other
+# layout only up to stl.MAX_ASCII_BYTES: so an STL's limit is MAX_TRIANGLES facets of 288 bytes.
+MAX_STL_FILE_BYTES = MAX_TRIANGLES * 288  # 9 GiB
+_FILE_LIMITS = {".stl": MAX_STL_FILE_BYTES}  # suffix → its limit, where not MAX_MESH_FILE_BYTES
 # The corners of one polygon (an OBJ `f` line, a PLY face): a 48 MB OBJ line of 24M corners
 # took 5.2 GB and 17 s to become triangles before its mesh was refused; Blender's n-gons
 # and CAD outlines have far fewer (docs/valid-ranges.md).
@@ -26,8 +32,10 @@ _TEXT_FORMATS = (".obj",)  # always text: decoded here, handed to trimesh as UTF
 
 def check_file_size(path: Path, where: str) -> int:
     size = path.stat().st_size
-    if size > MAX_MESH_FILE_BYTES:
-        raise MeshError(f"{where}: {size / 2**30:.1f} GiB; mesh files up to {MAX_MESH_FILE_BYTES >> 30} GiB are supported")
+    limit = _FILE_LIMITS.get(path.suffix.lower(), MAX_MESH_FILE_BYTES)
+    if size > limit:
+        files = f"{path.suffix.lstrip('.').upper()} files" if limit != MAX_MESH_FILE_BYTES else "mesh files"
+        raise MeshError(f"{where}: {size / 2**30:.1f} GiB; {files} up to {limit >> 30} GiB are supported")
     if size == 0:
         raise MeshError(f"{where}: the file is empty")
     return size
