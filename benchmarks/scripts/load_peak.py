@@ -13,6 +13,9 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed-ascii10m.ply --mixed --ascii --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/embedded10m.gltf --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/coloured10m.off --colours --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed-coloured10m.off --mixed --colours --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/ascii10m.stl --ascii --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/points10m.xyz
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -24,7 +27,10 @@ write a scan), or with --mixed as Blender's PLY exporter writes a mesh it does n
 triangulate (float x y z, nx ny nz, s t; `list uchar uint`; the torus's quads, every tenth
 as two triangles: faces of two sizes), with --mixed --ascii the same faces in an ASCII PLY;
 `.off`, with --mixed, those faces as a plain OFF, with --colours the torus as a COFF (an
-RGBA colour on every vertex line, as MeshLab writes one); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
+RGBA colour on every vertex line, as MeshLab writes one), with --mixed --colours the faces of
+two sizes with an RGB colour after each; `.stl` with --ascii, the torus as an ASCII STL (%e
+numbers, as SolidWorks writes them); `.xyz`, COUNT points on a sphere with their normals
+(x y z nx ny nz a line); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
 torus as a binary glTF with float32 normals (as Blender exports one); `.gltf`, the same glTF
 with its buffer embedded as a base64 data: URI (a `glTF-Embedded` file); with --cubes an STL of
 about COUNT/12 separate unit cubes on a grid (a voxel model, or a CAD part: every vertex on
@@ -194,6 +200,50 @@ def write_torus_text_mixed(path: Path, triangles: int) -> None:
             file.write(text)
 
 
+def write_torus_off_coloured(path: Path, triangles: int) -> None:
+    """The torus's faces of two sizes (torus_quads) as a plain OFF with an RGB colour (0..255)
+    after each face's indices."""
+    positions, quads, halved = torus_quads(triangles)
+    with open(path, "w") as file:
+        file.write(f"OFF\n{len(positions)} {len(quads) + int(halved.sum())} 0\n")
+        np.savetxt(file, positions, fmt="%.6f")
+        for start in range(0, len(quads), 1 << 16):
+            lines = []
+            for number, (quad, halve) in enumerate(zip(quads[start : start + (1 << 16)].tolist(), halved[start : start + (1 << 16)].tolist()), start):
+                colour = "%d 128 200" % (number % 256)
+                if halve:
+                    lines += ["3 %d %d %d %s" % (quad[0], quad[1], quad[2], colour), "3 %d %d %d %s" % (quad[0], quad[2], quad[3], colour)]
+                else:
+                    lines.append("4 %d %d %d %d %s" % (*quad, colour))
+            file.write("\n".join(lines) + "\n")
+
+
+def write_torus_stl_ascii(path: Path, triangles: int) -> None:
+    """The torus as an ASCII STL in the layout exporters write (numbers as %e, as SolidWorks
+    writes them: ~230 bytes a triangle), a block of facets at a time."""
+    positions, faces = torus(triangles)
+    facet = "facet normal %e %e %e\n outer loop\n  vertex %e %e %e\n  vertex %e %e %e\n  vertex %e %e %e\n endloop\nendfacet\n"
+    with open(path, "w") as file:
+        file.write("solid torus\n")
+        for start in range(0, len(faces), 1 << 16):
+            a, b, c = (positions[faces[start : start + (1 << 16), k]].astype(np.float64) for k in range(3))
+            normals = np.cross(b - a, c - a)
+            normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-30)
+            file.write("".join(facet % tuple(row) for row in np.concatenate([normals, a, b, c], axis=1).tolist()))
+        file.write("endsolid torus\n")
+
+
+def write_points_xyz(path: Path, count: int) -> None:
+    """COUNT points on a unit sphere with their normals as a `.xyz` (x y z nx ny nz a line,
+    6 decimals, as MeshLab and Open3D write `xyzn`), a block of points at a time."""
+    rng = np.random.default_rng(1)
+    with open(path, "w") as file:
+        for start in range(0, count, 1 << 20):
+            points = rng.normal(size=(min(1 << 20, count - start), 3))
+            points /= np.linalg.norm(points, axis=1, keepdims=True)
+            np.savetxt(file, np.concatenate([points, points], axis=1), fmt="%.6f")
+
+
 def write_torus_coff(path: Path, triangles: int) -> None:
     """The torus as a COFF, as MeshLab writes an OFF with vertex colours: `x y z r g b a` a
     vertex line (0..255), then `3 a b c` a face line."""
@@ -291,7 +341,8 @@ def write_torus_gltf_embedded(path: Path, triangles: int) -> None:
         file.write('"' + tail)
 
 
-WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj, ".glb": write_torus_glb, ".gltf": write_torus_gltf_embedded, ".off": write_torus_text_mixed}
+WRITERS = {".stl": write_torus_stl, ".ply": write_point_ply, ".obj": write_torus_obj, ".glb": write_torus_glb, ".gltf": write_torus_gltf_embedded, ".off": write_torus_text_mixed,
+           ".xyz": write_points_xyz}
 
 
 def status(key: str) -> int:
@@ -315,7 +366,9 @@ def main() -> None:
         elif "--cubes" in sys.argv:
             writer = write_cubes_stl
         elif "--colours" in sys.argv:
-            writer = write_torus_coff
+            writer = write_torus_off_coloured if "--mixed" in sys.argv else write_torus_coff
+        elif "--ascii" in sys.argv and path.suffix.lower() == ".stl":
+            writer = write_torus_stl_ascii
         elif "--mixed" in sys.argv:
             writer = write_torus_text_mixed if "--ascii" in sys.argv or path.suffix.lower() == ".off" else write_torus_ply_mixed
         writer(path, count)
