@@ -14,9 +14,9 @@ trimesh reads ASCII STL as one lower-cased copy of the whole text, then a string
 text, 19x the mesh's arrays for a 2M-triangle file (docs/performance.md, "Loading a large
 mesh"). Here the text comes in blocks of whole lines (files.text_line_blocks), each block's
 facets are checked line by line in numpy (every line's keyword, and its count of words: 5,
-2, 4, 4, 4, 1, 1), the keywords are then blanked and the twelve numbers of each facet read
-in C (number_text.parse_floats), and only the corners are kept, float64 as trimesh reads
-them, joined into vertices as a binary STL's are (corner_join.py): the same triangles,
+2, 4, 4, 4, 1, 1), the keywords and the `facet normal` lines are then blanked and the
+nine numbers of each facet's vertices read in C (number_text.parse_floats), float64 as
+trimesh reads them, joined into vertices as a binary STL's are (corner_join.py): the same triangles,
 corner by corner, on a sixth of the vertices; the crease normals weld by exact position
 anyway, so every corner gets the normal it got before and the images are the same (the
 facet normals are not used, by either). Anything else (several solids, upper-case
@@ -45,7 +45,7 @@ _INDENT = 16  # blanks a line may start with (exporters indent by 0 to 6)
 _EXPECTED = np.array([list(word.encode().ljust(_KEYWORD_BYTES, b"\0")) for word, _ in _LINES], np.uint8)
 _WORDS = np.array([words for _, words in _LINES])
 _LENGTHS = np.array([len(word) for word, _ in _LINES])
-_FACET_NUMBERS = 12  # the normal's three, then three vertices' three
+_CORNER_NUMBERS = 9  # a facet's three vertices' three (its normal's are not read)
 JOIN_CORNERS = 3 << 18  # corners joined at a time: as a binary STL's blocks of triangles (stl.py)
 BLOCK_BYTES = 1 << 20  # text read at a time: its parsing takes ~10 bytes a byte (number_text.py)
 LONGEST_LINE = 1 << 16  # a facet's lines are short: a longer one is another layout, not read whole here
@@ -139,8 +139,14 @@ def _facet_corners(data: np.ndarray, ends: np.ndarray) -> np.ndarray | None:
     numbers = data.copy()
     for column in range(_KEYWORD_BYTES):  # the keywords blanked
         numbers[first[column < lengths] + column] = 32
-    values = parse_floats(numbers.tobytes().decode("ascii"))
+    # The `facet normal` lines blanked whole: no reader uses the file's normals (the crease
+    # normals are computed), and their numbers were a quarter of the reading.
+    normal_lines = np.zeros(len(data) + 1, np.int8)
+    normal_lines[starts[::7]] = 1
+    normal_lines[ends[::7]] -= 1
+    numbers[np.cumsum(normal_lines[:-1], dtype=np.int8).view(bool)] = 32
+    values = parse_floats(numbers.tobytes())
     facets = lines // 7
-    if values is None or len(values) != _FACET_NUMBERS * facets:
+    if values is None or len(values) != _CORNER_NUMBERS * facets:
         return None
-    return np.ascontiguousarray(values.reshape(facets, _FACET_NUMBERS)[:, 3:]).reshape(-1, 3)
+    return values.reshape(-1, 3)
