@@ -37,6 +37,29 @@ def _indices(faces) -> np.ndarray:
     return faces if faces.dtype in (np.int32, np.uint32, np.int64) else faces.astype(np.int64)
 
 
+class WeldedFaces:
+    """welded[faces], gathered where it is read: `[key]` (rows), `reshape(-1)` (the corners,
+    read the same way), len(), or whole through np.asarray. A mesh whose vertices repeat
+    positions (split along UV seams: a textured scan, an OBJ with `vt` and no `vn`) held
+    this (F, 3) copy of its faces through the whole analysis, 120 MB at 10M triangles, where
+    only blocks of it are read unless some vertex is near a crease."""
+
+    def __init__(self, welded: np.ndarray, faces: np.ndarray, shape: tuple[int, ...] | None = None):
+        self.welded, self.faces = welded, faces if shape is None else faces.reshape(shape)
+
+    def __len__(self) -> int:
+        return len(self.faces)
+
+    def __getitem__(self, key) -> np.ndarray:
+        return self.welded[self.faces[key]]
+
+    def __array__(self, dtype=None, copy=None) -> np.ndarray:
+        return self.welded[self.faces] if dtype is None else self.welded[self.faces].astype(dtype)
+
+    def reshape(self, *shape) -> "WeldedFaces":
+        return WeldedFaces(self.welded, self.faces, shape[0] if len(shape) == 1 and isinstance(shape[0], tuple) else shape)
+
+
 def weld_by_position(positions: np.ndarray) -> np.ndarray:
     """(N,) id of each vertex's welded vertex (equal coordinates share an id, 0..M-1), int32."""
     count = len(positions)
@@ -90,8 +113,10 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     vertex_count = len(positions)
     welded = weld_by_position(positions)
     welded_count = int(welded.max()) + 1
-    # Already welded (weld_by_position returns the identity then): no (F, 3) gather.
-    welded_faces = faces if welded_count == vertex_count else welded[faces]
+    # Already welded (weld_by_position returns the identity then): no (F, 3) gather; else
+    # the welded faces are gathered a block at a time where they are read, unless the crease
+    # analysis needs them whole.
+    welded_faces = faces if welded_count == vertex_count else WeldedFaces(welded, faces)
     corner_welded = welded_faces.reshape(-1)
     normals = FaceNormals(positions, faces)
     mean_normal, spread, degenerate = mean_normals(normals, welded_faces, welded_count)
@@ -127,7 +152,7 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         if flat is not None:
             near_crease[welded_faces[flat].reshape(-1)] = True
         if near_crease.any():
-            label = fan_labels(welded_faces, near_crease, normals, crease_angle, flat, welded_count)
+            label = fan_labels(np.asarray(welded_faces), near_crease, normals, crease_angle, flat, welded_count)
             extra = int(label.max()) + 1 - welded_count
             # Each crease fan (labels from welded_count on, numbered densely) becomes at least one output vertex.
             check_split_count(extra, vertex_limit, name)
