@@ -39,6 +39,7 @@ FILE_FORMATS = {
     "glb": ("glTF (GLB)", []),
     "gltf": ("glTF, its buffer embedded as base64 (a `glTF-Embedded` file)", []),
     "cubes.stl": ("binary STL of separate cubes, every vertex on a crease (a voxel model)", ["--cubes"]),
+    "uvs.ply": ("binary PLY with a `texcoord` list on every face (as MeshLab and Agisoft Metashape export a textured mesh)", ["--face-uvs"]),
     "mixed.ply": ("binary PLY of quads and triangles, with texture coordinates (as Blender writes it)", ["--mixed"]),
     "mixed-ascii.ply": ("ASCII PLY of quads and triangles", ["--mixed", "--ascii"]),
     "mixed.off": ("OFF of quads and triangles", ["--mixed"]),

@@ -16,6 +16,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/mixed-coloured10m.off --mixed --colours --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/ascii10m.stl --ascii --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/points10m.xyz
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/uvs10m.ply --face-uvs --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -23,7 +24,8 @@ order of the torus's grid); `.ply`, a point cloud of COUNT points on a sphere as
 little-endian PLY (float x y z, float nx ny nz, uchar red green blue: 27 bytes a point, as
 scanners write them), or with --triangles the same torus as the STL's as a binary
 little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and MeshLab
-write a scan), or with --mixed as Blender's PLY exporter writes a mesh it does not
+write a scan), or with --face-uvs with a `texcoord` list on every face (as MeshLab and
+Agisoft Metashape export a textured mesh), or with --mixed as Blender's PLY exporter writes a mesh it does not
 triangulate (float x y z, nx ny nz, s t; `list uchar uint`; the torus's quads, every tenth
 as two triangles: faces of two sizes), with --mixed --ascii the same faces in an ASCII PLY;
 `.off`, with --mixed, those faces as a plain OFF, with --colours the torus as a COFF (an
@@ -244,6 +246,28 @@ def write_points_xyz(path: Path, count: int) -> None:
             np.savetxt(file, np.concatenate([points, points], axis=1), fmt="%.6f")
 
 
+def write_torus_ply_face_uvs(path: Path, triangles: int) -> None:
+    """The torus as a binary PLY whose faces carry their corners' texture coordinates (`list
+    uchar int vertex_indices`, `list uchar float texcoord`), as MeshLab and Agisoft Metashape
+    export a textured mesh: the grid's (column, row) / side at each corner, so the vertices
+    of the first column and row take two uvs (the seams where the torus wraps)."""
+    positions, faces = torus(triangles)
+    side = int(round(math.sqrt(len(positions))))
+    i, j = np.meshgrid(np.arange(side), np.arange(side), indexing="ij")
+    corner_uv = {"a": (j, i), "b": (j + 1, i), "c": (j, i + 1), "d": (j + 1, i + 1)}
+    uv = np.concatenate([np.stack([np.stack(corner_uv[k], -1).reshape(-1, 2) for k in names], 1) for names in ("abd", "adc")])
+    records = np.zeros(len(faces), np.dtype([("count", "u1"), ("corners", "<i4", (3,)), ("uv_count", "u1"), ("uv", "<f4", (6,))]))
+    records["count"], records["corners"], records["uv_count"] = 3, faces, 6
+    records["uv"] = (uv / side).reshape(-1, 6)
+    header = (f"ply\nformat binary_little_endian 1.0\ncomment TextureFile torus.png\nelement vertex {len(positions)}\n"
+              "property float x\nproperty float y\nproperty float z\n"
+              f"element face {len(faces)}\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n")
+    with open(path, "wb") as file:
+        file.write(header.encode())
+        positions.tofile(file)
+        records.tofile(file)
+
+
 def write_torus_coff(path: Path, triangles: int) -> None:
     """The torus as a COFF, as MeshLab writes an OFF with vertex colours: `x y z r g b a` a
     vertex line (0..255), then `3 a b c` a face line."""
@@ -361,6 +385,8 @@ def main() -> None:
         writer = WRITERS[path.suffix.lower()]
         if "--triangles" in sys.argv:
             writer = write_torus_ply
+        elif "--face-uvs" in sys.argv:
+            writer = write_torus_ply_face_uvs
         elif "--exported" in sys.argv:
             writer = write_torus_obj_exported
         elif "--cubes" in sys.argv:

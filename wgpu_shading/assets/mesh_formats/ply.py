@@ -21,6 +21,7 @@ from ...errors import MeshError
 from ..mesh_pieces import MeshFile, point_piece
 from .ply_ascii_triangles import read_ascii_triangles
 from .ply_edges import renamed_edge_file
+from .ply_face_uvs import read_face_uvs
 from .ply_header import PLY_TYPES, PlyHeader, ply_declared_counts, read_ply_header
 from .ply_polygons import read_polygons
 from .ply_triangles import read_triangles, triangle_layout
@@ -88,7 +89,8 @@ def read_binary_point_cloud(path: Path, header: PlyHeader, where: str) -> PlyPoi
 
 def read_ply(path: Path, file_size: int) -> MeshFile:
     """A PLY file (assets/meshes.py's reader for .ply): a binary point cloud read here, a
-    binary mesh of faces of one size by ply_triangles.py, any other PLY through trimesh
+    binary mesh of faces of one size by ply_triangles.py (of several by ply_polygons.py,
+    with texcoord lists by ply_face_uvs.py), any other PLY through trimesh
     (trimesh_reader.py); the header's counts are checked against the file's size first."""
     where = f"mesh file {str(path)!r}"
     header = read_ply_header(path, where)
@@ -98,6 +100,8 @@ def read_ply(path: Path, file_size: int) -> MeshFile:
         triangles = read_triangles(path, layout, where) if layout is not None else read_ascii_triangles(path, header, where)
         if triangles is None:  # a binary mesh of faces of several sizes (trimesh reads only one size)
             triangles = read_polygons(path, header, file_size, where)
+        if triangles is None:  # a binary mesh whose faces carry their corners' texture coordinates
+            triangles = read_face_uvs(path, header, file_size, where)
         if triangles is not None:
             return MeshFile([triangles])
         edges = renamed_edge_file(path, header.header_bytes) if header.count("edge") else None

@@ -16,7 +16,8 @@ compares the two on real files and on every case below); any other PLY goes to t
   confidence) are skipped, as trimesh skips them. Texture coordinates (trimesh's names for
   them: TEXTURE_PAIRS) are read by ply_polygons.py, a pair per vertex;
 - face: one list property, vertex_indices or vertex_index, and nothing else (face colours
-  and texcoord lists go to trimesh); every face a polygon of the same size (triangles,
+  go to trimesh; a `texcoord` list after the indices to ply_face_uvs.py); every face a
+  polygon of the same size (triangles,
   quads as quad-remeshers write them, ...): the file is exactly as long as that makes it,
   and every count read is that size (a file of mixed polygons: ply_polygons.py). Polygons
   are cut into triangles as trimesh cuts them (trimesh.geometry.triangulate_quads): a quad
@@ -90,11 +91,14 @@ def fan_count(corners: int, faces: int) -> int:
     return faces * (corners - 2)
 
 
-def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = False) -> tuple[np.dtype, np.dtype] | None:
+def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = False,
+              face_texture: bool = False) -> tuple[np.dtype, np.dtype] | None:
     """A vertex row's and a face's record types (byte order `order`, faces of `corners`
     corners) when the header's elements and properties are of the layout this module reads
     (the module docstring, binary or not), else None. `texture`: vertex texture coordinates
-    too, a pair of texture_pair()'s (ply_polygons.py reads them; here they go to trimesh)."""
+    too, a pair of texture_pair()'s (ply_polygons.py reads them; here they go to trimesh).
+    `face_texture`: the faces' second (and last) property is a `texcoord` list of floats,
+    two a corner (ply_face_uvs.py reads them): ("uv_count", ...), ("uv", ..., (2 × corners,))."""
     filled = [element for element in header.elements if element.count]
     if [element.name for element in filled] != ["vertex", "face"]:
         return None
@@ -112,7 +116,7 @@ def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = F
         return None
     if len({"nx", "ny", "nz"} & set(names)) not in (0, 3):
         return None
-    if len(face.properties) != 1:
+    if len(face.properties) != 1 + face_texture:
         return None
     name, index_kind, count_kind = face.properties[0]
     if name not in INDEX_NAMES or count_kind is None or index_kind not in PLY_TYPES or count_kind not in PLY_TYPES:
@@ -120,8 +124,15 @@ def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = F
     if PLY_TYPES[index_kind][0] not in "iu" or PLY_TYPES[count_kind][0] not in "iu":
         return None
     vertex_row = np.dtype([(name, order + kind) for name, kind in kinds.items()])
-    face_row = np.dtype([("count", order + PLY_TYPES[count_kind]), ("corners", order + PLY_TYPES[index_kind], (corners,))])
-    return vertex_row, face_row
+    fields = [("count", order + PLY_TYPES[count_kind]), ("corners", order + PLY_TYPES[index_kind], (corners,))]
+    if face_texture:
+        uv_name, uv_kind, uv_count_kind = face.properties[1]
+        if uv_name != "texcoord" or uv_count_kind not in PLY_TYPES or uv_kind not in PLY_TYPES:
+            return None
+        if PLY_TYPES[uv_kind][0] != "f" or PLY_TYPES[uv_count_kind][0] not in "iu":
+            return None
+        fields += [("uv_count", order + PLY_TYPES[uv_count_kind]), ("uv", order + PLY_TYPES[uv_kind], (2 * corners,))]
+    return vertex_row, np.dtype(fields)
 
 
 def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece | None:
@@ -145,7 +156,7 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
             file.seek(layout.offset)
             read_vertices(file, layout.vertex, positions, normals, colors, where)
             for start in range(0, layout.faces, BLOCK_ROWS):
-                block = _rows(file, layout.face, min(BLOCK_ROWS, layout.faces - start), where)
+                block = file_rows(file, layout.face, min(BLOCK_ROWS, layout.faces - start), where)
                 if (block["count"] != corners).any():
                     return None
                 cut_polygons(block["corners"], start, layout.faces, faces)
@@ -168,7 +179,7 @@ def read_vertices(file, vertex_row: np.dtype, positions, normals, colors, where:
     channels = [name for name in COLOR_NAMES if name in vertex_row.fields]
     pair = texture_pair(vertex_row.names) if uvs is not None else None
     for start in range(0, len(positions), BLOCK_ROWS):
-        block = _rows(file, vertex_row, min(BLOCK_ROWS, len(positions) - start), where)
+        block = file_rows(file, vertex_row, min(BLOCK_ROWS, len(positions) - start), where)
         rows = slice(start, start + len(block))
         for column, axis in enumerate("xyz"):
             positions[rows, column] = block[axis]
@@ -211,7 +222,8 @@ def mesh_arrays(vertex_row: np.dtype, face_row: np.dtype, vertices: int, faces: 
     return positions, normals, colors, triangles
 
 
-def _rows(file, row: np.dtype, count: int, where: str) -> np.ndarray:
+def file_rows(file, row: np.dtype, count: int, where: str) -> np.ndarray:
+    """`count` records of `row` from the file's position (a MeshError when it has fewer)."""
     block = np.fromfile(file, row, count)
     if len(block) < count:  # the file shrank since its size was taken
         raise MeshError(f"{where}: truncated while it was read")
