@@ -326,7 +326,9 @@ class Mesh:
                 raise MeshError(f"{name}: tangents must have shape ({len(positions)}, 4), got {tangents.shape}")
             tangents = np.ascontiguousarray(np.nan_to_num(tangents, nan=0.0, posinf=0.0, neginf=0.0), dtype=np.float32)
         if uvs is not None:
-            uvs = np.asarray(uvs, dtype=np.float64)
+            uvs = np.asarray(uvs)  # (float32 uvs are checked as they are: a float64 copy was 16 bytes a vertex)
+            if uvs.dtype.kind not in "fiu":
+                uvs = uvs.astype(np.float64)
             if uvs.shape != (len(positions), 2):
                 raise MeshError(f"{name}: uvs must have shape ({len(positions)}, 2), got {uvs.shape}")
             if not np.isfinite(uvs).all():
