@@ -17,6 +17,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/ascii10m.stl --ascii --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/points10m.xyz
     python benchmarks/scripts/load_peak.py 10000000 /tmp/uvs10m.ply --face-uvs --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/seams10m.obj --uv-seams --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
 COUNT triangles as a binary STL (every corner repeated, as STL stores it; triangles in the
@@ -32,7 +33,8 @@ as two triangles: faces of two sizes), with --mixed --ascii the same faces in an
 RGBA colour on every vertex line, as MeshLab writes one), with --mixed --colours the faces of
 two sizes with an RGB colour after each; `.stl` with --ascii, the torus as an ASCII STL (%e
 numbers, as SolidWorks writes them); `.xyz`, COUNT points on a sphere with their normals
-(x y z nx ny nz a line); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines; `.glb`, the same
+(x y z nx ny nz a line); `.obj`, the same torus as an OBJ of `v` and `f a b c` lines, or with --uv-seams of `v`, `vt`
+and `f v/vt` lines (uvs with seams, no normals: Agisoft Metashape's export); `.glb`, the same
 torus as a binary glTF with float32 normals (as Blender exports one); `.gltf`, the same glTF
 with its buffer embedded as a base64 data: URI (a `glTF-Embedded` file); with --cubes an STL of
 about COUNT/12 separate unit cubes on a grid (a voxel model, or a CAD part: every vertex on
@@ -268,6 +270,22 @@ def write_torus_ply_face_uvs(path: Path, triangles: int) -> None:
         records.tofile(file)
 
 
+def write_torus_obj_uv_seams(path: Path, triangles: int) -> None:
+    """The torus as an OBJ of `v`, `vt` and `f v/vt` lines without normals, as Agisoft
+    Metashape exports a textured mesh: a `vt` per grid point of (side + 1)², so the torus's
+    first column and row of vertices take two uvs each (its seams)."""
+    positions, faces = torus(triangles)
+    side = int(round(math.sqrt(len(positions))))
+    i, j = np.meshgrid(np.arange(side), np.arange(side), indexing="ij")
+    corner_vt = {"a": i * (side + 1) + j, "b": i * (side + 1) + j + 1, "c": (i + 1) * (side + 1) + j, "d": (i + 1) * (side + 1) + j + 1}
+    vts = np.concatenate([np.stack([corner_vt[k].reshape(-1) for k in names], 1) for names in ("abd", "adc")])
+    rows, columns = np.meshgrid(np.arange(side + 1), np.arange(side + 1), indexing="ij")
+    with open(path, "w") as file:
+        np.savetxt(file, positions, fmt="v %.6f %.6f %.6f")
+        np.savetxt(file, np.stack([columns.reshape(-1), rows.reshape(-1)], 1) / side, fmt="vt %.6f %.6f")
+        np.savetxt(file, np.stack([faces + 1, vts + 1], 2).reshape(len(faces), 6), fmt="f %d/%d %d/%d %d/%d")
+
+
 def write_torus_coff(path: Path, triangles: int) -> None:
     """The torus as a COFF, as MeshLab writes an OFF with vertex colours: `x y z r g b a` a
     vertex line (0..255), then `3 a b c` a face line."""
@@ -389,6 +407,8 @@ def main() -> None:
             writer = write_torus_ply_face_uvs
         elif "--exported" in sys.argv:
             writer = write_torus_obj_exported
+        elif "--uv-seams" in sys.argv:
+            writer = write_torus_obj_uv_seams
         elif "--cubes" in sys.argv:
             writer = write_cubes_stl
         elif "--colours" in sys.argv:
