@@ -135,3 +135,12 @@ def test_reading_holds_a_few_times_the_arrays(tmp_path, monkeypatch):
         tracemalloc.stop()
     arrays = sum(array.nbytes for array in (piece.positions, piece.faces, piece.uvs))
     assert ply_triangles.BLOCK_ROWS > 4096 and peak < 3.5 * arrays, peak / arrays
+
+
+def test_unused_vertices_beside_texcoords_that_trimesh_reads_are_not_called_truncated(tmp_path, monkeypatch):
+    """A file with normals beside its face texcoords goes to trimesh, which splits vertices by
+    their uvs and leaves out those no face uses: fewer vertices than the header declares,
+    which the check for truncated files took for a file cut short."""
+    path = _write(tmp_path / "unused.ply", normals=True, unused=4, seam_every=1000)  # (no seams: no vertex more)
+    mesh = _read(path, False, monkeypatch)
+    assert len(mesh.positions) == 12 * 12 and mesh.triangle_count == 2 * 11 * 11

@@ -112,8 +112,10 @@ def _trimesh_piece(loaded, path: Path, declared: tuple[int, int] | None) -> Mesh
             colors = np.asarray(vertex_attribute)
         elif face_attribute is not None and len(face_attribute) == len(faces):
             face_colors = np.asarray(face_attribute)
-    if declared is not None and (len(positions) < declared[0] or len(faces) < declared[1]):
+    if declared is not None and len(faces) < declared[1]:
         # Polygons become one or more triangles each, so a whole file has at least as many.
+        # (Not its vertices: trimesh leaves out those no face uses when it splits vertices by
+        # their faces' texcoords, and a file cut short among its vertices has no faces left.)
         raise MeshError(
             f"mesh file {str(path)!r}: truncated: the header declares {declared[0]} vertices and {declared[1]} faces, "
             f"the file holds {len(positions)} vertices and {len(faces)} triangles"
