@@ -1,5 +1,5 @@
-"""Binary PLY meshes whose faces carry a `texcoord` list (MeshLab's and Agisoft Metashape's
-textured exports), read a block of faces at a time (assets/mesh_formats/ply_face_uvs.py)
+"""PLY meshes (binary and ASCII) whose faces carry a `texcoord` list (MeshLab's and Agisoft
+Metashape's textured exports), read a block of faces at a time (assets/mesh_formats/ply_face_uvs.py)
 against trimesh's reading of the same file: the same corners (position and uv) and as many
 vertices, each vertex split by its corners' uvs; without seams the very same arrays. Every
 file is written here."""
@@ -18,7 +18,7 @@ from wgpu_shading.assets.mesh_formats import ply, ply_face_uvs
 
 
 def _write(path, side: int = 12, seam_every: int = 3, order: str = "<", uv_type: str = "float", quality: bool = False,
-           unused: int = 0, normals: bool = False, quads: bool = False, bad: str | None = None):
+           unused: int = 0, normals: bool = False, quads: bool = False, bad: str | None = None, ascii: bool = False):
     """A wavy grid of side² vertices (and `unused` more no face uses), its triangles in a
     shuffled order, each corner's uv its vertex's, except along every seam_every-th column,
     where the left corners take a second uv (a seam: one position, two uvs)."""
@@ -51,13 +51,19 @@ def _write(path, side: int = 12, seam_every: int = 3, order: str = "<", uv_type:
         records["i"][3, 1] = len(positions) + 2
     elif bad == "nan":
         records["uv"][5, 0] = np.nan
-    header = (f"ply\nformat {'binary_little_endian' if order == '<' else 'binary_big_endian'} 1.0\ncomment TextureFile grid.png\n"
+    encoding = "ascii" if ascii else "binary_little_endian" if order == "<" else "binary_big_endian"
+    header = (f"ply\nformat {encoding} 1.0\ncomment TextureFile grid.png\n"
               f"element vertex {len(positions)}\n" + "".join(f"property {'float'} {name}\n" for name, _ in properties)
               + f"element face {len(faces)}\nproperty list uchar int vertex_indices\nproperty list uchar {uv_type} texcoord\nend_header\n")
     with open(path, "wb") as file:
         file.write(header.encode())
-        vertices.tofile(file)
-        records.tofile(file)
+        if ascii:  # every value as a C float prints it (%.9g: float32 round-trips), a record a line
+            file.write("".join(" ".join("%.9g" % value for value in row) + "\n" for row in vertices.tolist()).encode())
+            file.write("".join("%d %s %d %s\n" % (n, " ".join(map(str, i)), m, " ".join("%.9g" % x for x in uv))
+                               for n, i, m, uv in records.tolist()).encode())
+        else:
+            vertices.tofile(file)
+            records.tofile(file)
     return path
 
 
@@ -82,7 +88,8 @@ def _corners(mesh) -> list:
     return sorted(map(tuple, np.round(rows, 6).tolist()))
 
 
-@pytest.mark.parametrize("options", [{}, {"order": ">"}, {"uv_type": "double"}, {"quality": True}, {"unused": 5}, {"side": 40, "seam_every": 7}])
+@pytest.mark.parametrize("options", [{}, {"order": ">"}, {"uv_type": "double"}, {"quality": True}, {"unused": 5}, {"side": 40, "seam_every": 7},
+                                     {"ascii": True}, {"ascii": True, "uv_type": "double", "quality": True}])
 def test_corners_and_vertex_counts_are_trimeshs(tmp_path, monkeypatch, options):
     path = _write(tmp_path / "uvs.ply", **options)
     ours, theirs = _read(path, False, monkeypatch), _read(path, True, monkeypatch)
@@ -91,8 +98,9 @@ def test_corners_and_vertex_counts_are_trimeshs(tmp_path, monkeypatch, options):
     assert _corners(ours) == _corners(theirs)
 
 
-def test_without_seams_the_arrays_are_trimeshs(tmp_path, monkeypatch):
-    path = _write(tmp_path / "smooth.ply", side=20, seam_every=1000)
+@pytest.mark.parametrize("ascii", [False, True])
+def test_without_seams_the_arrays_are_trimeshs(tmp_path, monkeypatch, ascii):
+    path = _write(tmp_path / "smooth.ply", side=20, seam_every=1000, ascii=ascii)
     ours, theirs = _read(path, False, monkeypatch), _read(path, True, monkeypatch)
     for name in ("positions", "indices", "normals", "uvs"):
         np.testing.assert_array_equal(getattr(ours, name), getattr(theirs, name), err_msg=name)
@@ -105,17 +113,19 @@ def test_this_reader_reads_them_and_leaves_the_rest_to_trimesh(tmp_path):
         header = read_ply_header(path, "test")
         return ply_face_uvs.read_face_uvs(path, header, path.stat().st_size, "test") is not None
 
-    assert taken(_write(tmp_path / "plain.ply"))
+    assert taken(_write(tmp_path / "plain.ply")) and taken(_write(tmp_path / "ascii.ply", ascii=True))
+    assert not taken(_write(tmp_path / "ascii_quads.ply", ascii=True, quads=True))
     assert not taken(_write(tmp_path / "normals.ply", normals=True))  # trimesh drops them once it splits vertices
     assert not taken(_write(tmp_path / "quads.ply", quads=True))  # trimesh ignores quads' texcoords
     assert not taken(_write(tmp_path / "nan.ply", bad="nan"))
     assert not taken(_write(tmp_path / "index.ply", bad="index"))
 
 
+@pytest.mark.parametrize("ascii", [False, True])
 @pytest.mark.parametrize("bad, words", [("index", "refers to a vertex that does not exist"), ("nan", "NaN or infinite")])
-def test_bad_files_are_the_errors_they_were(tmp_path, bad, words):
+def test_bad_files_are_the_errors_they_were(tmp_path, bad, words, ascii):
     with pytest.raises(MeshError, match=words):
-        load_mesh(_write(tmp_path / "bad.ply", bad=bad))
+        load_mesh(_write(tmp_path / "bad.ply", bad=bad, ascii=ascii))
 
 
 def test_reading_holds_a_few_times_the_arrays(tmp_path, monkeypatch):
