@@ -52,10 +52,9 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
             return None
         vertex_lines, face_lines = section
         if vertex_lines:
-            values = parse_floats("\n".join(vertex_lines))
-            if values is None or values.size != len(names) * len(vertex_lines):
+            values = line_values(vertex_lines, len(names))
+            if values is None:
                 return None
-            values = values.reshape(len(vertex_lines), len(names))
             rows_read = slice(vertices_read, vertices_read + len(vertex_lines))
             for column, axis in enumerate("xyz"):  # each value given its property's type first, as trimesh gives it
                 positions[rows_read, column] = values[:, columns[axis]].astype(vertex_row.fields[axis][0])
@@ -108,6 +107,15 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
     if path.stat().st_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
+
+
+def line_values(lines: list[str], width: int) -> np.ndarray | None:
+    """A block of lines' numbers, (lines, width) float64, read in C; None when they are not
+    `width` numbers a line (trimesh then reads the file)."""
+    values = parse_floats("\n".join(lines))
+    if values is None or values.size != width * len(lines):
+        return None
+    return values.reshape(len(lines), width)
 
 
 def _mixed_faces(path: Path, header: PlyHeader, where: str, sizes: tuple[int, int, int], index_type) -> np.ndarray:

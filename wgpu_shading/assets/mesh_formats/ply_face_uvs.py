@@ -33,8 +33,8 @@ from ..files import text_line_blocks
 from ..mesh_pieces import MeshPiece
 from .corner_join import CornerJoin
 from .line_sections import ascii_texts, vertex_and_face_lines
-from .number_text import parse_floats
 from .obj_vertices import CornerTriples
+from .ply_ascii_triangles import line_values
 from .ply_header import PlyHeader
 from .ply_triangles import BLOCK_ROWS, COLOR_NAMES, file_rows, float_type, mesh_rows, read_vertices
 
@@ -122,28 +122,22 @@ def _read_ascii(path: Path, header: PlyHeader, vertex_row, split: _UvSplit, wher
     names = list(vertex_row.names)
     positions = np.empty((split.vertex_count, 3), float_type(vertex_row.fields, "xyz"))
     uv_type = np.float32 if split.join.dtype.itemsize == 4 else np.float64
-    vertices_read = 0
-    texts = ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes)
-    for section in vertex_and_face_lines(texts, split.vertex_count, header.count("face")):
+    read = 0  # vertices
+    sections = vertex_and_face_lines(ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes),
+                                     split.vertex_count, header.count("face"))
+    for section in sections:
         if section is None:
             return None
-        vertex_lines, face_lines = section
-        if vertex_lines:
-            values = parse_floats("\n".join(vertex_lines))
-            if values is None or values.size != len(names) * len(vertex_lines):
-                return None
-            values = values.reshape(len(vertex_lines), len(names))
-            for column, axis in enumerate("xyz"):
-                positions[vertices_read : vertices_read + len(vertex_lines), column] = values[:, names.index(axis)].astype(vertex_row.fields[axis][0])
-            vertices_read += len(vertex_lines)
-        if face_lines:
-            values = parse_floats("\n".join(face_lines))
-            if values is None or values.size != 11 * len(face_lines):
-                return None
-            values = values.reshape(len(face_lines), 11)
-            corners = values[:, 1:4]
-            if (values[:, 0] != 3).any() or (values[:, 4] != 6).any() or (corners != np.floor(corners)).any():
-                return None
-            if not split.add(corners.reshape(-1).astype(np.int64), values[:, 5:].astype(uv_type).reshape(-1, 2)):
-                return None
+        vertices = line_values(section[0], len(names)) if section[0] else np.empty((0, len(names)))
+        faces = line_values(section[1], 11) if section[1] else np.empty((0, 11))  # 3 a b c 6 u v u v u v
+        if vertices is None or faces is None:
+            return None
+        for column, axis in enumerate("xyz"):
+            positions[read : read + len(vertices), column] = vertices[:, names.index(axis)].astype(vertex_row.fields[axis][0])
+        read += len(vertices)
+        corners = faces[:, 1:4]
+        if (faces[:, 0] != 3).any() or (faces[:, 4] != 6).any() or (corners != np.floor(corners)).any():
+            return None
+        if len(faces) and not split.add(corners.reshape(-1).astype(np.int64), faces[:, 5:].astype(uv_type).reshape(-1, 2)):
+            return None
     return positions
