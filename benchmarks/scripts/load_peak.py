@@ -17,6 +17,7 @@ in a fresh process (Linux).
     python benchmarks/scripts/load_peak.py 10000000 /tmp/ascii10m.stl --ascii --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/points10m.xyz
     python benchmarks/scripts/load_peak.py 10000000 /tmp/uvs10m.ply --face-uvs --render 512
+    python benchmarks/scripts/load_peak.py 10000000 /tmp/ascii-uvs10m.ply --face-uvs --ascii --render 512
     python benchmarks/scripts/load_peak.py 10000000 /tmp/seams10m.obj --uv-seams --render 512
 
 Writes the file when it does not exist, by its suffix: `.stl`, a smooth torus of about
@@ -26,7 +27,7 @@ little-endian PLY (float x y z, float nx ny nz, uchar red green blue: 27 bytes a
 scanners write them), or with --triangles the same torus as the STL's as a binary
 little-endian PLY mesh (float x y z; list uchar int vertex_indices, as VTK and MeshLab
 write a scan), or with --face-uvs with a `texcoord` list on every face (as MeshLab and
-Agisoft Metashape export a textured mesh), or with --mixed as Blender's PLY exporter writes a mesh it does not
+Agisoft Metashape export a textured mesh; with --ascii as an ASCII PLY), or with --mixed as Blender's PLY exporter writes a mesh it does not
 triangulate (float x y z, nx ny nz, s t; `list uchar uint`; the torus's quads, every tenth
 as two triangles: faces of two sizes), with --mixed --ascii the same faces in an ASCII PLY;
 `.off`, with --mixed, those faces as a plain OFF, with --colours the torus as a COFF (an
@@ -261,13 +262,21 @@ def write_torus_ply_face_uvs(path: Path, triangles: int) -> None:
     records = np.zeros(len(faces), np.dtype([("count", "u1"), ("corners", "<i4", (3,)), ("uv_count", "u1"), ("uv", "<f4", (6,))]))
     records["count"], records["corners"], records["uv_count"] = 3, faces, 6
     records["uv"] = (uv / side).reshape(-1, 6)
-    header = (f"ply\nformat binary_little_endian 1.0\ncomment TextureFile torus.png\nelement vertex {len(positions)}\n"
+    encoding = "ascii" if "--ascii" in sys.argv else "binary_little_endian"
+    header = (f"ply\nformat {encoding} 1.0\ncomment TextureFile torus.png\nelement vertex {len(positions)}\n"
               "property float x\nproperty float y\nproperty float z\n"
               f"element face {len(faces)}\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n")
     with open(path, "wb") as file:
         file.write(header.encode())
-        positions.tofile(file)
-        records.tofile(file)
+        if encoding == "ascii":  # (with --ascii: a vertex a line, then `3 a b c 6 u v u v u v` a line)
+            np.savetxt(file, positions, fmt="%.6f")
+            for start in range(0, len(faces), 1 << 20):
+                block = records[start : start + (1 << 20)]
+                np.savetxt(file, np.concatenate([np.full((len(block), 1), 3), block["corners"], np.full((len(block), 1), 6), block["uv"]], axis=1),
+                           fmt="%d %d %d %d %d %.6f %.6f %.6f %.6f %.6f %.6f")
+        else:
+            positions.tofile(file)
+            records.tofile(file)
 
 
 def write_torus_obj_uv_seams(path: Path, triangles: int) -> None:
