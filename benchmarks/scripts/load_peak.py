@@ -177,21 +177,24 @@ def torus_quads(triangles: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return positions, quads, np.arange(len(quads)) % 10 == 0
 
 
-def mixed_face_text(quads: np.ndarray, halved: np.ndarray):
-    """The face lines (`4 a b c d`, or `3 a b c` twice) a block of quads at a time."""
+def mixed_face_text(quads: np.ndarray, halved: np.ndarray, coloured: bool = False):
+    """The face lines (`4 a b c d`, or `3 a b c` twice) a block of quads at a time; coloured:
+    each with an RGB colour after its indices (`number % 256` 128 200: 0..255, as MeshLab)."""
     for start in range(0, len(quads), 1 << 16):
         lines = []
-        for quad, halve in zip(quads[start : start + (1 << 16)].tolist(), halved[start : start + (1 << 16)].tolist()):
+        for number, (quad, halve) in enumerate(zip(quads[start : start + (1 << 16)].tolist(), halved[start : start + (1 << 16)].tolist()), start):
+            colour = " %d 128 200" % (number % 256) if coloured else ""
             if halve:
-                lines += ["3 %d %d %d" % (quad[0], quad[1], quad[2]), "3 %d %d %d" % (quad[0], quad[2], quad[3])]
+                lines += ["3 %d %d %d%s" % (quad[0], quad[1], quad[2], colour), "3 %d %d %d%s" % (quad[0], quad[2], quad[3], colour)]
             else:
-                lines.append("4 %d %d %d %d" % tuple(quad))
+                lines.append("4 %d %d %d %d%s" % (*quad, colour))
         yield "\n".join(lines) + "\n"
 
 
-def write_torus_text_mixed(path: Path, triangles: int) -> None:
-    """The torus as a text file of faces of two sizes (torus_quads): a plain OFF, or an
-    ASCII PLY (float x y z; `list uchar int vertex_indices`)."""
+def write_torus_text_mixed(path: Path, triangles: int, coloured: bool = False) -> None:
+    """The torus as a text file of faces of two sizes (torus_quads): a plain OFF (coloured:
+    an RGB colour after each face's indices), or an ASCII PLY (float x y z; `list uchar int
+    vertex_indices`)."""
     positions, quads, halved = torus_quads(triangles)
     faces = len(quads) + int(halved.sum())
     with open(path, "w") as file:
@@ -201,26 +204,8 @@ def write_torus_text_mixed(path: Path, triangles: int) -> None:
             file.write(f"ply\nformat ascii 1.0\ncomment load_peak.py\nelement vertex {len(positions)}\nproperty float x\n"
                        f"property float y\nproperty float z\nelement face {faces}\nproperty list uchar int vertex_indices\nend_header\n")
         np.savetxt(file, positions, fmt="%.6f")
-        for text in mixed_face_text(quads, halved):
+        for text in mixed_face_text(quads, halved, coloured):
             file.write(text)
-
-
-def write_torus_off_coloured(path: Path, triangles: int) -> None:
-    """The torus's faces of two sizes (torus_quads) as a plain OFF with an RGB colour (0..255)
-    after each face's indices."""
-    positions, quads, halved = torus_quads(triangles)
-    with open(path, "w") as file:
-        file.write(f"OFF\n{len(positions)} {len(quads) + int(halved.sum())} 0\n")
-        np.savetxt(file, positions, fmt="%.6f")
-        for start in range(0, len(quads), 1 << 16):
-            lines = []
-            for number, (quad, halve) in enumerate(zip(quads[start : start + (1 << 16)].tolist(), halved[start : start + (1 << 16)].tolist()), start):
-                colour = "%d 128 200" % (number % 256)
-                if halve:
-                    lines += ["3 %d %d %d %s" % (quad[0], quad[1], quad[2], colour), "3 %d %d %d %s" % (quad[0], quad[2], quad[3], colour)]
-                else:
-                    lines.append("4 %d %d %d %d %s" % (*quad, colour))
-            file.write("\n".join(lines) + "\n")
 
 
 def write_torus_stl_ascii(path: Path, triangles: int) -> None:
@@ -421,7 +406,7 @@ def main() -> None:
         elif "--cubes" in sys.argv:
             writer = write_cubes_stl
         elif "--colours" in sys.argv:
-            writer = write_torus_off_coloured if "--mixed" in sys.argv else write_torus_coff
+            writer = (lambda path, count: write_torus_text_mixed(path, count, coloured=True)) if "--mixed" in sys.argv else write_torus_coff
         elif "--ascii" in sys.argv and path.suffix.lower() == ".stl":
             writer = write_torus_stl_ascii
         elif "--mixed" in sys.argv:

@@ -183,16 +183,15 @@ def _mixed_face_colours(blocks: list[tuple[np.ndarray, np.ndarray] | int]) -> np
     present = [rows[~np.isnan(rows)] for rows in coloured]
     if not any(values.size for values in present):
         return None
-    largest = max(float(values.max(initial=0.0)) for values in present)
-    full = 255.0 if largest > 1.0 else 1.0
-    scale = 255.0 if max(largest, full) > 1.0 else 1.0
+    # (unit_colors_by_largest divides by 255 exactly where `full` is 255: the padding is among its values)
+    full = 255.0 if max(float(values.max(initial=0.0)) for values in present) > 1.0 else 1.0
     parts = []
     for block in blocks:
         if isinstance(block, int):
-            parts.append(np.full((block, 4), full / scale))
+            parts.append(np.full((block, 4), 1.0))
         else:
             rows, fans = block
-            parts.append(np.repeat(np.clip(np.where(np.isnan(rows), full, rows) / scale, 0.0, 1.0), fans, axis=0))
+            parts.append(np.repeat(np.clip(np.where(np.isnan(rows), full, rows) / full, 0.0, 1.0), fans, axis=0))
     return np.concatenate(parts)
 
 

@@ -95,7 +95,7 @@ class _UvSplit:
         rank = np.arange(self.uv_ids, dtype=np.uint32)  # each uv's id (in the order met), renumbered to its sorted row
         uv_values = self.join.finish(rank)[rank, :2]
         piece = MeshPiece(positions[combos[:, 0]], faces, None, uv_values[combos[:, 1]], parts=[(0, len(faces), None, name)])
-        del positions, combos, uv_values, rank
+        del combos, uv_values, rank
         return_freed_memory()  # the blocks' and the pairs' arrays, before the crease analysis's
         return piece
 
@@ -121,7 +121,6 @@ def _read_ascii(path: Path, header: PlyHeader, vertex_row, split: _UvSplit, wher
     ply_ascii_triangles.py reads them)."""
     names = list(vertex_row.names)
     positions = np.empty((split.vertex_count, 3), float_type(vertex_row.fields, "xyz"))
-    uv_type = np.float32 if split.join.dtype.itemsize == 4 else np.float64
     read = 0  # vertices
     sections = vertex_and_face_lines(ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes),
                                      split.vertex_count, header.count("face"))
@@ -138,6 +137,6 @@ def _read_ascii(path: Path, header: PlyHeader, vertex_row, split: _UvSplit, wher
         corners = faces[:, 1:4]
         if (faces[:, 0] != 3).any() or (faces[:, 4] != 6).any() or (corners != np.floor(corners)).any():
             return None
-        if len(faces) and not split.add(corners.reshape(-1).astype(np.int64), faces[:, 5:].astype(uv_type).reshape(-1, 2)):
+        if len(faces) and not split.add(corners.reshape(-1).astype(np.int64), faces[:, 5:].astype(split.join.dtype).reshape(-1, 2)):
             return None
     return positions

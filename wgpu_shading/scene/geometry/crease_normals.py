@@ -44,8 +44,8 @@ class WeldedFaces:
     this (F, 3) copy of its faces through the whole analysis, 120 MB at 10M triangles, where
     only blocks of it are read unless some vertex is near a crease."""
 
-    def __init__(self, welded: np.ndarray, faces: np.ndarray, shape: tuple[int, ...] | None = None):
-        self.welded, self.faces = welded, faces if shape is None else faces.reshape(shape)
+    def __init__(self, welded: np.ndarray, faces: np.ndarray):
+        self.welded, self.faces = welded, faces
 
     def __len__(self) -> int:
         return len(self.faces)
@@ -57,7 +57,7 @@ class WeldedFaces:
         return self.welded[self.faces] if dtype is None else self.welded[self.faces].astype(dtype)
 
     def reshape(self, *shape) -> "WeldedFaces":
-        return WeldedFaces(self.welded, self.faces, shape[0] if len(shape) == 1 and isinstance(shape[0], tuple) else shape)
+        return WeldedFaces(self.welded, self.faces.reshape(*shape))
 
 
 def weld_by_position(positions: np.ndarray) -> np.ndarray:
