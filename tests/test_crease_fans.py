@@ -177,11 +177,11 @@ def test_a_mesh_whose_every_vertex_is_on_a_crease_takes_a_bounded_multiple_of_it
     """20,000 cubes (240K triangles, 480K vertices once split): tracemalloc's peak of the
     crease normals and the Mesh, over the Mesh's arrays, with blocks and ranges ~1/32 of
     their size (so that they are as small against this mesh as against 10M triangles):
-    2.0× now, 3.6× with int64 ids, float64 fan sums of every fan at once and float64
+    1.9× now (2.0× while the vertex sums were kept per corner slot), 3.6× with int64 ids, float64 fan sums of every fan at once and float64
     normals (the 10M-triangle voxel STL: 2.41× resident to load, 3.95× before)."""
     for module, name, value in (
         (corner_ids, "SCAN_BLOCK", 1 << 17), (creases, "SCAN_BLOCK", 1 << 17), (corner_ids, "RANGE_IDS", 1 << 15),
-        (crease_fans, "RANGE_IDS", 1 << 15), (fan_normals, "FAN_RANGE", 1 << 16), (fan_normals, "ONE_PASS_BYTES", 1 << 20),
+        (crease_fans, "RANGE_IDS", 1 << 15), (fan_normals, "FAN_RANGE", 1 << 16),
         (face_normals, "FACE_BLOCK", 2048), (fan_normals, "FACE_BLOCK", 2048), (creases, "FACE_BLOCK", 2048),
         (crease_fans, "FACE_BLOCK", 2048), (face_normals, "KEPT_FACES", 0),
     ):
@@ -197,3 +197,47 @@ def test_a_mesh_whose_every_vertex_is_on_a_crease_takes_a_bounded_multiple_of_it
     np.testing.assert_array_equal(np.abs(mesh.normals).max(axis=1), 1.0)
     arrays = mesh.positions.nbytes + mesh.normals.nbytes + mesh.indices.nbytes
     assert peak < 2.4 * arrays, f"{peak / arrays:.2f}x the mesh arrays"
+
+
+def _seamed_torus(segments: int, rings: int):
+    """A smooth torus whose grid is cut open along one ring and one segment, as a textured
+    mesh's UV seams cut it: the seams' vertices repeated (same positions), no crease."""
+    u = np.linspace(0.0, 2.0 * np.pi, segments + 1)  # the last column repeats the first
+    v = np.linspace(0.0, 2.0 * np.pi, rings + 1)
+    uu, vv = np.meshgrid(u, v, indexing="ij")
+    positions = np.stack([(1.0 + 0.4 * np.cos(vv)) * np.cos(uu), (1.0 + 0.4 * np.cos(vv)) * np.sin(uu), 0.4 * np.sin(vv)], axis=-1)
+    positions = positions.reshape(-1, 3)
+    grid = np.arange((segments + 1) * (rings + 1)).reshape(segments + 1, rings + 1)
+    a, b, c, d = grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:], grid[:-1, 1:]
+    faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    return positions, faces.astype(np.uint32)
+
+
+def test_welding_a_seamed_mesh_keeps_one_array_of_vertex_sums(monkeypatch):
+    """A mesh whose vertices repeat positions along its UV seams (an OBJ with `vt` and no
+    `vn`, as Agisoft Metashape writes one) and no crease: the vertex sums are one
+    (vertices, 3) float64 array, summed face by face in corner order, and the mean normals
+    are the float32 of the reference's, bit for bit (each vertex's unit face normals
+    summed in corner order, as fan_normals sums a fan's). Summed a corner slot at a time (three (3, vertices) arrays and a transposed
+    copy), the analysis's tracemalloc peak was 3.9× the float64 positions, now 2.3×; the 10M-triangle
+    OBJ's load peak was 2.85× its Mesh arrays, now 2.7× (docs/performance.md, "Memory")."""
+    for module, name, value in ((face_normals, "FACE_BLOCK", 2048), (fan_normals, "FACE_BLOCK", 2048),
+                                (creases, "FACE_BLOCK", 2048), (crease_fans, "FACE_BLOCK", 2048), (face_normals, "KEPT_FACES", 0)):
+        monkeypatch.setattr(module, name, value)
+    positions, faces = _seamed_torus(300, 200)
+    tracemalloc.start()
+    try:
+        source, given_faces, normals = creases.crease_normals(positions, faces, 60.0)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert source is None and given_faces is not None  # no crease: the vertices as given
+    assert peak < 2.6 * positions.nbytes, f"{peak / positions.nbytes:.2f}x the positions"
+    welded = {}
+    ids = [welded.setdefault(tuple(p), len(welded)) for p in positions.tolist()]
+    unit, _ = face_normals.face_normals(positions, faces)  # (the same face normals: the order of the sums is what is tested)
+    sums = np.zeros((len(welded), 3))
+    for corner, vertex in enumerate(faces.reshape(-1)):  # corner order
+        sums[ids[vertex]] += unit[corner // 3]
+    expected = (sums / np.sqrt(np.einsum("ij,ij->i", sums, sums))[:, None]).astype(np.float32)
+    np.testing.assert_array_equal(normals, expected[ids])

@@ -13,9 +13,14 @@ from typing import Callable
 import numpy as np
 
 from ..errors import MeshError
+from ..scene.freed_memory import return_freed_memory
 from ..scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES, Mesh, MeshPart, check_counts, face_normals
 from ..scene.geometry.crease_normals import crease_normals
 
+# A mesh of more vertices than this hands its load's freed temporaries back once assembled
+# (scene/freed_memory.py): the gathers and conversions of its arrays into a Mesh left
+# ~50-90 MB of a 10M-triangle OBJ's on glibc's heap, under the render's peak, which comes next.
+TRIMMED_VERTICES = 1 << 20
 
 @dataclass
 class MeshPiece:
@@ -214,7 +219,7 @@ def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
     def joined(arrays: list) -> np.ndarray | None:  # one piece (a PLY, an STL): no copy
         return None if not arrays else arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
 
-    return Mesh.from_arrays(
+    mesh = Mesh.from_arrays(
         joined(positions),
         joined(faces),
         normals=joined(normals),
@@ -226,3 +231,6 @@ def assemble(pieces: list[MeshPiece], name: str, crease_angle: float) -> Mesh:
         lines=joined(lines),
         extra_uvs=joined(extra_uvs),
     )
+    if vertex_offset > TRIMMED_VERTICES:
+        return_freed_memory()
+    return mesh

@@ -109,7 +109,17 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
     for a block of faces at a time, and again for the few faces the crease analysis looks
     at. The per-vertex sums are the largest arrays (docs/reliability.md).
     """
-    positions, faces = float_positions(positions), _indices(faces)
+    result = _creased(float_positions(positions), _indices(faces), crease_angle, flat_faces, vertex_limit, name)
+    if np.size(faces) > SCAN_BLOCK:
+        # A big mesh's temporaries handed back, whichever way the analysis ended: its blocks'
+        # arrays are freed onto glibc's heap, which kept 240 MB of a 10M-triangle OBJ's
+        # resident under the render's peak, which comes next (scene/freed_memory.py).
+        return_freed_memory()
+    return result
+
+
+def _creased(positions: np.ndarray, faces: np.ndarray, crease_angle: float, flat_faces, vertex_limit, name: str):
+    """crease_normals of float positions and integer faces."""
     vertex_count = len(positions)
     welded = weld_by_position(positions)
     welded_count = int(welded.max()) + 1
@@ -168,6 +178,7 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
                 del crease_corners
     if label is corner_welded:  # one fan per welded vertex: every given vertex takes its vertex's (table: the float64 means)
         table = table.astype(np.float32)
+        del mean_normal  # (the float64 means, 24 bytes a vertex, let go before the gather below)
         return None, _uint32(faces), table if welded_count == vertex_count else table[welded]  # welded: the identity, or not
     flat_corners = faces.reshape(-1)
     # Does every given vertex lie in exactly one fan? Then no vertex needs splitting.
@@ -179,10 +190,7 @@ def crease_normals(positions: np.ndarray, faces: np.ndarray, crease_angle: float
         used = vertex_fan >= 0
         normals[used] = table[vertex_fan[used]]
         return None, _uint32(faces), normals
-    result = split_vertices(flat_corners, label, vertex_fan, table, split)
-    if len(flat_corners) > SCAN_BLOCK:  # a big mesh's per-corner temporaries handed back: the render's peak comes next
-        return_freed_memory()
-    return result
+    return split_vertices(flat_corners, label, vertex_fan, table, split)
 
 
 def check_split_count(at_least: int, vertex_limit: int | None, name: str) -> None:

@@ -10,15 +10,18 @@ import numpy as np
 from .corner_ids import MAX_RANGES, ids_where
 from .face_normals import FACE_BLOCK, FaceNormals
 
-ONE_PASS_BYTES = 64 << 20  # per-vertex sums up to this size take one pass over the faces (mean_normals)
 FAN_RANGE = 1 << 21  # fans summed at a time (fan_normals): 64 MB of float64 sums
 
 
 def _normalized(summed: np.ndarray, adjacent: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(unit sums, their lengths, cancelled), normalized in place: a sum of k unit vectors
     shorter than 1e-6·k has cancelled, its direction is noise (left zero here)."""
-    length = np.sqrt(np.einsum("ij,ij->i", summed, summed))
-    good = length > 1e-6 * np.maximum(adjacent, 1.0)
+    length = np.einsum("ij,ij->i", summed, summed)
+    np.sqrt(length, out=length)
+    least = np.maximum(adjacent, 1.0)  # (per-vertex temporaries one at a time: 8 bytes a vertex each)
+    least *= 1e-6
+    good = length > least
+    del least
     np.divide(summed, length[:, None], out=summed, where=good[:, None])
     summed[~good] = 0.0
     return summed, length, ~good & (adjacent > 0)
@@ -61,17 +64,16 @@ def mean_normals(normals: FaceNormals, welded_faces, count: int):
     k − |sum| (how far its k unit normals are from all being equal), and the faces without
     area. One pass over blocks of faces: no per-face array is kept.
 
-    The sums are bit for bit those of summing every face in order per corner slot k, then
-    the three slots (np.add.at continues a block where the last one stopped, exactly as one
-    np.bincount over all faces would): the normals do not depend on the block size."""
+    Each vertex's sum runs over its corners in corner order (face by face), as fan_normals
+    sums a fan's and as one np.bincount over every corner would: np.add.at continues a
+    block where the last one stopped, so the normals do not depend on the block size. The
+    sums are kept as (count, 3) rows, what the rest of the analysis reads: one per-vertex
+    array of sums (24 bytes a vertex) and the counts beside them. Summed a corner slot at a
+    time instead (three (3, count) arrays, then a transposed copy), a 10M-triangle mesh
+    held 280 MB here, twice what this holds, and computed every face's normal twice."""
     adjacent = np.zeros(count)
     degenerate = []
-    # Slot 0 sums straight into `summed` (0 + its sum is its sum); slot 1, then slot 2, are
-    # added to it when complete. Slots 0 and 1 take one pass over the faces and slot 2 a
-    # second (face normals computed twice): six per-vertex arrays alive at most, not nine.
-    # Small meshes, whose sums cost little memory, take all three slots in one pass.
-    passes = ((0, 1, 2),) if count * 72 <= ONE_PASS_BYTES else ((0, 1), (2,))
-    summed = np.zeros((3, count))  # component j of the sum: summed[j]
+    summed = np.zeros((count, 3))
     # A small mesh keeps its face normals: all faces are one block, and a bincount is the
     # same sum as add.at into zeros, and faster.
     block = max(len(welded_faces), 1) if normals.kept is not None else FACE_BLOCK
@@ -80,29 +82,19 @@ def mean_normals(normals: FaceNormals, welded_faces, count: int):
             sums += np.bincount(labels, weights=weights, minlength=count)
     else:
         add_at = np.add.at
-    for slots in passes:
-        sums = {k: summed if k == 0 else np.zeros((3, count)) for k in slots}
-        for start in range(0, len(welded_faces), block):
-            unit, area = normals.of(slice(start, start + block))
-            unit = [np.ascontiguousarray(unit[:, j]) for j in range(3)]  # add.at's fast path: contiguous, same types
-            labels = welded_faces[start : start + block].astype(np.intp)
-            for k in slots:
-                corner_labels = np.ascontiguousarray(labels[:, k])
-                for j in range(3):
-                    add_at(sums[k][j], corner_labels, unit[j])
-            if 0 in slots:  # faces with area around each vertex: whole numbers, exact in any order
-                has_area = (area > 0).astype(np.float64)
-                for slot in range(3):
-                    add_at(adjacent, np.ascontiguousarray(labels[:, slot]), has_area)
-                degenerate.append(np.flatnonzero(area <= 0) + start)
-        for k in slots:  # ((slot 0) + slot 1) + slot 2: one bincount per slot, added in turn
-            if k:
-                summed += sums.pop(k)
-    summed = np.ascontiguousarray(summed.T)
+    for start in range(0, len(welded_faces), block):
+        unit, area = normals.of(slice(start, start + block))
+        labels = welded_faces[start : start + block].astype(np.intp).reshape(-1)  # the block's corners, in order
+        for j in range(3):
+            add_at(summed[:, j], labels, np.repeat(unit[:, j], 3))
+        # faces with area around each vertex: whole numbers, exact in any order
+        add_at(adjacent, labels, np.repeat((area > 0).astype(np.float64), 3))
+        degenerate.append(np.flatnonzero(area <= 0) + start)
     mean_normal, length, cancelled = _normalized(summed, adjacent)
     if cancelled.any():
         largest_face_normals(mean_normal, cancelled, welded_faces.reshape(-1), None, normals)
-    return mean_normal, adjacent - length, np.concatenate(degenerate)
+    spread = np.subtract(adjacent, length, out=adjacent)  # (in place: no third per-vertex array)
+    return mean_normal, spread, np.concatenate(degenerate)
 
 
 def fan_normals(labels, corner_faces, normals: FaceNormals, out: np.ndarray) -> None:
