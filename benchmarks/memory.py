@@ -36,6 +36,7 @@ FILE_SCRIPT = Path(__file__).resolve().parent / "scripts" / "load_peak.py"
 FILE_FORMATS = {
     "stl": ("binary STL", []), "ply": ("binary PLY", ["--triangles"]), "obj": ("OBJ", []),
     "exported.obj": ("OBJ, `vt` and `vn` numbered on their own (as Blender writes it)", ["--exported"]),
+    "seams.obj": ("OBJ of `v`, `vt` and `f v/vt` with UV seams and no normals (as Agisoft Metashape writes it)", ["--uv-seams"]),
     "glb": ("glTF (GLB)", []),
     "gltf": ("glTF, its buffer embedded as base64 (a `glTF-Embedded` file)", []),
     "cubes.stl": ("binary STL of separate cubes, every vertex on a crease (a voxel model)", ["--cubes"]),

@@ -240,10 +240,11 @@ def test_smoke_batch_renders_and_writes_the_turntable(smoke):
 def test_smoke_memory_and_scaling_print_their_tables(smoke):
     memory, file_rows = _tables(_section(smoke, "memory"))
     assert [row["variant"] for row in memory] == ["default", "LP_NUM_THREADS=0 (no binning queue)"]
-    # the large-file rows: the same torus as an STL, a PLY, two OBJs, a GLB, an embedded glTF, a PLY with face uvs, and PLY and OFF
+    # the large-file rows: the same torus as an STL, a PLY, three OBJs, a GLB, an embedded glTF, a PLY with face uvs, and PLY and OFF
     # files of quads and triangles, a COFF, and cubes as an STL, each loaded, then rendered; both peaks measured above the same baseline
     assert [row["file"] for row in file_rows] == [
-        "binary STL", "binary PLY", "OBJ", "OBJ, `vt` and `vn` numbered on their own (as Blender writes it)", "glTF (GLB)",
+        "binary STL", "binary PLY", "OBJ", "OBJ, `vt` and `vn` numbered on their own (as Blender writes it)",
+        "OBJ of `v`, `vt` and `f v/vt` with UV seams and no normals (as Agisoft Metashape writes it)", "glTF (GLB)",
         "glTF, its buffer embedded as base64 (a `glTF-Embedded` file)",
         "binary STL of separate cubes, every vertex on a crease (a voxel model)",
         "binary PLY with a `texcoord` list on every face (as MeshLab and Agisoft Metashape export a textured mesh)",
