@@ -238,6 +238,30 @@ def test_polygons_of_different_sizes_whose_numbers_add_up_like_equal_ones(tmp_pa
     np.testing.assert_array_equal(triangles, [[c[0] for c in t] for t in reference])
 
 
+@pytest.mark.parametrize("lines, culprit", [
+    ("v 0 0 0 1\nv 1 0\nv 0 1 0\n", "sizes.obj:2: 'v' line has 2 numbers, expected 3"),  # x y z w, then a short one
+    ("v 0 0 0\nv 1 0 0 1 1 1 1\nv 0 1\n", "sizes.obj:3: 'v' line has 2 numbers, expected 3"),  # a long colour line
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nvt 1\nvt 0 1\n", "sizes.obj:5: 'vt' line has 1 numbers, expected 2"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1 0\nvn 0 0\nvn 0 0 1\n", "sizes.obj:5: 'vn' line has 2 numbers, expected 3"),
+])
+@pytest.mark.parametrize("at_once", [None, 2])
+def test_coordinate_lines_whose_numbers_add_up_like_equal_ones(tmp_path, monkeypatch, lines, culprit, at_once):
+    """A `v` line with a w and a short one after it hold 4 + 2 numbers, as many as two of 3:
+    read as rows of 3, the short line took the w as its x. Each line holds its own numbers
+    (the OBJ is a line per statement), so the short line is refused, naming it, as the
+    line-by-line reading refuses it; in blocks of a few lines too."""
+    from wgpu_shading.assets.mesh_formats import obj_blocks
+
+    if at_once:
+        monkeypatch.setattr(obj_blocks, "NUMBER_LINES_AT_ONCE", at_once)
+    path = tmp_path / "sizes.obj"
+    faces = "f 1/1/1 2/2/2 3/3/3\n" if "vt" in lines and "vn" in lines else "f 1/1 2/2 3/3\n" if "vt" in lines else "f 1//1 2//2 3//3\n" if "vn" in lines else "f 1 2 3\n"
+    path.write_text(lines + faces)
+    with pytest.raises(MeshError) as raised:
+        load_mesh(path)
+    assert culprit in str(raised.value)
+
+
 @pytest.mark.parametrize("seed", range(10))
 def test_faces_read_in_blocks_of_a_few_lines_are_the_same(tmp_path, seed, monkeypatch):
     """Long runs are read FACE_LINES_AT_ONCE lines at a time: blocks of 2 lines give the

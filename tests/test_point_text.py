@@ -106,6 +106,11 @@ def test_blocks_keep_line_numbers_and_bound_what_is_read(tmp_path, monkeypatch):
     (tmp_path / "long.xyz").write_bytes(b"1" * (1 << 20) + b"2" * 200)
     with pytest.raises(MeshError, match="long.xyz:1: a line longer than 1 MiB"):
         load_mesh(tmp_path / "long.xyz")
+    # a later block whose lines' widths err both ways (one long, one short) adds up to 3 a
+    # line: each line is still its own point, so the long one is refused, naming it
+    (tmp_path / "uneven.xyz").write_text("\n".join(["1 2 3"] * 30 + ["1 2 3 4", "1 2"] + ["1 2 3"] * 30) + "\n")
+    with pytest.raises(MeshError, match="uneven.xyz:31: '1 2 3 4': 4 numbers where the first point has 3"):
+        load_mesh(tmp_path / "uneven.xyz")
     monkeypatch.setattr(point_text, "MAX_VERTICES", 50)
     with pytest.raises(MeshError, match="more than 50 points"):
         load_mesh(_write(tmp_path / "big.xyz", np.zeros((60, 3))))

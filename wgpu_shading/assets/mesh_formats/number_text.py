@@ -56,10 +56,45 @@ def parse_numbers(text: str | bytes, dtype) -> np.ndarray | None:
             return None
 
 
-def parse_floats(text: str | bytes) -> np.ndarray | None:
-    """float64 numbers of `text` (exponents, nan and inf too); None when some token is not one."""
-    values = parse_decimals(text)
-    return values if values is not None else parse_numbers(text, np.float64)
+def parse_floats(text: str | bytes, line_width: int | None = None) -> np.ndarray | None:
+    """float64 numbers of `text` (exponents, nan and inf too); None when some token is not
+    one, or, with `line_width`, when some line (up to a line break; the last one without
+    one too) does not hold exactly that many: in a block of lines whose widths err in
+    opposite directions (`v 1 2 3 4` then `v 1 2`) the total is right, and the rows read
+    from it would be shifted."""
+    text = _ascii(text)
+    found = None if text is None else _decimals(text)
+    if found is None:
+        values = parse_numbers(text, np.float64) if text is not None else None
+        starts = None
+    else:
+        values, starts = found
+    if values is not None and line_width is not None and (numbers_per_line(text, starts) != line_width).any():
+        return None
+    return values
+
+
+def numbers_per_line(text: bytes, starts: np.ndarray | None = None) -> np.ndarray:
+    """How many whitespace-separated words each line of `text` holds (lines end at a line
+    break; a last line without one counts); `starts`: where the words begin, when known."""
+    data = np.frombuffer(text, np.uint8)
+    if starts is None:
+        word = ~BLANK_BYTES[data]
+        starts = np.flatnonzero(word & np.concatenate([[True], ~word[:-1]]))
+    ends = np.flatnonzero(data == 10)
+    if len(data) and data[-1] != 10:
+        ends = np.append(ends, len(data))
+    return np.diff(np.searchsorted(starts, ends), prepend=0)
+
+
+def _ascii(text: str | bytes) -> bytes | None:
+    """`text` as bytes; None for a str with characters beyond ASCII (never a number)."""
+    if isinstance(text, bytes):
+        return text
+    try:
+        return text.encode("ascii")
+    except UnicodeEncodeError:
+        return None
 
 
 LEADING_COUNT = re.compile(r"[ \t]*(\d+)")  # a line's first number, a count (a PLY or OFF face's corners)
@@ -102,11 +137,13 @@ def parse_decimals(text: str | bytes) -> np.ndarray | None:
     write small numbers). Those with more than EXACT_DIGITS digits or a power of ten beyond
     ±EXACT_POWER are read by float() one by one, when they are few. None otherwise.
     `text` may be bytes (a reader's block, not decoded: any byte beyond ASCII gives None)."""
-    if isinstance(text, str):
-        try:
-            text = text.encode("ascii")
-        except UnicodeEncodeError:
-            return None
+    text = _ascii(text)
+    found = None if text is None else _decimals(text)
+    return None if found is None else found[0]
+
+
+def _decimals(text: bytes) -> tuple[np.ndarray, np.ndarray] | None:
+    """parse_decimals of bytes, and where each number begins in them."""
     data = np.frombuffer(text, np.uint8)
     kind = np.take(_KIND, data)
     if kind.max(initial=_BLANK) == _OTHER:
@@ -117,7 +154,7 @@ def parse_decimals(text: str | bytes) -> np.ndarray | None:
     ends = np.flatnonzero(filled[:-1] > filled[1:])  # one past its last
     count = len(starts)
     if not count:
-        return np.empty(0, np.float64)
+        return np.empty(0, np.float64), starts
     mantissa_ends = ends.copy()  # where each number's digits end: its `e`, or its end
     exponents_at = np.flatnonzero(kind == _EXPONENT)
     has_exponent = np.zeros(count, bool)
@@ -185,7 +222,7 @@ def parse_decimals(text: str | bytes) -> np.ndarray | None:
         if len(slow) > max(64, count >> 6):
             return None  # (many: np.fromstring reads them all faster)
         values[slow] = [float(text[start:end]) for start, end in zip(starts[slow].tolist(), ends[slow].tolist())]
-    return values
+    return values, starts
 
 
 def leading_counts(lines: list[str], numbers: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:

@@ -166,27 +166,28 @@ class ObjContent:
         return blocks.pop() if len(blocks) == 1 else joined(blocks, NUMBER_TYPES[keyword], fill=1.0)  # (1.0: white)
 
 
-def _numbers(lines: Sequence[str], prefix: str) -> np.ndarray | None:
-    """Every number of the lines (their `v`/`vt`/`vn` left out), NUMBER_LINES_AT_ONCE lines at
-    a time: the reading's temporaries stay a few MB however big the file, and in cache.
-    Consecutive lines of a block are read from its bytes, never decoded."""
+def _numbers(lines: Sequence[str], prefix: str, width: int) -> np.ndarray | None:
+    """Every number of the lines (their `v`/`vt`/`vn` left out) when each holds `width`,
+    NUMBER_LINES_AT_ONCE lines at a time: the reading's temporaries stay a few MB however
+    big the file, and in cache. Consecutive lines of a block are read from its bytes,
+    never decoded."""
     keyword = prefix.strip()
     if isinstance(lines, BlockLines):
         key = keyword.encode()
         return read_in_blocks(range(len(lines)), NUMBER_LINES_AT_ONCE,
-                              lambda block: parse_floats(lines.text(block.start, block.stop).replace(key, b" ")))
-    return read_in_blocks(lines, NUMBER_LINES_AT_ONCE, lambda block: parse_floats(" ".join(block).replace(keyword, " ")))
+                              lambda block: parse_floats(lines.text(block.start, block.stop).replace(key, b" "), width))
+    return read_in_blocks(lines, NUMBER_LINES_AT_ONCE, lambda block: parse_floats("\n".join(block).replace(keyword, " "), width))
 
 
 def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
     """The numbers of `v` / `vt` / `vn` lines as an (n, columns) array of the kind's
     NUMBER_TYPES; `numbers` are their 1-based line numbers (for errors)."""
-    values = _numbers(lines, prefix)
-    if values is not None and values.size == width * len(lines):
+    values = _numbers(lines, prefix, width)
+    if values is not None:
         array = values.reshape(-1, width)
-    elif values is not None and prefix == "v " and values.size == 6 * len(lines):
+    elif prefix == "v " and (values := _numbers(lines, prefix, 6)) is not None:
         array = values.reshape(-1, 6)  # x y z r g b
-    else:  # mixed widths (vt u v w, v x y z w) or a bad number: line by line
+    else:  # mixed widths (vt u v w, v x y z w), a line short of numbers or a bad number: line by line
         rows = []
         for ordinal, line in enumerate(lines):
             text = line.strip()[len(prefix.strip()) :]

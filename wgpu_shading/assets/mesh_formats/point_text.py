@@ -81,12 +81,11 @@ class _Lines:
         if b"\x00" in data:
             number = first_line + data[: data.index(b"\x00")].count(b"\n")
             raise MeshError(f"{self.path}:{number}: a NUL byte; not a text file")
-        lines = data.count(b"\n") + (not data.endswith(b"\n"))
         if self.width and b"#" not in data and b"/" not in data:
-            # read in C (number_text.py: what float() gives each); a blank line, a count or
-            # a line of another width leaves the numbers short or long of width × lines
-            values = parse_floats(data)
-            if values is not None and values.size == self.width * lines and np.isfinite(values).all():
+            # read in C (number_text.py: what float() gives each), when every line holds
+            # `width` numbers: a blank line, a count or a line of another width is read below
+            values = parse_floats(data, self.width)
+            if values is not None and np.isfinite(values).all():
                 return values.reshape(-1, self.width)
         return self._rows_one_by_one(data, first_line)
 
