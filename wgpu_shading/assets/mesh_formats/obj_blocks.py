@@ -182,11 +182,10 @@ def _numbers(lines: Sequence[str], prefix: str, width: int) -> np.ndarray | None
 def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: np.ndarray) -> np.ndarray:
     """The numbers of `v` / `vt` / `vn` lines as an (n, columns) array of the kind's
     NUMBER_TYPES; `numbers` are their 1-based line numbers (for errors)."""
-    values = _numbers(lines, prefix, width)
+    first = len(lines[0].split()) - 1 if len(lines) else width  # the first line's numbers (x y z, or x y z r g b)
+    values = _numbers(lines, prefix, first) if first == width or (prefix == "v " and first == 6) else None
     if values is not None:
-        array = values.reshape(-1, width)
-    elif prefix == "v " and (values := _numbers(lines, prefix, 6)) is not None:
-        array = values.reshape(-1, 6)  # x y z r g b
+        array = values.reshape(-1, first)
     else:  # mixed widths (vt u v w, v x y z w), a line short of numbers or a bad number: line by line
         rows = []
         for ordinal, line in enumerate(lines):
