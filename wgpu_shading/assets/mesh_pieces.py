@@ -22,6 +22,7 @@ from ..scene.geometry.crease_normals import crease_normals
 # ~50-90 MB of a 10M-triangle OBJ's on glibc's heap, under the render's peak, which comes next.
 TRIMMED_VERTICES = 1 << 20
 
+
 @dataclass
 class MeshPiece:
     """One vertex set of a file: an OBJ, a glTF primitive instance, a PLY.
