@@ -11,6 +11,7 @@ from .corner_ids import MAX_RANGES, ids_where
 from .face_normals import FACE_BLOCK, FaceNormals
 
 FAN_RANGE = 1 << 21  # fans summed at a time (fan_normals): 64 MB of float64 sums
+LENGTHS_AT_ONCE = 1 << 20  # sums' lengths compared with their counts at a time (_normalized): 16 MB of temporaries
 
 
 def _normalized(summed: np.ndarray, adjacent: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -18,10 +19,10 @@ def _normalized(summed: np.ndarray, adjacent: np.ndarray) -> tuple[np.ndarray, n
     shorter than 1e-6·k has cancelled, its direction is noise (left zero here)."""
     length = np.einsum("ij,ij->i", summed, summed)
     np.sqrt(length, out=length)
-    least = np.maximum(adjacent, 1.0)  # (per-vertex temporaries one at a time: 8 bytes a vertex each)
-    least *= 1e-6
-    good = length > least
-    del least
+    good = np.empty(len(length), bool)
+    for start in range(0, len(length), LENGTHS_AT_ONCE):  # (no third per-vertex float64 array)
+        block = slice(start, start + LENGTHS_AT_ONCE)
+        good[block] = length[block] > 1e-6 * np.maximum(adjacent[block], 1.0)
     np.divide(summed, length[:, None], out=summed, where=good[:, None])
     summed[~good] = 0.0
     return summed, length, ~good & (adjacent > 0)
