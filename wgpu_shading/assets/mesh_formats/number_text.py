@@ -74,13 +74,20 @@ def parse_floats(text: str | bytes, line_width: int | None = None) -> np.ndarray
     return values
 
 
+def word_starts(data: np.ndarray) -> np.ndarray:
+    """Per byte of `data` (uint8): whether a whitespace-separated word begins there."""
+    blank = BLANK_BYTES[data]
+    starts = ~blank
+    starts[1:] &= blank[:-1]
+    return starts
+
+
 def numbers_per_line(text: bytes, starts: np.ndarray | None = None) -> np.ndarray:
     """How many whitespace-separated words each line of `text` holds (lines end at a line
     break; a last line without one counts); `starts`: where the words begin, when known."""
     data = np.frombuffer(text, np.uint8)
     if starts is None:
-        word = ~BLANK_BYTES[data]
-        starts = np.flatnonzero(word & np.concatenate([[True], ~word[:-1]]))
+        starts = np.flatnonzero(word_starts(data))
     ends = np.flatnonzero(data == 10)
     if len(data) and data[-1] != 10:
         ends = np.append(ends, len(data))
@@ -241,16 +248,10 @@ def counted_lines(lines: list[str], numbers: np.ndarray) -> tuple[np.ndarray, np
     when a line's first number is not a whole count or the line holds fewer numbers than
     its count and the count itself (an OFF face line and what follows its indices: `4 a b c d
     r g b`). Each line's numbers are counted from the bytes where numbers begin."""
-    data = np.frombuffer("\n".join(lines).encode("latin-1"), np.uint8)
-    blank = BLANK_BYTES[data]
-    starts = ~blank
-    starts[1:] &= blank[:-1]  # the first byte of each number
-    numbers_to = np.cumsum(starts, dtype=np.int64)  # numbers begun up to each byte
-    through = np.append(numbers_to[data == 10], numbers_to[-1:])  # ... up to each line's end
-    if len(through) != len(lines) or (len(through) and through[-1] != numbers.size):
+    per_line = numbers_per_line("\n".join(lines).encode("latin-1"))
+    if len(per_line) != len(lines) or per_line.sum() != numbers.size:  # (an empty last line is not counted)
         return None
-    per_line = np.diff(through, prepend=0)
-    first = through - per_line
+    first = np.cumsum(per_line) - per_line
     if (per_line < 1).any():
         return None
     counts = numbers[first]

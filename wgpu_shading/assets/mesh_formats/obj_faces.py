@@ -14,7 +14,7 @@ import numpy as np
 from ...errors import MeshError
 from .checks import MAX_FACE_CORNERS
 from .line_sections import BlockLines
-from .number_text import BLANK_BYTES, parse_numbers
+from .number_text import BLANK_BYTES, parse_numbers, word_starts
 
 
 @dataclass
@@ -94,8 +94,7 @@ def check_face_sizes(data: bytes, starts: np.ndarray, face_lines: np.ndarray, pa
     ends = np.append(starts[1:], len(data))
     for index in face_lines[ends[face_lines] - starts[face_lines] > 2 * MAX_FACE_CORNERS].tolist():
         text = np.frombuffer(data, np.uint8, ends[index] - starts[index], starts[index])
-        filled = ~BLANK_BYTES[text]
-        words = int(filled[0]) + int(np.count_nonzero(filled[1:] & ~filled[:-1]))
+        words = int(np.count_nonzero(word_starts(text)))
         if words - 1 > MAX_FACE_CORNERS:  # (the `f` is a word too)
             raise MeshError(f"{path}:{first_line + index}: a face of {words - 1} corners; at most {MAX_FACE_CORNERS} are supported")
 

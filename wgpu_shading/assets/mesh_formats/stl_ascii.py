@@ -36,7 +36,7 @@ from ..files import LongLine, text_line_blocks
 from ..mesh_pieces import MeshPiece
 from .corner_join import CornerJoin
 from .line_sections import joined
-from .number_text import BLANK_BYTES, parse_floats
+from .number_text import BLANK_BYTES, parse_floats, word_starts
 
 # A facet's seven lines: each one's keyword and its count of words (keywords and numbers).
 _LINES = (("facet normal", 5), ("outer loop", 2), ("vertex", 4), ("vertex", 4), ("vertex", 4), ("endloop", 1), ("endfacet", 1))
@@ -131,9 +131,7 @@ def _facet_corners(data: np.ndarray, ends: np.ndarray) -> np.ndarray | None:
     if not BLANK_BYTES[padded[first + lengths]].all():
         return None  # a longer word ("vertexes")
     # Every line has its count of words (keyword and numbers).
-    blank = BLANK_BYTES[data]
-    word_start = ~blank
-    word_start[1:] &= blank[:-1]
+    word_start = word_starts(data)
     if not np.array_equal(np.add.reduceat(word_start, starts, dtype=np.int32), _WORDS[kind]):
         return None
     numbers = data.copy()
