@@ -96,6 +96,11 @@ LAYOUTS = {
     "quads, int counts and uint indices": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]], "count": "int", "index": "uint"},
     "pentagons": {"faces": [[0, 2, 1, 3, 4], [5, 0, 4, 1, 2]]},  # fans, one polygon after the other
     "hexagons, big-endian": {"faces": [[0, 2, 1, 3, 4, 5], [5, 4, 3, 2, 1, 0]], "order": ">"},
+    # scalars after the faces' indices, read past (trimesh keeps them aside)
+    "MeshLab's face flags and quality": {"face_extras": (("flags", "int"), ("quality", "float")), "extras": (("flags", "int"),)},
+    "quads with a face flag, big-endian": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]], "face_extras": (("flags", "int"),), "order": ">"},
+    "pentagons with a uchar and a double after them": {"faces": [[0, 2, 1, 3, 4], [5, 0, 4, 1, 2]],
+                                                        "face_extras": (("material", "uchar"), ("quality", "double"))},
 }
 
 
@@ -109,6 +114,7 @@ def test_each_layout_read_here_gives_trimeshs_mesh(tmp_path, options):
 OTHERS = {  # (mixed polygons, and vertex texture coordinates: ply_polygons.py, tests/test_ply_polygons.py)
     "texture coordinates": {"vertex_names": ("u", "v")},
     "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
+    "a face flag and face colours": {"face_extras": (("flags", "int"), ("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
     "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
 }
 

@@ -6,8 +6,11 @@ file whole, as every PLY it reads: 13.4x the mesh's arrays at 2M triangles
 
 Read here a block of faces at a time (binary; or ASCII, a block of lines at a time: 59x and
 21 s at 2M triangles through trimesh), every face a triangle with its 6 floats, and its
-vertices x y z and properties trimesh skips (MeshLab's flags and quality); normals or colours beside the texcoords go to trimesh, which drops them once it
-splits vertices. Each vertex is split by the distinct texture coordinates of its corners,
+vertices x y z and properties trimesh skips (MeshLab's flags and quality), their normals and
+RGB(A) colours (trimesh drops those once it splits vertices: here each split vertex keeps its
+file vertex's, as VTK's PLY reader, f3d's, keeps them), and in a binary file scalar face
+properties after the texcoords (Metashape's `texnumber`, MeshLab's flags), read past.
+Each vertex is split by the distinct texture coordinates of its corners,
 as trimesh splits it (trimesh.visual.texture.unmerge_faces): a vertex per distinct (vertex,
 uv), vertices no face uses left out. The texture coordinates are joined by their bits a
 block at a time (corner_join.py, as an STL's corners), and the (vertex, uv) pairs made
@@ -42,30 +45,42 @@ from .ply_triangles import BLOCK_ROWS, COLOR_NAMES, file_rows, float_type, mesh_
 def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> MeshPiece | None:
     """The mesh of a PLY in this module's layout, binary or ASCII, or None for any other
     (trimesh reads it)."""
-    rows = mesh_rows(header, ">" if header.format == "binary_big_endian" else "<", face_texture=True)
+    binary = header.format in ("binary_little_endian", "binary_big_endian")
+    rows = mesh_rows(header, ">" if header.format == "binary_big_endian" else "<", face_texture=True, face_scalars=binary)
     if rows is None:
         return None
     vertex_row, face_row = rows
-    if "nx" in vertex_row.fields or any(name in vertex_row.fields for name in COLOR_NAMES):
-        return None
     vertex_count, face_count = header.count("vertex"), header.count("face")
     if face_count > MAX_TRIANGLES:
         raise MeshError(f"{where}: {face_count} faces; at most {MAX_TRIANGLES} triangles are supported")
     split = _UvSplit(vertex_count, face_row.fields["uv"][0].base)
     try:
+        vertices = _VertexArrays(vertex_row, vertex_count)
         if header.format == "ascii":
-            positions = _read_ascii(path, header, vertex_row, split, where)
-        elif header.format in ("binary_little_endian", "binary_big_endian"):
+            read = _read_ascii(path, header, vertex_row, vertices, split, where)
+        elif binary:
             if header.header_bytes + vertex_count * vertex_row.itemsize + face_count * face_row.itemsize != file_size:
                 return None  # faces of other sizes, or truncated: trimesh reads or names it
-            positions = _read_binary(path, header, vertex_row, face_row, split, where)
+            read = _read_binary(path, header, vertex_row, face_row, vertices, split, where)
         else:
             return None
     except OSError as error:
         raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {vertex_count} vertices and {face_count} faces") from None
-    return None if positions is None else split.piece(positions, path.name)
+    return split.piece(vertices, path.name) if read else None
+
+
+class _VertexArrays:
+    """The file's per-vertex arrays, as the vertices' rows give them: positions, and normals
+    and RGB(A) colours where it has them (mesh_rows checked their properties)."""
+
+    def __init__(self, vertex_row: np.dtype, count: int):
+        fields = vertex_row.fields
+        self.positions = np.empty((count, 3), float_type(fields, "xyz"))
+        self.normals = np.empty((count, 3), float_type(fields, ("nx", "ny", "nz"))) if "nx" in fields else None
+        self.channels = [name for name in COLOR_NAMES if name in fields]
+        self.colors = np.empty((count, len(self.channels)), np.uint8) if self.channels else None
 
 
 class _UvSplit:
@@ -89,54 +104,66 @@ class _UvSplit:
         self.runs.append(self.triples.split(pairs.reshape(-1, 3, 3), self.vertex_count))
         return True
 
-    def piece(self, positions: np.ndarray, name: str) -> MeshPiece:
+    def piece(self, vertices: _VertexArrays, name: str) -> MeshPiece:
+        """The mesh: each (vertex, uv) pair a vertex, with that vertex's position, normal
+        and colour (the module docstring)."""
         combos, faces = self.triples.distinct(self.runs, [0, 1], self.vertex_count)
         self.runs = []
         rank = np.arange(self.uv_ids, dtype=np.uint32)  # each uv's id (in the order met), renumbered to its sorted row
         uv_values = self.join.finish(rank)[rank, :2]
-        piece = MeshPiece(positions[combos[:, 0]], faces, None, uv_values[combos[:, 1]], parts=[(0, len(faces), None, name)])
-        del combos, uv_values, rank
+        source = combos[:, 0]
+        normals = None if vertices.normals is None else vertices.normals[source]
+        colors = None if vertices.colors is None else vertices.colors[source]
+        piece = MeshPiece(vertices.positions[source], faces, normals, uv_values[combos[:, 1]], parts=[(0, len(faces), None, name)],
+                          colors=colors)
+        del combos, uv_values, rank, source
         return_freed_memory()  # the blocks' and the pairs' arrays, before the crease analysis's
         return piece
 
 
-def _read_binary(path: Path, header: PlyHeader, vertex_row, face_row, split: _UvSplit, where: str) -> np.ndarray | None:
-    positions = np.empty((split.vertex_count, 3), float_type(vertex_row.fields, "xyz"))
+def _read_binary(path: Path, header: PlyHeader, vertex_row, face_row, vertices: _VertexArrays, split: _UvSplit, where: str) -> bool:
+    """Whether the file is of this module's layout; its vertices read into `vertices`, its faces into `split`."""
     face_count = header.count("face")
     with open(path, "rb") as file:
         file.seek(header.header_bytes)
-        read_vertices(file, vertex_row, positions, None, None, where)
+        read_vertices(file, vertex_row, vertices.positions, vertices.normals, vertices.colors, where)
         for start in range(0, face_count, BLOCK_ROWS):
             block = file_rows(file, face_row, min(BLOCK_ROWS, face_count - start), where)
             if (block["count"] != 3).any() or (block["uv_count"] != 6).any():
-                return None
+                return False
             if not split.add(block["corners"].reshape(-1).astype(np.int64), block["uv"].reshape(-1, 2)):
-                return None
-    return positions
+                return False
+    return True
 
 
-def _read_ascii(path: Path, header: PlyHeader, vertex_row, split: _UvSplit, where: str) -> np.ndarray | None:
+def _read_ascii(path: Path, header: PlyHeader, vertex_row, vertices: _VertexArrays, split: _UvSplit, where: str) -> bool:
     """The ASCII file's vertex lines and its face lines (`3 a b c 6 u v u v u v`), a block of
     lines at a time, each value given its property's type as trimesh gives it (as
-    ply_ascii_triangles.py reads them)."""
+    ply_ascii_triangles.py reads them). Whether the file is of this module's layout."""
     names = list(vertex_row.names)
-    positions = np.empty((split.vertex_count, 3), float_type(vertex_row.fields, "xyz"))
     read = 0  # vertices
     sections = vertex_and_face_lines(ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes),
                                      split.vertex_count, header.count("face"))
     for section in sections:
         if section is None:
-            return None
-        vertices = line_values(section[0], len(names)) if section[0] else np.empty((0, len(names)))
+            return False
+        values = line_values(section[0], len(names)) if section[0] else np.empty((0, len(names)))
         faces = line_values(section[1], 11) if section[1] else np.empty((0, 11))  # 3 a b c 6 u v u v u v
-        if vertices is None or faces is None:
-            return None
-        for column, axis in enumerate("xyz"):
-            positions[read : read + len(vertices), column] = vertices[:, names.index(axis)].astype(vertex_row.fields[axis][0])
-        read += len(vertices)
+        if values is None or faces is None:
+            return False
+        rows = slice(read, read + len(values))
+        for array, axes in ((vertices.positions, "xyz"), (vertices.normals, ("nx", "ny", "nz"))):
+            for column, axis in enumerate(axes if array is not None else ()):
+                array[rows, column] = values[:, names.index(axis)].astype(vertex_row.fields[axis][0])
+        for column, channel in enumerate(vertices.channels):
+            channel_values = values[:, names.index(channel)]
+            if channel_values.min(initial=0) < 0 or channel_values.max(initial=0) > 255 or (channel_values % 1).any():
+                return False  # (trimesh reads or names it)
+            vertices.colors[rows, column] = channel_values
+        read += len(values)
         corners = faces[:, 1:4]
         if (faces[:, 0] != 3).any() or (faces[:, 4] != 6).any() or (corners != np.floor(corners)).any():
-            return None
+            return False
         if len(faces) and not split.add(corners.reshape(-1).astype(np.int64), faces[:, 5:].astype(split.join.dtype).reshape(-1, 2)):
-            return None
-    return positions
+            return False
+    return True

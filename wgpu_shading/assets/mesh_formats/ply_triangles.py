@@ -15,8 +15,9 @@ compares the two on real files and on every case below); any other PLY goes to t
   (alpha) its colours when they are uchar; others (MeshLab's flags and quality, a scanner's
   confidence) are skipped, as trimesh skips them. Texture coordinates (trimesh's names for
   them: TEXTURE_PAIRS) are read by ply_polygons.py, a pair per vertex;
-- face: one list property, vertex_indices or vertex_index, and nothing else (face colours
-  go to trimesh; a `texcoord` list after the indices to ply_face_uvs.py); every face a
+- face: one list property, vertex_indices or vertex_index, then only scalar properties,
+  read past as trimesh keeps them aside (MeshLab's flags and quality; face colours go to
+  trimesh; a `texcoord` list after the indices to ply_face_uvs.py); every face a
   polygon of the same size (triangles,
   quads as quad-remeshers write them, ...): the file is exactly as long as that makes it,
   and every count read is that size (a file of mixed polygons: ply_polygons.py). Polygons
@@ -69,20 +70,21 @@ def triangle_layout(header: PlyHeader, file_size: int) -> TriangleLayout | None:
     if header.format not in ("binary_little_endian", "binary_big_endian"):
         return None
     order = "<" if header.format == "binary_little_endian" else ">"
-    rows = mesh_rows(header, order)
+    rows = mesh_rows(header, order, face_scalars=True)
     if rows is None:
         return None
     vertex_row, face_row = rows
     vertices, faces = header.count("vertex"), header.count("face")
     face_bytes = file_size - header.header_bytes - vertices * vertex_row.itemsize
-    count_bytes, index_bytes = face_row.fields["count"][0].itemsize, face_row.fields["corners"][0].base.itemsize
-    if faces <= 0 or face_bytes % faces or (face_bytes // faces - count_bytes) % index_bytes:
+    index_bytes = face_row.fields["corners"][0].base.itemsize
+    others = face_row.itemsize - 3 * index_bytes  # the count and the scalars skipped
+    if faces <= 0 or face_bytes % faces or (face_bytes // faces - others) % index_bytes:
         return None  # not faces of one size (or truncated, or more after them): trimesh says which
-    corners = (face_bytes // faces - count_bytes) // index_bytes
+    corners = (face_bytes // faces - others) // index_bytes
     if corners < 3:
         return None
     if corners != 3:
-        face_row = mesh_rows(header, order, corners)[1]
+        face_row = mesh_rows(header, order, corners, face_scalars=True)[1]
     return TriangleLayout(vertex_row, face_row, vertices, faces, header.header_bytes)
 
 
@@ -92,13 +94,16 @@ def fan_count(corners: int, faces: int) -> int:
 
 
 def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = False,
-              face_texture: bool = False) -> tuple[np.dtype, np.dtype] | None:
+              face_texture: bool = False, face_scalars: bool = False) -> tuple[np.dtype, np.dtype] | None:
     """A vertex row's and a face's record types (byte order `order`, faces of `corners`
     corners) when the header's elements and properties are of the layout this module reads
     (the module docstring, binary or not), else None. `texture`: vertex texture coordinates
     too, a pair of texture_pair()'s (ply_polygons.py reads them; here they go to trimesh).
-    `face_texture`: the faces' second (and last) property is a `texcoord` list of floats,
-    two a corner (ply_face_uvs.py reads them): ("uv_count", ...), ("uv", ..., (2 × corners,))."""
+    `face_texture`: the faces' second property is a `texcoord` list of floats, two a corner
+    (ply_face_uvs.py reads them): ("uv_count", ...), ("uv", ..., (2 × corners,)).
+    `face_scalars`: scalar properties may follow the face's lists, as MeshLab writes its
+    flags and quality, Metashape its `texnumber`: fields ("skipped 0", ...) that are read
+    past, as trimesh keeps them aside (a face's colour is not one: trimesh reads those)."""
     filled = [element for element in header.elements if element.count]
     if [element.name for element in filled] != ["vertex", "face"]:
         return None
@@ -116,7 +121,8 @@ def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = F
         return None
     if len({"nx", "ny", "nz"} & set(names)) not in (0, 3):
         return None
-    if len(face.properties) != 1 + face_texture:
+    lists = 1 + face_texture  # the index list, then the texcoord list
+    if len(face.properties) < lists or (len(face.properties) > lists and not face_scalars):
         return None
     name, index_kind, count_kind = face.properties[0]
     if name not in INDEX_NAMES or count_kind is None or index_kind not in PLY_TYPES or count_kind not in PLY_TYPES:
@@ -132,6 +138,10 @@ def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = F
         if PLY_TYPES[uv_kind][0] != "f" or PLY_TYPES[uv_count_kind][0] not in "iu":
             return None
         fields += [("uv_count", order + PLY_TYPES[uv_count_kind]), ("uv", order + PLY_TYPES[uv_kind], (2 * corners,))]
+    scalars = face.properties[lists:]
+    if any(count is not None or kind not in PLY_TYPES or name in COLOR_NAMES for name, kind, count in scalars):
+        return None
+    fields += [(f"skipped {number}", order + PLY_TYPES[kind]) for number, (_, kind, _) in enumerate(scalars)]
     return vertex_row, np.dtype(fields)
 
 
