@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import MeshError, UsageError
 from ..scene.geometry.mesh import Mesh
+from ..scene.geometry.vertex_arrays import column_bounds
 from ..scene.objects import Scene
 from ..scene.view.options import ViewOptions
 from .examples import resolve_example
@@ -87,7 +88,8 @@ class AnimationFrames(Sequence[Scene]):
                 for piece in self._pose(time).pieces:
                     if piece.element_count:
                         used = piece.positions if piece.primitive == "points" else piece.positions[np.unique(piece.faces)]
-                        lower, upper = np.minimum(lower, used.min(axis=0)), np.maximum(upper, used.max(axis=0))
+                        used_lower, used_upper = column_bounds(used)
+                        lower, upper = np.minimum(lower, used_lower), np.maximum(upper, used_upper)
                 self._data.notes[:] = dict.fromkeys(self._data.notes)  # each pose says them again: kept once
         if not np.isfinite(lower).all():
             raise MeshError(f"mesh file {str(path)!r}: no frame of the animation from {self.start:g} s to {self.times[-1]:g} s "

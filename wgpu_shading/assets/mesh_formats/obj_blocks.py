@@ -19,6 +19,7 @@ from typing import Sequence
 import numpy as np
 
 from ...errors import MeshError
+from ...scene.geometry.vertex_arrays import finite_rows
 from .line_sections import BlockLines, joined
 from .number_text import parse_floats, read_in_blocks
 from .obj_faces import FaceRun, check_face_sizes, run_corners, triangles_only
@@ -202,9 +203,9 @@ def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: n
         array = np.array(rows, dtype=np.float64).reshape(len(rows), -1)
     kept = array.astype(NUMBER_TYPES[prefix], copy=False)
     for checked, what in ((array, "a NaN or infinite coordinate"), (kept, "a number beyond float32's range")):  # (the second: a float32 too large, infinite)
-        bad = ~np.isfinite(checked[:, :width]).all(axis=1)
-        if bad.any():
-            ordinal = int(np.flatnonzero(bad)[0])
+        finite = finite_rows(checked[:, :width])
+        if finite is not None:
+            ordinal = int(np.flatnonzero(~finite)[0])
             raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has {what}: {lines[ordinal].strip()[len(prefix.strip()):].strip()!r}")
     return kept
 

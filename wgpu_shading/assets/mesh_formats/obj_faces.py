@@ -14,7 +14,7 @@ import numpy as np
 from ...errors import MeshError
 from .checks import MAX_FACE_CORNERS
 from .line_sections import BlockLines
-from .number_text import BLANK_BYTES, parse_numbers, word_starts
+from .number_text import blank_bytes, parse_numbers, word_starts
 
 
 @dataclass
@@ -130,7 +130,7 @@ def _block_fans(text: bytes, line_count: int, per_corner: int | None) -> tuple[n
         text = text.replace(b"//", b"/0/")
     data = np.frombuffer(text, np.uint8)
     filled = np.zeros(len(data) + 1, bool)  # a blank before the text
-    np.logical_not(np.take(BLANK_BYTES, data), out=filled[1:])
+    np.logical_not(blank_bytes(text), out=filled[1:])
     starts = np.flatnonzero(filled[1:] > filled[:-1])  # where each token begins (the first line's `f` at 0)
     newlines = np.flatnonzero(data == 10)
     slash_at = np.flatnonzero(data == 47)

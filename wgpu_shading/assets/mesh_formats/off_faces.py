@@ -22,7 +22,7 @@ import numpy as np
 from ...errors import MeshError
 from ..mesh_pieces import polygon_fans
 from .line_sections import joined
-from .number_text import BLANK_BYTES, LEADING_COUNT, counted_lines, parse_floats, parse_numbers, word_starts
+from .number_text import LEADING_COUNT, blank_bytes, counted_lines, parse_floats, parse_numbers, word_starts
 
 COLOUR_WIDTHS = (0, 3, 4)  # values after a face's indices: none, RGB, RGBA
 
@@ -207,7 +207,7 @@ def _integers_only(text: str, is_index: np.ndarray) -> bool:
     written as a plain integer: the reader of tokens reads counts and indices with int(),
     which refuses `3.0` or `1e0`."""
     data = np.frombuffer(text.encode("latin-1"), np.uint8)
-    filled = ~BLANK_BYTES[data]
+    filled = ~blank_bytes(data)
     starts = word_starts(data)
     token = np.maximum(np.cumsum(starts, dtype=np.int64) - 1, 0)  # each byte's number (blanks: the one before)
     in_index = filled & is_index[np.minimum(token, len(is_index) - 1)]

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...scene import DirectionalLight, Scene, SpotLight
+from ...scene.geometry.vertex_arrays import column_bounds
 from .visible_regions import visible_receivers, world_box
 
 # A spot whose window reaches beyond this tangent (about 68°) from its axis is drawn into a
@@ -123,12 +124,12 @@ def _bounds(owner: int, local: np.ndarray, orthographic: bool, limit: float, fla
     is (perspective)."""
     distance = -local[:, 2]
     if orthographic:
-        lower, upper = local[:, :2].min(axis=0), local[:, :2].max(axis=0)
+        lower, upper = column_bounds(local[:, :2])
     elif (distance <= 0.0).all():  # wholly behind the light: nothing of it in the view
         lower, upper = np.full(2, np.inf), np.full(2, -np.inf)
     elif (distance > 1e-9 * float(np.linalg.norm(local, axis=1).max())).all():
-        tangents = local[:, :2] / distance[:, None]
-        lower, upper = np.maximum(tangents.min(axis=0), -limit), np.minimum(tangents.max(axis=0), limit)
+        lower, upper = column_bounds(local[:, :2] / distance[:, None])
+        lower, upper = np.maximum(lower, -limit), np.minimum(upper, limit)
     else:
         lower, upper = np.full(2, -limit), np.full(2, limit)
     return _Bounds(owner, lower, upper, float(distance.min()), float(distance.max()), flat)
@@ -306,7 +307,8 @@ def _aimed(index: int, light, fit: _Scene, size: int, margin: float) -> ShadowVi
     it); else "cube"."""
     position = np.asarray(light.position, dtype=np.float64)
     points = np.concatenate(list(fit.receivers.values()))
-    forward = (points.min(axis=0) + points.max(axis=0)) / 2.0 - position
+    lower, upper = column_bounds(points)
+    forward = (lower + upper) / 2.0 - position
     # Every receiver in front of the view: one behind it (which the light does reach, unlike
     # a spot's) would be outside the window, read as lit.
     if not np.linalg.norm(forward) > 0.0 or not ((points - position) @ forward > 0.0).all():

@@ -27,7 +27,7 @@ from .crease_normals import check_split_count, crease_normals
 from .face_normals import face_normals
 from .solids import solid_orientation
 from .vertex_normals import validated_normals, vertex_normals
-from .vertex_arrays import bounds, relative_positions, unit_colors, unit_or_zero_normals
+from .vertex_arrays import bounds, finite_rows, relative_positions, unit_colors, unit_or_zero_normals
 
 __all__ = ["MAX_VERTICES", "MAX_TRIANGLES", "Mesh", "check_counts", "MeshPart", "PRIMITIVES", "face_normals", "owned", "vertex_normals"]
 
@@ -189,8 +189,8 @@ class Mesh:
 
     def part_centre(self, part: MeshPart) -> tuple[float, float, float]:
         """Centre of a part's bounding box in model space (float64)."""
-        corners = self.part_vertices(part)
-        centre = (corners.min(axis=0).astype(np.float64) + corners.max(axis=0)) / 2.0 + self.origin
+        lower, upper = bounds(self.part_vertices(part))
+        centre = (lower + upper) / 2.0 + self.origin
         return (float(centre[0]), float(centre[1]), float(centre[2]))
 
     def world_positions(self) -> np.ndarray:
@@ -200,7 +200,7 @@ class Mesh:
     @cached_property
     def relative_bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """float64 (lower, upper) corners of the stored (origin-relative) positions; cached."""
-        return self.positions.min(axis=0).astype(np.float64), self.positions.max(axis=0).astype(np.float64)
+        return bounds(self.positions)
 
     @cached_property
     def solid(self) -> int:
@@ -281,8 +281,9 @@ class Mesh:
         if len(positions) == 0 or not (len(faces) or line_count or point_parts or not parts):
             raise MeshError(f"{name}: the mesh is empty ({len(positions)} vertices, {len(faces)} triangles)")
         check_counts(len(positions), len(faces), line_count, name)
-        bad = ~np.isfinite(positions).all(axis=1)
-        if bad.any():
+        finite = finite_rows(positions)
+        if finite is not None:
+            bad = ~finite
             first = int(np.flatnonzero(bad)[0])
             count = int(bad.sum())
             raise MeshError(

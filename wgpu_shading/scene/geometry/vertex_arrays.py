@@ -30,7 +30,26 @@ def relative_positions(positions: np.ndarray, origin: np.ndarray) -> np.ndarray:
 
 def bounds(positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """float64 (lower, upper) corners (min and max are exact in any float type)."""
-    return positions.min(axis=0).astype(np.float64), positions.max(axis=0).astype(np.float64)
+    lower, upper = column_bounds(positions)
+    return lower.astype(np.float64), upper.astype(np.float64)
+
+
+def finite_rows(rows: np.ndarray) -> np.ndarray | None:
+    """None when every value of the (N, k) rows is finite; else, per row, whether all of its
+    values are (np.isfinite(rows).all(axis=1), which numpy reduces a row at a time: 0.48 ms
+    for a 35K-vertex mesh's positions against 0.01 for the whole array's test)."""
+    finite = np.isfinite(rows)
+    return None if finite.all() else finite.all(axis=1)
+
+
+def column_bounds(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each column's min and max of (N, k) rows, as rows.min(axis=0) and rows.max(axis=0)
+    give them (NaN too), one column at a time: numpy reduces axis 0 of C-ordered rows a row
+    at a time, 18x slower here (a 35K-vertex mesh's positions 1.0 ms against 0.06; 5M
+    vertices 131 ms against 7)."""
+    columns = range(rows.shape[1])
+    return (np.array([rows[:, k].min() for k in columns], rows.dtype),
+            np.array([rows[:, k].max() for k in columns], rows.dtype))
 
 
 def unit_colors(colors: np.ndarray) -> np.ndarray:
