@@ -1,8 +1,8 @@
 """Run every performance benchmark of issue #7 and print a table of medians and ratios.
 
     pip install -e '.[bench]'          # the peers (moderngl, pygfx) and matplotlib
-    python -m benchmarks               # everything, ~6-10 min on 2 cores
-    python -m benchmarks --quick       # smaller and fewer, ~2 min
+    python -m benchmarks               # everything, ~25 min on 2 cores (docs/performance.md)
+    python -m benchmarks --quick       # smaller and fewer, ~19 min (the 10M-triangle memory table ~6, the A/B scripts ~10)
     python -m benchmarks --only warm,cold
     python -m benchmarks --smoke       # does every benchmark still run? ~20 s; numbers mean nothing
 
@@ -180,7 +180,7 @@ SMOKE = Settings(
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n\n")[0])
     modes = parser.add_mutually_exclusive_group()
-    modes.add_argument("--quick", action="store_true", help="smaller sizes, fewer rounds (~2 min)")
+    modes.add_argument("--quick", action="store_true", help="smaller sizes, fewer rounds (~19 min on 2 cores)")
     modes.add_argument(
         "--smoke", action="store_true",
         help="every benchmark (these sections and the standalone scripts) once on tiny inputs, in seconds; "
