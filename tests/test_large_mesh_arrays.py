@@ -167,3 +167,23 @@ def test_given_normals_are_made_unit_block_by_block_as_whole_float64_arrays(monk
         assert (renormalized != given).any() and mesh.normals.tobytes() == given.tobytes()
     assert mesh.normals.dtype == np.float32
     assert mesh.normals.tobytes() == expected.astype(np.float32).tobytes()
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64, np.int32])
+def test_column_bounds_and_finite_rows_are_numpys_row_reductions(dtype):
+    """vertex_arrays.column_bounds and finite_rows give what rows.min(axis=0), rows.max(axis=0)
+    and np.isfinite(rows).all(axis=1) give (NaN and infinities too), a column at a time."""
+    rng = np.random.default_rng(5)
+    for columns in (1, 2, 3, 4):
+        rows = (rng.normal(size=(1000, columns)) * 100).astype(dtype)
+        lower, upper = vertex_arrays.column_bounds(rows)
+        assert lower.dtype == rows.dtype and np.array_equal(lower, rows.min(axis=0)) and np.array_equal(upper, rows.max(axis=0))
+        assert vertex_arrays.finite_rows(rows) is None
+        if dtype is np.int32:
+            continue
+        rows[[3, 500], 0] = np.nan
+        rows[7, columns - 1] = -np.inf
+        lower, upper = vertex_arrays.column_bounds(rows)
+        np.testing.assert_array_equal(lower, rows.min(axis=0))
+        np.testing.assert_array_equal(upper, rows.max(axis=0))
+        np.testing.assert_array_equal(vertex_arrays.finite_rows(rows), np.isfinite(rows).all(axis=1))

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from wgpu_shading.assets.mesh_formats.number_text import (
-    EXACT_DIGITS, EXACT_POWER, INTEGER_DIGITS, parse_decimals, parse_floats, tokens_as_numbers,
+    EXACT_DIGITS, EXACT_POWER, INTEGER_DIGITS, blank_bytes, parse_decimals, parse_floats, tokens_as_numbers, word_starts,
 )
 
 
@@ -118,3 +118,15 @@ def test_bytes_read_as_their_text_does():
     assert from_text is not None and np.array_equal(_bits(from_bytes), _bits(from_text))
     assert np.array_equal(_bits(parse_floats(b"1 2.5\n-3e400")[:2]), _bits([1.0, 2.5]))  # (the usual way for inf)
     assert parse_decimals("1 2 é".encode()) is None and parse_decimals("1 2 é") is None
+
+
+def test_blank_bytes_and_word_starts_are_what_bytes_split_sees():
+    """Every byte value, given as bytes and as a uint8 array: blank where bytes.split() splits
+    (what np.fromstring skips too), and a word starting after each run of blanks."""
+    data = bytes(range(256)) * 3 + b"  v 1.5\t-2\r\n\x0b\x0c f 1 2 3"
+    blank = np.array([bytes([byte]).isspace() for byte in data])
+    expected = [i for i in range(len(data)) if not blank[i] and (i == 0 or blank[i - 1])]
+    assert len(expected) == len(data.split())
+    for given in (data, np.frombuffer(data, np.uint8)):
+        np.testing.assert_array_equal(blank_bytes(given), blank)
+        np.testing.assert_array_equal(np.flatnonzero(word_starts(given)), expected)
