@@ -132,7 +132,7 @@ def test_this_reader_reads_them_and_leaves_the_rest_to_trimesh(tmp_path):
     assert not taken(_write(tmp_path / "ascii_quads.ply", ascii=True, quads=True))
     assert taken(_write(tmp_path / "normals.ply", normals=True, colors="rgb"))  # (kept: test_normals_and_colours_...)
     assert taken(_write(tmp_path / "texnumber.ply", face_scalars=(("texnumber", "int"), ("quality", "float"))))
-    assert not taken(_write(tmp_path / "ascii_texnumber.ply", ascii=True, face_scalars=(("texnumber", "int"),)))  # (to trimesh)
+    assert taken(_write(tmp_path / "ascii_texnumber.ply", ascii=True, face_scalars=(("texnumber", "int"), ("quality", "float"))))
     assert not taken(_write(tmp_path / "face_colours.ply", face_scalars=(("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))))
     assert not taken(_write(tmp_path / "quads.ply", quads=True))  # trimesh ignores quads' texcoords
     assert not taken(_write(tmp_path / "nan.ply", bad="nan"))
@@ -166,7 +166,8 @@ def test_reading_holds_a_few_times_the_arrays(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize("options", [{}, {"ascii": True}, {"order": ">", "colors": "rgba"}, {"ascii": True, "colors": "rgba"},
-                                     {"face_scalars": (("texnumber", "int"), ("flags", "int"))}])
+                                     {"face_scalars": (("texnumber", "int"), ("flags", "int"))},
+                                     {"ascii": True, "face_scalars": (("texnumber", "int"), ("quality", "float"))}])
 def test_normals_and_colours_beside_texcoords_are_each_vertexs_own(tmp_path, monkeypatch, options):
     """Agisoft Metashape and MeshLab write a textured mesh's normals and colours per vertex
     beside the faces' texcoords (and Metashape a `texnumber` after them). trimesh drops them

@@ -116,6 +116,8 @@ OTHERS = {  # (mixed polygons, and vertex texture coordinates: ply_polygons.py, 
     "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
     "a face flag and face colours": {"face_extras": (("flags", "int"), ("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
     "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
+    "faces of two sizes with a face flag": {"faces": [[0, 2, 4], [2, 1, 4, 3]], "face_extras": (("flags", "int"),)},
+    "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
 }
 
 
@@ -193,16 +195,18 @@ def test_reading_a_big_mesh_takes_little_more_than_its_arrays(tmp_path):
 
 
 def write_ascii_ply(path: Path, *, position="float", normals=None, colors=(), extras=(), faces=None, ending="\n",
-                    between="", after="") -> Path:
+                    between="", after="", face_extras=()) -> Path:
     """The octahedron as an ASCII PLY with the given property types; `between` goes after the
-    vertex lines, `after` after the face lines."""
+    vertex lines, `after` after the face lines; `face_extras`: (name, type) scalars after
+    each face's indices."""
     positions, octahedron = _octahedron()
     faces = octahedron.tolist() if faces is None else faces
     rng = np.random.default_rng(11)
     header = ["ply", "format ascii 1.0", f"element vertex {len(positions)}"] + [f"property {position} {axis}" for axis in "xyz"]
     header += [f"property {normals} {axis}" for axis in ("nx", "ny", "nz")] if normals else []
     header += [f"property uchar {name}" for name in colors] + [f"property {kind} {name}" for name, kind in extras]
-    header += [f"element face {len(faces)}", "property list uchar int vertex_indices", "end_header"]
+    header += [f"element face {len(faces)}", "property list uchar int vertex_indices"]
+    header += [f"property {kind} {name}" for name, kind in face_extras] + ["end_header"]
     rows = []
     for point in positions * 1e-3:  # exponents: 1.00000000e-04
         row = [f"{value:.8e}" for value in point]
@@ -210,7 +214,9 @@ def write_ascii_ply(path: Path, *, position="float", normals=None, colors=(), ex
         row += [str(int(rng.integers(0, 256))) for _ in colors]
         row += [str(int(rng.integers(0, 9))) if kind in ("int", "uchar") else f"{rng.random():.6f}" for _, kind in extras]
         rows.append(" ".join(row))
-    lines = header + rows + ([between] if between else []) + [f"{len(face)} " + " ".join(map(str, face)) for face in faces]
+    face_rows = [f"{len(face)} " + " ".join(map(str, face)) + "".join(
+        f" {int(rng.integers(0, 9))}" if kind in ("int", "uchar") else f" {rng.random():.6f}" for _, kind in face_extras) for face in faces]
+    lines = header + rows + ([between] if between else []) + face_rows
     path.write_bytes((ending.join(lines) + ending + after).encode())
     return path
 
@@ -223,6 +229,8 @@ ASCII_LAYOUTS = {
     "blank lines at the end": {"after": "\n  \n"},
     "quads": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5], [2, 4, 3, 5]]},
     "pentagons, CR LF": {"faces": [[0, 2, 1, 3, 4], [5, 0, 4, 1, 2]], "ending": "\r\n"},
+    "MeshLab's face flags and quality": {"face_extras": (("flags", "int"), ("quality", "float"))},
+    "quads with a face flag, CR LF": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]], "face_extras": (("flags", "int"),), "ending": "\r\n"},
 }
 
 
@@ -242,6 +250,8 @@ def test_ascii_ply_meshes_read_in_blocks_of_lines_give_trimeshs_mesh(tmp_path, m
 ASCII_OTHERS = {  # (mixed polygons: read here too, tests/test_ply_polygons.py)
     "a blank line among the rows": {"between": " "},
     "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
+    "faces of two sizes with a face flag": {"faces": [[0, 2, 4], [2, 1, 4, 3]], "face_extras": (("flags", "int"),)},
+    "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
 }
 
 

@@ -9,7 +9,8 @@ property's type, as trimesh gives them (every value through float64, then the pr
 type: `float` coordinates are float32), so the Mesh is the same (tests/test_ply_triangles.py).
 Faces of several sizes are counted by kind in a first pass (each line's numbers must be its
 count and that many indices), then read again and cut as ply_polygons.py cuts a binary
-file's, as trimesh cuts this one. Anything else in the data (a blank line, a row of another
+file's, as trimesh cuts this one. Faces followed by scalar properties (MeshLab's flags and
+quality: `3 a b c 0 0.5`) are read when all are of one size, the scalars read past. Anything else in the data (a blank line, a row of another
 length, a colour outside 0..255, rows after the faces) sends the file to trimesh, which
 reads it as before.
 """
@@ -35,10 +36,11 @@ from .ply_triangles import COLOR_NAMES, cut_polygons, fan_count, mesh_arrays, me
 
 def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece | None:
     """The mesh of an ASCII PLY in the layout of ply_triangles.py, or None for any other."""
-    rows = mesh_rows(header, "<") if header.format == "ascii" else None
+    rows = mesh_rows(header, "<", face_scalars=True) if header.format == "ascii" else None
     if rows is None:
         return None
     vertex_row, face_row = rows
+    scalars = sum(name.startswith("skipped ") for name in face_row.names)  # after each face's indices (MeshLab's flags)
     vertex_count, face_count = header.count("vertex"), header.count("face")
     positions, normals, colors, faces = mesh_arrays(vertex_row, face_row, vertex_count, 0)  # (faces: once their size is read)
     corners = mixed = None  # every face's size; or, once faces of several sizes are met, their kind_counts
@@ -72,6 +74,18 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
         first = LEADING_COUNT.match(face_lines[0]) if corners is None else None
         if first is not None and int(first.group(1)) > MAX_FACE_CORNERS:  # before its numbers are read (trimesh: 1.7 GB for 12M)
             raise MeshError(f"{where}: a face of {int(first.group(1))} corners; at most {MAX_FACE_CORNERS} are supported")
+        if scalars:  # faces of one size only, their scalars read past
+            if corners is None:
+                corners = int(first.group(1)) if first is not None else -1
+                if not 3 <= corners <= MAX_FACE_CORNERS or fan_count(corners, face_count) > MAX_TRIANGLES:
+                    return None
+                faces = np.empty((fan_count(corners, face_count), 3), faces.dtype)
+            polygons = _polygons_before_scalars(face_lines, corners, scalars, faces.dtype)
+            if polygons is None:
+                return None
+            cut_polygons(polygons, faces_read, face_count, faces)
+            faces_read += len(face_lines)
+            continue
         numbers = parse_numbers("\n".join(face_lines), np.int64)
         if numbers is None or not numbers.size:
             return None
@@ -107,6 +121,19 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
     if path.stat().st_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
+
+
+def _polygons_before_scalars(face_lines: list[str], corners: int, scalars: int, index_type) -> np.ndarray | None:
+    """The indices of face lines `n i1 .. in s1 .. sk` (n = corners, k = scalars), or None
+    when a line is of another form (trimesh then reads the file, or names what is wrong)."""
+    values = line_values(face_lines, 1 + corners + scalars)
+    if values is None or (values[:, 0] != corners).any():
+        return None
+    polygons = values[:, 1 : corners + 1]
+    info = np.iinfo(index_type)
+    if (polygons != np.floor(polygons)).any() or polygons.min() < info.min or polygons.max() > info.max:
+        return None
+    return polygons.astype(index_type)
 
 
 def line_values(lines: list[str], width: int) -> np.ndarray | None:

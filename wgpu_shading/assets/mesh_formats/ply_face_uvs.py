@@ -8,8 +8,8 @@ Read here a block of faces at a time (binary; or ASCII, a block of lines at a ti
 21 s at 2M triangles through trimesh), every face a triangle with its 6 floats, and its
 vertices x y z and properties trimesh skips (MeshLab's flags and quality), their normals and
 RGB(A) colours (trimesh drops those once it splits vertices: here each split vertex keeps its
-file vertex's, as VTK's PLY reader, f3d's, keeps them), and in a binary file scalar face
-properties after the texcoords (Metashape's `texnumber`, MeshLab's flags), read past.
+file vertex's, as VTK's PLY reader, f3d's, keeps them), and scalar face properties after
+the texcoords (Metashape's `texnumber`, MeshLab's flags), read past.
 Each vertex is split by the distinct texture coordinates of its corners,
 as trimesh splits it (trimesh.visual.texture.unmerge_faces): a vertex per distinct (vertex,
 uv), vertices no face uses left out. The texture coordinates are joined by their bits a
@@ -46,7 +46,7 @@ def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> 
     """The mesh of a PLY in this module's layout, binary or ASCII, or None for any other
     (trimesh reads it)."""
     binary = header.format in ("binary_little_endian", "binary_big_endian")
-    rows = mesh_rows(header, ">" if header.format == "binary_big_endian" else "<", face_texture=True, face_scalars=binary)
+    rows = mesh_rows(header, ">" if header.format == "binary_big_endian" else "<", face_texture=True, face_scalars=True)
     if rows is None:
         return None
     vertex_row, face_row = rows
@@ -57,7 +57,7 @@ def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> 
     try:
         vertices = _VertexArrays(vertex_row, vertex_count)
         if header.format == "ascii":
-            read = _read_ascii(path, header, vertex_row, vertices, split, where)
+            read = _read_ascii(path, header, vertex_row, face_row, vertices, split, where)
         elif binary:
             if header.header_bytes + vertex_count * vertex_row.itemsize + face_count * face_row.itemsize != file_size:
                 return None  # faces of other sizes, or truncated: trimesh reads or names it
@@ -136,11 +136,12 @@ def _read_binary(path: Path, header: PlyHeader, vertex_row, face_row, vertices: 
     return True
 
 
-def _read_ascii(path: Path, header: PlyHeader, vertex_row, vertices: _VertexArrays, split: _UvSplit, where: str) -> bool:
+def _read_ascii(path: Path, header: PlyHeader, vertex_row, face_row, vertices: _VertexArrays, split: _UvSplit, where: str) -> bool:
     """The ASCII file's vertex lines and its face lines (`3 a b c 6 u v u v u v`), a block of
     lines at a time, each value given its property's type as trimesh gives it (as
     ply_ascii_triangles.py reads them). Whether the file is of this module's layout."""
     names = list(vertex_row.names)
+    scalars = sum(name.startswith("skipped ") for name in face_row.names)
     read = 0  # vertices
     sections = vertex_and_face_lines(ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes),
                                      split.vertex_count, header.count("face"))
@@ -148,7 +149,8 @@ def _read_ascii(path: Path, header: PlyHeader, vertex_row, vertices: _VertexArra
         if section is None:
             return False
         values = line_values(section[0], len(names)) if section[0] else np.empty((0, len(names)))
-        faces = line_values(section[1], 11) if section[1] else np.empty((0, 11))  # 3 a b c 6 u v u v u v
+        width = 11 + scalars  # 3 a b c 6 u v u v u v, then the face's scalars
+        faces = line_values(section[1], width) if section[1] else np.empty((0, width))
         if values is None or faces is None:
             return False
         rows = slice(read, read + len(values))
@@ -164,6 +166,6 @@ def _read_ascii(path: Path, header: PlyHeader, vertex_row, vertices: _VertexArra
         corners = faces[:, 1:4]
         if (faces[:, 0] != 3).any() or (faces[:, 4] != 6).any() or (corners != np.floor(corners)).any():
             return False
-        if len(faces) and not split.add(corners.reshape(-1).astype(np.int64), faces[:, 5:].astype(split.join.dtype).reshape(-1, 2)):
+        if len(faces) and not split.add(corners.reshape(-1).astype(np.int64), faces[:, 5:11].astype(split.join.dtype).reshape(-1, 2)):
             return False
     return True
