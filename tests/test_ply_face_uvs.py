@@ -133,7 +133,9 @@ def test_this_reader_reads_them_and_leaves_the_rest_to_trimesh(tmp_path):
     assert taken(_write(tmp_path / "normals.ply", normals=True, colors="rgb"))  # (kept: test_normals_and_colours_...)
     assert taken(_write(tmp_path / "texnumber.ply", face_scalars=(("texnumber", "int"), ("quality", "float"))))
     assert taken(_write(tmp_path / "ascii_texnumber.ply", ascii=True, face_scalars=(("texnumber", "int"), ("quality", "float"))))
-    assert not taken(_write(tmp_path / "face_colours.ply", face_scalars=(("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))))
+    colours = (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))
+    assert taken(_write(tmp_path / "face_colours.ply", face_scalars=colours))  # (test_face_colours_...)
+    assert not taken(_write(tmp_path / "ascii_face_colours.ply", ascii=True, face_scalars=colours))  # (to trimesh)
     assert not taken(_write(tmp_path / "quads.ply", quads=True))  # trimesh ignores quads' texcoords
     assert not taken(_write(tmp_path / "nan.ply", bad="nan"))
     assert not taken(_write(tmp_path / "index.ply", bad="index"))
@@ -211,3 +213,20 @@ def test_unused_vertices_beside_texcoords_are_not_called_truncated(tmp_path, mon
     path = _write(tmp_path / "unused.ply", normals=True, unused=4, seam_every=1000)  # (no seams: no vertex more)
     mesh = _read(path, False, monkeypatch)
     assert len(mesh.positions) == 12 * 12 and mesh.triangle_count == 2 * 11 * 11
+
+
+@pytest.mark.parametrize("vertex_colours", ["", "rgb"])
+def test_face_colours_beside_texcoords_are_trimeshs(tmp_path, monkeypatch, vertex_colours):
+    """VCGLIB writes a face's colour after its texcoords: every corner its own vertex with its
+    face's colour and its uv, as trimesh gives them (also where the vertices have colours,
+    as trimesh draws them once it has split the vertices at their seams)."""
+    colours = (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"), ("alpha", "uchar"))
+    path = _write(tmp_path / "coloured.ply", face_scalars=(("flags", "int"),) + colours, colors=vertex_colours)
+    ours, theirs = _read(path, False, monkeypatch), _read(path, True, monkeypatch)
+    assert len(ours.positions) == len(theirs.positions) == 3 * ours.triangle_count
+
+    def corners(mesh) -> list:
+        rows = np.concatenate([mesh.world_positions(), mesh.uvs.astype(np.float64), mesh.colors.astype(np.float64)], axis=1)
+        return sorted(map(tuple, np.round(rows[mesh.indices.reshape(-1, 3)].reshape(mesh.triangle_count, -1), 6).tolist()))
+
+    assert corners(ours) == corners(theirs)

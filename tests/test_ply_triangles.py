@@ -75,8 +75,8 @@ def write_ply(path: Path, *, order="<", position="float", normals=None, colors=(
     for number, face in enumerate(faces):
         body += np.array(len(face) if counts is None else counts[number], order + PLY_TYPES[count]).tobytes()
         body += np.array(face, order + PLY_TYPES[index]).tobytes()
-        for _, kind in face_extras:
-            body += np.array(200, order + PLY_TYPES[kind]).tobytes()
+        for column, (_, kind) in enumerate(face_extras):  # (each face its own values: its own colour)
+            body += np.array((37 * number + 71 * column) % 200 + 1, order + PLY_TYPES[kind]).tobytes()
     path.write_bytes("".join(header).encode("ascii") + bytes(body) + tail)
     return path
 
@@ -101,6 +101,12 @@ LAYOUTS = {
     "quads with a face flag, big-endian": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]], "face_extras": (("flags", "int"),), "order": ">"},
     "pentagons with a uchar and a double after them": {"faces": [[0, 2, 1, 3, 4], [5, 0, 4, 1, 2]],
                                                         "face_extras": (("material", "uchar"), ("quality", "double"))},
+    # a triangle's colour (MeshLab's face colours): every corner its own vertex, as trimesh gives them
+    "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
+    "a face flag and RGBA face colours, big-endian": {"face_extras": (("flags", "int"), ("red", "uchar"), ("green", "uchar"),
+                                                                      ("blue", "uchar"), ("alpha", "uchar")), "order": ">"},
+    "face colours beside vertex colours (the vertices' drawn)": {"colors": ("red", "green", "blue"),
+                                                                 "face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
 }
 
 
@@ -113,11 +119,10 @@ def test_each_layout_read_here_gives_trimeshs_mesh(tmp_path, options):
 
 OTHERS = {  # (mixed polygons, and vertex texture coordinates: ply_polygons.py, tests/test_ply_polygons.py)
     "texture coordinates": {"vertex_names": ("u", "v")},
-    "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
-    "a face flag and face colours": {"face_extras": (("flags", "int"), ("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
+    "quads with face colours": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]], "face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
+    "float face colours": {"face_extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
     "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
     "faces of two sizes with a face flag": {"faces": [[0, 2, 4], [2, 1, 4, 3]], "face_extras": (("flags", "int"),)},
-    "face colours": {"face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
 }
 
 
@@ -126,7 +131,8 @@ def test_other_layouts_still_go_to_trimesh(tmp_path, options):
     """Not read by this module: the same mesh as trimesh's reading (texture coordinates are
     read by ply_polygons.py, the same mesh too), or trimesh's error."""
     path = write_ply(tmp_path / "mesh.ply", **options)
-    assert _layout(path) is None
+    layout = _layout(path)
+    assert layout is None or read_triangles(path, layout, "mesh") is None
     _assert_same_outcome(path, through_trimesh)
 
 

@@ -9,7 +9,9 @@ Read here a block of faces at a time (binary; or ASCII, a block of lines at a ti
 vertices x y z and properties trimesh skips (MeshLab's flags and quality), their normals and
 RGB(A) colours (trimesh drops those once it splits vertices: here each split vertex keeps its
 file vertex's, as VTK's PLY reader, f3d's, keeps them), and scalar face properties after
-the texcoords (Metashape's `texnumber`, MeshLab's flags), read past.
+the texcoords (Metashape's `texnumber`, MeshLab's flags), read past; a binary face's uchar
+colour (VCGLIB's) makes every corner its own vertex with its face's colour, as trimesh does
+(even where the vertices have colours too: trimesh then draws the faces').
 Each vertex is split by the distinct texture coordinates of its corners,
 as trimesh splits it (trimesh.visual.texture.unmerge_faces): a vertex per distinct (vertex,
 uv), vertices no face uses left out. The texture coordinates are joined by their bits a
@@ -33,13 +35,13 @@ from ...errors import MeshError
 from ...scene.freed_memory import return_freed_memory
 from ...scene.geometry.mesh import MAX_TRIANGLES
 from ..files import text_line_blocks
-from ..mesh_pieces import MeshPiece
+from ..mesh_pieces import MeshPiece, with_face_colors
 from .corner_join import CornerJoin
 from .line_sections import ascii_texts, vertex_and_face_lines
 from .obj_vertices import CornerTriples
 from .ply_ascii_triangles import line_values
 from .ply_header import PlyHeader
-from .ply_triangles import BLOCK_ROWS, COLOR_NAMES, file_rows, float_type, mesh_rows, read_vertices
+from .ply_triangles import BLOCK_ROWS, COLOR_NAMES, face_color_fields, file_rows, float_type, mesh_rows, read_face_colors, read_vertices
 
 
 def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> MeshPiece | None:
@@ -50,10 +52,13 @@ def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> 
     if rows is None:
         return None
     vertex_row, face_row = rows
+    color_fields = face_color_fields(face_row)
+    if color_fields and not binary:
+        return None  # (face colours in ASCII: trimesh)
     vertex_count, face_count = header.count("vertex"), header.count("face")
     if face_count > MAX_TRIANGLES:
         raise MeshError(f"{where}: {face_count} faces; at most {MAX_TRIANGLES} triangles are supported")
-    split = _UvSplit(vertex_count, face_row.fields["uv"][0].base)
+    split = _UvSplit(vertex_count, face_row.fields["uv"][0].base, face_count if color_fields else 0, color_fields)
     try:
         vertices = _VertexArrays(vertex_row, vertex_count)
         if header.format == "ascii":
@@ -86,8 +91,12 @@ class _VertexArrays:
 class _UvSplit:
     """The faces' corners and uvs, a block at a time; then the vertices split by their uvs."""
 
-    def __init__(self, vertex_count: int, uv_type: np.dtype):
+    def __init__(self, vertex_count: int, uv_type: np.dtype, colored_faces: int = 0, color_fields: list[str] = ()):
         self.vertex_count = vertex_count
+        # Each face's colour (VCGLIB's), drawn instead of the vertices' where both are given, as
+        # trimesh draws them once it has split the vertices at their seams.
+        self.color_fields = list(color_fields) if colored_faces else []
+        self.face_colors = np.empty((colored_faces, len(self.color_fields)), np.uint8) if colored_faces else None
         self.join = CornerJoin(np.float32 if uv_type.itemsize == 4 else np.float64)  # (in this machine's byte order)
         self.triples = CornerTriples()
         self.runs: list = []
@@ -117,6 +126,8 @@ class _UvSplit:
         piece = MeshPiece(vertices.positions[source], faces, normals, uv_values[combos[:, 1]], parts=[(0, len(faces), None, name)],
                           colors=colors)
         del combos, uv_values, rank, source
+        if self.face_colors is not None:  # every corner its own vertex, as trimesh gives them
+            piece = with_face_colors(piece, self.face_colors)
         return_freed_memory()  # the blocks' and the pairs' arrays, before the crease analysis's
         return piece
 
@@ -133,6 +144,8 @@ def _read_binary(path: Path, header: PlyHeader, vertex_row, face_row, vertices: 
                 return False
             if not split.add(block["corners"].reshape(-1).astype(np.int64), block["uv"].reshape(-1, 2)):
                 return False
+            if split.face_colors is not None:
+                read_face_colors(block, split.color_fields, split.face_colors[start : start + len(block)])
     return True
 
 

@@ -16,8 +16,10 @@ compares the two on real files and on every case below); any other PLY goes to t
   confidence) are skipped, as trimesh skips them. Texture coordinates (trimesh's names for
   them: TEXTURE_PAIRS) are read by ply_polygons.py, a pair per vertex;
 - face: one list property, vertex_indices or vertex_index, then only scalar properties,
-  read past as trimesh keeps them aside (MeshLab's flags and quality; face colours go to
-  trimesh; a `texcoord` list after the indices to ply_face_uvs.py); every face a
+  read past as trimesh keeps them aside (MeshLab's flags and quality), except uchar red,
+  green, blue (alpha): a triangle's colour, every corner then its own vertex, as trimesh
+  gives them (unless the vertices have colours: then those, as trimesh); a `texcoord` list
+  after the indices goes to ply_face_uvs.py; every face a
   polygon of the same size (triangles,
   quads as quad-remeshers write them, ...): the file is exactly as long as that makes it,
   and every count read is that size (a file of mixed polygons: ply_polygons.py). Polygons
@@ -36,7 +38,7 @@ import numpy as np
 
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES
-from ..mesh_pieces import MeshPiece, polygon_fans
+from ..mesh_pieces import MeshPiece, polygon_fans, with_face_colors
 from .checks import MAX_FACE_CORNERS
 from .ply_header import PLY_TYPES, PlyHeader
 
@@ -139,10 +141,29 @@ def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = F
             return None
         fields += [("uv_count", order + PLY_TYPES[uv_count_kind]), ("uv", order + PLY_TYPES[uv_kind], (2 * corners,))]
     scalars = face.properties[lists:]
-    if any(count is not None or kind not in PLY_TYPES or name in COLOR_NAMES for name, kind, count in scalars):
+    if any(count is not None or kind not in PLY_TYPES for _, kind, count in scalars):
         return None
-    fields += [(f"skipped {number}", order + PLY_TYPES[kind]) for number, (_, kind, _) in enumerate(scalars)]
+    face_colors = [name for name, _, _ in scalars if name in COLOR_NAMES]
+    if face_colors and (sorted(face_colors, key=COLOR_NAMES.index)[:3] != ["red", "green", "blue"] or len(set(face_colors)) != len(face_colors)
+                        or any(PLY_TYPES[kind] != "u1" for name, kind, _ in scalars if name in COLOR_NAMES)):
+        return None  # (float face colours: trimesh)
+    fields += [(FACE_COLOR + name if name in COLOR_NAMES else f"skipped {number}", order + PLY_TYPES[kind])
+               for number, (name, kind, _) in enumerate(scalars)]
     return vertex_row, np.dtype(fields)
+
+
+FACE_COLOR = "face "  # the face record's fields of a face's colour: "face red", ...
+
+
+def face_color_fields(face_row: np.dtype) -> list[str]:
+    """The face record's colour fields, red, green, blue (alpha) (mesh_rows): MeshLab's face colours."""
+    return [FACE_COLOR + name for name in COLOR_NAMES if FACE_COLOR + name in face_row.names]
+
+
+def read_face_colors(block: np.ndarray, fields: list[str], out: np.ndarray) -> None:
+    """A block of face records' colours into `out` (its rows)."""
+    for column, field in enumerate(fields):
+        out[:, column] = block[field]
 
 
 def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece | None:
@@ -160,7 +181,11 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
     if fan_count(corners, layout.faces) > MAX_TRIANGLES:  # (before the arrays are made)
         raise MeshError(f"{where}: {layout.faces} faces of {corners} corners make {fan_count(corners, layout.faces)} triangles; "
                         f"at most {MAX_TRIANGLES} are supported")
+    color_fields = face_color_fields(layout.face)
+    if color_fields and corners != 3:
+        return None  # polygons with a colour each: trimesh
     positions, normals, colors, faces = mesh_arrays(layout.vertex, layout.face, layout.vertices, fan_count(corners, layout.faces))
+    face_colors = np.empty((layout.faces, len(color_fields)), np.uint8) if color_fields and colors is None else None
     try:
         with open(path, "rb") as file:
             file.seek(layout.offset)
@@ -170,11 +195,15 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
                 if (block["count"] != corners).any():
                     return None
                 cut_polygons(block["corners"], start, layout.faces, faces)
+                if face_colors is not None:
+                    read_face_colors(block, color_fields, face_colors[start : start + len(block)])
     except OSError as error:
         raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {layout.vertices} vertices and {layout.faces} faces") from None
-    return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
+    piece = MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
+    # Face colours (where the vertices have none, as trimesh reads them): every corner its own vertex.
+    return piece if face_colors is None else with_face_colors(piece, face_colors)
 
 
 def texture_pair(names) -> tuple[str, str] | None:
