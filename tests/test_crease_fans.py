@@ -241,3 +241,22 @@ def test_welding_a_seamed_mesh_keeps_one_array_of_vertex_sums(monkeypatch):
         sums[ids[vertex]] += unit[corner // 3]
     expected = (sums / np.sqrt(np.einsum("ij,ij->i", sums, sums))[:, None]).astype(np.float32)
     np.testing.assert_array_equal(normals, expected[ids])
+
+
+def test_a_faces_normal_is_the_same_bits_asked_once_or_in_runs(monkeypatch):
+    """FaceNormals.of computes a face asked for several times in a row once (the crease
+    analysis asks for every corner's face, corners in order): the same bits as each id
+    computed on its own, in blocks or not."""
+    monkeypatch.setattr(face_normals, "KEPT_FACES", 0)  # (a big mesh's path: nothing kept)
+    positions, faces = _cubes(40)
+    rng = np.random.default_rng(3)
+    positions = positions + rng.normal(scale=1e-3, size=positions.shape).astype(np.float32)
+    normals = face_normals.FaceNormals(positions, faces)
+    corners = np.sort(rng.choice(3 * len(faces), 2 * len(faces), replace=False))
+    asked = corners // 3  # runs of one to three equal ids
+    one_by_one = [normals.of(np.array([face])) for face in asked.tolist()]
+    for block in (10_000, 7):
+        monkeypatch.setattr(face_normals, "FACE_BLOCK", block)
+        unit, area = normals.of(asked)
+        assert unit.view(np.int64).tolist() == np.concatenate([u for u, _ in one_by_one]).view(np.int64).tolist()
+        assert area.view(np.int64).tolist() == np.concatenate([a for _, a in one_by_one]).view(np.int64).tolist()

@@ -76,9 +76,30 @@ class FaceNormals:
         large mesh")."""
         if self.kept is not None:
             return self.kept[0][face_ids], self.kept[1][face_ids]
-        if isinstance(face_ids, slice) or len(face_ids) <= FACE_BLOCK:
+        if isinstance(face_ids, slice):
+            return _normals_of(self.positions, self.faces[face_ids], self.scale)
+        runs = _repeated_runs(face_ids)
+        if runs is not None:  # each face once, then repeated: a face's values are its own either way
+            unit, area = self.of(face_ids[runs])
+            lengths = np.diff(runs, append=len(face_ids))
+            return np.repeat(unit, lengths, axis=0), np.repeat(area, lengths)
+        if len(face_ids) <= FACE_BLOCK:
             return _normals_of(self.positions, self.faces[face_ids], self.scale)
         return _in_blocks(self.positions, len(face_ids), lambda block: self.faces[face_ids[block]], self.scale)
+
+
+def _repeated_runs(face_ids: np.ndarray) -> np.ndarray | None:
+    """Where each run of equal consecutive ids starts, when the runs are at most half the ids
+    (the crease analysis asks for every corner's face, corners in order: each face three
+    times in a row where every vertex is near a crease, as on a voxel model or a CAD part:
+    its normals were computed three times, a quarter of a 2M-triangle voxel STL's load);
+    None otherwise."""
+    if len(face_ids) < 2:
+        return None
+    starts = np.flatnonzero(face_ids[1:] != face_ids[:-1]) + 1
+    if 2 * (len(starts) + 1) > len(face_ids):
+        return None
+    return np.concatenate([[0], starts])
 
 
 def float_positions(positions) -> np.ndarray:
