@@ -292,3 +292,12 @@ def test_a_file_of_one_huge_face_is_refused_before_it_is_read(tmp_path, monkeypa
     path = write_ply(tmp_path / "many.ply", faces=[[0, 2, 1, 3], [0, 4, 1, 5], [2, 4, 3, 5]])
     with pytest.raises(MeshError, match="3 faces of 4 corners make 6 triangles; at most 5"):
         load_mesh(path)
+
+
+@pytest.mark.parametrize("faces", [[[0, 2, 4], [2, 6, 4]], [[0, 2, 1, 3], [0, 6, 1, 5]]], ids=["triangles (read here)", "quads (trimesh)"])
+def test_a_face_colours_index_beyond_the_vertices_is_named(tmp_path, faces):
+    """Face colours split every corner into its own vertex: an index beyond the vertices
+    (the octahedron has 6) is the error every reader gives, not an IndexError of the split."""
+    path = write_ply(tmp_path / "mesh.ply", faces=faces, face_extras=(("red", "uchar"), ("green", "uchar"), ("blue", "uchar")))
+    with pytest.raises(MeshError, match="refers to vertex 6"):
+        load_mesh(path)

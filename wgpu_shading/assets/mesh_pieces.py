@@ -81,8 +81,11 @@ class MeshFile:
 
 def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:
     """One colour per face, unblended: every corner its own vertex (MeshLab; averaging
-    into vertices would blur the faces' colours)."""
+    into vertices would blur the faces' colours). A face index beyond the vertices leaves
+    the piece as it is, for the check every piece takes (_check_piece) to name it."""
     corners = piece.faces.reshape(-1)
+    if len(corners) and (int(corners.min()) < 0 or int(corners.max()) >= len(piece.positions)):
+        return piece
     return replace(
         piece,
         positions=piece.positions[corners],
