@@ -135,18 +135,24 @@ def _block_fans(text: bytes, line_count: int, per_corner: int | None) -> tuple[n
     newlines = np.flatnonzero(data == 10)
     slash_at = np.flatnonzero(data == 47)
     line_starts = np.concatenate([[0], newlines + 1])
-    if not len(slash_at) and len(starts) == 4 * line_count and np.array_equal(starts[::4], line_starts):
-        # Every line `f a b c` (most scans' files): four tokens a line, each line's first at
-        # its start, so no token's line need be looked up (a third of this function's time).
+    # Every line `f a b c` (most files: scans, and Blender's `f a/b/c ...`): four tokens a
+    # line, each line's first at its start, so no token's line need be looked up.
+    triangle_lines = len(starts) == 4 * line_count and np.array_equal(starts[::4], line_starts)
+    if not len(slash_at) and triangle_lines:
         if per_corner not in (None, 1):  # the run's earlier blocks had v/vt corners: not one form
             return None
         corners, per_corner = np.full(line_count, 3), 1
     else:
-        token_line = np.searchsorted(newlines, starts)  # the newlines before a token: its line
-        corners = np.bincount(token_line, minlength=line_count) - 1  # the `f` is a token too
-        if len(corners) != line_count or corners.min(initial=3) < 3:
-            return None
-        slashes = np.bincount(np.searchsorted(starts, slash_at, "right") - 1, minlength=len(starts))
+        if triangle_lines:
+            corners = np.full(line_count, 3)
+        else:
+            token_line = np.searchsorted(newlines, starts)  # the newlines before a token: its line
+            corners = np.bincount(token_line, minlength=line_count) - 1  # the `f` is a token too
+            if len(corners) != line_count or corners.min(initial=3) < 3:
+                return None
+        # Each token's slashes, counted from its start to the next token's (the text starts
+        # with a line's `f`: starts[0] is 0), one pass over the bytes.
+        slashes = np.add.reduceat(data == 47, starts, dtype=np.int64) if len(starts) else np.zeros(0, np.int64)
         if per_corner is None:
             per_corner = int(slashes[1]) + 1  # the first corner's
         expected = np.full(len(starts), per_corner - 1, slashes.dtype)
