@@ -292,6 +292,10 @@ def test_a_file_of_one_huge_face_is_refused_before_it_is_read(tmp_path, monkeypa
     path = write_ply(tmp_path / "many.ply", faces=[[0, 2, 1, 3], [0, 4, 1, 5], [2, 4, 3, 5]])
     with pytest.raises(MeshError, match="3 faces of 4 corners make 6 triangles; at most 5"):
         load_mesh(path)
+    monkeypatch.setattr(ply_ascii_triangles, "MAX_TRIANGLES", 5)  # ASCII faces with scalars after them, the same
+    path = write_ascii_ply(tmp_path / "many_ascii.ply", faces=[[0, 2, 1, 3], [0, 4, 1, 5], [2, 4, 3, 5]], face_extras=(("flags", "int"),))
+    with pytest.raises(MeshError, match="3 faces of 4 corners make 6 triangles; at most 5"):
+        load_mesh(path)
 
 
 @pytest.mark.parametrize("faces", [[[0, 2, 4], [2, 6, 4]], [[0, 2, 1, 3], [0, 6, 1, 5]]], ids=["triangles (read here)", "quads (trimesh)"])

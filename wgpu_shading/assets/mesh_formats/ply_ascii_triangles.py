@@ -79,8 +79,11 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
         if scalars:  # faces of one size only, their scalars read past
             if corners is None:
                 corners = int(first.group(1)) if first is not None else -1
-                if not 3 <= corners <= MAX_FACE_CORNERS or fan_count(corners, face_count) > MAX_TRIANGLES:
+                if not 3 <= corners <= MAX_FACE_CORNERS:
                     return None
+                if fan_count(corners, face_count) > MAX_TRIANGLES:  # (before the array is made; trimesh would hold the text)
+                    raise MeshError(f"{where}: {face_count} faces of {corners} corners make {fan_count(corners, face_count)} "
+                                    f"triangles; at most {MAX_TRIANGLES} are supported")
                 faces = np.empty((fan_count(corners, face_count), 3), faces.dtype)
             polygons = _polygons_before_scalars(face_lines, corners, scalars, faces.dtype)
             if polygons is None:
