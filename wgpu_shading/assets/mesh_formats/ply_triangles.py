@@ -105,7 +105,8 @@ def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = F
     (ply_face_uvs.py reads them): ("uv_count", ...), ("uv", ..., (2 × corners,)).
     `face_scalars`: scalar properties may follow the face's lists, as MeshLab writes its
     flags and quality, Metashape its `texnumber`: fields ("skipped 0", ...) that are read
-    past, as trimesh keeps them aside (a face's colour is not one: trimesh reads those)."""
+    past, as trimesh keeps them aside; a face's uchar red, green, blue (alpha) are its colour,
+    fields ("face red", ...) (face_color_fields; float ones: None, trimesh reads them)."""
     filled = [element for element in header.elements if element.count]
     if [element.name for element in filled] != ["vertex", "face"]:
         return None
