@@ -16,6 +16,7 @@ from ..errors import MeshError
 from ..scene.freed_memory import return_freed_memory
 from ..scene.geometry.mesh import MAX_TRIANGLES, MAX_VERTICES, Mesh, MeshPart, check_counts, face_normals
 from ..scene.geometry.crease_normals import crease_normals
+from ..scene.geometry.vertex_arrays import finite_rows
 
 # A mesh of more vertices than this hands its load's freed temporaries back once assembled
 # (scene/freed_memory.py): the gathers and conversions of its arrays into a Mesh left
@@ -96,22 +97,25 @@ def _split_face_colors(piece: MeshPiece, name: str) -> MeshPiece:
     """A piece with face colours as every corner its own vertex with its face's colour."""
     if piece.face_colors is None:
         return piece
-    if 3 * len(piece.faces) > MAX_VERTICES:  # (said before the corners' copies are made)
-        raise MeshError(f"{name}: {3 * len(piece.faces)} vertices once every coloured face's corners are split; "
-                        f"at most {MAX_VERTICES} are supported")
+    _check_corners_apart(piece, name, "coloured")
+    return _corners_apart(piece, colors=np.repeat(piece.face_colors, 3, axis=0), face_colors=None)
+
+
+def _check_corners_apart(piece: MeshPiece, name: str, what: str) -> None:
+    """A MeshError when every corner its own vertex makes more vertices than supported
+    (said before the corners' copies are made)."""
+    if 3 * len(piece.faces) > MAX_VERTICES:
+        raise MeshError(f"{name}: {3 * len(piece.faces)} vertices once every {what} face's corners are split; at most {MAX_VERTICES} are supported")
+
+
+def _corners_apart(piece: MeshPiece, **given) -> MeshPiece:
+    """The piece with every corner its own vertex, in face order: each per-vertex array
+    gathered by corner, except the fields `given` here (normals or colours per corner; face
+    colours, which stay a face's until assemble splits them)."""
     corners = piece.faces.reshape(-1)
-    face_colors = piece.face_colors
-    return replace(
-        piece,
-        face_colors=None,
-        positions=piece.positions[corners],
-        faces=numbered_corners(len(piece.faces)),
-        normals=None if piece.normals is None else piece.normals[corners],
-        uvs=None if piece.uvs is None else piece.uvs[corners],
-        colors=np.repeat(face_colors, 3, axis=0),
-        tangents=None if piece.tangents is None else piece.tangents[corners],
-        extra_uvs=None if piece.extra_uvs is None else piece.extra_uvs[corners],
-    )
+    arrays = {name: getattr(piece, name) for name in ("normals", "uvs", "colors", "tangents", "extra_uvs")}
+    gathered = {name: None if array is None else array[corners] for name, array in arrays.items() if name not in given}
+    return replace(piece, positions=piece.positions[corners], faces=numbered_corners(len(piece.faces)), **gathered, **given)
 
 
 def _piece_normals(piece: MeshPiece, crease_angle: float, name: str) -> MeshPiece:
@@ -122,21 +126,9 @@ def _piece_normals(piece: MeshPiece, crease_angle: float, name: str) -> MeshPiec
     if piece.primitive != "triangles":
         return replace(piece, normals=np.zeros((len(piece.positions), 3), np.float32))
     if piece.all_flat:  # every corner its own vertex, with its face's normal
-        if 3 * len(piece.faces) > MAX_VERTICES:  # (said before the corners' copies are made)
-            raise MeshError(
-                f"{name}: {3 * len(piece.faces)} vertices once every flat face's corners are split; at most {MAX_VERTICES} are supported"
-            )
-        corners = piece.faces.reshape(-1)
+        _check_corners_apart(piece, name, "flat")
         unit, _ = face_normals(piece.positions, piece.faces)
-        return replace(
-            piece,
-            positions=piece.positions[corners],
-            faces=numbered_corners(len(piece.faces)),
-            normals=np.repeat(unit, 3, axis=0),
-            uvs=None if piece.uvs is None else piece.uvs[corners],
-            colors=None if piece.colors is None else piece.colors[corners],
-            extra_uvs=None if piece.extra_uvs is None else piece.extra_uvs[corners],
-        )
+        return _corners_apart(piece, normals=np.repeat(unit, 3, axis=0))
     source, faces, normals = crease_normals(piece.positions, piece.faces, crease_angle, piece.flat, MAX_VERTICES, name)
     normals.setflags(write=False)  # unit float32, ours: the Mesh keeps them without a copy (mesh.py, owned)
     if source is None:
@@ -175,8 +167,9 @@ def _check_piece(piece: MeshPiece, name: str) -> None:
     width = {"triangles": 3, "lines": 2}.get(piece.primitive)
     if width and (piece.faces.ndim != 2 or piece.faces.shape[1] != width):
         raise MeshError(f"{name}: {piece.primitive} must have {width} vertices each, got an array of shape {piece.faces.shape}")
-    if not np.isfinite(piece.positions).all():
-        bad = int(np.flatnonzero(~np.isfinite(piece.positions).all(axis=1))[0])
+    finite = finite_rows(piece.positions)
+    if finite is not None:
+        bad = int(np.flatnonzero(~finite)[0])
         raise MeshError(f"{name}: vertex {bad} has a NaN or infinite coordinate: {piece.positions[bad].tolist()}")
     if not width:
         return

@@ -85,9 +85,10 @@ def blank_bytes(data: bytes | np.ndarray) -> np.ndarray:
     return np.frombuffer(text.translate(_BLANK_TABLE), bool)
 
 
-def word_starts(data: bytes | np.ndarray) -> np.ndarray:
-    """Per byte of `data` (bytes, or uint8): whether a whitespace-separated word begins there."""
-    blank = blank_bytes(data)
+def word_starts(data: bytes | np.ndarray, blank: np.ndarray | None = None) -> np.ndarray:
+    """Per byte of `data` (bytes, or uint8): whether a whitespace-separated word begins there
+    (`blank`: its blank_bytes, when the caller has them)."""
+    blank = blank_bytes(data) if blank is None else blank
     starts = ~blank
     starts[1:] &= blank[:-1]
     return starts
@@ -98,7 +99,7 @@ def numbers_per_line(text: bytes, starts: np.ndarray | None = None) -> np.ndarra
     break; a last line without one counts); `starts`: where the words begin, when known."""
     data = np.frombuffer(text, np.uint8)
     if starts is None:
-        starts = np.flatnonzero(word_starts(data))
+        starts = np.flatnonzero(word_starts(text))
     ends = np.flatnonzero(data == 10)
     if len(data) and data[-1] != 10:
         ends = np.append(ends, len(data))

@@ -206,9 +206,11 @@ def _integers_only(text: str, is_index: np.ndarray) -> bool:
     """Whether every number `is_index` marks (one flag a number of `text`, in order) is
     written as a plain integer: the reader of tokens reads counts and indices with int(),
     which refuses `3.0` or `1e0`."""
-    data = np.frombuffer(text.encode("latin-1"), np.uint8)
-    filled = ~blank_bytes(data)
-    starts = word_starts(data)
+    encoded = text.encode("latin-1")
+    data = np.frombuffer(encoded, np.uint8)
+    blank = blank_bytes(encoded)
+    filled = ~blank
+    starts = word_starts(encoded, blank)
     token = np.maximum(np.cumsum(starts, dtype=np.int64) - 1, 0)  # each byte's number (blanks: the one before)
     in_index = filled & is_index[np.minimum(token, len(is_index) - 1)]
     digit = (data >= ord("0")) & (data <= ord("9"))

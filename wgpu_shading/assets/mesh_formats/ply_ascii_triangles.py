@@ -47,8 +47,6 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
     positions, normals, colors, faces = mesh_arrays(vertex_row, face_row, vertex_count, 0)  # (faces: once their size is read)
     corners = mixed = None  # every face's size; or, once faces of several sizes are met, their kind_counts
     names = list(vertex_row.names)
-    columns = {name: names.index(name) for name in names}
-    channels = [name for name in COLOR_NAMES if name in columns]
     vertices_read = faces_read = 0
     texts = ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes)
     for section in vertex_and_face_lines(texts, vertex_count, face_count):
@@ -59,17 +57,8 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
             values = line_values(vertex_lines, len(names))
             if values is None:
                 return None
-            rows_read = slice(vertices_read, vertices_read + len(vertex_lines))
-            for column, axis in enumerate("xyz"):  # each value given its property's type first, as trimesh gives it
-                positions[rows_read, column] = values[:, columns[axis]].astype(vertex_row.fields[axis][0])
-            if normals is not None:
-                for column, axis in enumerate(("nx", "ny", "nz")):
-                    normals[rows_read, column] = values[:, columns[axis]].astype(vertex_row.fields[axis][0])
-            for column, channel in enumerate(channels):
-                channel_values = values[:, columns[channel]]
-                if channel_values.min() < 0 or channel_values.max() > 255 or (channel_values % 1).any():
-                    return None
-                colors[rows_read, column] = channel_values
+            if not vertex_values(values, vertex_row, slice(vertices_read, vertices_read + len(vertex_lines)), positions, normals, colors):
+                return None
             vertices_read += len(vertex_lines)
         if not face_lines:
             continue
@@ -126,6 +115,22 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
     if path.stat().st_size > TEXT_BLOCK_BYTES:  # several blocks: their temporaries given back
         return_freed_memory()
     return MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
+
+
+def vertex_values(values: np.ndarray, vertex_row: np.dtype, rows: slice, positions, normals, colors) -> bool:
+    """A block of vertex lines' values (line_values) into rows `rows` of the arrays made by
+    mesh_arrays, each value given its property's type first, as trimesh gives it; False
+    where a colour is not a whole number in 0..255 (trimesh then reads the file)."""
+    names = list(vertex_row.names)
+    for array, axes in ((positions, "xyz"), (normals, ("nx", "ny", "nz"))):
+        for column, axis in enumerate(axes if array is not None else ()):
+            array[rows, column] = values[:, names.index(axis)].astype(vertex_row.fields[axis][0])
+    for column, channel in enumerate(name for name in COLOR_NAMES if name in names):
+        channel_values = values[:, names.index(channel)]
+        if channel_values.min(initial=0) < 0 or channel_values.max(initial=0) > 255 or (channel_values % 1).any():
+            return False
+        colors[rows, column] = channel_values
+    return True
 
 
 def _polygons_before_scalars(face_lines: list[str], corners: int, scalars: int, index_type) -> np.ndarray | None:

@@ -39,9 +39,9 @@ from ..mesh_pieces import MeshPiece, with_face_colors
 from .corner_join import CornerJoin
 from .line_sections import ascii_texts, vertex_and_face_lines
 from .obj_vertices import CornerTriples
-from .ply_ascii_triangles import line_values
+from .ply_ascii_triangles import line_values, vertex_values
 from .ply_header import PlyHeader
-from .ply_triangles import BLOCK_ROWS, COLOR_NAMES, face_color_fields, file_rows, float_type, mesh_rows, read_face_colors, read_vertices
+from .ply_triangles import BLOCK_ROWS, face_color_fields, file_rows, mesh_arrays, mesh_rows, read_face_colors, read_vertices
 
 
 def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> MeshPiece | None:
@@ -60,7 +60,7 @@ def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> 
         raise MeshError(f"{where}: {face_count} faces; at most {MAX_TRIANGLES} triangles are supported")
     split = _UvSplit(vertex_count, face_row.fields["uv"][0].base, face_count if color_fields else 0, color_fields)
     try:
-        vertices = _VertexArrays(vertex_row, vertex_count)
+        vertices = mesh_arrays(vertex_row, face_row, vertex_count, 0)[:3]  # positions, normals, colours
         if header.format == "ascii":
             read = _read_ascii(path, header, vertex_row, face_row, vertices, split, where)
         elif binary:
@@ -74,18 +74,6 @@ def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> 
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {vertex_count} vertices and {face_count} faces") from None
     return split.piece(vertices, path.name) if read else None
-
-
-class _VertexArrays:
-    """The file's per-vertex arrays, as the vertices' rows give them: positions, and normals
-    and RGB(A) colours where it has them (mesh_rows checked their properties)."""
-
-    def __init__(self, vertex_row: np.dtype, count: int):
-        fields = vertex_row.fields
-        self.positions = np.empty((count, 3), float_type(fields, "xyz"))
-        self.normals = np.empty((count, 3), float_type(fields, ("nx", "ny", "nz"))) if "nx" in fields else None
-        self.channels = [name for name in COLOR_NAMES if name in fields]
-        self.colors = np.empty((count, len(self.channels)), np.uint8) if self.channels else None
 
 
 class _UvSplit:
@@ -113,17 +101,18 @@ class _UvSplit:
         self.runs.append(self.triples.split(pairs.reshape(-1, 3, 3), self.vertex_count))
         return True
 
-    def piece(self, vertices: _VertexArrays, name: str) -> MeshPiece:
+    def piece(self, vertices: tuple, name: str) -> MeshPiece:
         """The mesh: each (vertex, uv) pair a vertex, with that vertex's position, normal
-        and colour (the module docstring)."""
+        and colour (`vertices`: the file's, mesh_arrays'; the module docstring)."""
+        positions, vertex_normals, vertex_colors = vertices
         combos, faces = self.triples.distinct(self.runs, [0, 1], self.vertex_count)
         self.runs = []
         rank = np.arange(self.uv_ids, dtype=np.uint32)  # each uv's id (in the order met), renumbered to its sorted row
         uv_values = self.join.finish(rank)[rank, :2]
         source = combos[:, 0]
-        normals = None if vertices.normals is None else vertices.normals[source]
-        colors = None if vertices.colors is None else vertices.colors[source]
-        piece = MeshPiece(vertices.positions[source], faces, normals, uv_values[combos[:, 1]], parts=[(0, len(faces), None, name)],
+        normals = None if vertex_normals is None else vertex_normals[source]
+        colors = None if vertex_colors is None else vertex_colors[source]
+        piece = MeshPiece(positions[source], faces, normals, uv_values[combos[:, 1]], parts=[(0, len(faces), None, name)],
                           colors=colors)
         del combos, uv_values, rank, source
         if self.face_colors is not None:  # every corner its own vertex, as trimesh gives them
@@ -132,12 +121,12 @@ class _UvSplit:
         return piece
 
 
-def _read_binary(path: Path, header: PlyHeader, vertex_row, face_row, vertices: _VertexArrays, split: _UvSplit, where: str) -> bool:
+def _read_binary(path: Path, header: PlyHeader, vertex_row, face_row, vertices: tuple, split: _UvSplit, where: str) -> bool:
     """Whether the file is of this module's layout; its vertices read into `vertices`, its faces into `split`."""
     face_count = header.count("face")
     with open(path, "rb") as file:
         file.seek(header.header_bytes)
-        read_vertices(file, vertex_row, vertices.positions, vertices.normals, vertices.colors, where)
+        read_vertices(file, vertex_row, *vertices, where)
         for start in range(0, face_count, BLOCK_ROWS):
             block = file_rows(file, face_row, min(BLOCK_ROWS, face_count - start), where)
             if (block["count"] != 3).any() or (block["uv_count"] != 6).any():
@@ -149,7 +138,7 @@ def _read_binary(path: Path, header: PlyHeader, vertex_row, face_row, vertices: 
     return True
 
 
-def _read_ascii(path: Path, header: PlyHeader, vertex_row, face_row, vertices: _VertexArrays, split: _UvSplit, where: str) -> bool:
+def _read_ascii(path: Path, header: PlyHeader, vertex_row, face_row, vertices: tuple, split: _UvSplit, where: str) -> bool:
     """The ASCII file's vertex lines and its face lines (`3 a b c 6 u v u v u v`), a block of
     lines at a time, each value given its property's type as trimesh gives it (as
     ply_ascii_triangles.py reads them). Whether the file is of this module's layout."""
@@ -166,15 +155,8 @@ def _read_ascii(path: Path, header: PlyHeader, vertex_row, face_row, vertices: _
         faces = line_values(section[1], width) if section[1] else np.empty((0, width))
         if values is None or faces is None:
             return False
-        rows = slice(read, read + len(values))
-        for array, axes in ((vertices.positions, "xyz"), (vertices.normals, ("nx", "ny", "nz"))):
-            for column, axis in enumerate(axes if array is not None else ()):
-                array[rows, column] = values[:, names.index(axis)].astype(vertex_row.fields[axis][0])
-        for column, channel in enumerate(vertices.channels):
-            channel_values = values[:, names.index(channel)]
-            if channel_values.min(initial=0) < 0 or channel_values.max(initial=0) > 255 or (channel_values % 1).any():
-                return False  # (trimesh reads or names it)
-            vertices.colors[rows, column] = channel_values
+        if not vertex_values(values, vertex_row, slice(read, read + len(values)), *vertices):
+            return False  # (trimesh reads or names it)
         read += len(values)
         corners = faces[:, 1:4]
         if (faces[:, 0] != 3).any() or (faces[:, 4] != 6).any() or (corners != np.floor(corners)).any():
