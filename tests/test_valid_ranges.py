@@ -58,6 +58,8 @@ NOT_USER_VALUES = {
     "MAX_SINGLE_VIEW_TAN": "render/passes/shadow_views.py: where a spot's map becomes a cube map, not an input",
     "MAX_RANGES": "scene/geometry/corner_ids.py: how many passes the crease analysis makes over its ids, not an input",
     "MIN_DECODED_TEXT": "assets/gltf/data_uris.py: which data: URIs are decoded before json.loads; the bytes are the same either way",
+    "MIN_FILE_BYTES": "assets/mesh_cache.py: which mesh files the cache keeps; the Mesh is the same either way",
+    "MIN_TRIANGLES": "render/gpu/order_cache.py: which vertex-cache orders the cache keeps; the order is the same either way",
 }
 
 

@@ -81,6 +81,10 @@ class MeshFile:
     notes: list[str] = field(default_factory=list)
     lights: Callable[[], list] = _no_lights
     camera: Callable[[int], object] = _no_camera
+    # The Mesh follows from the file's bytes alone (no material library, image or other file
+    # read beside it) and everything the user is told is in `notes`: the mesh cache may keep
+    # it (mesh_cache.py). A reader says so; unsaid, it is not kept.
+    self_contained: bool = False
 
 
 def with_face_colors(piece: MeshPiece, face_colors: np.ndarray) -> MeshPiece:

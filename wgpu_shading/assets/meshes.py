@@ -48,6 +48,9 @@ MESH_READERS: dict[str, str] = {
     ".gltf": "gltf.reader:read_gltf",
 }
 MESH_SUFFIXES = tuple(MESH_READERS)
+# Readers whose Mesh may depend on more than the file (buffers, images, an animation):
+# never looked up in the mesh cache (the others say so per file: MeshFile.self_contained).
+_NEVER_CACHED = frozenset({MESH_READERS[".glb"], MESH_READERS[".gltf"]})
 DEFAULT_CREASE_ANGLE = 60.0  # degrees (docs/real-world-files.md)
 
 
@@ -114,8 +117,17 @@ def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
     reader = MESH_READERS.get(path.suffix.lower())
     if reader is None:
         raise MeshError(f"mesh file {text!r}: unsupported format {path.suffix!r}; expected one of {', '.join(MESH_SUFFIXES)}")
-    read = mesh_reader(reader)
     file_size = file_size_or_error(path, f"mesh file {text!r}")  # size limit, before anything is read
+    # A file read before is not parsed again (mesh_cache.py), nor its reader imported; glTF
+    # files are never kept. (Imported here: `render builtin:torus` never needs it, nor hashlib.)
+    from .mesh_cache import mesh_entry
+
+    entry = mesh_entry(path, file_size, crease_angle) if animation is None and reader not in _NEVER_CACHED else None
+    kept = entry.load(path.name) if entry is not None else None
+    if kept is not None:
+        _say(kept[1], None, 4)  # (the caller of load_mesh, as loaded_mesh's notes)
+        return LoadedMesh(kept[0], lambda: [])
+    read = mesh_reader(reader)
     notes = []
     with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
         gltf = reader == MESH_READERS[".gltf"]
@@ -129,7 +141,10 @@ def read_mesh(source: str | os.PathLike[str], *, crease_angle: float = DEFAULT_C
             if any(piece.element_count for piece in rest.pieces):
                 loaded = loaded_mesh(rest, text, path.name, crease_angle, notes)
                 return LoadedMesh(loaded.mesh, found.lights, found.camera, shows=False)
-    return loaded_mesh(found, text, path.name, crease_angle, notes)
+    loaded = loaded_mesh(found, text, path.name, crease_angle, notes)
+    if entry is not None and found.self_contained:
+        entry.keep(loaded.mesh, list(dict.fromkeys([*notes, *found.notes])))
+    return loaded
 
 
 def loaded_mesh(found: MeshFile, source: str, name: str, crease_angle: float, notes: list[str] = (),
@@ -141,13 +156,18 @@ def loaded_mesh(found: MeshFile, source: str, name: str, crease_angle: float, no
     with np.errstate(all="ignore"):  # bad values become MeshErrors, not warnings on stderr
         pieces = [p for p in found.pieces if p.element_count]
         mesh = assemble(pieces, name, float(crease_angle)) if pieces else None
-    for note in dict.fromkeys([*notes, *found.notes]):
-        if said is None or note not in said:
-            warnings.warn(note, stacklevel=4)
-            said is None or said.add(note)
+    _say([*notes, *found.notes], said, 5)
     if mesh is None:
         raise MeshError(f"mesh file {source!r} contains no triangles, lines or points: nothing to draw")
     return LoadedMesh(mesh, found.lights, found.camera)
+
+
+def _say(notes: list[str], said: set[str] | None, stacklevel: int) -> None:
+    """Each note once, as a warning; `stacklevel` as warnings.warn counts it from here."""
+    for note in dict.fromkeys(notes):
+        if said is None or note not in said:
+            warnings.warn(note, stacklevel=stacklevel)
+            said is None or said.add(note)
 
 
 def _animation(time: float | None, index: int | str | None) -> tuple[float, int | str] | None:

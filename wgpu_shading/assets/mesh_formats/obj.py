@@ -17,7 +17,6 @@ obj_elements.py.
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +30,7 @@ from .line_sections import joined
 from .mtl import read_mtl_files
 from .obj_blocks import ObjContent
 from .obj_elements import bare_points, obj_elements
-from .obj_faces import ear_clip_concave, has_concave, warn_kept_fans
+from .obj_faces import ear_clip_concave, has_concave, kept_fans_note
 
 
 def _without_byte_order_mark(data: bytes) -> bytes:
@@ -98,7 +97,7 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     others = [MeshPiece(e.positions, e.indices, colors=e.colors, parts=e.parts, primitive=kind)
               for kind, e in (("lines", segments), ("points", points)) if e is not None]
     if not polygons:
-        return MeshFile(others)
+        return MeshFile(others, content.notes, self_contained=not content.libraries)
     for keyword in ("vt", "vn", "f"):
         if keyword in content.errors:
             raise content.errors[keyword]
@@ -110,8 +109,9 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
             run.corners = triples.split(corners, len(v))
             kept_fans += kept
         run.polygon = None
+    notes = content.notes
     if kept_fans:
-        warn_kept_fans(name, kept_fans)
+        notes.append(kept_fans_note(name, kept_fans))
     runs = [run.corners for run in content.runs]
     run_triangles = [len(corners) for corners in runs]
     run_materials = [run.material or "" for run in content.runs]
@@ -158,10 +158,10 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     parts, start = [], 0
     named = [m for m in names if m]
     if named and not content.libraries:  # f3d and Blender draw these faces plain too, but say why
-        warnings.warn(f"{name}: 'usemtl {named[0]}' but the file names no material library (mtllib); drawn without materials", stacklevel=2)
+        notes.append(f"{name}: 'usemtl {named[0]}' but the file names no material library (mtllib); drawn without materials")
     for material_name, count in zip(names, counts):
         if material_name and materials and material_name not in materials:  # (a missing library warned already)
-            warnings.warn(f"{name}: 'usemtl {material_name}' names no material of {', '.join(content.libraries)}; its faces drawn without it", stacklevel=2)
+            notes.append(f"{name}: 'usemtl {material_name}' names no material of {', '.join(content.libraries)}; its faces drawn without it")
         parts.append((start, int(count), materials.get(material_name) if material_name else None, material_name))
         start += int(count)
     if len(faces) and int(faces.min()) >= 0:  # (always, once resolved: _check_piece names a stray one)
@@ -172,4 +172,6 @@ def read_obj(path: Path, file_size: int | None = None) -> MeshFile:
     if blocks > 1:  # the blocks' text and temporaries, freed between the arrays kept: given back
         return_freed_memory()
     # one piece: a vertex per distinct (v, vt, vn) corner, faces sorted by material, flat under `s off`
-    return MeshFile([MeshPiece(positions, faces, normals, uvs, colors, flat_faces, parts=parts)] + others)
+    # Without a material library the Mesh follows from this file alone (mesh_cache.py).
+    return MeshFile([MeshPiece(positions, faces, normals, uvs, colors, flat_faces, parts=parts)] + others, notes,
+                    self_contained=not content.libraries)

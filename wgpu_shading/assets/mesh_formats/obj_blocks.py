@@ -68,6 +68,7 @@ class ObjContent:
     # `l` and `p` records: kind → {line index: (text, v declared before it, material)}
     elements: dict = field(default_factory=lambda: {"lines": {}, "points": {}})
     errors: dict = field(default_factory=dict)  # the first error of each kind ("v ", "vt", "vn", "f")
+    notes: list[str] = field(default_factory=list)  # what to tell the user once the file is read (MeshFile.notes)
 
     @property
     def over_limit(self) -> bool:
@@ -128,7 +129,7 @@ class ObjContent:
             run = FaceRun(material, flat, *(before[keyword] + int(counts[keyword][index]) for keyword, _ in KINDS),
                           offset + index + 1, lines.sub(index, int(face_lines[b - 1]) + 1))
             try:
-                corners, polygon = run_corners(run, self.name)
+                corners, polygon = run_corners(run, self.name, self.notes)
             except MeshError as error:
                 self.errors["f"] = error
                 return

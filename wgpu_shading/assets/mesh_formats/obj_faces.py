@@ -5,7 +5,6 @@ the file and gives each run here."""
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -30,9 +29,10 @@ class FaceRun:
     lines: Sequence[str] = field(default_factory=list)  # a BlockLines (line_sections.py): read from its bytes
 
 
-def run_corners(run: FaceRun, path: str) -> tuple[np.ndarray, np.ndarray]:
+def run_corners(run: FaceRun, path: str, notes: list[str]) -> tuple[np.ndarray, np.ndarray]:
     """Triangle corners of a run: (T, 3, 3) int64 zero-based (v, vt, vn) with −1 for absent,
-    and the run-relative polygon index of each triangle."""
+    and the run-relative polygon index of each triangle. What the user should be told is
+    added to `notes` (said once the file is read: MeshFile.notes)."""
     lines = run.lines
     at_once = fans_at_once(lines)
     if at_once is not None:
@@ -68,8 +68,8 @@ def run_corners(run: FaceRun, path: str) -> tuple[np.ndarray, np.ndarray]:
         # vn lines at all): the faces are still there, as f3d draws them; only the attribute goes.
         if missing[:, :, column].any():
             ordinal = int(polygon[np.flatnonzero(missing[:, :, column].any(axis=1))[0]])
-            warnings.warn(f"{path}:{face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a {what} that does not exist "
-                          f"({run.uv_count} vt, {run.normal_count} vn declared before it); its {plural} are ignored", stacklevel=2)
+            notes.append(f"{path}:{face_line(run, ordinal)}: face {lines[ordinal].strip()!r} refers to a {what} that does not exist "
+                         f"({run.uv_count} vt, {run.normal_count} vn declared before it); its {plural} are ignored")
             resolved[:, :, column] = np.where(missing[:, :, column], -1, resolved[:, :, column])
     out_of_range = missing[:, :, 0].any(axis=1)
     if out_of_range.any():
@@ -189,7 +189,7 @@ def ear_clip_concave(corners: np.ndarray, polygon: np.ndarray, positions: np.nda
     the concave notches, which f3d, Blender and assimp leave open. A ring that comes back
     more than twice to one point (a slit comes back once), or of more than EAR_CLIP_CORNERS
     corners, keeps its fan. Returns the triangles and how many faces kept their fans that
-    way (warn_kept_fans: one warning for the file, not one per run of face lines)."""
+    way (kept_fans_note: one note for the file, not one per run of face lines)."""
     if len(corners) == 0 or triangles_only(polygon):
         return corners, 0
     backwards, normal_of = _backwards(corners[:, :, 0], polygon, positions)
@@ -235,12 +235,12 @@ def _backwards(vertices: np.ndarray, polygon: np.ndarray, positions: np.ndarray)
     return np.einsum("ij,ij->i", areas, normal_of[polygon]) < 0.0, normal_of
 
 
-def warn_kept_fans(path: str, count: int) -> None:
-    """The warning for `count` concave faces that ear_clip_concave left as their fans."""
+def kept_fans_note(path: str, count: int) -> str:
+    """What to tell the user of `count` concave faces that ear_clip_concave left as their fans."""
     one = count == 1
-    warnings.warn(f"{path}: {count} concave {'face passes' if one else 'faces pass'} more than twice through one point or "
-                  f"{'has' if one else 'have'} over {EAR_CLIP_CORNERS} corners: drawn as {'its fan' if one else 'their fans'} "
-                  "from the first corner, not cut by ear clipping", stacklevel=3)
+    return (f"{path}: {count} concave {'face passes' if one else 'faces pass'} more than twice through one point or "
+            f"{'has' if one else 'have'} over {EAR_CLIP_CORNERS} corners: drawn as {'its fan' if one else 'their fans'} "
+            "from the first corner, not cut by ear clipping")
 
 
 def triangles_only(polygon: np.ndarray) -> bool:

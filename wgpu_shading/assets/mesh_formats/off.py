@@ -63,9 +63,9 @@ def read_off(path: Path, file_size: int) -> MeshFile:
     """An OFF file as one piece, its face colours given each face's own corners."""
     off = _read_arrays(path, file_size)
     if not len(off.faces):  # `N 0 0`: a point cloud (docs/primitives.md)
-        return MeshFile([point_piece(off.positions, off.normals, off.colors, name=path.name)])
+        return MeshFile([point_piece(off.positions, off.normals, off.colors, name=path.name)], self_contained=True)
     piece = MeshPiece(off.positions, off.faces, off.normals, off.uvs, off.colors, parts=[(0, len(off.faces), None, path.name)])
-    return MeshFile([piece if off.face_colors is None else with_face_colors(piece, off.face_colors)])
+    return MeshFile([piece if off.face_colors is None else with_face_colors(piece, off.face_colors)], self_contained=True)
 
 
 def _read_arrays(path: Path, file_size: int) -> _OffArrays:

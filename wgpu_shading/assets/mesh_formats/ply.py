@@ -103,8 +103,8 @@ def read_ply(path: Path, file_size: int) -> MeshFile:
         if triangles is None:  # a binary mesh whose faces carry their corners' texture coordinates
             triangles = read_face_uvs(path, header, file_size, where)
         if triangles is not None:
-            return MeshFile([triangles])
+            return MeshFile([triangles], self_contained=True)  # (a TextureFile comment is not read)
         edges = renamed_edge_file(path, header.header_bytes) if header.count("edge") else None
         return read_with_trimesh(path, file_size, declared, edges)
     points = read_binary_point_cloud(path, header, where)
-    return MeshFile([point_piece(points.positions, points.normals, points.colors, name=path.name)])
+    return MeshFile([point_piece(points.positions, points.normals, points.colors, name=path.name)], self_contained=True)

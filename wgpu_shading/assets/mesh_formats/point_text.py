@@ -156,7 +156,7 @@ def _read(path: Path, counts: bool) -> MeshFile:
         start = end
     if colors is not None:
         colors = _unit_colors(colors, where)
-    return MeshFile([point_piece(positions, normals, colors, name=path.name)])
+    return MeshFile([point_piece(positions, normals, colors, name=path.name)], self_contained=True)
 
 
 def _columns(lines: _Lines, blocks: list[np.ndarray], where: str) -> tuple[list[int], list[int] | None, list[int] | None]:

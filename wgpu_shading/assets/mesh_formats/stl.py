@@ -42,7 +42,7 @@ def read_stl(path: Path, file_size: int) -> MeshFile:
         if count is None:
             piece = read_plain_ascii_stl(path, where)
             if piece is not None:
-                return MeshFile([piece])
+                return MeshFile([piece], self_contained=True)
             if file_size > MAX_ASCII_BYTES:
                 raise MeshError(
                     f"{where}: an ASCII STL of {file_size / 2**20:.0f} MiB, not in the plain layout (a `solid`, facets "
@@ -55,7 +55,7 @@ def read_stl(path: Path, file_size: int) -> MeshFile:
         raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {file_size} bytes of STL") from None
-    return MeshFile([MeshPiece(positions, faces, parts=[(0, len(faces), None, path.name)])])
+    return MeshFile([MeshPiece(positions, faces, parts=[(0, len(faces), None, path.name)])], self_contained=True)
 
 
 def binary_stl_count(path: Path, where: str, file_size: int) -> int | None:

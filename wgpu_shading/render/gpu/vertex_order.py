@@ -87,6 +87,15 @@ def cache_order(
 
     flat = np.ascontiguousarray(indices, dtype=np.uint32).reshape(-1)
     scratch = ScratchIndices(flat.size)
+    # An order made in an earlier process (order_cache.py); not one with clusters. (Imported
+    # on the first upload, as meshoptimizer: a mesh-less process never pays for hashlib.)
+    from .order_cache import keep_order, order_key, read_order
+
+    kept = order_key(flat, vertex_count, parts, in_order) if positions is None else None
+    if kept is not None:
+        gather = read_order(*kept, lambda: scratch.array, flat.size, vertex_count)
+        if gather is not None:
+            return scratch, VertexOrder(gather=gather, in_order=frozenset(in_order))
     ordered = scratch.array
     ordered[:] = flat
     for number, part in enumerate(parts):
@@ -103,6 +112,8 @@ def cache_order(
     gather = np.empty(used, np.uint32)
     gather[remap[referenced]] = np.flatnonzero(referenced)
     del remap, referenced
+    if kept is not None:
+        keep_order(*kept, ordered, gather)
     if flat.nbytes >= _TRIM_BYTES:
         return_freed_memory()
     return scratch, VertexOrder(gather=gather, in_order=frozenset(in_order), clusters=clusters)
