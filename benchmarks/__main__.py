@@ -209,6 +209,12 @@ def main(argv: list[str] | None = None) -> int:
     if unknown:
         parser.error(f"unknown sections: {', '.join(sorted(unknown))}")
     os.environ.setdefault("NODEVICE_SELECT", "1")
+    # Every file is parsed and every order made where a benchmark times them (loading, memory,
+    # hostile files), and nothing is written into the user's cache folder; the dataset section
+    # keeps a mesh cache of its own, in its scratch folder (dataset.py, mesh_cache_in).
+    from wgpu_shading.assets.disk_cache import CACHE_VARIABLE
+
+    os.environ[CACHE_VARIABLE] = "off"
 
     from wgpu_shading import Renderer
 

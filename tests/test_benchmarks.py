@@ -296,7 +296,7 @@ def test_smoke_dataset_times_every_mode_and_the_dask_overhead(smoke):
     (row,) = fps
     assert row["size"] == "32²"
     for mode in ("naive", "in-process", "in-process, 1 device", "dask 1 worker", "dask 2 workers", "naive, colour + depth",
-                 "batch, colour + depth"):
+                 "batch, colour + depth", "batch, colour + depth, first run"):
         assert _positive(row[mode]), mode
     assert _positive(row["pyrender, colour + depth"]) == _pyrender_usable()
     assert _positive(row["in-process ÷ naive"]) and re.search(r"ms \([+-]?[\d.]+ %\)", row["Dask overhead per frame"])
@@ -308,6 +308,7 @@ def test_smoke_dataset_times_every_mode_and_the_dask_overhead(smoke):
         wall, cpu_ms = stage_row[stage].split(" / ")
         assert _positive(wall) and _positive(cpu_ms), stage
     assert _positive(stage_row["batch inside chunks"]) and _positive(stage_row["inside chunks ÷ render + readback (≤ 1.5)"])
+    assert _positive(stage_row["first run inside chunks"]) and _positive(stage_row["first run ÷ render + readback"])
     # the denominator: render + readback of the same scenes, timed in the same rotation as the batch
     wall, cpu_ms = stage_row["render + readback, same passes"].split(" / ")
     assert _positive(wall) and _positive(cpu_ms)

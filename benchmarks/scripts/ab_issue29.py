@@ -24,6 +24,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py spread-folders --size 256 --rounds 8
     python benchmarks/scripts/ab_issue29.py poll-gap --size 256 --rounds 8
     python benchmarks/scripts/ab_issue29.py vertex-cache --size 512 --rounds 16
+    python benchmarks/scripts/ab_issue29.py mesh-cache --size 256 --rounds 10 --views 12
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -592,6 +593,36 @@ def chunk_order(size: int, rounds: int, smoke: bool) -> None:
         variants = {"render + readback alone": lambda: render_all(renderer, scenes),
                     "batch, first mesh's chunks first": batch("batch, first mesh's chunks first", jobs),
                     "batch, first mesh's chunks last": batch("batch, first mesh's chunks last", last)}
+        _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
+
+
+def mesh_cache(size: int, rounds: int, smoke: bool) -> None:
+    """The batch with the mesh cache (assets/disk_cache.py) off, warm (filled by the first,
+    untimed runs) and empty (a new folder each run: a first run over these meshes)."""
+    import tempfile
+
+    from benchmarks.dataset import mesh_cache_in, render_all
+    from wgpu_shading import Renderer
+
+    what, jobs, scenes = _dataset_scenes(size, smoke)
+    renderer = Renderer()
+    with tempfile.TemporaryDirectory(prefix="ab-mesh-cache-") as folder:
+        inside: dict = {}
+        batch = _batch_runner(renderer, Path(folder), inside)
+        empties = iter(range(1 << 30))
+
+        def with_cache(name: str, cache_folder) -> object:
+            run = batch(name, jobs)
+
+            def variant() -> None:
+                with mesh_cache_in(Path(cache_folder() if callable(cache_folder) else cache_folder)):
+                    run()
+            return variant
+
+        variants = {"render + readback alone": lambda: render_all(renderer, scenes),
+                    "batch, mesh cache off": with_cache("batch, mesh cache off", "off"),
+                    "batch, mesh cache warm": with_cache("batch, mesh cache warm", Path(folder) / "warm-cache"),
+                    "batch, mesh cache empty": with_cache("batch, mesh cache empty", lambda: Path(folder) / f"empty-{next(empties)}")}
         _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
 
 
@@ -1230,6 +1261,7 @@ DATASET_SCENE_ABS = {
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
     "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "dask-client": dask_client, "per-mesh": per_mesh,
     "files-beside": files_beside, "spread-folders": spread_folders, "poll-gap": poll_gap, "vertex-cache": vertex_cache,
+    "mesh-cache": mesh_cache,
 }
 
 

@@ -450,4 +450,9 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    import os
+
+    from wgpu_shading.assets.disk_cache import CACHE_VARIABLE
+
+    os.environ[CACHE_VARIABLE] = "off"  # the file parsed, not read back from the mesh cache
     main()
