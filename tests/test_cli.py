@@ -100,6 +100,15 @@ def test_info_names_the_adapter(capsys, renderer):
     assert main(["info"]) == 0
     out = capsys.readouterr().out
     assert "llvmpipe" in out and "using:" in out
+    assert "mesh cache: off (set WGPU_SHADING_MESH_CACHE to a folder" in out  # (the tests run without it: conftest.py)
+
+
+def test_info_says_where_the_mesh_cache_is_and_how_full(capsys, renderer, tmp_path, monkeypatch):
+    monkeypatch.setenv("WGPU_SHADING_MESH_CACHE", str(tmp_path))
+    monkeypatch.setenv("WGPU_SHADING_MESH_CACHE_MB", "64")
+    (tmp_path / "a.entry").write_bytes(bytes(3 << 20))
+    assert main(["info"]) == 0
+    assert f"mesh cache: {tmp_path} (1 entry, 3.0 of 64 MiB; WGPU_SHADING_MESH_CACHE=off turns it off)" in capsys.readouterr().out
 
 
 def test_unknown_adapter_explains_how_to_get_one():

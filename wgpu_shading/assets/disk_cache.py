@@ -86,6 +86,11 @@ class DiskCache:
             pass
         return found
 
+    def usage(self) -> tuple[int, int]:
+        """(entries, bytes) kept now."""
+        entries = [entry.stat().st_size for entry in self.folder.glob(f"*{SUFFIX}") if not is_temporary(entry.name)] if self.folder.is_dir() else []
+        return len(entries), sum(entries)
+
     def discard(self, key: str) -> None:
         """Remove the entry under `key` (one its caller found wrong)."""
         _remove(self.path(key))

@@ -49,7 +49,21 @@ def command_info(args: argparse.Namespace) -> int:
     print(f"using: {describe_device(device)}")
     limits = device.limits
     print(f"max image side: {limits['max-texture-dimension-2d']}, max buffer: {limits['max-buffer-size'] / 2**20:.0f} MiB")
+    print(mesh_cache_line())
     return 0
+
+
+def mesh_cache_line() -> str:
+    """Where mesh files read once are kept (docs/real-world-files.md), and how full it is."""
+    from ..assets.disk_cache import CACHE_VARIABLE, SIZE_VARIABLE, disk_cache
+
+    cache = disk_cache()
+    if cache is None:
+        return f"mesh cache: off (set {CACHE_VARIABLE} to a folder, and {SIZE_VARIABLE} above 0, to keep meshes read once)"
+    entries, size = cache.usage()
+    return (f"mesh cache: {cache.folder} ({entries} {'entry' if entries == 1 else 'entries'}, "
+            f"{size / 2**20:.1f} of {cache.max_bytes / 2**20:.0f} MiB; "
+            f"{CACHE_VARIABLE}=off turns it off)")
 
 
 
