@@ -8,7 +8,6 @@ textures, the sample meshes) resolve next to the installed file.
 
 from __future__ import annotations
 
-import difflib
 from pathlib import Path
 
 from ..errors import SceneError
@@ -42,6 +41,7 @@ def resolve_example(source: str) -> str:
     name = source[len(EXAMPLE_PREFIX):]
     names = example_names()
     if name not in names:
+        import difflib  # (imported on a mistake only: ~2 ms of every start)
         close = difflib.get_close_matches(name, names, n=1)
         hint = f"did you mean 'example:{close[0]}'?" if close else "expected one of " + ", ".join(names)
         raise SceneError(f"{source!r}: no such example; {hint} (`wgpu-shading examples` lists them)")

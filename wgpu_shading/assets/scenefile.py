@@ -16,7 +16,6 @@ object: docs/real-world-files.md.
 
 from __future__ import annotations
 
-import difflib
 import os
 from dataclasses import fields as dataclass_fields
 from pathlib import Path
@@ -77,6 +76,7 @@ MAX_SCENE_FILE_BYTES = 16 << 20
 def _check_keys(table: Mapping[str, Any], allowed: set[str], where: str, note: str = "") -> None:
     for key in table:
         if key not in allowed:
+            import difflib  # (imported on a mistake only: ~2 ms of every start)
             close = difflib.get_close_matches(key[:100], allowed, n=1)
             hint = f"; did you mean {close[0]!r}?" if close else f"; expected one of {', '.join(sorted(allowed))}"
             raise SceneError(f"{where}: unknown key {shown(key)}{note}{hint}")

@@ -21,7 +21,6 @@ stderr and exit with status 2; no traceback.
 from __future__ import annotations
 
 import argparse
-import difflib
 import logging
 import os
 import re
@@ -99,6 +98,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _did_you_mean(word: str, candidates) -> str:
+    import difflib  # (imported on a mistake only: ~2 ms of every start)
     close = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
     return f": did you mean {close[0]}?" if close else ""
 

@@ -10,7 +10,6 @@ and the course material the project started from for pewter
 
 from __future__ import annotations
 
-import difflib
 
 from types import MappingProxyType
 from typing import Mapping
@@ -81,6 +80,7 @@ def material(name: str) -> Material:
     try:
         return MATERIALS[key]
     except KeyError:
+        import difflib  # (imported on a mistake only: ~2 ms of every start)
         close = difflib.get_close_matches(key, MATERIALS.keys(), n=3)
         hint = f"; did you mean {' or '.join(map(repr, close))}?" if close else ""
         raise SceneError(
