@@ -158,7 +158,7 @@ def trim(folder: Path, max_bytes: int) -> None:
 def _remove(path: Path) -> None:
     try:
         path.unlink()
-    except OSError:
+    except (OSError, ValueError):
         pass
 
 
