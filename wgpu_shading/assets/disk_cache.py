@@ -87,9 +87,12 @@ class DiskCache:
         return found
 
     def usage(self) -> tuple[int, int]:
-        """(entries, bytes) kept now."""
-        entries = [entry.stat().st_size for entry in self.folder.glob(f"*{SUFFIX}") if not is_temporary(entry.name)] if self.folder.is_dir() else []
-        return len(entries), sum(entries)
+        """(entries, bytes) kept now (none where the folder is not there yet)."""
+        try:
+            sizes = [size for _, size, _ in _entries(self.folder)]
+        except OSError:
+            sizes = []
+        return len(sizes), sum(sizes)
 
     def discard(self, key: str) -> None:
         """Remove the entry under `key` (one its caller found wrong)."""
@@ -134,25 +137,32 @@ def disk_cache() -> DiskCache | None:
 def trim(folder: Path, max_bytes: int) -> None:
     """Remove the least recently used entries until the folder's entries fit in max_bytes,
     and temporaries a killed process left (older than an hour)."""
-    entries = []
-    now = time.time()
-    with os.scandir(folder) as listing:
-        for item in listing:
-            try:
-                status = item.stat(follow_symlinks=False)
-            except OSError:
-                continue
-            if is_temporary(item.name):
-                if is_temporary(item.name, TEMPORARY_TAG) and now - status.st_mtime > _STALE_TEMPORARY_SECONDS:
-                    _remove(Path(item.path))
-            elif item.name.endswith(SUFFIX):
-                entries.append((status.st_mtime, status.st_size, item.path))
+    entries = _entries(folder, remove_stale=True)
     total = sum(size for _, size, _ in entries)
     for _, size, entry in sorted(entries):
         if total <= max_bytes:
             break
         _remove(Path(entry))
         total -= size
+
+
+def _entries(folder: Path, remove_stale: bool = False) -> list[tuple[float, int, str]]:
+    """(modification time, size, path) of each entry in `folder`; with remove_stale, the
+    temporaries a killed process left (older than an hour) are removed on the way."""
+    entries = []
+    now = time.time()
+    with os.scandir(folder) as listing:
+        for item in listing:
+            try:
+                status = item.stat(follow_symlinks=False)
+            except OSError:  # (removed meanwhile)
+                continue
+            if is_temporary(item.name):
+                if remove_stale and is_temporary(item.name, TEMPORARY_TAG) and now - status.st_mtime > _STALE_TEMPORARY_SECONDS:
+                    _remove(Path(item.path))
+            elif item.name.endswith(SUFFIX):
+                entries.append((status.st_mtime, status.st_size, item.path))
+    return entries
 
 
 def _remove(path: Path) -> None:

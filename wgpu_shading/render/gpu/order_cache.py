@@ -1,6 +1,6 @@
 """Vertex-cache orders kept in the cache folder (assets/disk_cache.py): a mesh uploaded again
 in a later process (the next dataset run, the next `render` of the same file) is not
-reordered again. meshoptimizer takes ~0.2 µs a triangle (the bunny's 70K: 15 ms, a
+reordered again. meshoptimizer takes 0.2–0.35 µs a triangle (the bunny's 70K: 15 ms, a
 1.3M-triangle sphere: 0.45 s); its order is read back in about the time its key takes.
 
 The key is what the order follows from: the triangles' indices (SHA-256 of their bytes),
