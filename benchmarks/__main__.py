@@ -72,6 +72,8 @@ SMOKE_SCRIPTS = {
     "ab_issue29_spread_folders": ("scripts/ab_issue29.py", "spread-folders", "--smoke"),
     "ab_issue29_poll_gap": ("scripts/ab_issue29.py", "poll-gap", "--smoke"),
     "ab_issue29_vertex_cache": ("scripts/ab_issue29.py", "vertex-cache", "--smoke"),
+    "ab_issue29_mesh_cache": ("scripts/ab_issue29.py", "mesh-cache", "--smoke"),
+    "ab_issue29_mesh_cache_many": ("scripts/ab_issue29.py", "mesh-cache-many", "--smoke"),
     "frame_timeline": ("scripts/frame_timeline.py", "run", "--smoke"),
     "hostile_files": ("scripts/hostile_files.py", "--smoke"),  # (its full run feeds docs/reliability.md: by hand)
 }
@@ -105,6 +107,8 @@ REAL_SCRIPTS = {
     "ab_issue29_spread_folders": ("scripts/ab_issue29.py", "spread-folders", "--size", "256", "--rounds", "8"),
     "ab_issue29_poll_gap": ("scripts/ab_issue29.py", "poll-gap", "--size", "256", "--rounds", "8"),
     "ab_issue29_vertex_cache": ("scripts/ab_issue29.py", "vertex-cache", "--size", "512", "--rounds", "16"),
+    "ab_issue29_mesh_cache": ("scripts/ab_issue29.py", "mesh-cache", "--size", "256", "--rounds", "12", "--views", "12"),
+    "ab_issue29_mesh_cache_many": ("scripts/ab_issue29.py", "mesh-cache-many", "--size", "256", "--rounds", "5", "--views", "12"),
 }
 
 

@@ -83,7 +83,7 @@ def test_pygfx_peer_draws_the_mesh_on_lavapipe(renderer, small_torus):
 
 SMOKE_STEPS = (
     "warm", "depth", "breakdown", "cold", "batch", "memory", "scaling", "dataset", "specialization", "reference",
-    "golden_noise", "gif_palette", "loading", "antialiasing", "live", "callgrind", "ab_issue21", "ab_issue29", "ab_issue29_start_up", "ab_issue29_frame_plans", "ab_issue29_turned_away", "ab_issue29_chunks", "ab_issue29_batch_parts", "ab_issue29_kept_frames", "ab_issue29_fresh_meshes", "ab_issue29_frames_in_flight", "ab_issue29_chunk_order", "ab_issue29_thread_cpu", "ab_issue29_output_folders", "ab_issue29_crease_split", "ab_issue29_encoder_threads", "ab_issue29_dask_saturation", "ab_issue29_dask_client", "ab_issue29_per_mesh", "ab_issue29_files_beside", "ab_issue29_spread_folders", "ab_issue29_poll_gap", "ab_issue29_vertex_cache", "frame_timeline", "hostile_files", "shadows",
+    "golden_noise", "gif_palette", "loading", "antialiasing", "live", "callgrind", "ab_issue21", "ab_issue29", "ab_issue29_start_up", "ab_issue29_frame_plans", "ab_issue29_turned_away", "ab_issue29_chunks", "ab_issue29_batch_parts", "ab_issue29_kept_frames", "ab_issue29_fresh_meshes", "ab_issue29_frames_in_flight", "ab_issue29_chunk_order", "ab_issue29_thread_cpu", "ab_issue29_output_folders", "ab_issue29_crease_split", "ab_issue29_encoder_threads", "ab_issue29_dask_saturation", "ab_issue29_dask_client", "ab_issue29_per_mesh", "ab_issue29_files_beside", "ab_issue29_spread_folders", "ab_issue29_poll_gap", "ab_issue29_vertex_cache", "ab_issue29_mesh_cache", "ab_issue29_mesh_cache_many", "frame_timeline", "hostile_files", "shadows",
     "report",
 )
 

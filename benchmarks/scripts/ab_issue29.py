@@ -25,6 +25,7 @@ frame and its hand-offs"), as they were run.
     python benchmarks/scripts/ab_issue29.py poll-gap --size 256 --rounds 8
     python benchmarks/scripts/ab_issue29.py vertex-cache --size 512 --rounds 16
     python benchmarks/scripts/ab_issue29.py mesh-cache --size 256 --rounds 10 --views 12
+    python benchmarks/scripts/ab_issue29.py mesh-cache-many --size 256 --rounds 5 --views 12
     python benchmarks/scripts/ab_issue29.py start-up --callgrind   # instructions, ~1.5 min
     python benchmarks/scripts/ab_issue29.py frame-memory --smoke   # what the benchmark smoke run does
 
@@ -607,6 +608,53 @@ def mesh_cache(size: int, rounds: int, smoke: bool) -> None:
     what, jobs, scenes = _dataset_scenes(size, smoke)
     renderer = Renderer()
     with tempfile.TemporaryDirectory(prefix="ab-mesh-cache-") as folder:
+        inside: dict = {}
+        batch = _batch_runner(renderer, Path(folder), inside)
+        empties = iter(range(1 << 30))
+
+        def with_cache(name: str, cache_folder) -> object:
+            run = batch(name, jobs)
+
+            def variant() -> None:
+                with mesh_cache_in(Path(cache_folder() if callable(cache_folder) else cache_folder)):
+                    run()
+            return variant
+
+        variants = {"render + readback alone": lambda: render_all(renderer, scenes),
+                    "batch, mesh cache off": with_cache("batch, mesh cache off", "off"),
+                    "batch, mesh cache warm": with_cache("batch, mesh cache warm", Path(folder) / "warm-cache"),
+                    "batch, mesh cache empty": with_cache("batch, mesh cache empty", lambda: Path(folder) / f"empty-{next(empties)}")}
+        _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
+
+
+def mesh_cache_many(size: int, rounds: int, smoke: bool) -> None:
+    """mesh-cache over 12 distinct files (4 copies of the bunny, the teapot and the cow, each
+    copy's first line a comment of its own, so each is a file of its own to the cache): a
+    run's later meshes load on the loader thread while earlier ones draw, as in a dataset
+    of many meshes, instead of the first mesh's load alone before any frame."""
+    import tempfile
+
+    from benchmarks.dataset import MODELS, job_scenes, mesh_cache_in, render_all
+    from wgpu_shading import Renderer
+    from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
+
+    with tempfile.TemporaryDirectory(prefix="ab-mesh-cache-many-") as folder:
+        names = ("builtin:torus?segments=16",) if smoke else ("stanford-bunny.obj", "teapot.obj", "cow.obj")
+        sources = []
+        for copy in range(1 if smoke else 4):
+            for name in names:
+                if name.startswith("builtin:"):
+                    sources.append(name)
+                    continue
+                path = Path(folder) / f"{copy}-{name}"
+                path.write_bytes(f"# copy {copy}\n".encode() + (MODELS / name).read_bytes())
+                sources.append(str(path))
+        views = 4 if smoke else DATASET_VIEWS
+        jobs = mesh_jobs(sources, turntable_views(views), Outputs(depth="npy"), {"size": size})
+        what = f"{len(sources)} meshes × {views} views at {size}², colour + depth"
+        with mesh_cache_in(Path("off")):
+            scenes = job_scenes(jobs)
+        renderer = Renderer()
         inside: dict = {}
         batch = _batch_runner(renderer, Path(folder), inside)
         empties = iter(range(1 << 30))
@@ -1261,7 +1309,7 @@ DATASET_SCENE_ABS = {
     "frames-in-flight": frames_in_flight, "chunk-order": chunk_order, "thread-cpu": thread_cpu,
     "encoder-threads": encoder_threads, "dask-saturation": dask_saturation, "dask-client": dask_client, "per-mesh": per_mesh,
     "files-beside": files_beside, "spread-folders": spread_folders, "poll-gap": poll_gap, "vertex-cache": vertex_cache,
-    "mesh-cache": mesh_cache,
+    "mesh-cache": mesh_cache, "mesh-cache-many": mesh_cache_many,
 }
 
 
