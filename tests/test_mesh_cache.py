@@ -156,6 +156,28 @@ def test_a_damaged_entry_is_removed_and_the_file_parsed(tmp_path, cache, monkeyp
     assert entry.is_file() and entry.read_bytes() == data
 
 
+def test_an_entry_of_the_right_form_but_no_mesh_is_removed_and_the_file_parsed(tmp_path, cache, monkeypatch):
+    from wgpu_shading.assets.disk_cache import DiskCache
+
+    path = _torus_obj(tmp_path / "torus.obj")
+    expected = _parsed(path, monkeypatch)
+    load_mesh(path)
+    (entry,) = _entries(cache)
+    keeper = DiskCache(cache, 1 << 30)
+    mesh = expected
+    for arrays, fields in (
+        ({"positions": mesh.positions, "normals": mesh.normals, "indices": mesh.indices + 10**6}, None),  # indices past the vertices
+        ({"positions": mesh.positions}, None),  # no normals, no indices
+        ({"positions": mesh.positions, "normals": mesh.normals, "indices": mesh.indices, "weights": mesh.normals}, None),
+        ({"positions": mesh.positions, "normals": mesh.normals, "indices": mesh.indices}, {"origin": [0, 0], "parts": [], "notes": []}),
+        ({"positions": mesh.positions, "normals": mesh.normals, "indices": mesh.indices}, {"parts": "x"}),
+    ):
+        good = {"origin": list(mesh.origin), "parts": [[p.first, p.count, p.name, p.primitive] for p in mesh.parts], "notes": []}
+        keeper.write(entry.name[: -len(".entry")], arrays, good if fields is None else fields)
+        _assert_same(load_mesh(path), expected)  # parsed again, and its entry written again whole
+        assert len(_entries(cache)) == 1
+
+
 def test_the_cache_keeps_to_its_size_least_recently_used_first(tmp_path, cache, monkeypatch):
     paths = [_torus_obj(tmp_path / f"t{k}.obj", 48, header=f"# copy {k}") for k in range(3)]  # three entries of one size
     load_mesh(paths[0])

@@ -66,7 +66,7 @@ class MeshEntry:
             return None
         try:
             return _mesh(*found, name)
-        except (DamagedEntry, ValueError, KeyError, TypeError):  # (a MeshError is a ValueError)
+        except Exception:  # an entry no Mesh can be made of: removed, and the file parsed (disk_cache.py)
             self.cache.discard(self.key)
             return None
 
