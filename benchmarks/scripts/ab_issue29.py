@@ -602,29 +602,9 @@ def mesh_cache(size: int, rounds: int, smoke: bool) -> None:
     untimed runs) and empty (a new folder each run: a first run over these meshes)."""
     import tempfile
 
-    from benchmarks.dataset import mesh_cache_in, render_all
-    from wgpu_shading import Renderer
-
     what, jobs, scenes = _dataset_scenes(size, smoke)
-    renderer = Renderer()
     with tempfile.TemporaryDirectory(prefix="ab-mesh-cache-") as folder:
-        inside: dict = {}
-        batch = _batch_runner(renderer, Path(folder), inside)
-        empties = iter(range(1 << 30))
-
-        def with_cache(name: str, cache_folder) -> object:
-            run = batch(name, jobs)
-
-            def variant() -> None:
-                with mesh_cache_in(Path(cache_folder() if callable(cache_folder) else cache_folder)):
-                    run()
-            return variant
-
-        variants = {"render + readback alone": lambda: render_all(renderer, scenes),
-                    "batch, mesh cache off": with_cache("batch, mesh cache off", "off"),
-                    "batch, mesh cache warm": with_cache("batch, mesh cache warm", Path(folder) / "warm-cache"),
-                    "batch, mesh cache empty": with_cache("batch, mesh cache empty", lambda: Path(folder) / f"empty-{next(empties)}")}
-        _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
+        _compare_mesh_caches(what, jobs, scenes, Path(folder), rounds)
 
 
 def mesh_cache_many(size: int, rounds: int, smoke: bool) -> None:
@@ -634,8 +614,7 @@ def mesh_cache_many(size: int, rounds: int, smoke: bool) -> None:
     of many meshes, instead of the first mesh's load alone before any frame."""
     import tempfile
 
-    from benchmarks.dataset import MODELS, job_scenes, mesh_cache_in, render_all
-    from wgpu_shading import Renderer
+    from benchmarks.dataset import MODELS, job_scenes, mesh_cache_in
     from wgpu_shading.dataset import Outputs, mesh_jobs, turntable_views
 
     with tempfile.TemporaryDirectory(prefix="ab-mesh-cache-many-") as folder:
@@ -651,27 +630,35 @@ def mesh_cache_many(size: int, rounds: int, smoke: bool) -> None:
                 sources.append(str(path))
         views = 4 if smoke else DATASET_VIEWS
         jobs = mesh_jobs(sources, turntable_views(views), Outputs(depth="npy"), {"size": size})
-        what = f"{len(sources)} meshes × {views} views at {size}², colour + depth"
         with mesh_cache_in(Path("off")):
             scenes = job_scenes(jobs)
-        renderer = Renderer()
-        inside: dict = {}
-        batch = _batch_runner(renderer, Path(folder), inside)
-        empties = iter(range(1 << 30))
+        _compare_mesh_caches(f"{len(sources)} meshes × {views} views at {size}², colour + depth", jobs, scenes, Path(folder), rounds)
 
-        def with_cache(name: str, cache_folder) -> object:
-            run = batch(name, jobs)
 
-            def variant() -> None:
-                with mesh_cache_in(Path(cache_folder() if callable(cache_folder) else cache_folder)):
-                    run()
-            return variant
+def _compare_mesh_caches(what: str, jobs: list, scenes: list, folder: Path, rounds: int) -> None:
+    """render + readback of `scenes` alone, and the batch of `jobs` with the mesh cache off,
+    warm and empty (in folders under `folder`), in interleaved rounds."""
+    from benchmarks.dataset import mesh_cache_in, render_all
+    from wgpu_shading import Renderer
 
-        variants = {"render + readback alone": lambda: render_all(renderer, scenes),
-                    "batch, mesh cache off": with_cache("batch, mesh cache off", "off"),
-                    "batch, mesh cache warm": with_cache("batch, mesh cache warm", Path(folder) / "warm-cache"),
-                    "batch, mesh cache empty": with_cache("batch, mesh cache empty", lambda: Path(folder) / f"empty-{next(empties)}")}
-        _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
+    renderer = Renderer()
+    inside: dict = {}
+    batch = _batch_runner(renderer, folder, inside)
+    empties = iter(range(1 << 30))
+
+    def with_cache(name: str, cache_folder) -> object:
+        run = batch(name, jobs)
+
+        def variant() -> None:
+            with mesh_cache_in(Path(cache_folder() if callable(cache_folder) else cache_folder)):
+                run()
+        return variant
+
+    variants = {"render + readback alone": lambda: render_all(renderer, scenes),
+                "batch, mesh cache off": with_cache("batch, mesh cache off", "off"),
+                "batch, mesh cache warm": with_cache("batch, mesh cache warm", folder / "warm-cache"),
+                "batch, mesh cache empty": with_cache("batch, mesh cache empty", lambda: folder / f"empty-{next(empties)}")}
+    _print_batches(what, variants, rounds, len(jobs), inside, "render + readback alone")
 
 
 def output_folders(size: int, rounds: int, smoke: bool, folders: list[Path]) -> None:
@@ -1332,6 +1319,11 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.smoke:
         args.size, args.frames, args.runs, args.segments, args.rounds = 32, 3, 1, 8, 1
+    # Every A/B parses the files it loads, as under `python -m benchmarks`, and writes nothing
+    # into the user's cache folder; mesh-cache and mesh-cache-many choose their own folders.
+    from wgpu_shading.assets.disk_cache import CACHE_VARIABLE
+
+    os.environ[CACHE_VARIABLE] = "off"
     DATASET_VIEWS = args.views
     if args.what == "child":
         print(json.dumps(_one_process(args.size, args.frames, args.segments)))
