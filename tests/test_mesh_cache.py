@@ -238,6 +238,18 @@ def test_a_file_changed_while_it_is_read_is_not_kept(tmp_path, cache, monkeypatc
     assert _entries(cache) == []
 
 
+def test_a_file_longer_than_its_load_allowed_is_not_hashed_past_it(tmp_path, cache, monkeypatch):
+    """A file someone keeps writing: the hash stops at the size the load was allowed (here a
+    size the file had outgrown), the file is parsed and nothing kept."""
+    from wgpu_shading.assets import mesh_cache
+
+    path = _torus_obj(tmp_path / "torus.obj")
+    shipped = mesh_cache.file_identity
+    monkeypatch.setattr(mesh_cache, "file_identity", lambda file: (shipped(file)[0] - 100, *shipped(file)[1:]))
+    _assert_same(load_mesh(path), _parsed(path, monkeypatch))
+    assert _entries(cache) == []
+
+
 def test_threads_loading_one_file_agree(tmp_path, cache, monkeypatch):
     path = _torus_obj(tmp_path / "torus.obj", 72)
     expected = _parsed(path, monkeypatch)

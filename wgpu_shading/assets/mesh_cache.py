@@ -45,7 +45,9 @@ def code_fingerprint() -> str:
     return digest.hexdigest()
 
 
-def _identity(path: Path) -> tuple[int, int, int, int]:
+def file_identity(path: Path) -> tuple[int, int, int, int]:
+    """(size, modification time in ns, inode, device): what says a file was not changed
+    between its hash and its parse."""
     status = os.stat(path)
     return status.st_size, status.st_mtime_ns, status.st_ino, status.st_dev
 
@@ -73,7 +75,7 @@ class MeshEntry:
     def keep(self, mesh: Mesh, notes: list[str]) -> None:
         """Keep `mesh` and `notes` as this file's entry, unless the file changed since it was hashed."""
         try:
-            if _identity(self.file) != self.identity:
+            if file_identity(self.file) != self.identity:
                 return
         except OSError:
             return
@@ -97,14 +99,35 @@ def mesh_entry(path: Path, file_size: int, crease_angle: float) -> MeshEntry | N
     import hashlib  # (~3 ms of OpenSSL: only once a file big enough to keep is read)
 
     try:
-        identity = _identity(path)
-        with open(path, "rb") as file:
-            content = hashlib.file_digest(file, "sha256").hexdigest()
+        identity = file_identity(path)
+        content = _file_hash(path, identity[0])
         fingerprint = code_fingerprint()
     except OSError:
         return None
+    if content is None:  # (the file grew while hashed: not kept, and parsed as it is)
+        return None
     key = hashlib.sha256(f"mesh\0{content}\0{path.name}\0{float(crease_angle)!r}\0{fingerprint}".encode()).hexdigest()[:40]
     return MeshEntry(cache, key, path, identity)
+
+
+def _file_hash(path: Path, size: int) -> str | None:
+    """SHA-256 of the file's first `size` bytes, or None if it holds more by then: a file
+    someone keeps writing is never read past the size its load was allowed."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    block = bytearray(1 << 20)
+    left = size
+    with open(path, "rb") as file:
+        while left > 0:
+            count = file.readinto(block)
+            if not count:
+                break
+            digest.update(memoryview(block)[: min(count, left)])
+            left -= count
+        if left < 0 or file.read(1):
+            return None
+    return digest.hexdigest()
 
 
 def _mesh(arrays: dict[str, np.ndarray], fields: dict, name: str) -> tuple[Mesh, list[str]]:
