@@ -207,10 +207,9 @@ def run_dataset_benchmark(
     """pyrender: also time pyrender's colour + depth loop (benchmarks/pyrender_peer.py).
     scratch_parent: the folder the datasets are written in (a new folder there, removed at
     the end; None: the system's temporary folder)."""
-    results = []
     scratch = Path(tempfile.mkdtemp(prefix="wgpu-shading-dataset-bench-", dir=scratch_parent))
     with mesh_cache_in(scratch / "mesh-cache"):  # (set before the clusters start: their workers inherit it)
-        return _run(renderer, meshes, views, sizes, passes, dask, chunk, pyrender, scratch, results)
+        return _run(renderer, meshes, views, sizes, passes, dask, chunk, pyrender, scratch)
 
 
 @contextmanager
@@ -227,9 +226,10 @@ def mesh_cache_in(folder: Path) -> Iterator[None]:
             os.environ[CACHE_VARIABLE] = before
 
 
-def _run(renderer, meshes, views, sizes, passes, dask, chunk, pyrender, scratch: Path, results: list) -> list[DatasetResult]:
+def _run(renderer, meshes, views, sizes, passes, dask, chunk, pyrender, scratch: Path) -> list[DatasetResult]:
     from wgpu_shading.dataset.cluster import local_cluster
 
+    results = []
     clusters = {}
     cluster_clients: dict = {}  # workers → a Client of that cluster, held across the runs
     if dask:

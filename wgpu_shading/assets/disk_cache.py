@@ -111,6 +111,17 @@ class DiskCache:
             logger.debug("cache entry %s not written: %s", self.path(key), error)
 
 
+def code_hash(versions: str, sources: list[Path], root: Path) -> str:
+    """SHA-256 of the code an entry's work follows from: `versions` (this entry format, the
+    libraries' versions) and each of `sources` (its path under `root`, and its bytes)."""
+    import hashlib  # (~3 ms of OpenSSL: only once the cache is asked for something)
+
+    digest = hashlib.sha256(versions.encode())
+    for source in sources:
+        digest.update(b"\0" + source.relative_to(root).as_posix().encode() + b"\0" + source.read_bytes())
+    return digest.hexdigest()
+
+
 def disk_cache() -> DiskCache | None:
     """The cache as the environment sets it now (read at each use: a test or a service may
     change it), or None when it is off."""

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..scene.geometry.mesh import Mesh, MeshPart
-from .disk_cache import DamagedEntry, DiskCache, disk_cache
+from .disk_cache import DamagedEntry, DiskCache, code_hash, disk_cache
 
 MIN_FILE_BYTES = 16 << 10
 _ARRAYS = ("positions", "normals", "indices", "uvs", "colors", "tangents", "line_indices", "extra_uvs")  # the Mesh's
@@ -35,14 +35,9 @@ def code_fingerprint() -> str:
     """A hash of what turns a file's bytes into a Mesh: the sources of assets/ and scene/
     and numpy's version, once a process (~3 ms), when it first uses the cache (sources
     edited under a running process are not what it runs)."""
-    import hashlib
-
     package = Path(__file__).resolve().parent.parent
-    digest = hashlib.sha256(f"mesh 1 numpy {np.__version__}".encode())
-    for tree in ("assets", "scene"):
-        for source in sorted((package / tree).rglob("*.py")):
-            digest.update(source.relative_to(package).as_posix().encode() + b"\0" + source.read_bytes())
-    return digest.hexdigest()
+    sources = [source for tree in ("assets", "scene") for source in sorted((package / tree).rglob("*.py"))]
+    return code_hash(f"mesh 1 numpy {np.__version__}", sources, package)
 
 
 def file_identity(path: Path) -> tuple[int, int, int, int]:

@@ -31,7 +31,7 @@ from .line_sections import ascii_texts, vertex_and_face_lines
 from .number_text import LEADING_COUNT, leading_counts, parse_floats, parse_numbers
 from .ply_polygons import MixedCut, kind_counts
 from .ply_header import PlyHeader
-from .ply_triangles import COLOR_NAMES, cut_polygons, face_color_fields, fan_count, mesh_arrays, mesh_rows
+from .ply_triangles import COLOR_NAMES, cut_polygons, face_color_fields, fan_count, mesh_arrays, mesh_rows, skipped_scalars
 
 
 def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece | None:
@@ -42,7 +42,7 @@ def read_ascii_triangles(path: Path, header: PlyHeader, where: str) -> MeshPiece
     vertex_row, face_row = rows
     if face_color_fields(face_row):
         return None  # (face colours in ASCII: trimesh)
-    scalars = sum(name.startswith("skipped ") for name in face_row.names)  # after each face's indices (MeshLab's flags)
+    scalars = skipped_scalars(face_row)  # after each face's lists (MeshLab's flags)
     vertex_count, face_count = header.count("vertex"), header.count("face")
     positions, normals, colors, faces = mesh_arrays(vertex_row, face_row, vertex_count, 0)  # (faces: once their size is read)
     corners = mixed = None  # every face's size; or, once faces of several sizes are met, their kind_counts

@@ -41,7 +41,7 @@ from .line_sections import ascii_texts, vertex_and_face_lines
 from .obj_vertices import CornerTriples
 from .ply_ascii_triangles import line_values, vertex_values
 from .ply_header import PlyHeader
-from .ply_triangles import BLOCK_ROWS, face_color_fields, file_rows, mesh_arrays, mesh_rows, read_face_colors, read_vertices
+from .ply_triangles import BLOCK_ROWS, face_color_fields, file_rows, mesh_arrays, mesh_rows, read_face_colors, read_vertices, skipped_scalars
 
 
 def read_face_uvs(path: Path, header: PlyHeader, file_size: int, where: str) -> MeshPiece | None:
@@ -143,7 +143,7 @@ def _read_ascii(path: Path, header: PlyHeader, vertex_row, face_row, vertices: t
     lines at a time, each value given its property's type as trimesh gives it (as
     ply_ascii_triangles.py reads them). Whether the file is of this module's layout."""
     names = list(vertex_row.names)
-    scalars = sum(name.startswith("skipped ") for name in face_row.names)
+    scalars = skipped_scalars(face_row)  # after each face's lists (MeshLab's flags)
     read = 0  # vertices
     sections = vertex_and_face_lines(ascii_texts(text_line_blocks(path, where, MeshError), skip=header.header_bytes),
                                      split.vertex_count, header.count("face"))

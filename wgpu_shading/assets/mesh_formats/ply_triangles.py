@@ -104,7 +104,7 @@ def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = F
     `face_texture`: the faces' second property is a `texcoord` list of floats, two a corner
     (ply_face_uvs.py reads them): ("uv_count", ...), ("uv", ..., (2 × corners,)).
     `face_scalars`: scalar properties may follow the face's lists, as MeshLab writes its
-    flags and quality, Metashape its `texnumber`: fields ("skipped 0", ...) that are read
+    flags and quality, Metashape its `texnumber`: fields (SKIPPED + "0", ...) that are read
     past, as trimesh keeps them aside; a face's uchar red, green, blue (alpha) are its colour,
     fields ("face red", ...) (face_color_fields; float ones: None, trimesh reads them)."""
     filled = [element for element in header.elements if element.count]
@@ -148,17 +148,23 @@ def mesh_rows(header: PlyHeader, order: str, corners: int = 3, texture: bool = F
     if face_colors and (sorted(face_colors, key=COLOR_NAMES.index)[:3] != ["red", "green", "blue"] or len(set(face_colors)) != len(face_colors)
                         or any(PLY_TYPES[kind] != "u1" for name, kind, _ in scalars if name in COLOR_NAMES)):
         return None  # (float face colours: trimesh)
-    fields += [(FACE_COLOR + name if name in COLOR_NAMES else f"skipped {number}", order + PLY_TYPES[kind])
+    fields += [(FACE_COLOR + name if name in COLOR_NAMES else f"{SKIPPED}{number}", order + PLY_TYPES[kind])
                for number, (name, kind, _) in enumerate(scalars)]
     return vertex_row, np.dtype(fields)
 
 
 FACE_COLOR = "face "  # the face record's fields of a face's colour: "face red", ...
+SKIPPED = "skipped "  # the face record's scalars read past: "skipped 0", ...
 
 
 def face_color_fields(face_row: np.dtype) -> list[str]:
     """The face record's colour fields, red, green, blue (alpha) (mesh_rows): MeshLab's face colours."""
     return [FACE_COLOR + name for name in COLOR_NAMES if FACE_COLOR + name in face_row.names]
+
+
+def skipped_scalars(face_row: np.dtype) -> int:
+    """How many scalars (mesh_rows) follow a face's lists and are read past (MeshLab's flags)."""
+    return sum(name.startswith(SKIPPED) for name in face_row.names)
 
 
 def read_face_colors(block: np.ndarray, fields: list[str], out: np.ndarray) -> None:

@@ -29,15 +29,16 @@ MIN_TRIANGLES = 16384
 @lru_cache(maxsize=1)
 def code_fingerprint() -> str:
     """vertex_order.py's source and meshoptimizer's version (once a process)."""
-    import hashlib
     from importlib import metadata  # (~5 ms of imports with hashlib: only once a big mesh is uploaded)
+
+    from ...assets.disk_cache import code_hash
 
     try:
         version = metadata.version("meshoptimizer")
     except metadata.PackageNotFoundError:
         version = "?"
-    source = (Path(__file__).resolve().parent / "vertex_order.py").read_bytes()
-    return hashlib.sha256(f"order 1 meshoptimizer {version}\0".encode() + source).hexdigest()
+    here = Path(__file__).resolve().parent
+    return code_hash(f"order 1 meshoptimizer {version}", [here / "vertex_order.py"], here)
 
 
 def order_key(flat: np.ndarray, vertex_count: int, parts, in_order: frozenset[int]) -> tuple[DiskCache, str] | None:
