@@ -448,6 +448,11 @@ def stage_table(results: list[DatasetResult]) -> str:
             + f" | {frames_alone:.2f} / {result.cpu_ms_per_frame(FRAMES_ALONE):.2f} | {inside / frames_alone:.2f}× "
             + f"| {first:.2f} | {first / frames_alone:.2f}× |"
         )
+    for result in results:  # pass by pass (each pass times both in one rotation of the modes): the spread
+        frames_alone = result.seconds[FRAMES_ALONE]
+        warm = ", ".join(f"{busy / alone:.2f}×" for busy, alone in zip(result.busy["batch, colour + depth"], frames_alone))
+        first = ", ".join(f"{busy / alone:.2f}×" for busy, alone in zip(result.busy[FIRST_RUN], frames_alone))
+        lines += ["", f"{result.size}², inside chunks ÷ render + readback pass by pass: {warm}; first run: {first}."]
     loads = [f"{value:.1f}" for result in results for value in result.load_average]
     lines += ["", f"1-minute load average after each pass: {', '.join(loads)} ({os.cpu_count()} cores)."]
     creations = [f"{value:.0f}" for result in results for value in result.new_file_us]
