@@ -117,12 +117,11 @@ def test_each_layout_read_here_gives_trimeshs_mesh(tmp_path, options):
     assert_same_mesh(load_mesh(path), through_trimesh(path))
 
 
-OTHERS = {  # (mixed polygons, and vertex texture coordinates: ply_polygons.py, tests/test_ply_polygons.py)
+OTHERS = {  # (mixed polygons, and vertex texture coordinates: ply_polygons.py, tests/test_ply_polygons.py;
+    # polygons with a colour each, and mixed ones with MeshLab's flags: tests/test_ply_face_colors.py)
     "texture coordinates": {"vertex_names": ("u", "v")},
-    "quads with face colours": {"faces": [[0, 2, 1, 3], [0, 4, 1, 5]], "face_extras": (("red", "uchar"), ("green", "uchar"), ("blue", "uchar"))},
     "float face colours": {"face_extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
     "float colours": {"extras": (("red", "float"), ("green", "float"), ("blue", "float"))},
-    "faces of two sizes with a face flag": {"faces": [[0, 2, 4], [2, 1, 4, 3]], "face_extras": (("flags", "int"),)},
 }
 
 

@@ -5,12 +5,14 @@ quad-dominant one.
 trimesh cannot read them: its binary reader takes every face to be the size of the first
 ("if you mixed triangles and quads this won't work at all", trimesh/exchange/ply.py) and
 refused the file as "PLY is unexpected length!". Here the vertices are read as
-ply_triangles.py reads them (the same layout: one list property of indices, nothing else
-in a face; and texture coordinates, which Blender writes as `s t`: one pair per vertex, as
-the file gives them, in its order of vertices), and the faces in blocks of bytes: a Python loop finds where each face's record
-starts (its count says how long it is: ~0.1 µs a face), then numpy gathers the indices of
-the block's faces of each size. Two passes over the faces: the first counts the triangles
-(and refuses what is too big before any array is made), the second fills them in.
+ply_triangles.py reads them (the same layout: one list property of indices, then scalars,
+as MeshLab writes its flags and quality, read past, or a uchar colour, which every
+triangle of its face gets; and texture coordinates, which Blender writes as `s t`: one pair
+per vertex, as the file gives them, in its order of vertices), and the faces in blocks of
+bytes: a Python loop finds where each face's record starts (its count says how long it
+is: ~0.1 µs a face), then numpy gathers the indices (and the scalars) of the block's faces
+of each size. Two passes over the faces: the first counts the triangles (and refuses what
+is too big before any array is made), the second fills them in.
 
 They are cut as trimesh cuts an ASCII PLY of mixed faces (trimesh.geometry.triangulate_quads,
 which tests/test_ply_polygons.py compares with): every triangle in file order, then every
@@ -28,10 +30,10 @@ import numpy as np
 
 from ...errors import MeshError
 from ...scene.geometry.mesh import MAX_TRIANGLES
-from ..mesh_pieces import MeshPiece, polygon_fans
+from ..mesh_pieces import MeshPiece, polygon_fans, with_face_colors
 from .checks import MAX_FACE_CORNERS
 from .ply_header import PlyHeader
-from .ply_triangles import float_type, mesh_arrays, mesh_rows, read_vertices, texture_pair
+from .ply_triangles import face_color_fields, float_type, mesh_arrays, mesh_rows, read_vertices, texture_pair
 
 BLOCK_BYTES = 8 << 20  # face bytes read at a time (a face of MAX_FACE_CORNERS 8-byte indices fits)
 
@@ -42,14 +44,16 @@ def read_polygons(path: Path, header: PlyHeader, file_size: int, where: str) -> 
     if not header.binary:
         return None
     order = "<" if header.format == "binary_little_endian" else ">"
-    rows = mesh_rows(header, order, texture=True)
+    rows = mesh_rows(header, order, texture=True, face_scalars=True)
     if rows is None:
         return None
     vertex_row, face_row = rows
     vertices, faces = header.count("vertex"), header.count("face")
     faces_at = header.header_bytes + vertices * vertex_row.itemsize
     count_type, index_type = face_row.fields["count"][0], face_row.fields["corners"][0].base
-    records = FaceRecords(count_type, index_type, faces, where)
+    # The scalars after each face's indices (MeshLab's flags and quality, a colour): a record's tail.
+    tail = np.dtype([(name, face_row.fields[name][0]) for name in face_row.names if name not in ("count", "corners")])
+    records = FaceRecords(count_type, index_type, faces, where, tail)
     with open(path, "rb") as file:
         file.seek(faces_at)
         sizes = records.sizes(file)  # (triangles, quads, larger polygons' triangles)
@@ -60,19 +64,23 @@ def read_polygons(path: Path, header: PlyHeader, file_size: int, where: str) -> 
             positions, normals, colors, out = mesh_arrays(vertex_row, face_row, vertices, triangles)
             pair = texture_pair(vertex_row.names)
             uvs = None if pair is None else np.empty((vertices, 2), float_type(vertex_row.fields, pair))
+            color_fields = face_color_fields(face_row) if colors is None else []  # (vertex colours win, as in ply_triangles.py)
+            face_colors = np.empty((triangles, len(color_fields)), np.uint8) if color_fields else None
         except MemoryError:
             raise MeshError(f"{where}: not enough memory to read {vertices} vertices and {faces} faces") from None
         file.seek(header.header_bytes)
         read_vertices(file, vertex_row, positions, normals, colors, where, uvs)
-        records.cut(file, out, sizes)
-    return MeshPiece(positions, out, normals, uvs, colors=colors, parts=[(0, len(out), None, path.name)])
+        records.cut(file, out, sizes, face_colors, color_fields)
+    piece = MeshPiece(positions, out, normals, uvs, colors=colors, parts=[(0, len(out), None, path.name)])
+    return piece if face_colors is None else with_face_colors(piece, face_colors)  # every triangle its polygon's colour
 
 
 class FaceRecords:
-    """The face records of a binary PLY: a count, then that many indices, `faces` of them."""
+    """The face records of a binary PLY: a count, then that many indices, then the scalars
+    of `tail` (none by default), `faces` of them."""
 
-    def __init__(self, count_type: np.dtype, index_type: np.dtype, faces: int, where: str):
-        self.count_type, self.index_type, self.faces, self.where = count_type, index_type, faces, where
+    def __init__(self, count_type: np.dtype, index_type: np.dtype, faces: int, where: str, tail: np.dtype = np.dtype([])):
+        self.count_type, self.index_type, self.faces, self.where, self.tail = count_type, index_type, faces, where, tail
 
     def _blocks(self, file):
         """(bytes, starts, counts) of each block of whole records, in order; a MeshError
@@ -108,7 +116,7 @@ class FaceRecords:
                 raise MeshError(f"{self.where}: face {found + len(starts)} has a negative corner count ({count})")
             if count > MAX_FACE_CORNERS:  # (said from its count, as an OBJ's: trimesh took 2.4 GB to one of 12M)
                 raise MeshError(f"{self.where}: face {found + len(starts)} has {count} corners; at most {MAX_FACE_CORNERS} are supported")
-            end = place + count_bytes + count * index_bytes
+            end = place + count_bytes + count * index_bytes + self.tail.itemsize
             if end > length:
                 break
             starts.append(place)
@@ -123,11 +131,23 @@ class FaceRecords:
             totals = tuple(total + more for total, more in zip(totals, kind_counts(counts)))
         return totals
 
-    def cut(self, file, out: np.ndarray, sizes: tuple[int, int, int]) -> None:
-        """The second pass: every face cut into its rows of `out` (the module docstring)."""
-        placed = MixedCut(out, sizes)
+    def cut(self, file, out: np.ndarray, sizes: tuple[int, int, int], colors: np.ndarray | None = None,
+            color_fields: list[str] = ()) -> None:
+        """The second pass: every face cut into its rows of `out` (the module docstring);
+        with `colors`, each triangle's row there gets its face's `color_fields`."""
+        placed = MixedCut(out, sizes, colors)
         for data, starts, counts in self._blocks(file):
-            placed.add(counts, lambda chosen, size, data=data, starts=starts: self._indices(data, starts[chosen], size))
+            face_colors = None
+            if colors is not None:
+                tails = self._tails(data, starts, counts)
+                face_colors = np.stack([tails[field] for field in color_fields], axis=1)
+            placed.add(counts, lambda chosen, size, data=data, starts=starts: self._indices(data, starts[chosen], size), face_colors)
+
+    def _tails(self, data: np.ndarray, starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+        """The `tail` scalars of the records at `starts`, of these counts (a structured array)."""
+        at = starts + self.count_type.itemsize + counts * self.index_type.itemsize
+        windows = np.lib.stride_tricks.sliding_window_view(data, self.tail.itemsize)
+        return np.ascontiguousarray(windows[at]).view(self.tail).reshape(len(starts))
 
     def _indices(self, data: np.ndarray, starts: np.ndarray, size: int) -> np.ndarray:
         """(len(starts), size) indices of the records at `starts`, each `size` corners."""
@@ -139,6 +159,15 @@ class FaceRecords:
         return np.ascontiguousarray(windows[starts + count_bytes]).view(self.index_type).reshape(len(starts), size)
 
 
+def polygon_colors(counts: np.ndarray, face_colors: np.ndarray) -> np.ndarray:
+    """Each triangle's colour, for faces of these corner counts with a colour each (a row
+    a face), in the order MixedCut places their triangles (as trimesh cuts them; faces of
+    fewer than 3 corners make none)."""
+    counts = np.asarray(counts)
+    quads, larger = face_colors[counts == 4], counts > 4
+    return np.concatenate([face_colors[counts == 3], quads, quads, np.repeat(face_colors[larger], counts[larger] - 2, axis=0)])
+
+
 def kind_counts(counts: np.ndarray) -> tuple[int, int, int]:
     """(triangles, quads, the triangles of larger polygons) of faces of these corner counts."""
     larger = counts[counts > 4]
@@ -147,23 +176,31 @@ def kind_counts(counts: np.ndarray) -> tuple[int, int, int]:
 
 class MixedCut:
     """Faces of several sizes placed as trimesh cuts them (the module docstring), a block of
-    faces at a time, into `out`, whose size the totals of kind_counts over every face give."""
+    faces at a time, into `out`, whose size the totals of kind_counts over every face give;
+    with `colors` (rows as `out`'s), each triangle's row there gets its face's colour."""
 
-    def __init__(self, out: np.ndarray, sizes: tuple[int, int, int]):
-        self.out, (self.triangles, self.quads, _) = out, sizes
+    def __init__(self, out: np.ndarray, sizes: tuple[int, int, int], colors: np.ndarray | None = None):
+        self.out, self.colors, (self.triangles, self.quads, _) = out, colors, sizes
         self.done = {3: 0, 4: 0, "larger": self.triangles + 2 * self.quads}  # where each kind goes next
 
-    def add(self, counts: np.ndarray, polygons_of: Callable[[np.ndarray, int], np.ndarray]) -> None:
+    def add(self, counts: np.ndarray, polygons_of: Callable[[np.ndarray, int], np.ndarray], face_colors: np.ndarray | None = None) -> None:
         """The next faces, of these corner counts: polygons_of(chosen, size) gives the
-        (n, size) indices of the chosen ones (a boolean mask over them), all of that size."""
+        (n, size) indices of the chosen ones (a boolean mask over them), all of that size;
+        `face_colors`: their colours, a row a face (when made with `colors`)."""
         out, triangles, quads = self.out, self.triangles, self.quads
         for size in (3, 4):
-            polygons, at = polygons_of(counts == size, size), self.done[size]
+            chosen = counts == size
+            polygons, at = polygons_of(chosen, size), self.done[size]
             if size == 3:
                 out[at : at + len(polygons)] = polygons
+                rows = [slice(at, at + len(polygons))]
             else:
                 out[triangles + at : triangles + at + len(polygons)] = polygons[:, [0, 1, 2]]
                 out[triangles + quads + at : triangles + quads + at + len(polygons)] = polygons[:, [2, 3, 0]]
+                rows = [slice(triangles + at, triangles + at + len(polygons)), slice(triangles + quads + at, triangles + quads + at + len(polygons))]
+            if self.colors is not None:
+                for place in rows:
+                    self.colors[place] = face_colors[chosen]
             self.done[size] += len(polygons)
         larger = counts > 4
         if larger.any():  # fans in file order: each polygon's rows after the one before
@@ -175,5 +212,8 @@ class MixedCut:
                 chosen = np.zeros(len(counts), bool)
                 chosen[chosen_larger[mine]] = True
                 fans = polygon_fans(polygons_of(chosen, int(size)))
-                out[(first_row[mine][:, None] + np.arange(size - 2)).reshape(-1)] = fans
+                fan_rows_of = (first_row[mine][:, None] + np.arange(size - 2)).reshape(-1)
+                out[fan_rows_of] = fans
+                if self.colors is not None:  # (polygon_fans: each polygon's fan after the one before)
+                    self.colors[fan_rows_of] = np.repeat(face_colors[chosen], size - 2, axis=0)
             self.done["larger"] += int(fan_rows.sum())

@@ -17,8 +17,10 @@ compares the two on real files and on every case below); any other PLY goes to t
   them: TEXTURE_PAIRS) are read by ply_polygons.py, a pair per vertex;
 - face: one list property, vertex_indices or vertex_index, then only scalar properties,
   read past as trimesh keeps them aside (MeshLab's flags and quality), except uchar red,
-  green, blue (alpha): a triangle's colour, every corner then its own vertex, as trimesh
-  gives them (unless the vertices have colours: then those, as trimesh); a `texcoord` list
+  green, blue (alpha): a face's colour, every corner then its own vertex, as trimesh
+  gives them for triangles (unless the vertices have colours: then those, as trimesh; a
+  polygon's colour goes to each of its triangles, which trimesh does not do: it keeps one
+  colour a polygon beside twice as many triangles); a `texcoord` list
   after the indices goes to ply_face_uvs.py; every face a
   polygon of the same size (triangles,
   quads as quad-remeshers write them, ...): the file is exactly as long as that makes it,
@@ -189,8 +191,6 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
         raise MeshError(f"{where}: {layout.faces} faces of {corners} corners make {fan_count(corners, layout.faces)} triangles; "
                         f"at most {MAX_TRIANGLES} are supported")
     color_fields = face_color_fields(layout.face)
-    if color_fields and corners != 3:
-        return None  # polygons with a colour each: trimesh
     positions, normals, colors, faces = mesh_arrays(layout.vertex, layout.face, layout.vertices, fan_count(corners, layout.faces))
     face_colors = np.empty((layout.faces, len(color_fields)), np.uint8) if color_fields and colors is None else None
     try:
@@ -209,8 +209,19 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {layout.vertices} vertices and {layout.faces} faces") from None
     piece = MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
-    # Face colours (where the vertices have none, as trimesh reads them): every corner its own vertex.
-    return piece if face_colors is None else with_face_colors(piece, face_colors)
+    # Face colours (where the vertices have none, as trimesh reads them): every corner its own
+    # vertex, every triangle its polygon's colour.
+    return piece if face_colors is None else with_face_colors(piece, fan_colors(face_colors, corners))
+
+
+def fan_colors(face_colors: np.ndarray, corners: int) -> np.ndarray:
+    """Each triangle's colour, for polygons of `corners` corners with a colour each
+    (`face_colors`, a row a polygon), in the order cut_polygons gives their triangles."""
+    if corners == 3:
+        return face_colors
+    if corners == 4:  # every quad's first triangle, then every quad's second
+        return np.concatenate([face_colors, face_colors])
+    return np.repeat(face_colors, corners - 2, axis=0)  # each polygon's fan, one after the other
 
 
 def texture_pair(names) -> tuple[str, str] | None:

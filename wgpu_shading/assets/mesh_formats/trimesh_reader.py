@@ -6,6 +6,7 @@ A PLY header's counts are checked against the file's size before trimesh allocat
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 from pathlib import Path
 from typing import BinaryIO
@@ -16,6 +17,7 @@ from ...errors import MeshError
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import describe_load_error, text_source
 from .ply_edges import edge_piece
+from .ply_polygons import polygon_colors
 from .ply_strips import strip_triangles
 
 
@@ -120,9 +122,38 @@ def _trimesh_piece(loaded, path: Path, declared: tuple[int, int] | None) -> Mesh
             f"mesh file {str(path)!r}: truncated: the header declares {declared[0]} vertices and {declared[1]} faces, "
             f"the file holds {len(positions)} vertices and {len(faces)} triangles"
         )
+    if face_colors is not None and len(face_colors) != len(faces):
+        face_colors = _polygon_colors(loaded, face_colors, len(faces), path)
     normals = _file_normals(loaded)
     piece = MeshPiece(positions, faces, normals, uvs, None if colors is None else _unit_colors(colors), parts=[(0, len(faces), None, path.name)])
     return piece if face_colors is None else with_face_colors(piece, _unit_colors(face_colors))
+
+
+def _polygon_colors(loaded, face_colors: np.ndarray, triangles: int, path: Path) -> np.ndarray | None:
+    """A PLY's face colours, one a polygon as trimesh keeps them, given to each triangle it
+    cut the polygon into (trimesh gives quads twice as many triangles as colours); None,
+    with a warning, where the polygons cannot be told from its raw faces."""
+    raw = loaded.metadata.get("_ply_raw", {}).get("face", {}).get("data") if isinstance(loaded.metadata, dict) else None
+    indices = None
+    if raw is not None and "vertex_indices" in _fields(raw):
+        indices = raw["vertex_indices"]
+    elif raw is not None and "vertex_index" in _fields(raw):
+        indices = raw["vertex_index"]
+    if indices is not None:
+        indices = np.asarray(indices)
+        if indices.dtype.names:  # a binary file's records: (count, indices)
+            counts = np.asarray(indices[indices.dtype.names[0]], np.int64).reshape(-1)
+        elif indices.ndim == 2:  # an ASCII file's faces of one size
+            counts = np.full(len(indices), indices.shape[1])
+        else:  # an ASCII file's faces of several sizes, an array each
+            counts = np.array([len(face) for face in indices])
+        if len(counts) == len(face_colors):
+            colors = polygon_colors(counts, face_colors)
+            if len(colors) == triangles:
+                return colors
+    warnings.warn(f"mesh file {str(path)!r}: its {len(face_colors)} face colours do not match its {triangles} triangles; "
+                  "drawn without them", stacklevel=2)
+    return None
 
 
 def _point_cloud_piece(loaded, path: Path, declared: tuple[int, int] | None) -> MeshPiece:
