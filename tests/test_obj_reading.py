@@ -484,3 +484,27 @@ def test_a_concave_face_through_one_point_again_and_again_keeps_its_fan(tmp_path
     with pytest.warns(UserWarning, match=r"l\.obj: 1 concave face .*over 5 corners"):
         fan = load_mesh(tmp_path / "l.obj").indices
     assert len(fan) == len(cut) == 4 and not np.array_equal(fan, cut)  # the fan covers the notch, ear clipping did not
+
+
+def test_comments_after_an_elements_numbers_are_read_past(tmp_path):
+    """`v 1 2 3 # top`: trimesh and VTK's reader (f3d's) read past a comment after the
+    numbers; it was "cannot read 'v' line (expected numbers)". The same mesh as the file
+    without them, in the files' fast reading (blocks of lines) and its line-by-line one
+    (`vt` of three numbers beside ones of two); a `#` in a name is part of the name."""
+    plain = ("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+             "usemtl red#1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
+    commented = ("# a header ## with hashes\nmtllib m.mtl\nv 0 0 0 # origin\nv 1 0 0#x\nv 1 1 0\nv 0 1 0\t# last\n"
+                 "vt 0 0 # uv\nvt 1 0 0\nvt 1 1\nvt 0 1\nvn 0 0 1 # up\nusemtl red#1\nf 1/1/1 2/2/1 3/3/1 # lower\n"
+                 "f 1/1/1 3/3/1 4/4/1 #\n")
+    meshes = []
+    for name, text in (("plain", plain), ("commented", commented)):
+        folder = tmp_path / name
+        folder.mkdir()
+        (folder / "m.mtl").write_text("newmtl red#1\nKd 1 0 0\n")
+        (folder / "quad.obj").write_text(text)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # (the material found: no warning)
+            meshes.append(load_mesh(folder / "quad.obj"))
+    for attribute in ("positions", "indices", "normals", "uvs"):
+        np.testing.assert_array_equal(getattr(meshes[0], attribute), getattr(meshes[1], attribute), err_msg=attribute)
+    assert meshes[1].parts[0].material.diffuse[:3] == pytest.approx((1, 0, 0))

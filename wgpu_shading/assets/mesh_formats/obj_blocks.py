@@ -13,6 +13,7 @@ coordinates, normals, faces), whichever line came first.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -81,6 +82,9 @@ class ObjContent:
         starts, first, second = _line_starts(data)
         if ((first == 32) | (first == 9)).any():
             data = _without_indentation(data)
+            starts, first, second = _line_starts(data)
+        if _has_trailing_comment(data):
+            data = _TRAILING_COMMENT.sub(rb"\1", data)
             starts, first, second = _line_starts(data)
         blank = (second == 32) | (second == 9)
         is_f = (first == ord("f")) & blank
@@ -209,6 +213,28 @@ def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: n
             ordinal = int(np.flatnonzero(~finite)[0])
             raise MeshError(f"{path}:{numbers[ordinal]}: {prefix.strip()!r} line has {what}: {lines[ordinal].strip()[len(prefix.strip()):].strip()!r}")
     return kept
+
+
+# A comment after an element's numbers (`v 1 2 3 # top`, `f 1 2 3 # lid`): trimesh and VTK's
+# reader (f3d's) read past it. Names (`usemtl`, `o`, `g`, `mtllib`) are left as they are: a
+# `#` may be part of one.
+_TRAILING_COMMENT = re.compile(rb"^((?:v|vt|vn|vp|f|l|p)[ \t][^#\n]*)#[^\n]*", re.MULTILINE)
+
+
+def _has_trailing_comment(data: bytes) -> bool:
+    """Whether an element line of `data` has a comment after its numbers: each `#` found
+    with bytes.find (C's memchr), a comment line skipped whole (MeshLab's `####` banners),
+    so a file with only comment lines costs a few finds, not a pass of the regex."""
+    at = data.find(b"#")
+    while at >= 0:
+        line_start = data.rfind(b"\n", 0, at) + 1
+        if data[line_start:at].strip(b" \t") and _TRAILING_COMMENT.match(data, line_start):
+            return True
+        end = data.find(b"\n", at)
+        if end < 0:
+            return False
+        at = data.find(b"#", end)
+    return False
 
 
 def _without_indentation(data: bytes) -> bytes:
