@@ -52,6 +52,21 @@ def test_a_truncated_binary_stl_is_refused(tmp_path):
         load_mesh(path)
 
 
+def test_a_binary_stl_whose_header_declares_0_triangles_is_read_to_its_size_with_a_warning(tmp_path):
+    """A writer that streams its triangles may leave the count 0: the file's size says how
+    many (VTK's reader, f3d's, reads such files); it said "contains no triangles"."""
+    declared = load_mesh(binary_stl(tmp_path / "counted.stl", tetrahedron()))
+    with pytest.warns(UserWarning, match=r"zero.stl': its header declares 0 triangles; read the 4 its 284 bytes hold"):
+        streamed = load_mesh(binary_stl(tmp_path / "zero.stl", tetrahedron(), count=0))
+    for name in ("positions", "indices", "normals", "origin"):
+        np.testing.assert_array_equal(getattr(streamed, name), getattr(declared, name), err_msg=name)
+    binary_stl(tmp_path / "ragged.stl", tetrahedron(), count=0)
+    with open(tmp_path / "ragged.stl", "ab") as file:
+        file.write(b"\0" * 7)  # not whole records: no count to trust
+    with pytest.raises(MeshError, match="ragged.stl': not a valid STL file: its header declares 0 triangles, and the 207 bytes"):
+        load_mesh(tmp_path / "ragged.stl")
+
+
 def test_a_binary_stl_is_read_with_shared_vertices_like_trimesh_reads_it(tmp_path):
     import trimesh
 

@@ -38,7 +38,7 @@ def read_stl(path: Path, file_size: int) -> MeshFile:
     layout (stl_ascii.py), else through trimesh."""
     where = f"mesh file {str(path)!r}"
     try:
-        count = binary_stl_count(path, where, file_size)
+        count, notes = binary_stl_count(path, where, file_size)
         if count is None:
             piece = read_plain_ascii_stl(path, where)
             if piece is not None:
@@ -55,22 +55,33 @@ def read_stl(path: Path, file_size: int) -> MeshFile:
         raise MeshError(f"{where}: cannot be read ({error.strerror or error})") from None
     except MemoryError:
         raise MeshError(f"{where}: not enough memory to read {file_size} bytes of STL") from None
-    return MeshFile([MeshPiece(positions, faces, parts=[(0, len(faces), None, path.name)])], self_contained=True)
+    return MeshFile([MeshPiece(positions, faces, parts=[(0, len(faces), None, path.name)])], notes, self_contained=True)
 
 
-def binary_stl_count(path: Path, where: str, file_size: int) -> int | None:
+def binary_stl_count(path: Path, where: str, file_size: int) -> tuple[int | None, list[str]]:
     """The triangle count of a binary STL (checked against the file's size), or None for an
-    ASCII one."""
+    ASCII one; and what to tell the user about it."""
     with open(path, "rb") as file:
         head = file.read(1024)
     count = int.from_bytes(head[80:84], "little") if len(head) >= HEADER_BYTES else -1
     if count >= 0 and HEADER_BYTES + RECORD.itemsize * count == file_size:
         if count > MAX_TRIANGLES:
             raise MeshError(f"{where}: {count} triangles; at most {MAX_TRIANGLES} are supported")
-        return count  # binary, even when its free text starts with "solid" (many exporters do that)
+        return count, []  # binary, even when its free text starts with "solid" (many exporters do that)
+    records, rest = divmod(file_size - HEADER_BYTES, RECORD.itemsize)
+    if count == 0 and records > 0 and not rest:
+        # A writer that streams its triangles may leave the count 0 (it cannot seek back):
+        # the file's size says how many there are, as VTK's reader (f3d's) reads such files.
+        # (Four zero bytes at 80..83: never ASCII text.)
+        if records > MAX_TRIANGLES:
+            raise MeshError(f"{where}: {records} triangles; at most {MAX_TRIANGLES} are supported")
+        return records, [f"{where}: its header declares 0 triangles; read the {records} its {file_size} bytes hold"]
+    if count == 0 and rest:
+        raise MeshError(f"{where}: not a valid STL file: its header declares 0 triangles, and the {file_size - HEADER_BYTES} "
+                        f"bytes after it are not whole {RECORD.itemsize}-byte triangles")
     text = head.lstrip()
     if text[:5].lower() == b"solid" and _mostly_text(head):
-        return None
+        return None, []
     if count < 0:
         raise MeshError(f"{where}: not a valid STL file (shorter than a binary STL's 84-byte header, and not ASCII STL)")
     needed = HEADER_BYTES + RECORD.itemsize * count
@@ -84,7 +95,7 @@ def binary_stl_count(path: Path, where: str, file_size: int) -> int | None:
             f"{where}: not a valid STL file: its header declares {count} triangles, which need {needed} bytes, "
             f"but the file has {file_size} (truncated?)"
         )
-    return count  # trailing bytes after the last triangle: read what the header declares
+    return count, []  # trailing bytes after the last triangle: read what the header declares
 
 
 def read_binary_stl(path: Path, count: int) -> tuple[np.ndarray, np.ndarray]:
