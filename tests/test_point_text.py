@@ -62,6 +62,18 @@ def test_nine_numbers_and_cloudcompare_header_and_separators(tmp_path):
     assert scalar.colors is None and scalar.point_count == 4
 
 
+def test_a_first_line_of_column_names_without_a_comment_mark_names_the_columns(tmp_path):
+    """PDAL's text writer: `"X","Y","Z","Intensity","Red","Green","Blue"` (it was "not 7 numbers")."""
+    header = '"X","Y","Z","Intensity","Red","Green","Blue"\n'
+    named = load_mesh(_write(tmp_path / "pdal.xyz", np.hstack([POINTS, [[5], [6], [7], [8]], RGB]), header=header, separator=","))
+    np.testing.assert_allclose(named.world_positions(), POINTS, atol=1e-6)
+    np.testing.assert_allclose(named.colors, _alpha(RGB / 255.0), atol=1e-6)
+    reordered = load_mesh(_write(tmp_path / "zyx.xyz", POINTS[:, ::-1], header="z y x\n"))
+    np.testing.assert_allclose(reordered.world_positions(), POINTS, atol=1e-6)
+    with pytest.raises(MeshError, match=r"words.xyz:1: 'x y w': not 3 numbers"):  # (not a header: no z)
+        load_mesh(_write(tmp_path / "words.xyz", POINTS, header="x y w\n"))
+
+
 def test_a_leica_pts_file_skips_its_scans_counts(tmp_path):
     """Leica PTS: a count line, then x y z intensity r g b; a second scan has its own count."""
     rows = np.hstack([POINTS, [[-1000], [0], [5], [2047]], RGB])

@@ -3,7 +3,8 @@ and `.pts` (Leica, Open3D), drawn as points (docs/primitives.md#point-clouds-as-
 
 A line is x y z and what the columns after them say, separated by spaces, tabs, commas or
 semicolons; `#` and `//` lines are comments, and CloudCompare's header comment naming the
-columns (`//X Y Z R G B Nx Ny Nz`) says which is which. Without one, the count decides
+columns (`//X Y Z R G B Nx Ny Nz`) says which is which, as does a first line of names alone
+(PDAL's `"X","Y","Z","Red","Green","Blue"`). Without one, the count decides
 (every data line must have the same): 3 x y z; 4 x y z and a scalar (ignored); 6 x y z and
 a normal when every row's last three numbers are a unit vector (MeshLab, Open3D `.xyzn`),
 else a colour; 7 x y z, a scalar and a colour (Leica PTS; a `.pts` line holding one
@@ -102,6 +103,9 @@ class _Lines:
                 continue
             if self.counts and len(words) == 1 and words[0].isdigit():
                 continue
+            if not self.width and self.names is None and _is_header(words):  # PDAL's `"X","Y","Z"`: no `//`
+                self.names = [word.strip(b"\"'").decode("latin-1").lower() for word in words]
+                continue
             if not self.width:
                 self.width = len(words)
                 if self.width < 3:
@@ -116,6 +120,21 @@ class _Lines:
                 raise MeshError(f"{self.path}:{number}: {_shown(text)}: a NaN or infinite number")
             rows.append(row)
         return np.array(rows, dtype=np.float64).reshape(-1, self.width or 1)
+
+
+def _is_header(words: list[bytes]) -> bool:
+    """Whether a first line names its columns (x, y and z among them, no number), as PDAL's
+    text writer and spreadsheets write one without CloudCompare's `//`."""
+    names = [word.strip(b"\"'").lower() for word in words]
+    return {b"x", b"y", b"z"} <= set(names) and not any(_is_number(name) for name in names)
+
+
+def _is_number(word: bytes) -> bool:
+    try:
+        float(word)
+    except ValueError:
+        return False
+    return True
 
 
 def _shown(text: bytes) -> str:
