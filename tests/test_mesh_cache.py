@@ -214,9 +214,10 @@ def test_off_and_unwritable_folders_only_mean_parsing(tmp_path, monkeypatch):
     monkeypatch.setenv(SIZE_VARIABLE, "0")  # no room: off
     load_mesh(path)
     assert not (tmp_path / "zero").exists()
-    monkeypatch.setenv(SIZE_VARIABLE, "lots")  # not a number: the default, and said
-    with pytest.warns(UserWarning, match="WGPU_SHADING_MESH_CACHE_MB='lots' is not a number of MiB"):
-        _assert_same(load_mesh(path), expected)
+    for bad in ("lots", "-5", "nan"):  # not a number of MiB: the default, and said
+        monkeypatch.setenv(SIZE_VARIABLE, bad)
+        with pytest.warns(UserWarning, match=f"WGPU_SHADING_MESH_CACHE_MB='{bad}' is not a number of MiB"):
+            _assert_same(load_mesh(path), expected)
     assert len(_entries(tmp_path / "zero")) == 1
 
 

@@ -136,11 +136,13 @@ def disk_cache() -> DiskCache | None:
     text = os.environ.get(SIZE_VARIABLE, "").strip()
     try:
         megabytes = float(text) if text else DEFAULT_MEGABYTES
-    except ValueError:  # a bad value does not stop a render: the default, and a warning saying so
+    except ValueError:
+        megabytes = -1.0
+    if not megabytes >= 0:  # a bad value (a word, a negative size, NaN) does not stop a render: the default, and said
         warnings.warn(f"{SIZE_VARIABLE}={text!r} is not a number of MiB; the mesh cache keeps its default, {DEFAULT_MEGABYTES} MiB",
                       stacklevel=2)
         megabytes = DEFAULT_MEGABYTES
-    if not megabytes > 0:  # (0 or NaN: off)
+    if megabytes == 0:  # no room: off
         return None
     return DiskCache(folder, int(min(megabytes, 1 << 40) * (1 << 20)))
 
