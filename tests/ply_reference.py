@@ -10,6 +10,7 @@ import numpy as np
 
 from wgpu_shading import load_mesh
 from wgpu_shading.assets.mesh_formats import ply
+from wgpu_shading.assets.mesh_formats.ply_header import PLY_TYPES
 
 ARRAYS = ("positions", "normals", "indices", "colors", "uvs", "origin")
 
@@ -32,3 +33,11 @@ def assert_same_mesh(mesh, expected) -> None:
             assert ours.dtype == theirs.dtype, name
             np.testing.assert_array_equal(ours, theirs, err_msg=name)
     assert [(p.first, p.count, p.name) for p in mesh.parts] == [(p.first, p.count, p.name) for p in expected.parts]
+
+
+def vertex_bytes(columns, values: dict, count: int, order: str = "<") -> bytearray:
+    """A binary PLY's vertex records: `columns` (name, PLY type), values[name] for each."""
+    vertices = np.zeros(count, np.dtype([(name, order + PLY_TYPES[kind]) for name, kind in columns]))
+    for name, _ in columns:
+        vertices[name] = values[name]
+    return bytearray(vertices.tobytes())

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ply_reference import assert_same_mesh, through_trimesh
+from ply_reference import assert_same_mesh, through_trimesh, vertex_bytes
 from wgpu_shading import load_mesh
 from wgpu_shading.assets.mesh_formats import ply_polygons
 from wgpu_shading.assets.mesh_formats.ply_header import PLY_TYPES
@@ -59,11 +59,7 @@ def write_ply(path: Path, faces, *, ascii=False, order="<", scalars=(("red", "uc
                  for i, face in enumerate(faces)]
         body = ("\n".join(rows) + "\n").encode()
     else:
-        vertex_row = np.dtype([(name, order + PLY_TYPES[kind]) for name, kind in vertex_columns])
-        vertices = np.zeros(len(POSITIONS), vertex_row)
-        for name, _ in vertex_columns:
-            vertices[name] = vertex_values[name]
-        body = bytearray(vertices.tobytes())
+        body = vertex_bytes(vertex_columns, vertex_values, len(POSITIONS), order)
         for i, face in enumerate(faces):
             body += np.array(len(face), np.uint8).tobytes() + np.array(face, order + "i4").tobytes()
             for name, kind in scalars:

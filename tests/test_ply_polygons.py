@@ -13,7 +13,7 @@ from unittest import mock
 import numpy as np
 import pytest
 
-from ply_reference import assert_same_mesh, through_trimesh
+from ply_reference import assert_same_mesh, through_trimesh, vertex_bytes
 from wgpu_shading import load_mesh
 from wgpu_shading.assets.mesh_formats import ply, ply_polygons, ply_triangles
 from wgpu_shading.assets.mesh_formats.ply_header import PLY_TYPES
@@ -52,11 +52,7 @@ def write_mesh(path: Path, *, ascii=False, order="<", count="uchar", index="int"
                 for i in range(len(POSITIONS))]
         body = ("\n".join(rows + [" ".join(map(str, [len(face), *face])) for face in faces]) + "\n").encode()
     else:
-        row = np.dtype([(name, order + PLY_TYPES[kind]) for name, kind in columns])
-        vertices = np.zeros(len(POSITIONS), row)
-        for name, _ in columns:
-            vertices[name] = values[name]
-        body = bytearray(vertices.tobytes())
+        body = vertex_bytes(columns, values, len(POSITIONS), order)
         for number, face in enumerate(faces):
             body += np.array(len(face) if counts is None else counts[number], order + PLY_TYPES[count]).tobytes()
             body += np.array(face, order + PLY_TYPES[index]).tobytes()
