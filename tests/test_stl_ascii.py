@@ -15,6 +15,7 @@ from wgpu_shading.assets import files
 from wgpu_shading.assets.mesh_formats import stl_ascii
 from wgpu_shading.assets.mesh_formats.stl_ascii import read_plain_ascii_stl
 from wgpu_shading.assets.mesh_formats.trimesh_reader import read_with_trimesh
+from wgpu_shading.errors import MeshError
 
 CORPUS = Path(__file__).parents[2] / "shared" / "corpora" / "realworld2" / "stl"
 
@@ -118,7 +119,6 @@ OTHER_LAYOUTS = {
     "four numbers to a vertex": lambda t: t.replace("vertex ", "vertex 7 ", 1),
     "a number moved from the normal to a vertex": lambda t: _moved_number(t),
     "a word for a number": lambda t: t.replace("vertex ", "vertex x", 1),
-    "no endsolid": lambda t: t[: t.rindex("endsolid")],
     "text after endsolid": lambda t: t + "something\n",
     "an indent of 20": lambda t: t.replace("  facet", " " * 20 + "facet", 1),
     "vertexes": lambda t: t.replace("vertex ", "vertexes ", 1),
@@ -139,6 +139,22 @@ def test_other_layouts_go_to_trimesh_as_before(tmp_path, layout):
         return
     mesh = load_mesh(path)
     assert mesh.triangle_count == sum(len(piece.faces) for piece in expected.pieces)
+
+
+def test_a_file_ending_after_a_whole_facet_without_endsolid_is_read_with_a_warning(tmp_path):
+    """VTK's reader (f3d's) draws such a file's facets; trimesh found no solid in it."""
+    whole = _text(_facets(6), number="{:.1f}")
+    (tmp_path / "whole.stl").write_text(whole)
+    (tmp_path / "cut.stl").write_text(whole[: whole.rindex("endsolid")])
+    with pytest.warns(UserWarning, match=r"cut.stl': no 'endsolid' line at its end \(cut short\?\); the 6 whole facet\(s\)"):
+        cut = load_mesh(tmp_path / "cut.stl")
+    expected = load_mesh(tmp_path / "whole.stl")
+    for name in ("positions", "indices", "normals", "origin"):
+        np.testing.assert_array_equal(getattr(cut, name), getattr(expected, name), err_msg=name)
+    # Cut inside a facet: refused, saying where (trimesh said "no mesh in the file").
+    (tmp_path / "inside.stl").write_text(whole[: whole.rindex("endloop")])
+    with pytest.raises(MeshError, match=r"inside.stl': truncated: it ends inside facet 6, after 5 whole ones"):
+        load_mesh(tmp_path / "inside.stl")
 
 
 def test_a_nan_coordinate_is_named_as_before(tmp_path):

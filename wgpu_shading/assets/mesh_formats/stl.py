@@ -40,9 +40,9 @@ def read_stl(path: Path, file_size: int) -> MeshFile:
     try:
         count, notes = binary_stl_count(path, where, file_size)
         if count is None:
-            piece = read_plain_ascii_stl(path, where)
+            piece = read_plain_ascii_stl(path, where, notes)
             if piece is not None:
-                return MeshFile([piece], self_contained=True)
+                return MeshFile([piece], notes, self_contained=True)
             if file_size > MAX_ASCII_BYTES:
                 raise MeshError(
                     f"{where}: an ASCII STL of {file_size / 2**20:.0f} MiB, not in the plain layout (a `solid`, facets "

@@ -7,7 +7,7 @@
     endloop
     endfacet
     ...                   (a facet is always these seven lines)
-    endsolid NAME
+    endsolid NAME         (a file without it, ending after a whole facet, is read with a warning)
 
 trimesh reads ASCII STL as one lower-cased copy of the whole text, then a string per
 `vertex` line, and keeps every corner as its own float64 vertex: ~6 bytes per byte of
@@ -51,17 +51,17 @@ BLOCK_BYTES = 1 << 20  # text read at a time: its parsing takes ~10 bytes a byte
 LONGEST_LINE = 1 << 16  # a facet's lines are short: a longer one is another layout, not read whole here
 
 
-def read_plain_ascii_stl(path: Path, where: str) -> MeshPiece | None:
+def read_plain_ascii_stl(path: Path, where: str, notes: list[str] | None = None) -> MeshPiece | None:
     """The file's triangles with equal corners joined (corner_join.py, as a binary STL's:
     float64 vertices sorted by their bits), or None when the file is not in the plain
-    layout."""
+    layout; what the user should be told goes to `notes` (MeshFile.notes)."""
     try:
-        return _read(path, where)
+        return _read(path, where, [] if notes is None else notes)
     except LongLine:  # (no line of the layout is long: not read further)
         return None
 
 
-def _read(path: Path, where: str) -> MeshPiece | None:
+def _read(path: Path, where: str, notes: list[str]) -> MeshPiece | None:
     join = CornerJoin(np.float64)
     ids: list[np.ndarray] = []  # each corner's vertex id (order met), a joined block at a time
     pending: list[np.ndarray] = []  # corners read, not yet joined
@@ -91,8 +91,13 @@ def _read(path: Path, where: str) -> MeshPiece | None:
             pending.clear()
             pending_corners = 0
     last = rest.strip()
-    if not triangles or not last.lower().startswith(b"endsolid") or b"\n" in last:
+    if last.lower().startswith(b"facet") and last.count(b"\n") < len(_LINES) - 1 and b"endsolid" not in last.lower():
+        # (fewer lines than a facet's, the first a facet's: the file ends inside one)
+        raise MeshError(f"{where}: truncated: it ends inside facet {triangles + 1}, after {triangles} whole ones")
+    if not triangles or (last and (not last.lower().startswith(b"endsolid") or b"\n" in last)):
         return None  # (no facet, or something after them other than one `endsolid` line)
+    if not last:  # whole facets to the end, no `endsolid` (a file cut short between facets): VTK's reader draws them
+        notes.append(f"{where}: no 'endsolid' line at its end (cut short?); the {triangles} whole facet(s) before it are drawn")
     if pending:
         ids.append(join.add(np.concatenate(pending)).reshape(-1, 3))
     del pending
