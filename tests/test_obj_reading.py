@@ -508,3 +508,19 @@ def test_comments_after_an_elements_numbers_are_read_past(tmp_path):
     for attribute in ("positions", "indices", "normals", "uvs"):
         np.testing.assert_array_equal(getattr(meshes[0], attribute), getattr(meshes[1], attribute), err_msg=attribute)
     assert meshes[1].parts[0].material.diffuse[:3] == pytest.approx((1, 0, 0))
+
+
+def test_a_line_ending_in_a_backslash_goes_on_on_the_next(tmp_path):
+    """The OBJ specification's line continuation (Blender's importer reads it): the same mesh
+    as the file written on single lines; errors after it keep their line numbers, and a
+    comment ending in a backslash continues nothing."""
+    plain = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
+    continued = "# C:\\models\\\nv 0 0 0\nv 1 \\\n 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 \\\r\n 3 \\ \n 4\n"
+    (tmp_path / "plain.obj").write_text(plain)
+    (tmp_path / "continued.obj").write_bytes(continued.encode())
+    expected, mesh = load_mesh(tmp_path / "plain.obj"), load_mesh(tmp_path / "continued.obj")
+    for attribute in ("positions", "indices", "normals", "origin"):
+        np.testing.assert_array_equal(getattr(mesh, attribute), getattr(expected, attribute), err_msg=attribute)
+    (tmp_path / "bad.obj").write_bytes((continued + "f 1 2 x\n").encode())
+    with pytest.raises(MeshError, match=r"bad.obj:10: cannot read face 'f 1 2 x'"):
+        load_mesh(tmp_path / "bad.obj")

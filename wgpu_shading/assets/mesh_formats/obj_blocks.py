@@ -83,6 +83,9 @@ class ObjContent:
         if ((first == 32) | (first == 9)).any():
             data = _without_indentation(data)
             starts, first, second = _line_starts(data)
+        if b"\\" in data and _LINE_CONTINUATION.search(data):  # (a backslash anywhere first: bytes' own search)
+            data = _CONTINUED_LINE.sub(_joined_line, data)
+            starts, first, second = _line_starts(data)
         if _has_trailing_comment(data):
             data = _TRAILING_COMMENT.sub(rb"\1", data)
             starts, first, second = _line_starts(data)
@@ -219,6 +222,19 @@ def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: n
 # reader (f3d's) read past it. Names (`usemtl`, `o`, `g`, `mtllib`) are left as they are: a
 # `#` may be part of one.
 _TRAILING_COMMENT = re.compile(rb"^((?:v|vt|vn|vp|f|l|p)[ \t][^#\n]*)#[^\n]*", re.MULTILINE)
+
+
+# A line ending in a backslash goes on on the next one (the OBJ specification; Blender's
+# importer reads it): `f 1 2 \` then `3 4`. The lines are joined with a blank, and as many
+# empty lines follow as were joined, so every later line keeps its number for errors.
+_LINE_CONTINUATION = re.compile(rb"\\[ \t]*\r?\n")
+# (Tried at line starts only; never from a comment line: `# C:\models\` goes on nowhere.)
+_CONTINUED_LINE = re.compile(rb"^(?!#)(?:[^\n]*\\[ \t]*\r?\n)+[^\n]*", re.MULTILINE)
+
+
+def _joined_line(match: re.Match) -> bytes:
+    text = match.group(0)
+    return _LINE_CONTINUATION.sub(b" ", text) + b"\n" * text.count(b"\n")
 
 
 def _has_trailing_comment(data: bytes) -> bool:
