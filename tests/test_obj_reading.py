@@ -490,12 +490,13 @@ def test_comments_after_an_elements_numbers_are_read_past(tmp_path):
     """`v 1 2 3 # top`: trimesh and VTK's reader (f3d's) read past a comment after the
     numbers; it was "cannot read 'v' line (expected numbers)". The same mesh as the file
     without them, in the files' fast reading (blocks of lines) and its line-by-line one
-    (`vt` of three numbers beside ones of two); a `#` in a name is part of the name."""
-    plain = ("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
-             "usemtl red#1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
-    commented = ("# a header ## with hashes\nmtllib m.mtl\nv 0 0 0 # origin\nv 1 0 0#x\nv 1 1 0\nv 0 1 0\t# last\n"
-                 "vt 0 0 # uv\nvt 1 0 0\nvt 1 1\nvt 0 1\nvn 0 0 1 # up\nusemtl red#1\nf 1/1/1 2/2/1 3/3/1 # lower\n"
-                 "f 1/1/1 3/3/1 4/4/1 #\n")
+    (`vt` of three numbers beside ones of two), `s off # flat` flat (the quad is bent: its
+    smooth normals differ); a `#` in a name is part of the name."""
+    plain = ("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.5\nvt 0 0\nvt 1 0 0\nvt 1 1\nvt 0 1\n"
+             "usemtl red#1\ns off\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+    commented = ("# a header ## with hashes\nmtllib m.mtl\nv 0 0 0 # origin\nv 1 0 0#x\nv 1 1 0\nv 0 1 0.5\t# last\n"
+                 "vt 0 0 # uv\nvt 1 0 0\nvt 1 1\nvt 0 1\nusemtl red#1\ns off # flat\nf 1/1 2/2 3/3 # lower\n"
+                 "f 1/1 3/3 4/4 #\n")
     meshes = []
     for name, text in (("plain", plain), ("commented", commented)):
         folder = tmp_path / name

@@ -218,10 +218,10 @@ def _floats(lines: Sequence[str], prefix: str, width: int, path: str, numbers: n
     return kept
 
 
-# A comment after an element's numbers (`v 1 2 3 # top`, `f 1 2 3 # lid`): trimesh and VTK's
-# reader (f3d's) read past it. Names (`usemtl`, `o`, `g`, `mtllib`) are left as they are: a
-# `#` may be part of one.
-_TRAILING_COMMENT = re.compile(rb"^((?:v|vt|vn|vp|f|l|p)[ \t][^#\n]*)#[^\n]*", re.MULTILINE)
+# A comment after an element's numbers (`v 1 2 3 # top`, `f 1 2 3 # lid`, `s off # flat`):
+# trimesh and VTK's reader (f3d's) read past it. Names (`usemtl`, `o`, `g`, `mtllib`) are left
+# as they are: a `#` may be part of one.
+_TRAILING_COMMENT = re.compile(rb"^((?:v|vt|vn|vp|f|l|p|s)[ \t][^#\n]*)#[^\n]*", re.MULTILINE)
 
 
 # A line ending in a backslash goes on on the next one (the OBJ specification; Blender's
