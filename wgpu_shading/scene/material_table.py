@@ -10,7 +10,6 @@ and the course material the project started from for pewter
 
 from __future__ import annotations
 
-
 from types import MappingProxyType
 from typing import Mapping
 

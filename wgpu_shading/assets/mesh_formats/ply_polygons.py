@@ -33,7 +33,7 @@ from ...scene.geometry.mesh import MAX_TRIANGLES
 from ..mesh_pieces import MeshPiece, polygon_fans, with_face_colors
 from .checks import MAX_FACE_CORNERS
 from .ply_header import PlyHeader
-from .ply_triangles import face_color_fields, float_type, mesh_arrays, mesh_rows, read_vertices, texture_pair
+from .ply_triangles import face_color_fields, float_type, mesh_arrays, mesh_rows, polygon_colors, read_vertices, texture_pair
 
 BLOCK_BYTES = 8 << 20  # face bytes read at a time (a face of MAX_FACE_CORNERS 8-byte indices fits)
 
@@ -64,13 +64,12 @@ def read_polygons(path: Path, header: PlyHeader, file_size: int, where: str) -> 
             positions, normals, colors, out = mesh_arrays(vertex_row, face_row, vertices, triangles)
             pair = texture_pair(vertex_row.names)
             uvs = None if pair is None else np.empty((vertices, 2), float_type(vertex_row.fields, pair))
-            color_fields = face_color_fields(face_row) if colors is None else []  # (vertex colours win, as in ply_triangles.py)
-            face_colors = np.empty((triangles, len(color_fields)), np.uint8) if color_fields else None
         except MemoryError:
             raise MeshError(f"{where}: not enough memory to read {vertices} vertices and {faces} faces") from None
         file.seek(header.header_bytes)
         read_vertices(file, vertex_row, positions, normals, colors, where, uvs)
-        records.cut(file, out, sizes, face_colors, color_fields)
+        color_fields = face_color_fields(face_row) if colors is None else []  # (vertex colours win, as in ply_triangles.py)
+        face_colors = records.cut(file, out, sizes, color_fields)
     piece = MeshPiece(positions, out, normals, uvs, colors=colors, parts=[(0, len(out), None, path.name)])
     return piece if face_colors is None else with_face_colors(piece, face_colors)  # every triangle its polygon's colour
 
@@ -131,17 +130,19 @@ class FaceRecords:
             totals = tuple(total + more for total, more in zip(totals, kind_counts(counts)))
         return totals
 
-    def cut(self, file, out: np.ndarray, sizes: tuple[int, int, int], colors: np.ndarray | None = None,
-            color_fields: list[str] = ()) -> None:
-        """The second pass: every face cut into its rows of `out` (the module docstring);
-        with `colors`, each triangle's row there gets its face's `color_fields`."""
-        placed = MixedCut(out, sizes, colors)
+    def cut(self, file, out: np.ndarray, sizes: tuple[int, int, int], color_fields: list[str] = ()) -> np.ndarray | None:
+        """The second pass: every face cut into its rows of `out` (the module docstring).
+        With `color_fields` (a face's colour among its scalars), each triangle's colour in
+        the rows' order (polygon_colors), else None."""
+        placed = MixedCut(out, sizes)
+        counts_read, colors_read = [], []
         for data, starts, counts in self._blocks(file):
-            face_colors = None
-            if colors is not None:
+            placed.add(counts, lambda chosen, size, data=data, starts=starts: self._indices(data, starts[chosen], size))
+            if color_fields:
                 tails = self._tails(data, starts, counts)
-                face_colors = np.stack([tails[field] for field in color_fields], axis=1)
-            placed.add(counts, lambda chosen, size, data=data, starts=starts: self._indices(data, starts[chosen], size), face_colors)
+                counts_read.append(counts.astype(np.min_scalar_type(MAX_FACE_CORNERS)))
+                colors_read.append(np.stack([tails[field] for field in color_fields], axis=1))
+        return polygon_colors(np.concatenate(counts_read), np.concatenate(colors_read)) if color_fields else None
 
     def _tails(self, data: np.ndarray, starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
         """The `tail` scalars of the records at `starts`, of these counts (a structured array)."""
@@ -159,15 +160,6 @@ class FaceRecords:
         return np.ascontiguousarray(windows[starts + count_bytes]).view(self.index_type).reshape(len(starts), size)
 
 
-def polygon_colors(counts: np.ndarray, face_colors: np.ndarray) -> np.ndarray:
-    """Each triangle's colour, for faces of these corner counts with a colour each (a row
-    a face), in the order MixedCut places their triangles (as trimesh cuts them; faces of
-    fewer than 3 corners make none)."""
-    counts = np.asarray(counts)
-    quads, larger = face_colors[counts == 4], counts > 4
-    return np.concatenate([face_colors[counts == 3], quads, quads, np.repeat(face_colors[larger], counts[larger] - 2, axis=0)])
-
-
 def kind_counts(counts: np.ndarray) -> tuple[int, int, int]:
     """(triangles, quads, the triangles of larger polygons) of faces of these corner counts."""
     larger = counts[counts > 4]
@@ -176,31 +168,23 @@ def kind_counts(counts: np.ndarray) -> tuple[int, int, int]:
 
 class MixedCut:
     """Faces of several sizes placed as trimesh cuts them (the module docstring), a block of
-    faces at a time, into `out`, whose size the totals of kind_counts over every face give;
-    with `colors` (rows as `out`'s), each triangle's row there gets its face's colour."""
+    faces at a time, into `out`, whose size the totals of kind_counts over every face give."""
 
-    def __init__(self, out: np.ndarray, sizes: tuple[int, int, int], colors: np.ndarray | None = None):
-        self.out, self.colors, (self.triangles, self.quads, _) = out, colors, sizes
+    def __init__(self, out: np.ndarray, sizes: tuple[int, int, int]):
+        self.out, (self.triangles, self.quads, _) = out, sizes
         self.done = {3: 0, 4: 0, "larger": self.triangles + 2 * self.quads}  # where each kind goes next
 
-    def add(self, counts: np.ndarray, polygons_of: Callable[[np.ndarray, int], np.ndarray], face_colors: np.ndarray | None = None) -> None:
+    def add(self, counts: np.ndarray, polygons_of: Callable[[np.ndarray, int], np.ndarray]) -> None:
         """The next faces, of these corner counts: polygons_of(chosen, size) gives the
-        (n, size) indices of the chosen ones (a boolean mask over them), all of that size;
-        `face_colors`: their colours, a row a face (when made with `colors`)."""
+        (n, size) indices of the chosen ones (a boolean mask over them), all of that size."""
         out, triangles, quads = self.out, self.triangles, self.quads
         for size in (3, 4):
-            chosen = counts == size
-            polygons, at = polygons_of(chosen, size), self.done[size]
+            polygons, at = polygons_of(counts == size, size), self.done[size]
             if size == 3:
                 out[at : at + len(polygons)] = polygons
-                rows = [slice(at, at + len(polygons))]
             else:
                 out[triangles + at : triangles + at + len(polygons)] = polygons[:, [0, 1, 2]]
                 out[triangles + quads + at : triangles + quads + at + len(polygons)] = polygons[:, [2, 3, 0]]
-                rows = [slice(triangles + at, triangles + at + len(polygons)), slice(triangles + quads + at, triangles + quads + at + len(polygons))]
-            if self.colors is not None:
-                for place in rows:
-                    self.colors[place] = face_colors[chosen]
             self.done[size] += len(polygons)
         larger = counts > 4
         if larger.any():  # fans in file order: each polygon's rows after the one before
@@ -212,8 +196,5 @@ class MixedCut:
                 chosen = np.zeros(len(counts), bool)
                 chosen[chosen_larger[mine]] = True
                 fans = polygon_fans(polygons_of(chosen, int(size)))
-                fan_rows_of = (first_row[mine][:, None] + np.arange(size - 2)).reshape(-1)
-                out[fan_rows_of] = fans
-                if self.colors is not None:  # (polygon_fans: each polygon's fan after the one before)
-                    self.colors[fan_rows_of] = np.repeat(face_colors[chosen], size - 2, axis=0)
+                out[(first_row[mine][:, None] + np.arange(size - 2)).reshape(-1)] = fans
             self.done["larger"] += int(fan_rows.sum())

@@ -211,17 +211,22 @@ def read_triangles(path: Path, layout: TriangleLayout, where: str) -> MeshPiece 
     piece = MeshPiece(positions, faces, normals, colors=colors, parts=[(0, len(faces), None, path.name)])
     # Face colours (where the vertices have none, as trimesh reads them): every corner its own
     # vertex, every triangle its polygon's colour.
-    return piece if face_colors is None else with_face_colors(piece, fan_colors(face_colors, corners))
+    if face_colors is None:
+        return piece
+    return with_face_colors(piece, polygon_colors(np.full(layout.faces, corners, np.min_scalar_type(MAX_FACE_CORNERS)), face_colors))
 
 
-def fan_colors(face_colors: np.ndarray, corners: int) -> np.ndarray:
-    """Each triangle's colour, for polygons of `corners` corners with a colour each
-    (`face_colors`, a row a polygon), in the order cut_polygons gives their triangles."""
-    if corners == 3:
+def polygon_colors(counts: np.ndarray, face_colors: np.ndarray) -> np.ndarray:
+    """Each triangle's colour, for faces of these corner counts with a colour each (a row
+    a face), in the order their triangles are cut, as trimesh cuts them (cut_polygons; of
+    several sizes, ply_polygons.MixedCut): every triangle, then every quad's first half and
+    every quad's second, then each larger polygon's fan; faces of fewer than 3 corners
+    make none."""
+    counts = np.asarray(counts)
+    if (counts == 3).all():
         return face_colors
-    if corners == 4:  # every quad's first triangle, then every quad's second
-        return np.concatenate([face_colors, face_colors])
-    return np.repeat(face_colors, corners - 2, axis=0)  # each polygon's fan, one after the other
+    quads, larger = face_colors[counts == 4], counts > 4
+    return np.concatenate([face_colors[counts == 3], quads, quads, np.repeat(face_colors[larger], counts[larger] - 2, axis=0)])
 
 
 def texture_pair(names) -> tuple[str, str] | None:

@@ -17,8 +17,8 @@ from ...errors import MeshError
 from ..mesh_pieces import MeshFile, MeshPiece, point_piece, with_face_colors
 from .checks import describe_load_error, text_source
 from .ply_edges import edge_piece
-from .ply_polygons import polygon_colors
 from .ply_strips import strip_triangles
+from .ply_triangles import polygon_colors
 
 
 def read_with_trimesh(path: Path, file_size: int, declared: tuple[int, int] | None = None,
